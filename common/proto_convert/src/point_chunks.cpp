@@ -1,0 +1,63 @@
+#include "vscan/common/point_chunks.h"
+
+#include <algorithm>
+#include <bit>
+#include <cstring>
+#include <string>
+
+namespace vscan {
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "the wire format is little-endian");
+
+template <typename T>
+void CopyOut(const std::vector<T>& src, size_t begin, size_t count, std::string* dst) {
+  dst->resize(count * sizeof(T));
+  if (count) std::memcpy(dst->data(), src.data() + begin, count * sizeof(T));
+}
+
+template <typename T>
+Status CopyIn(const std::string& src, size_t count, const char* name, std::vector<T>* dst) {
+  if (src.size() != count * sizeof(T)) {
+    return InvalidArgument(std::string("chunk.") + name + ": expected " + std::to_string(count * sizeof(T)) +
+                           " bytes, got " + std::to_string(src.size()));
+  }
+  const size_t old = dst->size();
+  dst->resize(old + count);
+  if (count) std::memcpy(reinterpret_cast<char*>(dst->data() + old), src.data(), src.size());
+  return Status::Ok();
+}
+
+}  // namespace
+
+size_t PointsPerChunk(uint32_t fields, size_t chunk_bytes) {
+  PointCloud probe;
+  probe.fields = fields;
+  return std::max<size_t>(1, chunk_bytes / probe.BytesPerPoint());
+}
+
+void PackChunk(const PointCloud& cloud, size_t begin, size_t count, uint32_t index, v1::PointChunk* out) {
+  out->set_index(index);
+  out->set_count(static_cast<uint32_t>(count));
+  CopyOut(cloud.positions, begin, count, out->mutable_positions());
+  if (cloud.Has(kFieldNormal)) CopyOut(cloud.normals, begin, count, out->mutable_normals());
+  if (cloud.Has(kFieldRange)) CopyOut(cloud.ranges, begin, count, out->mutable_ranges());
+  if (cloud.Has(kFieldIntensity)) CopyOut(cloud.intensities, begin, count, out->mutable_intensities());
+  if (cloud.Has(kFieldInstanceId)) CopyOut(cloud.instance_ids, begin, count, out->mutable_instance_ids());
+  if (cloud.Has(kFieldPixel)) CopyOut(cloud.pixels, begin, count, out->mutable_pixels());
+}
+
+Status AppendChunk(const v1::PointChunk& chunk, PointCloud* cloud) {
+  const size_t n = chunk.count();
+  RETURN_IF_ERROR(CopyIn(chunk.positions(), n, "positions", &cloud->positions));
+  if (cloud->Has(kFieldNormal)) RETURN_IF_ERROR(CopyIn(chunk.normals(), n, "normals", &cloud->normals));
+  if (cloud->Has(kFieldRange)) RETURN_IF_ERROR(CopyIn(chunk.ranges(), n, "ranges", &cloud->ranges));
+  if (cloud->Has(kFieldIntensity))
+    RETURN_IF_ERROR(CopyIn(chunk.intensities(), n, "intensities", &cloud->intensities));
+  if (cloud->Has(kFieldInstanceId))
+    RETURN_IF_ERROR(CopyIn(chunk.instance_ids(), n, "instance_ids", &cloud->instance_ids));
+  if (cloud->Has(kFieldPixel)) RETURN_IF_ERROR(CopyIn(chunk.pixels(), n, "pixels", &cloud->pixels));
+  return Status::Ok();
+}
+
+}  // namespace vscan

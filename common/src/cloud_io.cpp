@@ -1,0 +1,340 @@
+#include "vscan/common/cloud_io.h"
+
+#include <algorithm>
+#include <atomic>
+#include <bit>
+#include <cctype>
+#include <cerrno>
+#include <cstdint>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <initializer_list>
+#include <sstream>
+#include <vector>
+
+#include <unistd.h>
+
+namespace vscan {
+namespace {
+
+static_assert(std::endian::native == std::endian::little, "binary files are written in native little-endian");
+
+// One 4-byte scalar column of the interleaved record, with its names in each format.
+struct Column {
+  const char* ply_name;
+  const char* pcd_name;
+  bool is_float;
+  const char* base;  // first value of this column; stride between points is `step` bytes
+  size_t step;
+};
+
+std::vector<Column> Columns(const PointCloud& cloud) {
+  std::vector<Column> cols;
+  const auto add_vec3 = [&](const std::vector<Eigen::Vector3f>& v, const char* const ply[3],
+                            const char* const pcd[3]) {
+    for (int i = 0; i < 3; ++i) {
+      cols.push_back({ply[i], pcd[i], true, reinterpret_cast<const char*>(v.data()) + 4 * i, 12});
+    }
+  };
+  static const char* const kXyz[3] = {"x", "y", "z"};
+  static const char* const kNormPly[3] = {"nx", "ny", "nz"};
+  static const char* const kNormPcd[3] = {"normal_x", "normal_y", "normal_z"};
+  add_vec3(cloud.positions, kXyz, kXyz);
+  if (cloud.Has(kFieldNormal)) add_vec3(cloud.normals, kNormPly, kNormPcd);
+  if (cloud.Has(kFieldRange))
+    cols.push_back({"range", "range", true, reinterpret_cast<const char*>(cloud.ranges.data()), 4});
+  if (cloud.Has(kFieldIntensity))
+    cols.push_back({"intensity", "intensity", true, reinterpret_cast<const char*>(cloud.intensities.data()), 4});
+  if (cloud.Has(kFieldInstanceId))
+    cols.push_back({"instance", "instance", false, reinterpret_cast<const char*>(cloud.instance_ids.data()), 4});
+  if (cloud.Has(kFieldPixel))
+    cols.push_back({"pixel", "pixel", false, reinterpret_cast<const char*>(cloud.pixels.data()), 4});
+  return cols;
+}
+
+Status CheckConsistent(const PointCloud& cloud) {
+  const size_t n = cloud.size();
+  const auto check = [&](PointFields f, size_t got, const char* name) -> Status {
+    if (cloud.Has(f) && got != n) {
+      return InvalidArgument(std::string("cloud.") + name + ": has " + std::to_string(got) + " values for " +
+                             std::to_string(n) + " points");
+    }
+    return Status::Ok();
+  };
+  RETURN_IF_ERROR(check(kFieldNormal, cloud.normals.size(), "normals"));
+  RETURN_IF_ERROR(check(kFieldRange, cloud.ranges.size(), "ranges"));
+  RETURN_IF_ERROR(check(kFieldIntensity, cloud.intensities.size(), "intensities"));
+  RETURN_IF_ERROR(check(kFieldInstanceId, cloud.instance_ids.size(), "instance_ids"));
+  return check(kFieldPixel, cloud.pixels.size(), "pixels");
+}
+
+std::string ErrnoText() { return std::strerror(errno); }
+
+// Writes header + interleaved records to a temporary file beside path, then renames it into place.
+Status WriteAtomically(const std::string& path, const std::string& header, const std::vector<Column>& cols,
+                       size_t n) {
+  static std::atomic<unsigned> counter{0};
+  const std::string tmp = path + ".tmp." + std::to_string(::getpid()) + "." + std::to_string(counter++);
+  std::FILE* f = std::fopen(tmp.c_str(), "wb");
+  if (!f) {
+    const int err = errno;
+    const std::string msg = path + ": cannot create: " + std::strerror(err);
+    return err == ENOENT ? NotFound(msg) : FailedPrecondition(msg);
+  }
+  const auto fail = [&](const std::string& what) {
+    const std::string msg = path + ": " + what + ": " + ErrnoText();
+    std::fclose(f);
+    std::remove(tmp.c_str());
+    return DataLoss(msg);
+  };
+  if (std::fwrite(header.data(), 1, header.size(), f) != header.size()) return fail("short write");
+
+  const size_t record = cols.size() * 4;
+  constexpr size_t kBlockPoints = 16384;
+  std::vector<char> block(std::min(n, kBlockPoints) * record);
+  for (size_t begin = 0; begin < n; begin += kBlockPoints) {
+    const size_t count = std::min(kBlockPoints, n - begin);
+    char* out = block.data();
+    for (size_t i = begin; i < begin + count; ++i) {
+      for (const Column& c : cols) {
+        std::memcpy(out, c.base + i * c.step, 4);
+        out += 4;
+      }
+    }
+    if (std::fwrite(block.data(), 1, count * record, f) != count * record) return fail("short write");
+  }
+  if (std::fflush(f) != 0) return fail("short write");
+  if (::fsync(::fileno(f)) != 0) return fail("fsync");
+  if (std::fclose(f) != 0) {
+    std::remove(tmp.c_str());
+    return DataLoss(path + ": close: " + ErrnoText());
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    const std::string msg = path + ": rename: " + ErrnoText();
+    std::remove(tmp.c_str());
+    return DataLoss(msg);
+  }
+  return Status::Ok();
+}
+
+// ---- PLY reading ----
+
+struct PlyProperty {
+  std::string name;
+  std::string type;
+  size_t size = 0;
+  size_t offset = 0;
+};
+
+struct PlyElement {
+  std::string name;
+  size_t count = 0;
+  size_t stride = 0;
+  bool has_list = false;
+  std::vector<PlyProperty> props;
+};
+
+size_t PlyTypeSize(const std::string& t) {
+  if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
+  if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
+  if (t == "int" || t == "uint" || t == "float" || t == "int32" || t == "uint32" || t == "float32") return 4;
+  if (t == "double" || t == "float64") return 8;
+  return 0;
+}
+
+template <typename T>
+T Load(const char* p) {
+  T v;
+  std::memcpy(&v, p, sizeof(T));
+  return v;
+}
+
+double ReadScalar(const char* p, const std::string& t) {
+  if (t == "float" || t == "float32") return Load<float>(p);
+  if (t == "double" || t == "float64") return Load<double>(p);
+  if (t == "uint" || t == "uint32") return Load<uint32_t>(p);
+  if (t == "int" || t == "int32") return Load<int32_t>(p);
+  if (t == "ushort" || t == "uint16") return Load<uint16_t>(p);
+  if (t == "short" || t == "int16") return Load<int16_t>(p);
+  if (t == "uchar" || t == "uint8") return Load<uint8_t>(p);
+  return Load<int8_t>(p);
+}
+
+uint32_t ReadUint(const char* p, const std::string& t) {
+  if (t == "uint" || t == "uint32") return Load<uint32_t>(p);
+  return static_cast<uint32_t>(ReadScalar(p, t));
+}
+
+StatusOr<std::vector<PlyElement>> ParsePlyHeader(std::istream& in, const std::string& path) {
+  std::string line;
+  if (!std::getline(in, line) || line != "ply") return InvalidArgument(path + ": not a PLY file");
+  std::vector<PlyElement> elements;
+  bool format_ok = false;
+  while (std::getline(in, line)) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream ss(line);
+    std::string word;
+    ss >> word;
+    if (word == "end_header") {
+      if (!format_ok) return InvalidArgument(path + ": only binary_little_endian PLY is supported");
+      return elements;
+    }
+    if (word == "format") {
+      std::string fmt;
+      ss >> fmt;
+      format_ok = fmt == "binary_little_endian";
+    } else if (word == "element") {
+      PlyElement e;
+      ss >> e.name >> e.count;
+      if (!ss) return InvalidArgument(path + ": malformed element line: " + line);
+      elements.push_back(std::move(e));
+    } else if (word == "property") {
+      if (elements.empty()) return InvalidArgument(path + ": property before any element");
+      PlyElement& e = elements.back();
+      std::string type;
+      ss >> type;
+      if (type == "list") {
+        e.has_list = true;
+        continue;
+      }
+      PlyProperty p;
+      p.type = type;
+      ss >> p.name;
+      p.size = PlyTypeSize(type);
+      if (p.size == 0 || p.name.empty()) return InvalidArgument(path + ": unsupported property: " + line);
+      p.offset = e.stride;
+      e.stride += p.size;
+      e.props.push_back(std::move(p));
+    } else if (word != "comment" && word != "obj_info" && !word.empty()) {
+      return InvalidArgument(path + ": unexpected header line: " + line);
+    }
+  }
+  return InvalidArgument(path + ": header has no end_header");
+}
+
+const PlyProperty* FindProp(const PlyElement& e, std::initializer_list<const char*> names) {
+  for (const char* n : names) {
+    for (const auto& p : e.props)
+      if (p.name == n) return &p;
+  }
+  return nullptr;
+}
+
+}  // namespace
+
+Status WritePly(const PointCloud& cloud, const std::string& path) {
+  RETURN_IF_ERROR(CheckConsistent(cloud));
+  const auto cols = Columns(cloud);
+  std::string header = "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(cloud.size()) + "\n";
+  for (const Column& c : cols) {
+    header += std::string("property ") + (c.is_float ? "float " : "uint ") + c.ply_name + "\n";
+  }
+  header += "end_header\n";
+  return WriteAtomically(path, header, cols, cloud.size());
+}
+
+Status WritePcd(const PointCloud& cloud, const std::string& path) {
+  RETURN_IF_ERROR(CheckConsistent(cloud));
+  const auto cols = Columns(cloud);
+  std::string fields, sizes, types, counts;
+  for (const Column& c : cols) {
+    fields += std::string(" ") + c.pcd_name;
+    sizes += " 4";
+    types += c.is_float ? " F" : " U";
+    counts += " 1";
+  }
+  const std::string n = std::to_string(cloud.size());
+  const std::string header = "# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS" + fields +
+                             "\nSIZE" + sizes + "\nTYPE" + types + "\nCOUNT" + counts + "\nWIDTH " + n +
+                             "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + n + "\nDATA binary\n";
+  return WriteAtomically(path, header, cols, cloud.size());
+}
+
+Status WriteCloud(const PointCloud& cloud, const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  if (ext == ".ply") return WritePly(cloud, path);
+  if (ext == ".pcd") return WritePcd(cloud, path);
+  return InvalidArgument(path + ": unknown point cloud extension '" + ext + "' (use .ply or .pcd)");
+}
+
+StatusOr<PointCloud> ReadPly(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return NotFound(path + ": cannot open: " + ErrnoText());
+  ASSIGN_OR_RETURN(const std::vector<PlyElement> elements, ParsePlyHeader(in, path));
+
+  const std::streamoff body = in.tellg();
+  in.seekg(0, std::ios::end);
+  size_t remaining = static_cast<size_t>(in.tellg()) - static_cast<size_t>(body);
+  const auto take = [&](const PlyElement& e) -> Status {
+    if (e.stride != 0 && e.count > remaining / e.stride) {
+      return DataLoss(path + ": truncated: element '" + e.name + "' needs " + std::to_string(e.count) + " x " +
+                      std::to_string(e.stride) + " bytes");
+    }
+    remaining -= e.count * e.stride;
+    return Status::Ok();
+  };
+
+  // Skip fixed-size elements that precede the vertices.
+  size_t skip = 0;
+  const PlyElement* vertex = nullptr;
+  for (const auto& e : elements) {
+    if (e.name == "vertex") {
+      vertex = &e;
+      break;
+    }
+    if (e.has_list) return InvalidArgument(path + ": list element '" + e.name + "' before the vertices");
+    RETURN_IF_ERROR(take(e));
+    skip += e.count * e.stride;
+  }
+  if (!vertex) return InvalidArgument(path + ": no vertex element");
+  if (vertex->has_list) return InvalidArgument(path + ": vertex element has list properties");
+  RETURN_IF_ERROR(take(*vertex));
+  in.seekg(body + static_cast<std::streamoff>(skip));
+
+  const PlyProperty* x = FindProp(*vertex, {"x"});
+  const PlyProperty* y = FindProp(*vertex, {"y"});
+  const PlyProperty* z = FindProp(*vertex, {"z"});
+  if (!x || !y || !z) return InvalidArgument(path + ": vertex element needs x, y and z");
+  const PlyProperty* nx = FindProp(*vertex, {"nx", "normal_x"});
+  const PlyProperty* ny = FindProp(*vertex, {"ny", "normal_y"});
+  const PlyProperty* nz = FindProp(*vertex, {"nz", "normal_z"});
+  const PlyProperty* range = FindProp(*vertex, {"range"});
+  const PlyProperty* intensity = FindProp(*vertex, {"intensity"});
+  const PlyProperty* instance = FindProp(*vertex, {"instance", "instance_id"});
+  const PlyProperty* pixel = FindProp(*vertex, {"pixel"});
+
+  PointCloud cloud;
+  cloud.fields = kFieldPosition;
+  if (nx && ny && nz) cloud.fields |= kFieldNormal;
+  if (range) cloud.fields |= kFieldRange;
+  if (intensity) cloud.fields |= kFieldIntensity;
+  if (instance) cloud.fields |= kFieldInstanceId;
+  if (pixel) cloud.fields |= kFieldPixel;
+  cloud.Resize(vertex->count);
+
+  constexpr size_t kBlockPoints = 16384;
+  std::vector<char> block(std::min(vertex->count, kBlockPoints) * vertex->stride);
+  for (size_t begin = 0; begin < vertex->count; begin += kBlockPoints) {
+    const size_t count = std::min(kBlockPoints, vertex->count - begin);
+    if (!in.read(block.data(), static_cast<std::streamsize>(count * vertex->stride))) {
+      return DataLoss(path + ": read failed at vertex " + std::to_string(begin));
+    }
+    for (size_t k = 0; k < count; ++k) {
+      const char* rec = block.data() + k * vertex->stride;
+      const size_t i = begin + k;
+      const auto f = [&](const PlyProperty* p) { return static_cast<float>(ReadScalar(rec + p->offset, p->type)); };
+      cloud.positions[i] = {f(x), f(y), f(z)};
+      if (cloud.Has(kFieldNormal)) cloud.normals[i] = {f(nx), f(ny), f(nz)};
+      if (range) cloud.ranges[i] = f(range);
+      if (intensity) cloud.intensities[i] = f(intensity);
+      if (instance) cloud.instance_ids[i] = ReadUint(rec + instance->offset, instance->type);
+      if (pixel) cloud.pixels[i] = ReadUint(rec + pixel->offset, pixel->type);
+    }
+  }
+  return cloud;
+}
+
+}  // namespace vscan

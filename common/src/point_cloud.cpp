@@ -1,0 +1,25 @@
+#include "vscan/common/point_cloud.h"
+
+namespace vscan {
+
+void PointCloud::Resize(size_t n) {
+  fields |= kFieldPosition;
+  positions.resize(n);
+  normals.resize(Has(kFieldNormal) ? n : 0);
+  ranges.resize(Has(kFieldRange) ? n : 0);
+  intensities.resize(Has(kFieldIntensity) ? n : 0);
+  instance_ids.resize(Has(kFieldInstanceId) ? n : 0);
+  pixels.resize(Has(kFieldPixel) ? n : 0);
+}
+
+size_t PointCloud::BytesPerPoint() const {
+  size_t b = 12;
+  if (Has(kFieldNormal)) b += 12;
+  if (Has(kFieldRange)) b += 4;
+  if (Has(kFieldIntensity)) b += 4;
+  if (Has(kFieldInstanceId)) b += 4;
+  if (Has(kFieldPixel)) b += 4;
+  return b;
+}
+
+}  // namespace vscan
