@@ -1,0 +1,254 @@
+#include "geometry/child_process.h"
+
+#include <fcntl.h>
+#include <poll.h>
+#include <pthread.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <climits>
+#include <system_error>
+#include <thread>
+
+extern char** environ;
+
+namespace vscan::geometry {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+constexpr size_t kReadChunk = size_t{1} << 16;
+constexpr size_t kWriteChunk = size_t{1} << 20;
+constexpr std::chrono::milliseconds kMaxReapPause{20};
+
+std::string ErrorText(int error) { return std::generic_category().message(error); }
+
+class Fd {
+ public:
+  Fd() = default;
+  Fd(const Fd&) = delete;
+  Fd& operator=(const Fd&) = delete;
+  ~Fd() { Reset(); }
+
+  int get() const { return fd_; }
+  bool valid() const { return fd_ >= 0; }
+  void Reset(int fd = -1) {
+    if (fd_ >= 0) ::close(fd_);
+    fd_ = fd;
+  }
+
+ private:
+  int fd_ = -1;
+};
+
+struct Pipe {
+  Fd read;
+  Fd write;
+};
+
+// Both ends are close-on-exec so that a child started by another thread meanwhile cannot
+// inherit them (it would hold our child's stdin open), and above the standard descriptors so
+// that the child's dup2 onto 0 and 1 cannot overwrite one another.
+Status OpenPipe(Pipe& pipe) {
+  int fds[2];
+  if (::pipe2(fds, O_CLOEXEC) != 0) return Unavailable("cannot create a pipe: " + ErrorText(errno));
+  pipe.read.Reset(fds[0]);
+  pipe.write.Reset(fds[1]);
+  for (Fd* end : {&pipe.read, &pipe.write}) {
+    if (end->get() > STDERR_FILENO) continue;
+    int moved = ::fcntl(end->get(), F_DUPFD_CLOEXEC, STDERR_FILENO + 1);
+    if (moved < 0) return Unavailable("cannot move a pipe descriptor: " + ErrorText(errno));
+    end->Reset(moved);
+  }
+  return Status::Ok();
+}
+
+Status SetNonBlocking(const Fd& fd) {
+  int flags = ::fcntl(fd.get(), F_GETFL);
+  if (flags < 0 || ::fcntl(fd.get(), F_SETFL, flags | O_NONBLOCK) < 0) {
+    return Unavailable("cannot make a pipe non-blocking: " + ErrorText(errno));
+  }
+  return Status::Ok();
+}
+
+// Writing to a child that has exited raises SIGPIPE in the writing thread; while blocked, the
+// write fails with EPIPE instead, and a SIGPIPE left pending by it is consumed on the way out.
+class SigpipeBlocked {
+ public:
+  SigpipeBlocked() {
+    sigemptyset(&sigpipe_);
+    sigaddset(&sigpipe_, SIGPIPE);
+    was_pending_ = IsPending();
+    pthread_sigmask(SIG_BLOCK, &sigpipe_, &previous_);
+  }
+  SigpipeBlocked(const SigpipeBlocked&) = delete;
+  SigpipeBlocked& operator=(const SigpipeBlocked&) = delete;
+  ~SigpipeBlocked() {
+    if (!was_pending_ && IsPending()) {
+      const timespec no_wait{};
+      sigtimedwait(&sigpipe_, nullptr, &no_wait);
+    }
+    pthread_sigmask(SIG_SETMASK, &previous_, nullptr);
+  }
+
+ private:
+  static bool IsPending() {
+    sigset_t pending;
+    sigemptyset(&pending);
+    sigpending(&pending);
+    return sigismember(&pending, SIGPIPE) == 1;
+  }
+
+  sigset_t sigpipe_;
+  sigset_t previous_;
+  bool was_pending_ = false;
+};
+
+class SpawnSetup {
+ public:
+  SpawnSetup() {
+    posix_spawn_file_actions_init(&actions);
+    posix_spawnattr_init(&attributes);
+  }
+  SpawnSetup(const SpawnSetup&) = delete;
+  SpawnSetup& operator=(const SpawnSetup&) = delete;
+  ~SpawnSetup() {
+    posix_spawn_file_actions_destroy(&actions);
+    posix_spawnattr_destroy(&attributes);
+  }
+
+  posix_spawn_file_actions_t actions;
+  posix_spawnattr_t attributes;
+};
+
+// The child starts with an empty signal mask and default handlers: the server blocks its stop
+// signals and may ignore SIGPIPE, and both would otherwise carry over.
+StatusOr<pid_t> Spawn(const std::vector<std::string>& argv, int stdin_fd, int stdout_fd) {
+  const std::string& path = argv.front();
+  SpawnSetup setup;
+  sigset_t none, all;
+  sigemptyset(&none);
+  sigfillset(&all);
+  int rc = posix_spawn_file_actions_adddup2(&setup.actions, stdin_fd, STDIN_FILENO);
+  if (rc == 0) rc = posix_spawn_file_actions_adddup2(&setup.actions, stdout_fd, STDOUT_FILENO);
+  if (rc == 0) rc = posix_spawn_file_actions_addopen(&setup.actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
+#if defined(__GLIBC__) && __GLIBC_PREREQ(2, 34)
+  if (rc == 0) rc = posix_spawn_file_actions_addclosefrom_np(&setup.actions, STDERR_FILENO + 1);
+#endif
+  if (rc == 0) rc = posix_spawnattr_setsigmask(&setup.attributes, &none);
+  if (rc == 0) rc = posix_spawnattr_setsigdefault(&setup.attributes, &all);
+  if (rc == 0) rc = posix_spawnattr_setflags(&setup.attributes, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
+  if (rc != 0) return Unavailable("cannot start '" + path + "': " + ErrorText(rc));
+
+  std::vector<char*> args;
+  for (const std::string& arg : argv) args.push_back(const_cast<char*>(arg.c_str()));
+  args.push_back(nullptr);
+  pid_t pid = -1;
+  rc = posix_spawn(&pid, path.c_str(), &setup.actions, &setup.attributes, args.data(), environ);
+  if (rc != 0) return Unavailable("cannot start '" + path + "': " + ErrorText(rc));
+  return pid;
+}
+
+int PollTimeoutMs(Clock::duration remaining) {
+  auto ms = std::chrono::ceil<std::chrono::milliseconds>(remaining).count();
+  return static_cast<int>(std::clamp<decltype(ms)>(ms, 0, INT_MAX));
+}
+
+// Feeds the input and drains the output together: a child that writes before it has read all
+// of its input would otherwise fill one pipe while we wait on the other. Stops at the child's
+// end of output, at the deadline or past max_output.
+Status Exchange(Fd& to_child, Fd& from_child, std::string_view input, Clock::time_point deadline,
+                size_t max_output, ChildOutcome& outcome) {
+  size_t written = 0;
+  if (input.empty()) to_child.Reset();
+  while (from_child.valid()) {
+    const auto now = Clock::now();
+    if (now >= deadline) {
+      outcome.timed_out = true;
+      return Status::Ok();
+    }
+    pollfd fds[2] = {{from_child.get(), POLLIN, 0}, {to_child.get(), POLLOUT, 0}};
+    const nfds_t count = to_child.valid() ? 2 : 1;
+    if (::poll(fds, count, PollTimeoutMs(deadline - now)) < 0) {
+      if (errno == EINTR) continue;
+      return Internal("poll on the child's pipes failed: " + ErrorText(errno));
+    }
+    if (count == 2 && fds[1].revents != 0) {
+      ssize_t n = ::write(to_child.get(), input.data() + written, std::min(input.size() - written, kWriteChunk));
+      if (n > 0) {
+        written += static_cast<size_t>(n);
+        if (written == input.size()) to_child.Reset();
+      } else if (n < 0 && errno != EAGAIN && errno != EINTR) {
+        to_child.Reset();  // the child stopped reading; how it ended tells the rest
+      }
+    }
+    if (fds[0].revents != 0) {
+      const size_t before = outcome.output.size();
+      outcome.output.resize(before + kReadChunk);
+      ssize_t n = ::read(from_child.get(), outcome.output.data() + before, kReadChunk);
+      outcome.output.resize(before + static_cast<size_t>(std::max<ssize_t>(n, 0)));
+      if (n == 0 || (n < 0 && errno != EAGAIN && errno != EINTR)) {
+        from_child.Reset();
+      } else if (outcome.output.size() > max_output) {
+        outcome.output_too_large = true;
+        return Status::Ok();
+      }
+    }
+  }
+  return Status::Ok();
+}
+
+// Waits for the child, killing it if it outlives the deadline; returns its wait status.
+int Reap(pid_t pid, Clock::time_point deadline, bool& timed_out) {
+  std::chrono::milliseconds pause{1};
+  for (;;) {
+    int status = 0;
+    pid_t reaped = ::waitpid(pid, &status, timed_out ? 0 : WNOHANG);
+    if (reaped == pid) return status;
+    if (reaped < 0) {
+      if (errno == EINTR) continue;
+      return 0;  // ECHILD: SIGCHLD is ignored, so the kernel reaped it; the output has to tell
+    }
+    if (Clock::now() >= deadline) {
+      ::kill(pid, SIGKILL);
+      timed_out = true;
+      continue;
+    }
+    std::this_thread::sleep_for(pause);
+    pause = std::min(pause * 2, kMaxReapPause);
+  }
+}
+
+}  // namespace
+
+StatusOr<ChildOutcome> RunChild(const std::vector<std::string>& argv, std::string_view input,
+                                std::chrono::milliseconds timeout, size_t max_output) {
+  if (argv.empty() || argv.front().empty()) return Unavailable("cannot start '': no program given");
+  const auto deadline = Clock::now() + timeout;
+  Pipe to_child, from_child;
+  RETURN_IF_ERROR(OpenPipe(to_child));
+  RETURN_IF_ERROR(OpenPipe(from_child));
+  RETURN_IF_ERROR(SetNonBlocking(to_child.write));
+  RETURN_IF_ERROR(SetNonBlocking(from_child.read));
+  SigpipeBlocked sigpipe_blocked;
+
+  ASSIGN_OR_RETURN(pid_t pid, Spawn(argv, to_child.read.get(), from_child.write.get()));
+  to_child.read.Reset();
+  from_child.write.Reset();
+
+  ChildOutcome outcome;
+  Status exchanged = Exchange(to_child.write, from_child.read, input, deadline, max_output, outcome);
+  if (!exchanged.ok() || outcome.timed_out || outcome.output_too_large) ::kill(pid, SIGKILL);
+  to_child.write.Reset();
+  from_child.read.Reset();
+  outcome.wait_status = Reap(pid, deadline, outcome.timed_out);
+  if (!exchanged.ok()) return exchanged;
+  return outcome;
+}
+
+}  // namespace vscan::geometry

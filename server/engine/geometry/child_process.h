@@ -1,0 +1,28 @@
+#pragma once
+// Runs a program with bytes on its stdin and collects its stdout, under a wall-clock deadline.
+// Safe in a multi-threaded process: posix_spawn, close-on-exec pipes, the child always reaped.
+
+#include <chrono>
+#include <cstddef>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "vscan/common/status.h"
+
+namespace vscan::geometry {
+
+struct ChildOutcome {
+  std::string output;
+  bool timed_out = false;        // killed at the deadline
+  bool output_too_large = false;  // killed after writing more than max_output bytes
+  int wait_status = 0;           // as waitpid reports it
+};
+
+// argv[0] is the program's path (no PATH search). stdin carries input, stdout is collected,
+// stderr goes to /dev/null and no other descriptor is inherited. UNAVAILABLE ("cannot start
+// '<path>': ...") when the program cannot be started.
+StatusOr<ChildOutcome> RunChild(const std::vector<std::string>& argv, std::string_view input,
+                                std::chrono::milliseconds timeout, size_t max_output);
+
+}  // namespace vscan::geometry

@@ -1,0 +1,452 @@
+#include "store/catalogue.h"
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <bit>
+#include <chrono>
+#include <cmath>
+#include <random>
+#include <system_error>
+
+#include "store/catalogue_schema.h"
+#include "store/sqlite_statement.h"
+
+namespace vscan::store {
+namespace {
+
+using sqlite::Statement;
+
+constexpr int kMaxListLimit = 1000;
+constexpr int kBusyTimeoutMs = 5000;
+
+constexpr std::string_view kMeshColumns =
+    "mesh_id, name, sha256, vertex_count, triangle_count, min_x, min_y, min_z, max_x, max_y, max_z, "
+    "source_unit, source_scale, create_time_ms";
+constexpr std::string_view kSceneColumns =
+    "scene_id, name, revision, table_enabled, table_centre_x, table_centre_y, table_centre_z, "
+    "table_axis_x, table_axis_y, table_axis_z, table_angle_deg, create_time_ms, update_time_ms";
+constexpr std::string_view kObjectColumns =
+    "object_id, scene_id, mesh_id, label, pose, scale, on_table, instance_id";
+
+// Joins fixed SQL fragments; values always travel as bound parameters.
+std::string Sql(std::string_view a, std::string_view b, std::string_view c) {
+  std::string sql(a);
+  sql.append(b).append(c);
+  return sql;
+}
+
+int64_t NowMs() {
+  return std::chrono::duration_cast<std::chrono::milliseconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+std::string NewId(std::string_view prefix) {
+  thread_local std::mt19937_64 rng;
+  thread_local pid_t seeded_in = 0;
+  // Reseed after a fork too, or parent and child would hand out the same ids.
+  if (seeded_in != ::getpid()) {
+    std::random_device device;
+    std::seed_seq seed{device(), device(), device(), device(), device(), device(), device(), device()};
+    rng.seed(seed);
+    seeded_in = ::getpid();
+  }
+  static constexpr char kHex[] = "0123456789abcdef";
+  uint64_t bits = rng();
+  std::string id(prefix);
+  for (int shift = 60; shift >= 0; shift -= 4) id.push_back(kHex[(bits >> shift) & 0xf]);
+  return id;
+}
+
+// 16 little-endian doubles, column-major.
+std::string EncodePose(const Eigen::Matrix4d& pose) {
+  std::string bytes(128, '\0');
+  for (int i = 0; i < 16; ++i) {
+    auto bits = std::bit_cast<uint64_t>(pose.data()[i]);
+    for (int b = 0; b < 8; ++b) bytes[8 * i + b] = static_cast<char>((bits >> (8 * b)) & 0xff);
+  }
+  return bytes;
+}
+
+StatusOr<Eigen::Matrix4d> DecodePose(std::string_view bytes) {
+  if (bytes.size() != 128) return DataLoss("catalogue: stored pose has " + std::to_string(bytes.size()) + " bytes");
+  Eigen::Matrix4d pose;
+  for (int i = 0; i < 16; ++i) {
+    uint64_t bits = 0;
+    for (int b = 0; b < 8; ++b) bits |= uint64_t{static_cast<unsigned char>(bytes[8 * i + b])} << (8 * b);
+    pose.data()[i] = std::bit_cast<double>(bits);
+  }
+  return pose;
+}
+
+MeshRecord ReadMesh(const Statement& s) {
+  MeshRecord m;
+  m.mesh_id = s.Text(0);
+  m.name = s.Text(1);
+  m.sha256 = s.Text(2);
+  m.vertex_count = static_cast<uint64_t>(s.Int(3));
+  m.triangle_count = static_cast<uint64_t>(s.Int(4));
+  m.bounds_min = {s.Double(5), s.Double(6), s.Double(7)};
+  m.bounds_max = {s.Double(8), s.Double(9), s.Double(10)};
+  m.source_unit = static_cast<int>(s.Int(11));
+  m.source_scale = s.Double(12);
+  m.create_time_ms = s.Int(13);
+  return m;
+}
+
+SceneRecord ReadScene(const Statement& s) {
+  SceneRecord scene;
+  scene.scene_id = s.Text(0);
+  scene.name = s.Text(1);
+  scene.revision = static_cast<uint64_t>(s.Int(2));
+  scene.table.enabled = s.Int(3) != 0;
+  scene.table.centre = {s.Double(4), s.Double(5), s.Double(6)};
+  scene.table.axis = {s.Double(7), s.Double(8), s.Double(9)};
+  scene.table.angle_deg = s.Double(10);
+  scene.create_time_ms = s.Int(11);
+  scene.update_time_ms = s.Int(12);
+  return scene;
+}
+
+StatusOr<ObjectRecord> ReadObject(const Statement& s) {
+  ObjectRecord o;
+  o.object_id = s.Text(0);
+  o.scene_id = s.Text(1);
+  o.mesh_id = s.Text(2);
+  o.label = s.Text(3);
+  ASSIGN_OR_RETURN(o.pose, DecodePose(s.Blob(4)));
+  o.scale = s.Double(5);
+  o.on_table = s.Int(6) != 0;
+  o.instance_id = static_cast<uint32_t>(s.Int(7));
+  return o;
+}
+
+Status CheckLimit(int limit) {
+  if (limit <= 0) return InvalidArgument("limit: must be positive, got " + std::to_string(limit));
+  return Status::Ok();
+}
+
+Status CheckPose(const Eigen::Matrix4d& pose) {
+  if (!pose.allFinite()) return InvalidArgument("pose: every element must be finite");
+  return Status::Ok();
+}
+
+Status CheckScale(double scale) {
+  if (!std::isfinite(scale) || scale <= 0) {
+    return InvalidArgument("scale: must be finite and positive, got " + std::to_string(scale));
+  }
+  return Status::Ok();
+}
+
+Status CheckTable(const TableRecord& table) {
+  if (!table.centre.allFinite()) return InvalidArgument("table.centre: every element must be finite");
+  if (!table.axis.allFinite() || table.axis.norm() == 0) {
+    return InvalidArgument("table.axis: must be finite and non-zero");
+  }
+  if (!std::isfinite(table.angle_deg)) return InvalidArgument("table.angle_deg: must be finite");
+  return Status::Ok();
+}
+
+Status Configure(sqlite3* db) {
+  int rc = sqlite3_busy_timeout(db, kBusyTimeoutMs);
+  if (rc != SQLITE_OK) return sqlite::Error(db, rc, "busy_timeout");
+  ASSIGN_OR_RETURN(Statement wal, Statement::Prepare(db, "PRAGMA journal_mode = WAL"));
+  ASSIGN_OR_RETURN(bool row, wal.Step());
+  if (!row || wal.Text(0) != "wal") return Unavailable("catalogue: the database cannot use WAL journaling");
+  RETURN_IF_ERROR(sqlite::Exec(db, "PRAGMA synchronous = FULL"));
+  return sqlite::Exec(db, "PRAGMA foreign_keys = ON");
+}
+
+Status SceneNotFound(const std::string& scene_id) { return NotFound("scene_id: no scene '" + scene_id + "'"); }
+Status MeshNotFound(const std::string& mesh_id) { return NotFound("mesh_id: no mesh '" + mesh_id + "'"); }
+Status ObjectNotFound(const std::string& scene_id, const std::string& object_id) {
+  return NotFound("object_id: no object '" + object_id + "' in scene '" + scene_id + "'");
+}
+
+// Bumps the scene's revision and update time; NOT_FOUND when the scene does not exist.
+StatusOr<uint64_t> BumpRevision(sqlite3* db, const std::string& scene_id) {
+  ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db,
+                                                   "UPDATE scenes SET revision = revision + 1, update_time_ms = ?1 "
+                                                   "WHERE scene_id = ?2 RETURNING revision"));
+  s.Bind(1, NowMs()).Bind(2, scene_id);
+  ASSIGN_OR_RETURN(bool row, s.Step());
+  if (!row) return SceneNotFound(scene_id);
+  auto revision = static_cast<uint64_t>(s.Int(0));
+  RETURN_IF_ERROR(s.Run());
+  return revision;
+}
+
+StatusOr<ObjectRecord> LoadObject(sqlite3* db, const std::string& scene_id, const std::string& object_id) {
+  ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db, Sql("SELECT ", kObjectColumns,
+                                                           " FROM objects WHERE object_id = ?1 AND scene_id = ?2")));
+  s.Bind(1, object_id).Bind(2, scene_id);
+  ASSIGN_OR_RETURN(bool row, s.Step());
+  if (!row) return ObjectNotFound(scene_id, object_id);
+  return ReadObject(s);
+}
+
+Status LoadObjects(sqlite3* db, SceneRecord& scene) {
+  ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db, Sql("SELECT ", kObjectColumns,
+                                                           " FROM objects WHERE scene_id = ?1 ORDER BY instance_id")));
+  s.Bind(1, scene.scene_id);
+  for (;;) {
+    ASSIGN_OR_RETURN(bool row, s.Step());
+    if (!row) return Status::Ok();
+    ASSIGN_OR_RETURN(ObjectRecord object, ReadObject(s));
+    scene.objects.push_back(std::move(object));
+  }
+}
+
+}  // namespace
+
+Catalogue::Catalogue(sqlite3* db) : db_(db) {}
+
+Catalogue::~Catalogue() { sqlite3_close_v2(db_); }
+
+StatusOr<std::unique_ptr<Catalogue>> Catalogue::Open(const std::filesystem::path& db_path) {
+  if (db_path.has_parent_path()) {
+    std::error_code ec;
+    std::filesystem::create_directories(db_path.parent_path(), ec);
+    if (ec) return Unavailable("catalogue: cannot create '" + db_path.parent_path().string() + "': " + ec.message());
+  }
+  sqlite3* db = nullptr;
+  int rc = sqlite3_open_v2(db_path.c_str(), &db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX,
+                           nullptr);
+  // The object owns the handle from here on, so every early return closes it.
+  std::unique_ptr<Catalogue> catalogue(new Catalogue(db));
+  if (rc != SQLITE_OK) return sqlite::Error(db, rc, "open '" + db_path.string() + "'");
+  RETURN_IF_ERROR(Configure(db));
+  RETURN_IF_ERROR(MigrateSchema(db));
+  return catalogue;
+}
+
+StatusOr<MeshRecord> Catalogue::InsertMesh(MeshRecord mesh) {
+  std::lock_guard lock(mutex_);
+  mesh.mesh_id = NewId("msh_");
+  mesh.create_time_ms = NowMs();
+  RETURN_IF_ERROR(sqlite::InTransaction(db_, true, [&]() -> Status {
+    ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_, Sql("INSERT INTO meshes (", kMeshColumns,
+                                                              ") VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, "
+                                                              "?10, ?11, ?12, ?13, ?14)")));
+    s.Bind(1, mesh.mesh_id).Bind(2, mesh.name).Bind(3, mesh.sha256);
+    s.Bind(4, static_cast<int64_t>(mesh.vertex_count)).Bind(5, static_cast<int64_t>(mesh.triangle_count));
+    for (int i = 0; i < 3; ++i) {
+      s.Bind(6 + i, mesh.bounds_min[i]).Bind(9 + i, mesh.bounds_max[i]);
+    }
+    s.Bind(12, int64_t{mesh.source_unit}).Bind(13, mesh.source_scale).Bind(14, mesh.create_time_ms);
+    return s.Run();
+  }));
+  return mesh;
+}
+
+StatusOr<MeshRecord> Catalogue::GetMesh(const std::string& mesh_id) {
+  std::lock_guard lock(mutex_);
+  ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_, Sql("SELECT ", kMeshColumns, " FROM meshes WHERE mesh_id = ?1")));
+  s.Bind(1, mesh_id);
+  ASSIGN_OR_RETURN(bool row, s.Step());
+  if (!row) return MeshNotFound(mesh_id);
+  return ReadMesh(s);
+}
+
+StatusOr<std::vector<MeshRecord>> Catalogue::ListMeshes(const std::string& after_id, int limit) {
+  RETURN_IF_ERROR(CheckLimit(limit));
+  std::lock_guard lock(mutex_);
+  ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_, Sql("SELECT ", kMeshColumns,
+                                                            " FROM meshes WHERE mesh_id > ?1 ORDER BY mesh_id LIMIT ?2")));
+  s.Bind(1, after_id).Bind(2, int64_t{std::min(limit, kMaxListLimit)});
+  std::vector<MeshRecord> meshes;
+  for (;;) {
+    ASSIGN_OR_RETURN(bool row, s.Step());
+    if (!row) return meshes;
+    meshes.push_back(ReadMesh(s));
+  }
+}
+
+StatusOr<std::pair<std::string, bool>> Catalogue::DeleteMesh(const std::string& mesh_id) {
+  std::lock_guard lock(mutex_);
+  std::pair<std::string, bool> result;
+  RETURN_IF_ERROR(sqlite::InTransaction(db_, true, [&]() -> Status {
+    ASSIGN_OR_RETURN(Statement exists, Statement::Prepare(db_, "SELECT 1 FROM meshes WHERE mesh_id = ?1"));
+    exists.Bind(1, mesh_id);
+    ASSIGN_OR_RETURN(bool found, exists.Step());
+    if (!found) return MeshNotFound(mesh_id);
+
+    ASSIGN_OR_RETURN(Statement users, Statement::Prepare(db_, "SELECT count(*) FROM objects WHERE mesh_id = ?1"));
+    users.Bind(1, mesh_id);
+    ASSIGN_OR_RETURN(bool counted, users.Step());
+    if (int64_t count = counted ? users.Int(0) : 0; count > 0) {
+      return FailedPrecondition("mesh_id: mesh '" + mesh_id + "' is used by " + std::to_string(count) +
+                                (count == 1 ? " object" : " objects"));
+    }
+
+    ASSIGN_OR_RETURN(Statement del, Statement::Prepare(db_, "DELETE FROM meshes WHERE mesh_id = ?1 RETURNING sha256"));
+    del.Bind(1, mesh_id);
+    ASSIGN_OR_RETURN(bool deleted, del.Step());
+    if (!deleted) return MeshNotFound(mesh_id);
+    result.first = del.Text(0);
+    RETURN_IF_ERROR(del.Run());
+
+    ASSIGN_OR_RETURN(Statement shared, Statement::Prepare(db_, "SELECT count(*) FROM meshes WHERE sha256 = ?1"));
+    shared.Bind(1, result.first);
+    ASSIGN_OR_RETURN(bool row, shared.Step());
+    result.second = !row || shared.Int(0) == 0;
+    return Status::Ok();
+  }));
+  return result;
+}
+
+StatusOr<SceneRecord> Catalogue::CreateScene(const std::string& name) {
+  std::lock_guard lock(mutex_);
+  SceneRecord scene;
+  scene.scene_id = NewId("scn_");
+  scene.name = name;
+  scene.revision = 1;
+  scene.create_time_ms = scene.update_time_ms = NowMs();
+  RETURN_IF_ERROR(sqlite::InTransaction(db_, true, [&]() -> Status {
+    ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_, Sql("INSERT INTO scenes (", kSceneColumns,
+                                                              ", next_instance_id) VALUES (?1, ?2, ?3, ?4, ?5, ?6, "
+                                                              "?7, ?8, ?9, ?10, ?11, ?12, ?13, 1)")));
+    const TableRecord& t = scene.table;
+    s.Bind(1, scene.scene_id).Bind(2, scene.name).Bind(3, int64_t{1}).Bind(4, int64_t{t.enabled});
+    for (int i = 0; i < 3; ++i) s.Bind(5 + i, t.centre[i]).Bind(8 + i, t.axis[i]);
+    s.Bind(11, t.angle_deg).Bind(12, scene.create_time_ms).Bind(13, scene.update_time_ms);
+    return s.Run();
+  }));
+  return scene;
+}
+
+StatusOr<SceneRecord> Catalogue::GetScene(const std::string& scene_id) {
+  std::lock_guard lock(mutex_);
+  SceneRecord scene;
+  RETURN_IF_ERROR(sqlite::InTransaction(db_, false, [&]() -> Status {
+    ASSIGN_OR_RETURN(Statement s,
+                     Statement::Prepare(db_, Sql("SELECT ", kSceneColumns, " FROM scenes WHERE scene_id = ?1")));
+    s.Bind(1, scene_id);
+    ASSIGN_OR_RETURN(bool row, s.Step());
+    if (!row) return SceneNotFound(scene_id);
+    scene = ReadScene(s);
+    return LoadObjects(db_, scene);
+  }));
+  return scene;
+}
+
+StatusOr<std::vector<SceneRecord>> Catalogue::ListScenes(const std::string& after_id, int limit) {
+  RETURN_IF_ERROR(CheckLimit(limit));
+  std::lock_guard lock(mutex_);
+  std::vector<SceneRecord> scenes;
+  RETURN_IF_ERROR(sqlite::InTransaction(db_, false, [&]() -> Status {
+    ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_, Sql("SELECT ", kSceneColumns,
+                                                              " FROM scenes WHERE scene_id > ?1 ORDER BY scene_id "
+                                                              "LIMIT ?2")));
+    s.Bind(1, after_id).Bind(2, int64_t{std::min(limit, kMaxListLimit)});
+    for (;;) {
+      ASSIGN_OR_RETURN(bool row, s.Step());
+      if (!row) break;
+      scenes.push_back(ReadScene(s));
+    }
+    for (auto& scene : scenes) RETURN_IF_ERROR(LoadObjects(db_, scene));
+    return Status::Ok();
+  }));
+  return scenes;
+}
+
+Status Catalogue::DeleteScene(const std::string& scene_id) {
+  std::lock_guard lock(mutex_);
+  return sqlite::InTransaction(db_, true, [&]() -> Status {
+    ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_, "DELETE FROM scenes WHERE scene_id = ?1"));
+    s.Bind(1, scene_id);
+    RETURN_IF_ERROR(s.Run());
+    if (sqlite3_changes(db_) == 0) return SceneNotFound(scene_id);
+    return Status::Ok();
+  });
+}
+
+StatusOr<std::pair<ObjectRecord, uint64_t>> Catalogue::AddObject(ObjectRecord object) {
+  RETURN_IF_ERROR(CheckPose(object.pose));
+  RETURN_IF_ERROR(CheckScale(object.scale));
+  std::lock_guard lock(mutex_);
+  object.object_id = NewId("obj_");
+  uint64_t revision = 0;
+  RETURN_IF_ERROR(sqlite::InTransaction(db_, true, [&]() -> Status {
+    ASSIGN_OR_RETURN(Statement scene, Statement::Prepare(db_,
+                                                         "UPDATE scenes SET revision = revision + 1, "
+                                                         "next_instance_id = next_instance_id + 1, update_time_ms = ?1 "
+                                                         "WHERE scene_id = ?2 RETURNING revision, next_instance_id - 1"));
+    scene.Bind(1, NowMs()).Bind(2, object.scene_id);
+    ASSIGN_OR_RETURN(bool found, scene.Step());
+    if (!found) return SceneNotFound(object.scene_id);
+    revision = static_cast<uint64_t>(scene.Int(0));
+    object.instance_id = static_cast<uint32_t>(scene.Int(1));
+    RETURN_IF_ERROR(scene.Run());
+
+    ASSIGN_OR_RETURN(Statement mesh, Statement::Prepare(db_, "SELECT 1 FROM meshes WHERE mesh_id = ?1"));
+    mesh.Bind(1, object.mesh_id);
+    ASSIGN_OR_RETURN(bool mesh_found, mesh.Step());
+    if (!mesh_found) return MeshNotFound(object.mesh_id);
+
+    ASSIGN_OR_RETURN(Statement insert, Statement::Prepare(db_, Sql("INSERT INTO objects (", kObjectColumns,
+                                                                   ") VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)")));
+    insert.Bind(1, object.object_id).Bind(2, object.scene_id).Bind(3, object.mesh_id).Bind(4, object.label);
+    insert.BindBlob(5, EncodePose(object.pose)).Bind(6, object.scale).Bind(7, int64_t{object.on_table});
+    insert.Bind(8, int64_t{object.instance_id});
+    return insert.Run();
+  }));
+  return std::make_pair(std::move(object), revision);
+}
+
+StatusOr<std::pair<ObjectRecord, uint64_t>> Catalogue::MoveObject(const std::string& scene_id,
+                                                                  const std::string& object_id,
+                                                                  const Eigen::Matrix4d& pose,
+                                                                  std::optional<double> scale) {
+  RETURN_IF_ERROR(CheckPose(pose));
+  if (scale) RETURN_IF_ERROR(CheckScale(*scale));
+  std::lock_guard lock(mutex_);
+  ObjectRecord object;
+  uint64_t revision = 0;
+  RETURN_IF_ERROR(sqlite::InTransaction(db_, true, [&]() -> Status {
+    ASSIGN_OR_RETURN(revision, BumpRevision(db_, scene_id));
+    ASSIGN_OR_RETURN(object, LoadObject(db_, scene_id, object_id));
+    object.pose = pose;
+    if (scale) object.scale = *scale;
+    ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_, "UPDATE objects SET pose = ?1, scale = ?2 WHERE object_id = ?3"));
+    s.BindBlob(1, EncodePose(object.pose)).Bind(2, object.scale).Bind(3, object_id);
+    return s.Run();
+  }));
+  return std::make_pair(std::move(object), revision);
+}
+
+StatusOr<uint64_t> Catalogue::RemoveObject(const std::string& scene_id, const std::string& object_id) {
+  std::lock_guard lock(mutex_);
+  uint64_t revision = 0;
+  RETURN_IF_ERROR(sqlite::InTransaction(db_, true, [&]() -> Status {
+    ASSIGN_OR_RETURN(revision, BumpRevision(db_, scene_id));
+    ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_, "DELETE FROM objects WHERE object_id = ?1 AND scene_id = ?2"));
+    s.Bind(1, object_id).Bind(2, scene_id);
+    RETURN_IF_ERROR(s.Run());
+    if (sqlite3_changes(db_) == 0) return ObjectNotFound(scene_id, object_id);
+    return Status::Ok();
+  }));
+  return revision;
+}
+
+StatusOr<uint64_t> Catalogue::SetTable(const std::string& scene_id, const TableRecord& table) {
+  RETURN_IF_ERROR(CheckTable(table));
+  std::lock_guard lock(mutex_);
+  uint64_t revision = 0;
+  RETURN_IF_ERROR(sqlite::InTransaction(db_, true, [&]() -> Status {
+    ASSIGN_OR_RETURN(revision, BumpRevision(db_, scene_id));
+    ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_,
+                                                     "UPDATE scenes SET table_enabled = ?1, table_centre_x = ?2, "
+                                                     "table_centre_y = ?3, table_centre_z = ?4, table_axis_x = ?5, "
+                                                     "table_axis_y = ?6, table_axis_z = ?7, table_angle_deg = ?8 "
+                                                     "WHERE scene_id = ?9"));
+    s.Bind(1, int64_t{table.enabled});
+    for (int i = 0; i < 3; ++i) s.Bind(2 + i, table.centre[i]).Bind(5 + i, table.axis[i]);
+    s.Bind(8, table.angle_deg).Bind(9, scene_id);
+    return s.Run();
+  }));
+  return revision;
+}
+
+}  // namespace vscan::store

@@ -1,0 +1,100 @@
+#pragma once
+// The durable catalogue of meshes, scenes and objects: SQLite in WAL mode, synchronous=FULL.
+// Every mutation is one transaction; scene mutations bump the scene's revision.
+// Thread-safe (one connection behind a mutex).
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "vscan/common/status.h"
+
+struct sqlite3;
+
+namespace vscan::store {
+
+struct MeshRecord {
+  std::string mesh_id;
+  std::string name;
+  std::string sha256;  // blob holding the encoded mesh
+  uint64_t vertex_count = 0;
+  uint64_t triangle_count = 0;
+  Eigen::Vector3d bounds_min = Eigen::Vector3d::Zero();
+  Eigen::Vector3d bounds_max = Eigen::Vector3d::Zero();
+  int source_unit = 0;  // v1::LengthUnit value
+  double source_scale = 1.0;
+  int64_t create_time_ms = 0;
+};
+
+struct ObjectRecord {
+  std::string object_id;
+  std::string scene_id;
+  std::string mesh_id;
+  std::string label;
+  Eigen::Matrix4d pose = Eigen::Matrix4d::Identity();  // parent_from_object
+  double scale = 1.0;
+  bool on_table = false;
+  uint32_t instance_id = 0;
+};
+
+struct TableRecord {
+  bool enabled = false;
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
+  double angle_deg = 0.0;
+};
+
+struct SceneRecord {
+  std::string scene_id;
+  std::string name;
+  uint64_t revision = 0;
+  TableRecord table;
+  std::vector<ObjectRecord> objects;  // ordered by instance_id
+  int64_t create_time_ms = 0;
+  int64_t update_time_ms = 0;
+};
+
+class Catalogue {
+ public:
+  ~Catalogue();
+  // Opens or creates the database file and its schema.
+  static StatusOr<std::unique_ptr<Catalogue>> Open(const std::filesystem::path& db_path);
+
+  // Meshes. ids are generated ("msh_" + 16 hex digits).
+  StatusOr<MeshRecord> InsertMesh(MeshRecord mesh);
+  StatusOr<MeshRecord> GetMesh(const std::string& mesh_id);
+  // Ordered by id; ids greater than after_id; at most limit (capped at 1000; INVALID_ARGUMENT when
+  // not positive). The same holds for ListScenes.
+  StatusOr<std::vector<MeshRecord>> ListMeshes(const std::string& after_id, int limit);
+  // FAILED_PRECONDITION when objects still use it; returns its sha256 so the blob can go
+  // when no other mesh shares it (second element: true when unshared).
+  StatusOr<std::pair<std::string, bool>> DeleteMesh(const std::string& mesh_id);
+
+  // Scenes. ids are generated ("scn_" + 16 hex digits); revision starts at 1.
+  StatusOr<SceneRecord> CreateScene(const std::string& name);
+  StatusOr<SceneRecord> GetScene(const std::string& scene_id);
+  StatusOr<std::vector<SceneRecord>> ListScenes(const std::string& after_id, int limit);
+  Status DeleteScene(const std::string& scene_id);
+
+  // Objects. ids "obj_" + 16 hex; instance_id is the scene's next free number from 1.
+  // NOT_FOUND for unknown scene or mesh (message names scene_id or mesh_id).
+  StatusOr<std::pair<ObjectRecord, uint64_t>> AddObject(ObjectRecord object);
+  // Replaces pose and, when scale is set, the scale. Returns the object and new revision.
+  StatusOr<std::pair<ObjectRecord, uint64_t>> MoveObject(const std::string& scene_id, const std::string& object_id,
+                                                         const Eigen::Matrix4d& pose, std::optional<double> scale);
+  StatusOr<uint64_t> RemoveObject(const std::string& scene_id, const std::string& object_id);
+  StatusOr<uint64_t> SetTable(const std::string& scene_id, const TableRecord& table);
+
+ private:
+  explicit Catalogue(sqlite3* db);
+  std::mutex mutex_;
+  sqlite3* db_;
+};
+
+}  // namespace vscan::store

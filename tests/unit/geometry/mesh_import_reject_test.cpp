@@ -1,0 +1,167 @@
+// Hostile and broken input: every case must come back as a clean error and never touch the disk.
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <limits>
+#include <random>
+#include <thread>
+
+#include "geometry/mesh_import.h"
+
+namespace vscan::geometry {
+namespace {
+
+constexpr MeshFileFormat kAllFormats[] = {MeshFileFormat::kAuto, MeshFileFormat::kPly, MeshFileFormat::kObj,
+                                          MeshFileFormat::kStl};
+
+constexpr char kTrianglePly[] =
+    "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+    "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+    "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+
+void ExpectInvalid(const StatusOr<TriangleMesh>& result, const std::string& prefix) {
+  ASSERT_FALSE(result.ok()) << "accepted a mesh with " << result->triangles.size() << " triangles";
+  EXPECT_EQ(result.status().code(), StatusCode::kInvalidArgument) << result.status().ToString();
+  EXPECT_EQ(result.status().message().rfind(prefix, 0), 0u) << result.status().message();
+  EXPECT_EQ(result.status().message().find("$$$"), std::string::npos) << result.status().message();
+}
+
+std::string BinaryStl(const std::vector<std::array<float, 9>>& facets) {
+  std::string bytes(80, ' ');
+  auto count = static_cast<uint32_t>(facets.size());
+  bytes.append(reinterpret_cast<const char*>(&count), 4);
+  for (const auto& f : facets) {
+    bytes.append(12, '\0');
+    bytes.append(reinterpret_cast<const char*>(f.data()), 36);
+    bytes.append(2, '\0');
+  }
+  return bytes;
+}
+
+TEST(MeshImportRejectTest, BadScale) {
+  for (double scale : {0.0, -1.0, std::nan(""), std::numeric_limits<double>::infinity()}) {
+    ExpectInvalid(ImportMesh(kTrianglePly, MeshFileFormat::kPly, scale), "scale: ");
+  }
+  EXPECT_TRUE(ImportMesh(kTrianglePly, MeshFileFormat::kPly, 1e-6).ok());
+}
+
+TEST(MeshImportRejectTest, EmptyBytes) {
+  for (auto format : kAllFormats) ExpectInvalid(ImportMesh("", format, 1.0), "mesh data: empty");
+}
+
+TEST(MeshImportRejectTest, GarbageBytes) {
+  std::mt19937 rng(1234);
+  for (int round = 0; round < 8; ++round) {
+    std::string garbage(200 + 333 * round, '\0');
+    for (auto& c : garbage) c = static_cast<char>(rng() & 0xff);
+    for (auto format : kAllFormats) ExpectInvalid(ImportMesh(garbage, format, 1.0), "mesh data: ");
+  }
+  ExpectInvalid(ImportMesh("this is not a mesh\n", MeshFileFormat::kAuto, 1.0), "mesh data: ");
+}
+
+TEST(MeshImportRejectTest, PlyWithoutFaces) {
+  constexpr char kPoints[] =
+      "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "end_header\n0 0 0\n1 0 0\n0 1 0\n";
+  ExpectInvalid(ImportMesh(kPoints, MeshFileFormat::kAuto, 1.0), "mesh data: ");
+}
+
+TEST(MeshImportRejectTest, LinesAndPointsOnlyHaveNoTriangles) {
+  ExpectInvalid(ImportMesh("v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\nl 2 3\n", MeshFileFormat::kObj, 1.0), "mesh data: ");
+}
+
+TEST(MeshImportRejectTest, NonFiniteVertices) {
+  for (const char* bad : {"nan", "inf", "-inf"}) {
+    std::string ply = kTrianglePly;
+    ply.replace(ply.find("1 0 0\n"), 1, bad);
+    ExpectInvalid(ImportMesh(ply, MeshFileFormat::kPly, 1.0), "mesh data: ");
+  }
+  float nan = std::numeric_limits<float>::quiet_NaN();
+  ExpectInvalid(ImportMesh(BinaryStl({{0, 0, 0, 1, 0, 0, 0, nan, 0}}), MeshFileFormat::kStl, 1.0), "mesh data: ");
+  ExpectInvalid(ImportMesh(BinaryStl({{0, 0, 0, 1, 0, 0, 0, nan, 0}}), MeshFileFormat::kAuto, 1.0), "mesh data: ");
+  EXPECT_TRUE(ImportMesh(BinaryStl({{0, 0, 0, 1, 0, 0, 0, 1, 0}}), MeshFileFormat::kAuto, 1.0).ok());
+}
+
+TEST(MeshImportRejectTest, CoordinatesThatOverflowFloatAfterScaling) {
+  std::string ply = kTrianglePly;
+  ply.replace(ply.find("1 0 0\n"), 1, "3e38");
+  EXPECT_TRUE(ImportMesh(ply, MeshFileFormat::kPly, 1.0).ok());
+  ExpectInvalid(ImportMesh(ply, MeshFileFormat::kPly, 10.0), "mesh data: ");
+}
+
+TEST(MeshImportRejectTest, FaceIndexOutOfRange) {
+  // Without validation before post-processing, this PLY crashes assimp 5.2.
+  std::string ply = kTrianglePly;
+  ply.replace(ply.find("3 0 1 2"), 7, "3 0 1 100000");
+  ExpectInvalid(ImportMesh(ply, MeshFileFormat::kPly, 1.0), "mesh data: ");
+  ExpectInvalid(ImportMesh("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 100000\n", MeshFileFormat::kObj, 1.0), "mesh data: ");
+}
+
+TEST(MeshImportRejectTest, MalformedPlyHeadersFailFast) {
+  // Found by fuzzing: assimp's PLY loader hangs or reads out of bounds on these, so they must be
+  // turned away before it sees them.
+  std::string no_end = kTrianglePly;
+  no_end.replace(no_end.find("end_header"), 10, std::string("e\0\0_header", 10));
+  ExpectInvalid(ImportMesh(no_end, MeshFileFormat::kAuto, 1.0), "mesh data: PLY header");
+  std::string bad_keyword = kTrianglePly;
+  bad_keyword.replace(bad_keyword.find("element vertex"), 14, "elem tnveertex");
+  ExpectInvalid(ImportMesh(bad_keyword, MeshFileFormat::kPly, 1.0), "mesh data: PLY header");
+  std::string huge_count = kTrianglePly;
+  huge_count.replace(huge_count.find("element vertex 3"), 16, "element vertex 4000000000");
+  ExpectInvalid(ImportMesh(huge_count, MeshFileFormat::kPly, 1.0), "mesh data: PLY header");
+}
+
+TEST(MeshImportRejectTest, FaceWithoutVertices) {
+  // A face list of length zero trips an assertion inside assimp's triangulation.
+  std::string ply = kTrianglePly;
+  ply.replace(ply.find("3 0 1 2"), 7, "0");
+  ExpectInvalid(ImportMesh(ply, MeshFileFormat::kPly, 1.0), "mesh data: ");
+}
+
+TEST(MeshImportRejectTest, TruncatedFiles) {
+  std::string stl = BinaryStl({{0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 0, 1, 1, 0, 1, 0, 1, 1}});
+  ExpectInvalid(ImportMesh(stl.substr(0, stl.size() - 10), MeshFileFormat::kStl, 1.0), "mesh data: ");
+  std::string ply = kTrianglePly;
+  ExpectInvalid(ImportMesh(ply.substr(0, ply.size() - 10), MeshFileFormat::kPly, 1.0), "mesh data: ");
+}
+
+// An OBJ's mtllib names a path chosen by the uploader; the importer must not open it. A FIFO shows
+// any attempt: opening it for reading blocks until this test's watcher opens the writing end.
+TEST(MeshImportRejectTest, ObjMaterialLibraryIsNeverOpened) {
+  std::string fifo = (std::filesystem::temp_directory_path() / ("vscan-mtl-" + std::to_string(::getpid()))).string();
+  ::unlink(fifo.c_str());
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0) << std::strerror(errno);
+
+  std::atomic<bool> done{false};
+  std::atomic<bool> opened{false};
+  std::thread watcher([&] {
+    while (!done) {
+      int fd = ::open(fifo.c_str(), O_WRONLY | O_NONBLOCK);  // succeeds only while a reader is there
+      if (fd >= 0) {
+        opened = true;
+        ::close(fd);
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+  });
+  std::string obj = "mtllib " + fifo + "\nusemtl steel\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  auto mesh = ImportMesh(obj, MeshFileFormat::kObj, 1.0);
+  done = true;
+  watcher.join();
+  ::unlink(fifo.c_str());
+
+  EXPECT_FALSE(opened) << "the importer opened the material library";
+  ASSERT_TRUE(mesh.ok()) << mesh.status().ToString();
+  EXPECT_EQ(mesh->triangles.size(), 1u);
+}
+
+}  // namespace
+}  // namespace vscan::geometry
