@@ -1,0 +1,107 @@
+#pragma once
+// A small synchronous C++ client for vscand. Every call returns a Status naming what went wrong;
+// errors from the server keep their gRPC code (see vscan/common/grpc_status.h).
+
+#include <chrono>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <grpcpp/channel.h>
+#include <grpcpp/client_context.h>
+
+#include "grpc/health/v1/health.grpc.pb.h"
+#include "vscan/client/types.h"
+#include "vscan/common/status.h"
+#include "vscan/v1/robot.grpc.pb.h"
+#include "vscan/v1/scan.grpc.pb.h"
+#include "vscan/v1/scene.grpc.pb.h"
+
+namespace vscan::client {
+
+class Client {
+ public:
+  // Opens a channel to target ("host:port", "unix:/path", ...). Fails only on bad options,
+  // e.g. an unreadable root certificate; the server is first contacted by the first call.
+  static StatusOr<Client> Connect(const std::string& target, const ClientOptions& options = {});
+  // Uses an existing channel (in-process servers, custom credentials).
+  explicit Client(std::shared_ptr<grpc::Channel> channel, ClientOptions options = {});
+
+  Client(Client&&) noexcept;
+  Client& operator=(Client&&) noexcept;
+  ~Client();
+
+  const ClientOptions& options() const { return options_; }
+  const std::shared_ptr<grpc::Channel>& channel() const { return channel_; }
+  // Applies a deadline (if timeout is positive) and the bearer token to a fresh call.
+  void PrepareContext(grpc::ClientContext* context, std::chrono::milliseconds timeout) const;
+
+  // grpc.health.v1 Check; service "" asks about the server as a whole.
+  StatusOr<grpc::health::v1::HealthCheckResponse> Health(const std::string& service = "");
+
+  StatusOr<v1::Scene> CreateScene(const std::string& name);
+  StatusOr<v1::Scene> GetScene(const std::string& scene_id);
+  // Every scene, following page tokens.
+  StatusOr<std::vector<v1::Scene>> ListScenes();
+  Status DeleteScene(const std::string& scene_id);
+
+  // Streams the file in options.chunk_bytes pieces after a header that carries its size.
+  StatusOr<v1::Mesh> UploadMeshFile(const std::string& path, MeshUploadOptions options,
+                                    const ProgressFn& progress = {});
+  // Same, from bytes in memory; options.format is required.
+  StatusOr<v1::Mesh> UploadMeshBytes(std::string_view bytes, const MeshUploadOptions& options,
+                                     const ProgressFn& progress = {});
+  StatusOr<v1::Mesh> GetMesh(const std::string& mesh_id);
+  // Every mesh, following page tokens.
+  StatusOr<std::vector<v1::Mesh>> ListMeshes();
+  Status DeleteMesh(const std::string& mesh_id);
+
+  StatusOr<v1::AddObjectResponse> AddObject(const std::string& scene_id, const std::string& mesh_id,
+                                            const ObjectPlacement& placement);
+  // pose unset keeps the current pose; scale 0 keeps the current scale.
+  StatusOr<v1::MoveObjectResponse> MoveObject(const std::string& scene_id, const std::string& object_id,
+                                              const std::optional<v1::Pose>& pose, double scale = 0.0);
+  // Returns the scene's new revision.
+  StatusOr<uint64_t> RemoveObject(const std::string& scene_id, const std::string& object_id);
+  StatusOr<v1::SetRotaryTableResponse> SetRotaryTable(const std::string& scene_id, const v1::RotaryTable& table);
+
+  // Runs a scan and assembles its chunks; checks that the point count matches the header.
+  StatusOr<ScanResult> Scan(const v1::ScanRequest& request, const ScanCallbacks& callbacks = {});
+  StatusOr<std::vector<v1::SensorPreset>> ListSensorPresets();
+
+  // Robots. Streams the files after a header; big files travel in options.chunk_bytes pieces.
+  StatusOr<v1::Robot> UploadRobot(const RobotUploadOptions& options, const std::vector<RobotFile>& files,
+                                  const ProgressFn& progress = {});
+  // A directory (every regular file below it, paths relative to it) or a single URDF file.
+  StatusOr<v1::Robot> UploadRobotPath(const std::string& path, RobotUploadOptions options,
+                                      const ProgressFn& progress = {});
+  StatusOr<v1::Robot> GetRobot(const std::string& robot_id);
+  // Every robot, following page tokens.
+  StatusOr<std::vector<v1::Robot>> ListRobots();
+  Status DeleteRobot(const std::string& robot_id);
+  StatusOr<v1::ForwardKinematicsResponse> ForwardKinematics(const v1::ForwardKinematicsRequest& request);
+  // OUT_OF_RANGE for an unreachable goal unless request.allow_partial is set.
+  StatusOr<v1::InverseKinematicsResponse> InverseKinematics(const v1::InverseKinematicsRequest& request);
+  StatusOr<v1::MountRobotResponse> MountRobot(const v1::MountRobotRequest& request);
+  StatusOr<v1::Mount> GetMount(const std::string& mount_id);
+  // Every mount of a scene (every scene's when scene_id is empty), following page tokens.
+  StatusOr<std::vector<v1::Mount>> ListMounts(const std::string& scene_id = "");
+  // Returns the scene's new revision.
+  StatusOr<uint64_t> UnmountRobot(const std::string& mount_id);
+
+ private:
+  StatusOr<v1::Mesh> Upload(const MeshUploadOptions& options, uint64_t size,
+                            const std::function<StatusOr<size_t>(char*, size_t)>& read,
+                            const ProgressFn& progress);
+
+  ClientOptions options_;
+  std::shared_ptr<grpc::Channel> channel_;
+  std::unique_ptr<v1::SceneService::Stub> scenes_;
+  std::unique_ptr<v1::ScanService::Stub> scans_;
+  std::unique_ptr<grpc::health::v1::Health::Stub> health_;
+};
+
+}  // namespace vscan::client

@@ -1,0 +1,94 @@
+#pragma once
+// Options, arguments and results of vscan::client::Client calls.
+
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "vscan/common/point_cloud.h"
+#include "vscan/v1/common.pb.h"
+#include "vscan/v1/robot.pb.h"
+#include "vscan/v1/scan.pb.h"
+#include "vscan/v1/scene.pb.h"
+
+namespace vscan::client {
+
+struct ClientOptions {
+  // Sent as "authorization: Bearer <token>" on every call when not empty.
+  std::string bearer_token;
+  // PEM file of the roots to trust; setting it turns TLS on.
+  std::string tls_root_cert_path;
+  // TLS with the system's default roots (implied by tls_root_cert_path).
+  bool use_tls = false;
+  // Deadline of each unary call; zero or negative means none.
+  std::chrono::milliseconds unary_timeout{30000};
+  // Deadline of streaming calls (mesh uploads, scans); zero or negative means none.
+  std::chrono::milliseconds stream_timeout{0};
+  // Largest message the client accepts; scan chunks may be up to 16 MiB.
+  int max_receive_bytes = 64 << 20;
+};
+
+// Called with (done, total); total is 0 when unknown.
+using ProgressFn = std::function<void(uint64_t done, uint64_t total)>;
+
+struct MeshUploadOptions {
+  // Empty: the file name (without directories) when uploading a file.
+  std::string name;
+  // Unspecified: inferred from the file extension when uploading a file.
+  v1::MeshFormat format = v1::MESH_FORMAT_UNSPECIFIED;
+  // Required by the server.
+  v1::LengthUnit unit = v1::LENGTH_UNIT_UNSPECIFIED;
+  double scale = 1.0;
+  // Bytes per chunk message after the header.
+  size_t chunk_bytes = 1 << 20;
+};
+
+struct ObjectPlacement {
+  // parent_from_object; unset means identity.
+  v1::Pose pose;
+  // 0 means 1.
+  double scale = 0.0;
+  std::string label;
+  bool on_table = false;
+};
+
+struct ScanCallbacks {
+  // Once, when the header arrives.
+  std::function<void(const v1::ScanHeader&)> on_header;
+  // After each chunk: (points received, points the header announced).
+  ProgressFn on_progress;
+};
+
+struct ScanResult {
+  v1::ScanHeader header;
+  // In the frame the header names; fields as the header lists them.
+  PointCloud cloud;
+  v1::ScanStatistics stats;
+};
+
+// MESH_FORMAT_* from a file name's extension (.ply, .obj, .stl, any case); UNSPECIFIED otherwise.
+v1::MeshFormat MeshFormatFromPath(const std::string& path);
+
+struct RobotUploadOptions {
+  // Empty: the URDF's robot name.
+  std::string name;
+  // Path of the URDF inside the bundle; UploadRobotPath finds it when the directory holds one.
+  std::string urdf_path;
+  // Empty: the URDF's root link, and the one deepest link below it.
+  std::string base_link;
+  std::string tip_link;
+  // tip_from_tool; unset means identity.
+  std::optional<v1::Pose> tool_offset;
+  // Largest piece of a file per message.
+  size_t chunk_bytes = 1 << 20;
+};
+
+// One file of a robot bundle; path relative to the bundle root, '/' separated.
+struct RobotFile {
+  std::string path;
+  std::string bytes;
+};
+
+}  // namespace vscan::client

@@ -1,0 +1,67 @@
+#include "vscan/client/client.h"
+
+#include <fstream>
+#include <sstream>
+
+#include <grpcpp/create_channel.h>
+#include <grpcpp/security/credentials.h>
+#include <grpcpp/support/channel_arguments.h>
+
+#include "unary_call.h"
+
+namespace vscan::client {
+namespace {
+
+StatusOr<std::shared_ptr<grpc::ChannelCredentials>> Credentials(const ClientOptions& options) {
+  if (!options.tls_root_cert_path.empty()) {
+    std::ifstream in(options.tls_root_cert_path, std::ios::binary);
+    if (!in) return NotFound("tls_root_cert_path: cannot read " + options.tls_root_cert_path);
+    std::ostringstream pem;
+    pem << in.rdbuf();
+    grpc::SslCredentialsOptions ssl;
+    ssl.pem_root_certs = pem.str();
+    return grpc::SslCredentials(ssl);
+  }
+  if (options.use_tls) return grpc::SslCredentials(grpc::SslCredentialsOptions());
+  return grpc::InsecureChannelCredentials();
+}
+
+}  // namespace
+
+StatusOr<Client> Client::Connect(const std::string& target, const ClientOptions& options) {
+  if (target.empty()) return InvalidArgument("target: empty server address");
+  ASSIGN_OR_RETURN(auto credentials, Credentials(options));
+  grpc::ChannelArguments args;
+  args.SetMaxReceiveMessageSize(options.max_receive_bytes);
+  return Client(grpc::CreateCustomChannel(target, credentials, args), options);
+}
+
+Client::Client(std::shared_ptr<grpc::Channel> channel, ClientOptions options)
+    : options_(std::move(options)),
+      channel_(std::move(channel)),
+      scenes_(v1::SceneService::NewStub(channel_)),
+      scans_(v1::ScanService::NewStub(channel_)),
+      health_(grpc::health::v1::Health::NewStub(channel_)) {}
+
+Client::Client(Client&&) noexcept = default;
+Client& Client::operator=(Client&&) noexcept = default;
+Client::~Client() = default;
+
+void Client::PrepareContext(grpc::ClientContext* context, std::chrono::milliseconds timeout) const {
+  if (timeout.count() > 0) context->set_deadline(std::chrono::system_clock::now() + timeout);
+  if (!options_.bearer_token.empty()) context->AddMetadata("authorization", "Bearer " + options_.bearer_token);
+}
+
+StatusOr<grpc::health::v1::HealthCheckResponse> Client::Health(const std::string& service) {
+  grpc::health::v1::HealthCheckRequest request;
+  request.set_service(service);
+  return UnaryCall(*this, *health_, &grpc::health::v1::Health::Stub::Check, request);
+}
+
+StatusOr<std::vector<v1::SensorPreset>> Client::ListSensorPresets() {
+  const v1::ListSensorPresetsRequest request;
+  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *scans_, &v1::ScanService::Stub::ListSensorPresets, request));
+  return std::vector<v1::SensorPreset>(response.presets().begin(), response.presets().end());
+}
+
+}  // namespace vscan::client

@@ -1,0 +1,105 @@
+#include <algorithm>
+
+#include "vscan/client/client.h"
+#include "vscan/common/grpc_status.h"
+#include "vscan/common/point_chunks.h"
+#include "vscan/common/proto_convert.h"
+
+namespace vscan::client {
+namespace {
+
+// Upper bound on points reserved up front, so a bogus header cannot exhaust memory by itself.
+constexpr uint64_t kMaxReservedPoints = uint64_t{1} << 26;
+
+void Reserve(PointCloud* cloud, size_t n) {
+  cloud->positions.reserve(n);
+  if (cloud->Has(kFieldNormal)) cloud->normals.reserve(n);
+  if (cloud->Has(kFieldRange)) cloud->ranges.reserve(n);
+  if (cloud->Has(kFieldIntensity)) cloud->intensities.reserve(n);
+  if (cloud->Has(kFieldInstanceId)) cloud->instance_ids.reserve(n);
+  if (cloud->Has(kFieldPixel)) cloud->pixels.reserve(n);
+}
+
+// Folds the stream's messages into a ScanResult, checking their order and sizes.
+class ScanAssembler {
+ public:
+  explicit ScanAssembler(const ScanCallbacks& callbacks) : callbacks_(callbacks) {}
+
+  Status Add(const v1::ScanResponse& message) {
+    switch (message.part_case()) {
+      case v1::ScanResponse::kHeader: return OnHeader(message.header());
+      case v1::ScanResponse::kChunk: return OnChunk(message.chunk());
+      case v1::ScanResponse::kStatistics:
+        if (!have_header_) return DataLoss("scan stream: statistics before the header");
+        result_.stats = message.statistics();
+        have_stats_ = true;
+        return Status::Ok();
+      case v1::ScanResponse::PART_NOT_SET: break;
+    }
+    return Status::Ok();
+  }
+
+  StatusOr<ScanResult> Finish() && {
+    if (!have_header_) return DataLoss("scan stream: ended without a header");
+    if (result_.cloud.size() != result_.header.points()) {
+      return DataLoss("scan stream: received " + std::to_string(result_.cloud.size()) + " of " +
+                      std::to_string(result_.header.points()) + " points");
+    }
+    if (!have_stats_) return DataLoss("scan stream: ended without statistics");
+    return std::move(result_);
+  }
+
+ private:
+  Status OnHeader(const v1::ScanHeader& header) {
+    if (have_header_) return DataLoss("scan stream: second header");
+    ASSIGN_OR_RETURN(const uint32_t fields, FieldsFromProto(header.fields(), "header.fields"));
+    result_.header = header;
+    result_.cloud.fields = fields;
+    Reserve(&result_.cloud, static_cast<size_t>(std::min(header.points(), kMaxReservedPoints)));
+    have_header_ = true;
+    if (callbacks_.on_header) callbacks_.on_header(result_.header);
+    return Status::Ok();
+  }
+
+  Status OnChunk(const v1::PointChunk& chunk) {
+    if (!have_header_) return DataLoss("scan stream: chunk before the header");
+    if (result_.cloud.size() + chunk.count() > result_.header.points()) {
+      return DataLoss("scan stream: more points than the header announced (" +
+                      std::to_string(result_.header.points()) + ")");
+    }
+    RETURN_IF_ERROR(AppendChunk(chunk, &result_.cloud));
+    if (callbacks_.on_progress) callbacks_.on_progress(result_.cloud.size(), result_.header.points());
+    return Status::Ok();
+  }
+
+  const ScanCallbacks& callbacks_;
+  ScanResult result_;
+  bool have_header_ = false;
+  bool have_stats_ = false;
+};
+
+}  // namespace
+
+StatusOr<ScanResult> Client::Scan(const v1::ScanRequest& request, const ScanCallbacks& callbacks) {
+  grpc::ClientContext context;
+  PrepareContext(&context, options_.stream_timeout);
+  auto reader = scans_->Scan(&context, request);
+  ScanAssembler assembler(callbacks);
+  Status local;
+  v1::ScanResponse message;
+  while (reader->Read(&message)) {
+    local = assembler.Add(message);
+    if (!local.ok()) {
+      context.TryCancel();
+      while (reader->Read(&message)) {
+      }
+      break;
+    }
+  }
+  const grpc::Status status = reader->Finish();
+  if (!local.ok()) return local;
+  if (!status.ok()) return FromGrpc(status);
+  return std::move(assembler).Finish();
+}
+
+}  // namespace vscan::client

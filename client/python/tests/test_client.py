@@ -1,0 +1,112 @@
+"""vscan_client against an in-process fake server (needs VSCAN_PY_STUBS or the stubs on sys.path)."""
+
+import os
+import sys
+import tempfile
+import unittest
+
+import grpc
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+from fake_server import N_POINTS, FakeServer  # noqa: E402
+from vscan_client import Client, VscanError  # noqa: E402
+from vscan_client._stubs import common_pb2, scan_pb2, scene_pb2  # noqa: E402
+
+
+class ClientTest(unittest.TestCase):
+    def setUp(self):
+        self.fake = FakeServer()
+        self.scenes, self.scans = self.fake.scenes, self.fake.scans
+        self.client = Client(self.fake.address, token="tok")
+
+    def tearDown(self):
+        self.client.close()
+        self.fake.stop()
+
+    def test_health(self):
+        self.assertEqual(self.client.health(), "SERVING")
+
+    def test_create_scene_sends_token(self):
+        self.assertEqual(self.client.create_scene("x").name, "x")
+        self.assertEqual(self.scenes.metadata.get("authorization"), "Bearer tok")
+
+    def test_list_scenes_follows_pages(self):
+        self.assertEqual([s.scene_id for s in self.client.list_scenes()], ["s0", "s1", "s2", "s3"])
+
+    def test_errors_carry_code(self):
+        with self.assertRaises(VscanError) as caught:
+            self.client.get_scene("nope")
+        self.assertEqual(caught.exception.code, grpc.StatusCode.NOT_FOUND)
+        self.assertIn("nope", caught.exception.message)
+        self.assertFalse(caught.exception.unreachable)
+
+    def test_unreachable(self):
+        with Client("127.0.0.1:1", timeout=2) as c, self.assertRaises(VscanError) as caught:
+            c.list_scenes()
+        self.assertTrue(caught.exception.unreachable)
+
+    def test_upload_mesh(self):
+        with tempfile.NamedTemporaryFile(suffix=".STL") as f:
+            f.write(bytes(range(256)) * 10000)
+            f.flush()
+            mesh = self.client.upload_mesh(f.name, unit="mm", scale=2)
+        self.assertEqual(mesh.mesh_id, "mesh-1")
+        self.assertEqual(self.scenes.parts[0], "header")
+        self.assertEqual(self.scenes.parts[1:], [1 << 20, 1 << 20, 2560000 - (2 << 20)])
+        self.assertEqual(self.scenes.header.size_bytes, 2560000)
+        self.assertEqual(self.scenes.header.format, scene_pb2.MESH_FORMAT_STL)
+        self.assertEqual(self.scenes.header.unit, common_pb2.LENGTH_UNIT_MILLIMETRE)
+        self.assertEqual(self.scenes.header.scale, 2)
+        self.assertEqual(len(self.scenes.data), 2560000)
+
+    def test_add_object_pose(self):
+        obj = self.client.add_object("scene-1", "mesh-1", position=(1, 2, 3), quat=(0, 0, 0, 1), label="a")
+        self.assertEqual(obj.object_id, "obj-1")
+        q = self.scenes.last_add.pose.quaternion
+        self.assertEqual((q.translation.x, q.translation.z, q.qz), (1, 3, 1))
+        self.client.add_object("scene-1", "mesh-1", matrix=np.eye(4))
+        self.assertEqual(list(self.scenes.last_add.pose.matrix.values), list(np.eye(4).ravel()))
+        with self.assertRaises(ValueError):
+            self.client.add_object("scene-1", "mesh-1", matrix=np.eye(3))
+
+    def test_set_table(self):
+        table = self.client.set_table("scene-1", 30, axis=(0, 0, 1))
+        self.assertTrue(table.enabled)
+        self.assertEqual(table.angle_deg, 30)
+
+    def test_scan_to_numpy(self):
+        seen = []
+        result = self.client.scan("scene-1", eye=(1, 0, 0), target=(0, 0, 0), fields=["position", "range"],
+                                  frame="sensor", table_angle_deg=10, progress=lambda d, t: seen.append((d, t)))
+        request = self.scans.last_request
+        self.assertEqual(request.pose.look_at.eye.x, 1)
+        self.assertEqual(request.frame, scan_pb2.FRAME_SENSOR)
+        self.assertEqual(request.table_angle_deg, 10)
+        self.assertEqual(list(request.fields), [scan_pb2.POINT_FIELD_POSITION, scan_pb2.POINT_FIELD_RANGE])
+        self.assertEqual(len(result), N_POINTS)
+        self.assertEqual(result.positions.shape, (N_POINTS, 3))
+        self.assertEqual(result.positions.dtype, np.float32)
+        np.testing.assert_array_equal(result.positions, self.scans.cloud["positions"])
+        np.testing.assert_array_equal(result.normals, self.scans.cloud["normals"])
+        np.testing.assert_array_equal(result.ranges, self.scans.cloud["ranges"])
+        self.assertEqual(result.instance_ids.dtype, np.uint32)
+        self.assertIsNone(result.pixels)
+        self.assertEqual(result.stats.hit_ratio, 0.5)
+        self.assertEqual(seen[-1], (N_POINTS, N_POINTS))
+        result.positions[0, 0] = 42  # writable
+
+    def test_scan_short_stream_is_data_loss(self):
+        self.scans.announced = N_POINTS + 1
+        with self.assertRaises(VscanError) as caught:
+            self.client.scan("scene-1", eye=(1, 0, 0), target=(0, 0, 0))
+        self.assertEqual(caught.exception.code, grpc.StatusCode.DATA_LOSS)
+
+    def test_scan_needs_a_pose(self):
+        with self.assertRaises(ValueError):
+            self.client.scan("scene-1")
+
+
+if __name__ == "__main__":
+    unittest.main()

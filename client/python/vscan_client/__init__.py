@@ -1,0 +1,18 @@
+"""Python client for vscan, the 3D scanning simulator.
+
+    from vscan_client import Client
+    with Client("127.0.0.1:50051") as c:
+        scene = c.create_scene("demo")
+        mesh = c.upload_mesh("bunny.ply", unit="m")
+        c.add_object(scene.scene_id, mesh.mesh_id)
+        result = c.scan(scene.scene_id, eye=(0.4, 0, 0.2), target=(0, 0, 0.05))
+        print(result.positions.shape)
+
+The generated stubs (vscan.v1) must be importable: set VSCAN_PY_STUBS to <build>/python.
+"""
+
+from .client import Client
+from .errors import VscanError
+from .scan_result import ScanResult
+
+__all__ = ["Client", "ScanResult", "VscanError"]

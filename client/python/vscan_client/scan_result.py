@@ -1,0 +1,96 @@
+"""Assembling a Scan stream (header, chunks, statistics) into numpy arrays."""
+
+from dataclasses import dataclass
+from typing import Optional
+
+import numpy as np
+
+from ._stubs import scan_pb2
+
+_F32 = np.dtype("<f4")
+_U32 = np.dtype("<u4")
+
+
+@dataclass
+class ScanResult:
+    """One scan. Arrays have one row per point; absent fields are None."""
+
+    header: scan_pb2.ScanHeader
+    stats: scan_pb2.ScanStatistics
+    positions: np.ndarray  # (N, 3) float32
+    normals: Optional[np.ndarray] = None  # (N, 3) float32
+    ranges: Optional[np.ndarray] = None  # (N,) float32
+    intensities: Optional[np.ndarray] = None  # (N,) float32
+    instance_ids: Optional[np.ndarray] = None  # (N,) uint32
+    pixels: Optional[np.ndarray] = None  # (N,) uint32
+
+    def __len__(self):
+        return int(self.positions.shape[0])
+
+
+# chunk attribute, header field, dtype, values per point
+_LAYOUT = (
+    ("positions", scan_pb2.POINT_FIELD_POSITION, _F32, 3),
+    ("normals", scan_pb2.POINT_FIELD_NORMAL, _F32, 3),
+    ("ranges", scan_pb2.POINT_FIELD_RANGE, _F32, 1),
+    ("intensities", scan_pb2.POINT_FIELD_INTENSITY, _F32, 1),
+    ("instance_ids", scan_pb2.POINT_FIELD_INSTANCE_ID, _U32, 1),
+    ("pixels", scan_pb2.POINT_FIELD_PIXEL, _U32, 1),
+)
+
+
+class ScanAssembler:
+    """Feed it ScanResponse messages in order; result() checks counts and builds the arrays."""
+
+    def __init__(self, on_progress=None):
+        self._header = None
+        self._stats = None
+        self._parts = {}
+        self._points = 0
+        self._on_progress = on_progress
+
+    def add(self, message):
+        part = message.WhichOneof("part")
+        if part == "header":
+            if self._header is not None:
+                raise ValueError("scan stream: second header")
+            self._header = message.header
+            present = set(self._header.fields) or {f for _, f, _, _ in _LAYOUT if f != scan_pb2.POINT_FIELD_PIXEL}
+            present.add(scan_pb2.POINT_FIELD_POSITION)
+            self._parts = {name: [] for name, field, _, _ in _LAYOUT if field in present}
+        elif part == "chunk":
+            if self._header is None:
+                raise ValueError("scan stream: chunk before the header")
+            chunk = message.chunk
+            for name, _, dtype, width in _LAYOUT:
+                if name not in self._parts:
+                    continue
+                data = getattr(chunk, name)
+                if len(data) != chunk.count * dtype.itemsize * width:
+                    raise ValueError(
+                        f"chunk {chunk.index}.{name}: expected {chunk.count * dtype.itemsize * width} bytes, "
+                        f"got {len(data)}"
+                    )
+                self._parts[name].append(data)
+            self._points += chunk.count
+            if self._points > self._header.points:
+                raise ValueError(f"scan stream: more points than the header announced ({self._header.points})")
+            if self._on_progress:
+                self._on_progress(self._points, self._header.points)
+        elif part == "statistics":
+            self._stats = message.statistics
+
+    def result(self):
+        if self._header is None:
+            raise ValueError("scan stream: ended without a header")
+        if self._points != self._header.points:
+            raise ValueError(f"scan stream: received {self._points} of {self._header.points} points")
+        if self._stats is None:
+            raise ValueError("scan stream: ended without statistics")
+        arrays = {}
+        for name, _, dtype, width in _LAYOUT:
+            if name in self._parts:
+                # bytearray keeps the arrays writable.
+                array = np.frombuffer(bytearray().join(self._parts[name]), dtype=dtype)
+                arrays[name] = array.reshape(-1, 3) if width == 3 else array
+        return ScanResult(header=self._header, stats=self._stats, **arrays)

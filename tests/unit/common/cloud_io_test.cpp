@@ -1,0 +1,211 @@
+#include "vscan/common/cloud_io.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <cstring>
+
+#include <unistd.h>
+
+namespace vscan {
+namespace {
+
+namespace fs = std::filesystem;
+
+class CloudIoTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("vscan_cloud_io_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string Path(const std::string& name) const { return (dir_ / name).string(); }
+
+  fs::path dir_;
+};
+
+PointCloud MakeCloud(uint32_t fields, size_t n) {
+  PointCloud c;
+  c.fields = fields;
+  c.Resize(n);
+  for (size_t i = 0; i < n; ++i) {
+    const float f = static_cast<float>(i);
+    c.positions[i] = {f * 0.5f, -f, 1e-3f * f + 0.125f};
+    if (c.Has(kFieldNormal)) c.normals[i] = Eigen::Vector3f(1, f, -2).normalized();
+    if (c.Has(kFieldRange)) c.ranges[i] = 1.0f / (f + 1);
+    if (c.Has(kFieldIntensity)) c.intensities[i] = 0.25f * f;
+    if (c.Has(kFieldInstanceId)) c.instance_ids[i] = static_cast<uint32_t>(i % 7);
+    if (c.Has(kFieldPixel)) c.pixels[i] = 0xFFFFFF00u + static_cast<uint32_t>(i % 256);
+  }
+  return c;
+}
+
+std::string ReadAll(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+void ExpectSame(const PointCloud& a, const PointCloud& b) {
+  EXPECT_EQ(a.fields, b.fields);
+  ASSERT_EQ(a.size(), b.size());
+  EXPECT_EQ(a.positions, b.positions);
+  EXPECT_EQ(a.normals, b.normals);
+  EXPECT_EQ(a.ranges, b.ranges);
+  EXPECT_EQ(a.intensities, b.intensities);
+  EXPECT_EQ(a.instance_ids, b.instance_ids);
+  EXPECT_EQ(a.pixels, b.pixels);
+}
+
+TEST_F(CloudIoTest, PlyRoundTripAllFields) {
+  // More points than one internal write block.
+  const PointCloud cloud = MakeCloud(kFieldsAll, 40000);
+  ASSERT_TRUE(WritePly(cloud, Path("all.ply")).ok());
+  const auto back = ReadPly(Path("all.ply"));
+  ASSERT_TRUE(back.ok()) << back.status().ToString();
+  ExpectSame(cloud, *back);
+}
+
+TEST_F(CloudIoTest, PlyRoundTripPositionsOnlyAndEmpty) {
+  for (size_t n : {0u, 1u, 3u}) {
+    const PointCloud cloud = MakeCloud(kFieldPosition, n);
+    ASSERT_TRUE(WritePly(cloud, Path("p.ply")).ok());
+    const auto back = ReadPly(Path("p.ply"));
+    ASSERT_TRUE(back.ok()) << back.status().ToString();
+    ExpectSame(cloud, *back);
+  }
+}
+
+TEST_F(CloudIoTest, PlyHeaderListsOnlyPresentFields) {
+  const PointCloud cloud = MakeCloud(kFieldPosition | kFieldRange | kFieldPixel, 2);
+  ASSERT_TRUE(WritePly(cloud, Path("h.ply")).ok());
+  const std::string data = ReadAll(Path("h.ply"));
+  const std::string header =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+      "property float z\nproperty float range\nproperty uint pixel\nend_header\n";
+  ASSERT_GE(data.size(), header.size());
+  EXPECT_EQ(data.substr(0, header.size()), header);
+  EXPECT_EQ(data.size(), header.size() + 2 * (3 * 4 + 4 + 4));
+}
+
+TEST_F(CloudIoTest, PcdHeaderAndSize) {
+  const size_t n = 123;
+  const PointCloud cloud = MakeCloud(kFieldsAll, n);
+  ASSERT_TRUE(WritePcd(cloud, Path("c.pcd")).ok());
+  const std::string data = ReadAll(Path("c.pcd"));
+  const std::string header =
+      "# .PCD v0.7 - Point Cloud Data file format\n"
+      "VERSION 0.7\n"
+      "FIELDS x y z normal_x normal_y normal_z range intensity instance pixel\n"
+      "SIZE 4 4 4 4 4 4 4 4 4 4\n"
+      "TYPE F F F F F F F F U U\n"
+      "COUNT 1 1 1 1 1 1 1 1 1 1\n"
+      "WIDTH 123\n"
+      "HEIGHT 1\n"
+      "VIEWPOINT 0 0 0 1 0 0 0\n"
+      "POINTS 123\n"
+      "DATA binary\n";
+  ASSERT_GE(data.size(), header.size());
+  EXPECT_EQ(data.substr(0, header.size()), header);
+  EXPECT_EQ(data.size(), header.size() + n * 40);
+  // First record: x y z of point 0, then its normal.
+  float first[6];
+  std::memcpy(first, data.data() + header.size(), sizeof(first));
+  EXPECT_EQ(first[0], cloud.positions[0].x());
+  EXPECT_EQ(first[2], cloud.positions[0].z());
+  EXPECT_EQ(first[3], cloud.normals[0].x());
+  uint32_t last_pixel;
+  std::memcpy(&last_pixel, data.data() + data.size() - 4, 4);
+  EXPECT_EQ(last_pixel, cloud.pixels[n - 1]);
+}
+
+TEST_F(CloudIoTest, PcdPositionsOnlyHeader) {
+  ASSERT_TRUE(WritePcd(MakeCloud(kFieldPosition, 5), Path("p.pcd")).ok());
+  const std::string data = ReadAll(Path("p.pcd"));
+  EXPECT_NE(data.find("\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH 5\n"), std::string::npos);
+  EXPECT_EQ(data.size() - data.find("DATA binary\n") - 12, 5u * 12);
+}
+
+TEST_F(CloudIoTest, WriteCloudPicksWriterByExtension) {
+  const PointCloud cloud = MakeCloud(kFieldsDefault, 4);
+  ASSERT_TRUE(WriteCloud(cloud, Path("a.PLY")).ok());
+  EXPECT_EQ(ReadAll(Path("a.PLY")).substr(0, 4), "ply\n");
+  ASSERT_TRUE(WriteCloud(cloud, Path("a.pcd")).ok());
+  EXPECT_EQ(ReadAll(Path("a.pcd")).substr(0, 7), "# .PCD ");
+  EXPECT_EQ(WriteCloud(cloud, Path("a.xyz")).code(), StatusCode::kInvalidArgument);
+  EXPECT_FALSE(fs::exists(Path("a.xyz")));
+}
+
+TEST_F(CloudIoTest, WriteLeavesNoTemporaryFiles) {
+  ASSERT_TRUE(WritePly(MakeCloud(kFieldsDefault, 10), Path("x.ply")).ok());
+  size_t files = 0;
+  for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir_)) ++files;
+  EXPECT_EQ(files, 1u);
+}
+
+TEST_F(CloudIoTest, WriteIntoMissingDirectoryFails) {
+  const Status s = WritePly(MakeCloud(kFieldPosition, 1), Path("missing/x.ply"));
+  EXPECT_EQ(s.code(), StatusCode::kNotFound) << s.ToString();
+}
+
+TEST_F(CloudIoTest, InconsistentCloudIsRejected) {
+  PointCloud cloud = MakeCloud(kFieldsDefault, 3);
+  cloud.ranges.pop_back();
+  const Status s = WritePly(cloud, Path("bad.ply"));
+  EXPECT_EQ(s.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(s.message().find("ranges"), std::string::npos);
+}
+
+TEST_F(CloudIoTest, ReadMissingFileIsNotFound) {
+  EXPECT_EQ(ReadPly(Path("nope.ply")).status().code(), StatusCode::kNotFound);
+}
+
+TEST_F(CloudIoTest, ReadTruncatedFileIsDataLoss) {
+  ASSERT_TRUE(WritePly(MakeCloud(kFieldsDefault, 10), Path("t.ply")).ok());
+  fs::resize_file(Path("t.ply"), fs::file_size(Path("t.ply")) - 5);
+  EXPECT_EQ(ReadPly(Path("t.ply")).status().code(), StatusCode::kDataLoss);
+}
+
+TEST_F(CloudIoTest, ReadRejectsAsciiPly) {
+  std::ofstream(Path("a.ply")) << "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                                  "property float z\nend_header\n1 2 3\n";
+  EXPECT_EQ(ReadPly(Path("a.ply")).status().code(), StatusCode::kInvalidArgument);
+}
+
+TEST_F(CloudIoTest, ReadToleratesOtherOrderTypesAndTrailingFaces) {
+  std::string data =
+      "ply\nformat binary_little_endian 1.0\ncomment made elsewhere\nelement vertex 2\n"
+      "property uchar pixel\nproperty double z\nproperty float x\nproperty float y\nproperty int instance_id\n"
+      "property float nx\nproperty float ny\nproperty float nz\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  const auto put = [&](const auto& v) { data.append(reinterpret_cast<const char*>(&v), sizeof(v)); };
+  for (int i = 0; i < 2; ++i) {
+    put(static_cast<uint8_t>(10 + i));
+    put(static_cast<double>(3.5 + i));
+    put(static_cast<float>(1 + i));
+    put(static_cast<float>(2 + i));
+    put(static_cast<int32_t>(7 * i));
+    put(0.0f);
+    put(0.0f);
+    put(1.0f);
+  }
+  put(static_cast<uint8_t>(3));
+  for (int k = 0; k < 3; ++k) put(static_cast<int32_t>(k));
+  std::ofstream(Path("o.ply"), std::ios::binary) << data;
+
+  const auto cloud = ReadPly(Path("o.ply"));
+  ASSERT_TRUE(cloud.ok()) << cloud.status().ToString();
+  EXPECT_EQ(cloud->fields, kFieldPosition | kFieldNormal | kFieldInstanceId | kFieldPixel);
+  ASSERT_EQ(cloud->size(), 2u);
+  EXPECT_EQ(cloud->positions[1], Eigen::Vector3f(2, 3, 4.5f));
+  EXPECT_EQ(cloud->normals[0], Eigen::Vector3f(0, 0, 1));
+  EXPECT_EQ(cloud->instance_ids[1], 7u);
+  EXPECT_EQ(cloud->pixels[1], 11u);
+}
+
+}  // namespace
+}  // namespace vscan
