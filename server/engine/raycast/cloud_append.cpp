@@ -1,0 +1,60 @@
+#include "raycast/cloud_append.h"
+
+#include "raycast/stream_copy.h"
+
+namespace vscan::raycast {
+namespace {
+
+// Copies a strip's values row by row to the end of out, which is reserved and never reallocates.
+template <typename T>
+void AppendRows(const T* values, const StripHits& hits, std::vector<T>& out) {
+  for (uint32_t r = 0; r < kPacketSide; ++r) {
+    const T* row = values + size_t{r} * hits.stride;
+    out.insert(out.end(), row, row + hits.count[r]);
+  }
+}
+
+// Eigen vectors are not trivially copyable, so insert would copy them one by one; resizing
+// leaves them uninitialised and one streaming copy per row fills them.
+void AppendRows(const float* values, const StripHits& hits, std::vector<Eigen::Vector3f>& out) {
+  size_t at = out.size();
+  out.resize(at + hits.total());
+  for (uint32_t r = 0; r < kPacketSide; ++r) {
+    StreamCopy(out.data() + at, values + size_t{3} * r * hits.stride, sizeof(Eigen::Vector3f) * hits.count[r]);
+    at += hits.count[r];
+  }
+}
+
+}  // namespace
+
+void AppendStrip(const StripHits& hits, PointCloud& cloud) {
+  if (hits.total() == 0) return;
+  AppendRows(hits.positions, hits, cloud.positions);
+  if (cloud.Has(kFieldNormal)) AppendRows(hits.normals, hits, cloud.normals);
+  if (cloud.Has(kFieldRange)) AppendRows(hits.ranges, hits, cloud.ranges);
+  if (cloud.Has(kFieldIntensity)) AppendRows(hits.intensities, hits, cloud.intensities);
+  if (cloud.Has(kFieldInstanceId)) AppendRows(hits.instance_ids, hits, cloud.instance_ids);
+  if (cloud.Has(kFieldPixel)) AppendRows(hits.pixels, hits, cloud.pixels);
+  StreamFence();
+}
+
+void ReserveForEveryPixel(PointCloud& cloud, size_t n) {
+  cloud.positions.reserve(n);
+  if (cloud.Has(kFieldNormal)) cloud.normals.reserve(n);
+  if (cloud.Has(kFieldRange)) cloud.ranges.reserve(n);
+  if (cloud.Has(kFieldIntensity)) cloud.intensities.reserve(n);
+  if (cloud.Has(kFieldInstanceId)) cloud.instance_ids.reserve(n);
+  if (cloud.Has(kFieldPixel)) cloud.pixels.reserve(n);
+}
+
+void TrimExcess(PointCloud& cloud) {
+  if (cloud.positions.size() * 2 >= cloud.positions.capacity()) return;
+  cloud.positions.shrink_to_fit();
+  cloud.normals.shrink_to_fit();
+  cloud.ranges.shrink_to_fit();
+  cloud.intensities.shrink_to_fit();
+  cloud.instance_ids.shrink_to_fit();
+  cloud.pixels.shrink_to_fit();
+}
+
+}  // namespace vscan::raycast

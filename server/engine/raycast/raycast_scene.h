@@ -1,0 +1,42 @@
+#pragma once
+// An Embree scene built from mesh instances. Embree stays inside the .cpp (pImpl).
+
+#include <cstdint>
+#include <memory>
+#include <span>
+
+#include "vscan/common/mesh.h"
+#include "vscan/common/pose.h"
+#include "vscan/common/status.h"
+
+namespace vscan::raycast {
+
+// One mesh placed in the world: world_point = world_from_object * (scale * mesh_point).
+struct SceneInstance {
+  std::shared_ptr<const TriangleMesh> mesh;
+  Pose3 world_from_object = Pose3::Identity();
+  double scale = 1.0;
+  uint32_t instance_id = 0;
+};
+
+class RaycastScene {
+ public:
+  // Builds and commits the acceleration structure; an empty list gives a scene that hits nothing.
+  static StatusOr<std::shared_ptr<const RaycastScene>> Build(std::span<const SceneInstance> instances);
+  ~RaycastScene();
+  RaycastScene(const RaycastScene&) = delete;
+  RaycastScene& operator=(const RaycastScene&) = delete;
+
+  uint64_t triangle_count() const;
+  // Instance id of Embree geometry geom_id (0 when out of range).
+  uint32_t InstanceOfGeometry(uint32_t geom_id) const;
+
+  struct Impl;
+  const Impl& impl() const { return *impl_; }
+
+ private:
+  explicit RaycastScene(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace vscan::raycast
