@@ -1,0 +1,36 @@
+#pragma once
+// A scene's triangles in GPU buffers: one vertex array drawn in a single call, and the face
+// normals as a buffer texture for the colour method's shader. Lives on the render thread.
+
+#include <cstdint>
+#include <memory>
+
+#include "raster/gl_api.h"
+#include "raster/scene_geometry.h"
+#include "vscan/common/status.h"
+
+namespace vscan::raster {
+
+class GpuScene {
+ public:
+  // max_faces: GL_MAX_TEXTURE_BUFFER_SIZE; more faces are ResourceExhausted.
+  static StatusOr<std::unique_ptr<GpuScene>> Upload(const SceneGeometry& geometry, int64_t max_faces);
+  ~GpuScene();
+  GpuScene(const GpuScene&) = delete;
+  GpuScene& operator=(const GpuScene&) = delete;
+
+  // Draws every triangle with the bound program; face i is gl_PrimitiveID i.
+  void Draw() const;
+  GLuint face_normal_texture() const { return normal_texture_; }
+  uint64_t triangle_count() const { return triangles_; }
+  uint64_t bytes() const { return bytes_; }
+
+ private:
+  GpuScene() = default;
+  GLuint vertex_array_ = 0, vertex_buffer_ = 0, index_buffer_ = 0;
+  GLuint normal_buffer_ = 0, normal_texture_ = 0;
+  uint64_t triangles_ = 0;
+  uint64_t bytes_ = 0;
+};
+
+}  // namespace vscan::raster

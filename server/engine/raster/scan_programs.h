@@ -1,0 +1,39 @@
+#pragma once
+// The two shader programs of the raster scanner.
+
+#include "raster/gl_api.h"
+#include "vscan/common/status.h"
+
+namespace vscan::raster {
+
+// Depth-buffer method: writes the face index + 1 (0 = background) to an R32UI attachment; the
+// depth buffer holds the rest.
+struct DepthProgram {
+  GLuint id = 0;
+  GLint clip_from_scene = -1;
+};
+
+// Colour-buffer method, as in the paper: the ray length camera-to-fragment as a 16-bit code in
+// G (high byte) and B (low byte) of an RGBA8 attachment, the attenuated intensity in R; and the
+// face index + 1 in the R32UI attachment as above.
+struct ColourProgram {
+  GLuint id = 0;
+  GLint clip_from_scene = -1;
+  GLint eye = -1;         // camera centre, scene frame
+  GLint range_code = -1;  // (near_range, 65535 / (far_range - near_range))
+  GLint light = -1;       // (constant, linear, quadratic, power / max_intensity)
+  GLint face_normals = -1;
+};
+
+struct ScanPrograms {
+  DepthProgram depth;
+  ColourProgram colour;
+
+  static StatusOr<ScanPrograms> Build();
+  ScanPrograms() = default;
+  ScanPrograms(ScanPrograms&& other) noexcept;
+  ScanPrograms& operator=(ScanPrograms&&) = delete;
+  ~ScanPrograms();
+};
+
+}  // namespace vscan::raster
