@@ -81,9 +81,12 @@ StatusOr<RobotRecord> ReadRobot(const Statement& s) {
 Status Configure(sqlite3* db) {
   int rc = sqlite3_busy_timeout(db, kBusyTimeoutMs);
   if (rc != SQLITE_OK) return sqlite::Error(db, rc, "busy_timeout");
-  ASSIGN_OR_RETURN(Statement wal, Statement::Prepare(db, "PRAGMA journal_mode = WAL"));
-  ASSIGN_OR_RETURN(bool row, wal.Step());
-  if (!row || wal.Text(0) != "wal") return Unavailable("robot catalogue: the database cannot use WAL journaling");
+  {
+    // Finalized before the transaction below: a live statement would block its COMMIT.
+    ASSIGN_OR_RETURN(Statement wal, Statement::Prepare(db, "PRAGMA journal_mode = WAL"));
+    ASSIGN_OR_RETURN(bool row, wal.Step());
+    if (!row || wal.Text(0) != "wal") return Unavailable("robot catalogue: the database cannot use WAL journaling");
+  }
   RETURN_IF_ERROR(sqlite::Exec(db, "PRAGMA synchronous = FULL"));
   RETURN_IF_ERROR(sqlite::Exec(db, "PRAGMA foreign_keys = ON"));
   return sqlite::InTransaction(db, true, [&]() -> Status {
@@ -107,8 +110,8 @@ RobotCatalogue::~RobotCatalogue() { sqlite3_close_v2(db_); }
 
 StatusOr<std::unique_ptr<RobotCatalogue>> RobotCatalogue::Open(const std::filesystem::path& db_path) {
   sqlite3* db = nullptr;
-  const int rc =
-      sqlite3_open_v2(db_path.c_str(), &db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX, nullptr);
+  const int rc = sqlite3_open_v2(db_path.c_str(), &db,
+                                 SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX, nullptr);
   // The object owns the handle from here on, so every early return closes it.
   std::unique_ptr<RobotCatalogue> catalogue(new RobotCatalogue(db));
   if (rc != SQLITE_OK) return sqlite::Error(db, rc, "open '" + db_path.string() + "'");
@@ -147,7 +150,8 @@ StatusOr<RobotRecord> RobotCatalogue::GetRobot(const std::string& robot_id) {
 StatusOr<std::vector<RobotRecord>> RobotCatalogue::ListRobots(const std::string& after_id, int limit) {
   if (limit <= 0) return InvalidArgument("limit: must be positive, got " + std::to_string(limit));
   std::lock_guard lock(mutex_);
-  ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_, SelectRobots("WHERE robot_id > ?1 ORDER BY robot_id LIMIT ?2")));
+  ASSIGN_OR_RETURN(Statement s,
+                   Statement::Prepare(db_, SelectRobots("WHERE robot_id > ?1 ORDER BY robot_id LIMIT ?2")));
   s.Bind(1, after_id).Bind(2, int64_t{std::min(limit, 1000)});
   std::vector<RobotRecord> robots;
   for (;;) {

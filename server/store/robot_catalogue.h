@@ -36,7 +36,7 @@ struct RobotRecord {
   std::string base_link;
   std::string tip_link;
   Eigen::Matrix4d tool_offset = Eigen::Matrix4d::Identity();  // tip_from_tool
-  std::string bundle_sha256;  // blob holding the encoded bundle
+  std::string bundle_sha256;                                  // blob holding the encoded bundle
   uint64_t bundle_bytes = 0;
   uint32_t file_count = 0;
   std::vector<JointRecord> joints;  // movable joints, base to tip

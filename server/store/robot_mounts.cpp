@@ -115,7 +115,8 @@ StatusOr<uint64_t> RobotCatalogue::DeleteMount(const std::string& mount_id) {
   std::lock_guard lock(mutex_);
   uint64_t revision = 0;
   RETURN_IF_ERROR(sqlite::InTransaction(db_, true, [&]() -> Status {
-    ASSIGN_OR_RETURN(Statement del, Statement::Prepare(db_, "DELETE FROM mounts WHERE mount_id = ?1 RETURNING scene_id"));
+    ASSIGN_OR_RETURN(Statement del,
+                     Statement::Prepare(db_, "DELETE FROM mounts WHERE mount_id = ?1 RETURNING scene_id"));
     del.Bind(1, mount_id);
     ASSIGN_OR_RETURN(bool row, del.Step());
     if (!row) return rows::MountNotFound(mount_id);

@@ -1,0 +1,139 @@
+// SceneService.UploadMesh: collects the client stream, then imports on a worker thread.
+
+#include <algorithm>
+#include <cctype>
+#include <string>
+
+#include <spdlog/spdlog.h>
+
+#include "api/auth.h"
+#include "api/scene_convert.h"
+#include "api/scene_service.h"
+#include "api/validate.h"
+#include "vscan/common/grpc_status.h"
+#include "vscan/common/proto_convert.h"
+
+namespace vscan::api {
+namespace {
+
+geometry::MeshFileFormat FormatOf(const v1::MeshHeader& header) {
+  switch (header.format()) {
+    case v1::MESH_FORMAT_PLY: return geometry::MeshFileFormat::kPly;
+    case v1::MESH_FORMAT_OBJ: return geometry::MeshFileFormat::kObj;
+    case v1::MESH_FORMAT_STL: return geometry::MeshFileFormat::kStl;
+    default: break;
+  }
+  std::string name = header.name();
+  std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return std::tolower(c); });
+  auto ends_with = [&](const char* ext) { return name.ends_with(ext); };
+  if (ends_with(".ply")) return geometry::MeshFileFormat::kPly;
+  if (ends_with(".obj")) return geometry::MeshFileFormat::kObj;
+  if (ends_with(".stl")) return geometry::MeshFileFormat::kStl;
+  return geometry::MeshFileFormat::kAuto;
+}
+
+class UploadMeshReactor final : public grpc::ServerReadReactor<v1::UploadMeshRequest> {
+ public:
+  UploadMeshReactor(grpc::CallbackServerContext* ctx, v1::UploadMeshResponse* response, ServiceContext& context)
+      : ctx_(ctx), response_(response), context_(context) {
+    Status auth = CheckToken(*ctx, context.options.token);
+    if (!auth.ok()) {
+      Fail(auth);
+      return;
+    }
+    StartRead(&request_);
+  }
+
+  void OnReadDone(bool ok) override {
+    if (!ok) {
+      if (ctx_->IsCancelled()) {
+        Finish(grpc::Status(grpc::StatusCode::CANCELLED, "upload cancelled"));
+        return;
+      }
+      FinishUpload();
+      return;
+    }
+    Status status = Accept();
+    if (!status.ok()) {
+      Fail(status);
+      return;
+    }
+    StartRead(&request_);
+  }
+
+  void OnDone() override { delete this; }
+
+ private:
+  Status Accept() {
+    if (request_.has_header()) {
+      if (has_header_) return InvalidArgument("header: sent twice; only the first message is a header");
+      has_header_ = true;
+      header_ = request_.header();
+      RETURN_IF_ERROR(CheckText(header_.name(), "header.name"));
+      if (header_.unit() == v1::LENGTH_UNIT_UNSPECIFIED) {
+        return InvalidArgument("header.unit: required (the length unit the file is written in)");
+      }
+      if (MetresPerUnit(header_.unit()) == 0) return InvalidArgument("header.unit: unknown unit");
+      ASSIGN_OR_RETURN(scale_, ScaleOrDefault(header_.scale(), "header.scale"));
+      if (header_.size_bytes() > context_.options.limits.max_upload_bytes) {
+        return ResourceExhausted("header.size_bytes: " + std::to_string(header_.size_bytes()) +
+                                 " bytes exceeds the upload limit of " +
+                                 std::to_string(context_.options.limits.max_upload_bytes));
+      }
+      return Status::Ok();
+    }
+    if (!has_header_) return InvalidArgument("header: the first message must carry the header");
+    if (bytes_.size() + request_.chunk().size() > context_.options.limits.max_upload_bytes) {
+      return ResourceExhausted("chunk: upload exceeds the limit of " +
+                               std::to_string(context_.options.limits.max_upload_bytes) + " bytes");
+    }
+    bytes_ += request_.chunk();
+    return Status::Ok();
+  }
+
+  void FinishUpload() {
+    if (!has_header_) {
+      Fail(InvalidArgument("header: the first message must carry the header"));
+      return;
+    }
+    scenes::MeshUpload upload;
+    upload.name = header_.name().empty() ? "mesh" : header_.name();
+    upload.format = FormatOf(header_);
+    upload.unit = header_.unit();
+    upload.metres_per_unit = MetresPerUnit(header_.unit());
+    upload.scale = scale_;
+    const bool posted = context_.workers.Post([this, upload] {
+      auto mesh = context_.registry.AddMesh(bytes_, upload);
+      if (!mesh.ok()) {
+        Fail(mesh.status());
+        return;
+      }
+      ToProto(*mesh, response_->mutable_mesh());
+      Finish(grpc::Status::OK);
+    });
+    if (!posted) Fail(Unavailable("server is shutting down"));
+  }
+
+  void Fail(const Status& status) {
+    spdlog::info("UploadMesh -> {}", status.ToString());
+    Finish(ToGrpc(status));
+  }
+
+  grpc::CallbackServerContext* ctx_;
+  v1::UploadMeshResponse* response_;
+  ServiceContext& context_;
+  v1::UploadMeshRequest request_;
+  v1::MeshHeader header_;
+  bool has_header_ = false;
+  double scale_ = 1.0;
+  std::string bytes_;
+};
+
+}  // namespace
+
+grpc::ServerReadReactor<v1::UploadMeshRequest>* SceneService::UploadMesh(grpc::CallbackServerContext* ctx,
+                                                                         v1::UploadMeshResponse* response) {
+  return new UploadMeshReactor(ctx, response, context_);
+}
+
+}  // namespace vscan::api

@@ -1,0 +1,150 @@
+// RobotService.UploadRobot: collects the bundle from the client stream, then imports it on a
+// worker thread.
+
+#include <string>
+
+#include <spdlog/spdlog.h>
+
+#include "api/auth.h"
+#include "api/robot_convert.h"
+#include "api/robot_service.h"
+#include "api/validate.h"
+#include "vscan/common/grpc_status.h"
+#include "vscan/common/proto_convert.h"
+
+namespace vscan::api {
+namespace {
+
+constexpr size_t kMaxFiles = 1024;
+constexpr size_t kMaxPathBytes = 4096;
+
+std::string FileField(size_t i) { return "files[" + std::to_string(i) + "].path"; }
+
+class UploadRobotReactor final : public grpc::ServerReadReactor<v1::UploadRobotRequest> {
+ public:
+  UploadRobotReactor(grpc::CallbackServerContext* ctx, v1::UploadRobotResponse* response, ServiceContext& context)
+      : ctx_(ctx), response_(response), context_(context) {
+    const Status auth = CheckToken(*ctx, context.options.token);
+    if (!auth.ok()) {
+      Fail(auth);
+      return;
+    }
+    StartRead(&request_);
+  }
+
+  void OnReadDone(bool ok) override {
+    if (!ok) {
+      if (ctx_->IsCancelled()) {
+        Finish(grpc::Status(grpc::StatusCode::CANCELLED, "upload cancelled"));
+        return;
+      }
+      FinishUpload();
+      return;
+    }
+    const Status status = Accept();
+    if (!status.ok()) {
+      Fail(status);
+      return;
+    }
+    StartRead(&request_);
+  }
+
+  void OnDone() override { delete this; }
+
+ private:
+  uint64_t limit() const { return context_.robots.max_bundle_bytes(); }
+
+  Status Accept() {
+    switch (request_.part_case()) {
+      case v1::UploadRobotRequest::kHeader: return AcceptHeader(request_.header());
+      case v1::UploadRobotRequest::kFile: return AcceptFile(request_.file());
+      case v1::UploadRobotRequest::PART_NOT_SET: break;
+    }
+    return InvalidArgument("part: every message carries a header or a file");
+  }
+
+  Status AcceptHeader(const v1::RobotBundleHeader& header) {
+    if (has_header_) return InvalidArgument("header: sent twice; only the first message is a header");
+    has_header_ = true;
+    RETURN_IF_ERROR(CheckText(header.name(), "header.name"));
+    RETURN_IF_ERROR(CheckText(header.urdf_path(), "header.urdf_path", kMaxPathBytes));
+    RETURN_IF_ERROR(CheckText(header.base_link(), "header.base_link"));
+    RETURN_IF_ERROR(CheckText(header.tip_link(), "header.tip_link"));
+    if (header.urdf_path().empty())
+      return InvalidArgument("header.urdf_path: required (the URDF's path in the bundle)");
+    if (header.size_bytes() > limit()) {
+      return ResourceExhausted("header.size_bytes: " + std::to_string(header.size_bytes()) +
+                               " bytes exceeds the upload limit of " + std::to_string(limit()));
+    }
+    upload_.name = header.name();
+    upload_.urdf_path = header.urdf_path();
+    upload_.base_link = header.base_link();
+    upload_.tip_link = header.tip_link();
+    if (header.has_tool_offset()) {
+      ASSIGN_OR_RETURN(upload_.tip_from_tool, PoseFromProto(header.tool_offset(), "header.tool_offset"));
+    }
+    return Status::Ok();
+  }
+
+  Status AcceptFile(const v1::RobotBundleFile& file) {
+    if (!has_header_) return InvalidArgument("header: the first message must carry the header");
+    const bool starts = !file.path().empty();
+    if (!starts && upload_.files.empty()) {
+      return InvalidArgument(FileField(0) + ": required (a file's first message names it)");
+    }
+    const size_t index = starts ? upload_.files.size() : upload_.files.size() - 1;
+    if (starts && upload_.files.size() >= kMaxFiles) {
+      return ResourceExhausted("files: more than " + std::to_string(kMaxFiles) + " files in one bundle");
+    }
+    RETURN_IF_ERROR(CheckText(file.path(), FileField(index), kMaxPathBytes));
+    total_bytes_ += file.path().size() + file.content().size();
+    if (total_bytes_ > limit()) {
+      return ResourceExhausted(FileField(index) + ": the bundle exceeds the upload limit of " +
+                               std::to_string(limit()) + " bytes");
+    }
+    if (starts) upload_.files.push_back({file.path(), std::string()});
+    upload_.files.back().bytes += file.content();
+    return Status::Ok();
+  }
+
+  void FinishUpload() {
+    if (!has_header_) {
+      Fail(InvalidArgument("header: the first message must carry the header"));
+      return;
+    }
+    const bool posted = context_.workers.Post([this] {
+      auto robot = context_.robots.AddRobot(std::move(upload_));
+      if (!robot.ok()) {
+        Fail(robot.status());
+        return;
+      }
+      spdlog::info("robot {} '{}' uploaded: {} joints, {} files, {} warnings", robot->robot_id, robot->name,
+                   robot->joints.size(), robot->file_count, robot->warnings.size());
+      ToProto(*robot, response_->mutable_robot());
+      Finish(grpc::Status::OK);
+    });
+    if (!posted) Fail(Unavailable("server is shutting down"));
+  }
+
+  void Fail(const Status& status) {
+    spdlog::info("UploadRobot -> {}", status.ToString());
+    Finish(ToGrpc(status));
+  }
+
+  grpc::CallbackServerContext* ctx_;
+  v1::UploadRobotResponse* response_;
+  ServiceContext& context_;
+  v1::UploadRobotRequest request_;
+  bool has_header_ = false;
+  robots::RobotUpload upload_;
+  uint64_t total_bytes_ = 0;
+};
+
+}  // namespace
+
+grpc::ServerReadReactor<v1::UploadRobotRequest>* RobotService::UploadRobot(grpc::CallbackServerContext* ctx,
+                                                                           v1::UploadRobotResponse* response) {
+  return new UploadRobotReactor(ctx, response, context_);
+}
+
+}  // namespace vscan::api

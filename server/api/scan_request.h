@@ -1,0 +1,42 @@
+#pragma once
+// A validated ScanRequest in engine terms.
+
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "api/server_options.h"
+#include "raycast/scanner.h"
+#include "robots/robot_registry.h"
+#include "sensor/camera.h"
+#include "vscan/common/pose.h"
+#include "vscan/v1/scan.pb.h"
+
+namespace vscan::api {
+
+// A robot-held sensor: where the commanded joints put it and the joints the arm reached.
+struct RobotPlacement {
+  Pose3 commanded_world_from_sensor = Pose3::Identity();
+  Eigen::VectorXd achieved_joint_positions;
+};
+
+struct ScanPlan {
+  std::string scene_id;
+  sensor::PinholeCamera camera;
+  Pose3 world_from_sensor = Pose3::Identity();
+  raycast::ScanFrame frame = raycast::ScanFrame::kWorld;
+  uint32_t fields = kFieldsDefault;
+  size_t chunk_bytes = 1u << 20;
+  std::optional<double> table_angle_deg;
+  // Set for robot-held scans; world_from_sensor is then the pose the arm reached.
+  std::optional<RobotPlacement> robot;
+};
+
+// Checks every field of the request; the first problem found is returned, naming its field.
+// Robot placements are resolved through robots.
+StatusOr<ScanPlan> ParseScanRequest(const v1::ScanRequest& request, const Limits& limits,
+                                    robots::RobotRegistry& robots);
+
+}  // namespace vscan::api

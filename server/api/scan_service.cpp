@@ -1,0 +1,173 @@
+#include "api/scan_service.h"
+
+#include <atomic>
+#include <chrono>
+#include <string>
+
+#include <spdlog/spdlog.h>
+
+#include "api/auth.h"
+#include "api/scan_request.h"
+#include "vscan/common/grpc_status.h"
+#include "vscan/common/point_chunks.h"
+#include "vscan/common/proto_convert.h"
+
+namespace vscan::api {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double MillisSince(Clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+}
+
+// One reactor per Scan call. The worker fills the cloud, then writes proceed one at a time.
+class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
+ public:
+  ScanReactor(const v1::ScanRequest& request, grpc::CallbackServerContext* ctx, ServiceContext& context)
+      : context_(context) {
+    Status status = CheckToken(*ctx, context.options.token);
+    if (!status.ok()) {
+      Fail(status);
+      return;
+    }
+    auto plan = ParseScanRequest(request, context.options.limits, context.robots);
+    if (!plan.ok()) {
+      Fail(plan.status());
+      return;
+    }
+    plan_ = std::move(plan).value();
+    if (context_.active_scans.fetch_add(1) >= context_.options.limits.max_concurrent_scans) {
+      context_.active_scans.fetch_sub(1);
+      Fail(ResourceExhausted("scan: " + std::to_string(context.options.limits.max_concurrent_scans) +
+                             " scans already running; retry later"));
+      return;
+    }
+    holds_slot_ = true;
+    if (!context_.workers.Post([this] { Run(); })) Fail(Unavailable("server is shutting down"));
+  }
+
+  void OnCancel() override { cancel_.store(true); }
+
+  void OnWriteDone(bool ok) override {
+    if (!ok) {
+      Finish(grpc::Status(grpc::StatusCode::CANCELLED, "client went away"));
+      return;
+    }
+    WriteNext();
+  }
+
+  void OnDone() override {
+    if (holds_slot_) context_.active_scans.fetch_sub(1);
+    delete this;
+  }
+
+ private:
+  void Run() {
+    auto target = context_.registry.PrepareScan(plan_.scene_id, plan_.table_angle_deg);
+    if (!target.ok()) {
+      Fail(target.status());
+      return;
+    }
+    raycast::ScanOptions options;
+    options.fields = plan_.fields;
+    options.frame = plan_.frame;
+    options.cancel = &cancel_;
+    raycast::ScanStats stats;
+    auto cloud = raycast::Scan(*target->raycast, plan_.camera, plan_.world_from_sensor, options, &stats);
+    if (!cloud.ok()) {
+      Fail(cloud.status());
+      return;
+    }
+    cloud_ = std::move(cloud).value();
+    points_per_chunk_ = PointsPerChunk(plan_.fields, plan_.chunk_bytes);
+    chunk_count_ = static_cast<uint32_t>((cloud_.size() + points_per_chunk_ - 1) / points_per_chunk_);
+
+    auto* header = response_.mutable_header();
+    header->set_scene_id(plan_.scene_id);
+    header->set_scene_revision(target->scene.revision);
+    ToProto(plan_.world_from_sensor, header->mutable_sensor_pose());
+    if (plan_.robot) {
+      ToProto(plan_.robot->commanded_world_from_sensor, header->mutable_commanded_sensor_pose());
+      const Eigen::VectorXd& q = plan_.robot->achieved_joint_positions;
+      header->mutable_achieved_joint_positions()->Assign(q.data(), q.data() + q.size());
+    }
+    header->set_width(plan_.camera.width);
+    header->set_height(plan_.camera.height);
+    auto* k = header->mutable_intrinsics();
+    k->set_fx(plan_.camera.fx);
+    k->set_fy(plan_.camera.fy);
+    k->set_cx(plan_.camera.cx);
+    k->set_cy(plan_.camera.cy);
+    header->set_near(plan_.camera.near);
+    header->set_far(plan_.camera.far);
+    FieldsToProto(plan_.fields, header->mutable_fields());
+    header->set_frame(plan_.frame == raycast::ScanFrame::kSensor ? v1::FRAME_SENSOR : v1::FRAME_WORLD);
+    header->set_backend(v1::SCAN_BACKEND_RAYCAST);
+    header->set_rays(stats.rays);
+    header->set_points(cloud_.size());
+    header->set_chunk_count(chunk_count_);
+
+    auto& s = statistics_;
+    s.set_rays(stats.rays);
+    s.set_points(stats.points);
+    s.set_hit_ratio(stats.rays ? static_cast<double>(stats.points) / static_cast<double>(stats.rays) : 0.0);
+    s.set_min_range(stats.min_range);
+    s.set_max_range(stats.max_range);
+    s.set_scan_ms(stats.elapsed_ms);
+    spdlog::info("scan of {} r{}: {} rays, {} points in {:.1f} ms", plan_.scene_id, target->scene.revision,
+                 stats.rays, stats.points, stats.elapsed_ms);
+    StartWrite(&response_);
+  }
+
+  void WriteNext() {
+    if (cancel_.load()) {
+      Finish(grpc::Status(grpc::StatusCode::CANCELLED, "scan cancelled"));
+      return;
+    }
+    response_.Clear();
+    if (next_chunk_ < chunk_count_) {
+      const size_t begin = size_t{next_chunk_} * points_per_chunk_;
+      const size_t count = std::min(points_per_chunk_, cloud_.size() - begin);
+      PackChunk(cloud_, begin, count, next_chunk_, response_.mutable_chunk());
+      ++next_chunk_;
+      StartWrite(&response_);
+      return;
+    }
+    if (!statistics_sent_) {
+      statistics_sent_ = true;
+      statistics_.set_total_ms(MillisSince(start_));
+      *response_.mutable_statistics() = statistics_;
+      StartWrite(&response_);
+      return;
+    }
+    Finish(grpc::Status::OK);
+  }
+
+  void Fail(const Status& status) {
+    spdlog::info("Scan -> {}", status.ToString());
+    Finish(ToGrpc(status));
+  }
+
+  ServiceContext& context_;
+  const Clock::time_point start_ = Clock::now();
+  ScanPlan plan_;
+  bool holds_slot_ = false;
+  std::atomic<bool> cancel_{false};
+  PointCloud cloud_;
+  size_t points_per_chunk_ = 1;
+  uint32_t chunk_count_ = 0;
+  uint32_t next_chunk_ = 0;
+  bool statistics_sent_ = false;
+  v1::ScanStatistics statistics_;
+  v1::ScanResponse response_;
+};
+
+}  // namespace
+
+grpc::ServerWriteReactor<v1::ScanResponse>* ScanService::Scan(grpc::CallbackServerContext* ctx,
+                                                              const v1::ScanRequest* request) {
+  return new ScanReactor(*request, ctx, context_);
+}
+
+}  // namespace vscan::api

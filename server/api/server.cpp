@@ -1,0 +1,160 @@
+#include "api/server.h"
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <system_error>
+
+#include <unistd.h>
+
+#include <grpcpp/ext/proto_server_reflection_plugin.h>
+#include <grpcpp/health_check_service_interface.h>
+#include <grpcpp/security/server_credentials.h>
+#include <grpcpp/server.h>
+#include <grpcpp/server_builder.h>
+#include <spdlog/spdlog.h>
+
+#include "api/robot_service.h"
+#include "api/scan_service.h"
+#include "api/scene_service.h"
+#include "vscan/v1/job.grpc.pb.h"
+
+namespace vscan::api {
+namespace {
+
+// Services of the contract this version does not implement yet: every method answers UNIMPLEMENTED.
+class JobService final : public v1::JobService::CallbackService {};
+
+StatusOr<std::string> ReadFile(const std::string& path, const char* flag) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return InvalidArgument(std::string(flag) + ": cannot read '" + path + "'");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+StatusOr<std::shared_ptr<grpc::ServerCredentials>> Credentials(const ServerOptions& options) {
+  if (options.tls_cert_file.empty() && options.tls_key_file.empty()) return grpc::InsecureServerCredentials();
+  if (options.tls_cert_file.empty() || options.tls_key_file.empty()) {
+    return InvalidArgument("--tls-cert and --tls-key go together");
+  }
+  grpc::SslServerCredentialsOptions ssl;
+  ASSIGN_OR_RETURN(std::string cert, ReadFile(options.tls_cert_file, "--tls-cert"));
+  ASSIGN_OR_RETURN(std::string key, ReadFile(options.tls_key_file, "--tls-key"));
+  ssl.pem_key_cert_pairs.push_back({key, cert});
+  if (!options.tls_client_ca_file.empty()) {
+    ASSIGN_OR_RETURN(ssl.pem_root_certs, ReadFile(options.tls_client_ca_file, "--tls-client-ca"));
+    ssl.client_certificate_request = GRPC_SSL_REQUEST_AND_REQUIRE_CLIENT_CERTIFICATE_AND_VERIFY;
+  }
+  return grpc::SslServerCredentials(ssl);
+}
+
+// The helper named by --mesh-importer, or else the one installed next to this executable.
+StatusOr<geometry::ImportSandbox> MeshImportSandbox(const ServerOptions& options) {
+  geometry::ImportSandbox sandbox;
+  sandbox.timeout = std::chrono::seconds(options.mesh_import_timeout_s);
+  sandbox.memory_limit_bytes = options.mesh_import_memory_mib << 20;
+  std::error_code ec;
+  std::filesystem::path helper(options.mesh_importer_path);
+  if (helper.empty()) {
+    std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+    if (ec) return Unavailable("--mesh-importer: cannot locate vscand's own executable: " + ec.message());
+    helper = self.parent_path() / "vscan-mesh-import";
+  }
+  helper = std::filesystem::absolute(helper, ec);
+  sandbox.helper_path = helper.string();
+  if (ec || !std::filesystem::is_regular_file(helper, ec) || ::access(helper.c_str(), X_OK) != 0) {
+    return Unavailable("--mesh-importer: '" + sandbox.helper_path + "' is not an executable file");
+  }
+  return sandbox;
+}
+
+}  // namespace
+
+struct Server::Impl {
+  ServerOptions options;
+  std::unique_ptr<store::Catalogue> catalogue;
+  std::unique_ptr<store::BlobStore> blobs;
+  std::unique_ptr<scenes::SceneRegistry> registry;
+  std::unique_ptr<store::RobotCatalogue> robot_catalogue;
+  std::unique_ptr<robots::RobotRegistry> robots;
+  std::unique_ptr<jobs::WorkerPool> workers;
+  std::unique_ptr<ServiceContext> context;
+  std::unique_ptr<SceneService> scene_service;
+  std::unique_ptr<ScanService> scan_service;
+  std::unique_ptr<RobotService> robot_service;
+  JobService job_service;
+  std::unique_ptr<grpc::Server> server;
+  int port = 0;
+};
+
+Server::Server(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
+
+Server::~Server() { Shutdown(0); }
+
+int Server::port() const { return impl_->port; }
+
+StatusOr<std::unique_ptr<Server>> Server::Start(const ServerOptions& options) {
+  auto impl = std::make_unique<Impl>();
+  impl->options = options;
+  std::error_code ec;
+  const std::filesystem::path data_dir(options.data_dir);
+  std::filesystem::create_directories(data_dir, ec);
+  if (ec) return Unavailable("--data-dir: cannot create '" + options.data_dir + "': " + ec.message());
+
+  ASSIGN_OR_RETURN(impl->catalogue, store::Catalogue::Open(data_dir / "catalogue.sqlite"));
+  impl->blobs = std::make_unique<store::BlobStore>(data_dir / "blobs");
+  RETURN_IF_ERROR(impl->blobs->Open());
+  ASSIGN_OR_RETURN(geometry::ImportSandbox import_sandbox, MeshImportSandbox(options));
+  spdlog::info("mesh uploads are parsed by {} (at most {} s, {} MiB)", import_sandbox.helper_path,
+               options.mesh_import_timeout_s, options.mesh_import_memory_mib);
+  impl->registry = std::make_unique<scenes::SceneRegistry>(*impl->catalogue, *impl->blobs,
+                                                           options.scene_cache_entries, std::move(import_sandbox));
+  ASSIGN_OR_RETURN(impl->robot_catalogue, store::RobotCatalogue::Open(data_dir / "catalogue.sqlite"));
+  impl->robots = std::make_unique<robots::RobotRegistry>(*impl->robot_catalogue, *impl->blobs,
+                                                         options.limits.max_upload_bytes);
+  impl->workers = std::make_unique<jobs::WorkerPool>(std::max<uint32_t>(1, options.worker_threads));
+  impl->context.reset(new ServiceContext{*impl->registry, *impl->workers, impl->options, *impl->robots});
+  impl->scene_service = std::make_unique<SceneService>(*impl->context);
+  impl->scan_service = std::make_unique<ScanService>(*impl->context);
+  impl->robot_service = std::make_unique<RobotService>(*impl->context);
+
+  ASSIGN_OR_RETURN(auto credentials, Credentials(options));
+  grpc::EnableDefaultHealthCheckService(true);
+  grpc::reflection::InitProtoReflectionServerBuilderPlugin();
+  grpc::ServerBuilder builder;
+  builder.AddListeningPort(options.listen_address, credentials, &impl->port);
+  builder.RegisterService(impl->scene_service.get());
+  builder.RegisterService(impl->scan_service.get());
+  builder.RegisterService(impl->robot_service.get());
+  builder.RegisterService(&impl->job_service);
+  builder.SetMaxReceiveMessageSize(4 << 20);
+  impl->server = builder.BuildAndStart();
+  if (!impl->server || impl->port == 0) {
+    return Unavailable("--listen: cannot listen on '" + options.listen_address + "'");
+  }
+  if (!options.port_file.empty()) {
+    const std::string tmp = options.port_file + ".tmp";
+    std::ofstream(tmp) << impl->port << "\n";
+    std::filesystem::rename(tmp, options.port_file, ec);
+    if (ec) return Unavailable("--port-file: cannot write '" + options.port_file + "': " + ec.message());
+  }
+  spdlog::info("vscand listening on {} (port {}), data in {}", options.listen_address, impl->port,
+               std::filesystem::absolute(data_dir).string());
+  return std::unique_ptr<Server>(new Server(std::move(impl)));
+}
+
+void Server::Shutdown(double grace_seconds) {
+  if (!impl_ || !impl_->server) return;
+  spdlog::info("shutting down: draining calls for up to {:.1f} s", grace_seconds);
+  const auto deadline = std::chrono::system_clock::now() +
+                        std::chrono::milliseconds(static_cast<int64_t>(grace_seconds * 1000));
+  impl_->server->Shutdown(deadline);
+  impl_->workers->Stop();
+  impl_->server->Wait();
+  impl_->server.reset();
+  spdlog::info("stopped");
+}
+
+}  // namespace vscan::api

@@ -1,0 +1,27 @@
+#pragma once
+// vscand as an object: opens the store, registers the services, serves until shut down.
+
+#include <memory>
+
+#include "api/server_options.h"
+#include "vscan/common/status.h"
+
+namespace vscan::api {
+
+class Server {
+ public:
+  ~Server();
+  // Opens the data directory and starts listening; the bound port is in port().
+  static StatusOr<std::unique_ptr<Server>> Start(const ServerOptions& options);
+  int port() const;
+  // Stops accepting calls, cancels running ones after grace_seconds, and waits for them.
+  void Shutdown(double grace_seconds);
+
+  struct Impl;
+
+ private:
+  explicit Server(std::unique_ptr<Impl> impl);
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace vscan::api

@@ -1,0 +1,36 @@
+#pragma once
+// Everything vscand is configured with: where it listens, where it keeps data, its bounds.
+
+#include <cstdint>
+#include <string>
+
+namespace vscan::api {
+
+struct Limits {
+  uint64_t max_upload_bytes = 256ull << 20;
+  uint64_t max_rays_per_scan = 16ull << 20;
+  uint32_t max_concurrent_scans = 4;
+  uint32_t max_page_size = 1000;
+};
+
+struct ServerOptions {
+  std::string listen_address = "127.0.0.1:50051";
+  std::string data_dir = "vscan-data";
+  // Clients must send "authorization: Bearer <token>" when set.
+  std::string token;
+  // TLS when both are set; mutual TLS when client_ca is set too.
+  std::string tls_cert_file;
+  std::string tls_key_file;
+  std::string tls_client_ca_file;
+  // Written with the bound port once listening (useful with port 0).
+  std::string port_file;
+  uint32_t worker_threads = 2;
+  uint32_t scene_cache_entries = 8;
+  // The vscan-mesh-import helper that parses uploads; empty means the one next to vscand.
+  std::string mesh_importer_path;
+  uint32_t mesh_import_timeout_s = 60;
+  uint64_t mesh_import_memory_mib = 8192;
+  Limits limits;
+};
+
+}  // namespace vscan::api

@@ -1,0 +1,21 @@
+#pragma once
+// What the gRPC services share: the scene and robot registries, the worker pool, the options.
+
+#include <atomic>
+
+#include "api/server_options.h"
+#include "jobs/worker_pool.h"
+#include "robots/robot_registry.h"
+#include "scenes/scene_registry.h"
+
+namespace vscan::api {
+
+struct ServiceContext {
+  scenes::SceneRegistry& registry;
+  jobs::WorkerPool& workers;
+  const ServerOptions& options;
+  robots::RobotRegistry& robots;
+  std::atomic<uint32_t> active_scans{0};
+};
+
+}  // namespace vscan::api

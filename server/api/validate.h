@@ -1,0 +1,19 @@
+#pragma once
+// Small checks of request fields; every message names the field.
+
+#include <cstdint>
+#include <string>
+#include <string_view>
+
+#include "vscan/common/status.h"
+
+namespace vscan::api {
+
+Status RequireId(const std::string& id, std::string_view field);
+Status CheckText(const std::string& text, std::string_view field, size_t max_length = 256);
+// 0 means 1; otherwise finite, positive and at most 1e6.
+StatusOr<double> ScaleOrDefault(double scale, std::string_view field);
+// page_size 0 means default; negative is INVALID_ARGUMENT; large is clamped.
+StatusOr<int> PageSize(int32_t page_size, uint32_t max_page_size);
+
+}  // namespace vscan::api

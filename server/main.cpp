@@ -1,0 +1,93 @@
+// vscand: the vscan server.
+
+#include <csignal>
+#include <fstream>
+#include <cstdlib>
+#include <iostream>
+#include <thread>
+
+#include <CLI/CLI.hpp>
+#include <pthread.h>
+#include <spdlog/spdlog.h>
+
+#include "api/server.h"
+#include "vscan/common/logging.h"
+
+namespace {
+
+constexpr int kUsageError = 2;
+
+// Blocks SIGINT/SIGTERM in every thread so that only sigwait in main sees them.
+sigset_t BlockStopSignals() {
+  sigset_t set;
+  sigemptyset(&set);
+  sigaddset(&set, SIGINT);
+  sigaddset(&set, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &set, nullptr);
+  return set;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  vscan::api::ServerOptions options;
+  std::string log_level = "info";
+  std::string token_file;
+  double grace_seconds = 10;
+  uint64_t max_upload_mib = options.limits.max_upload_bytes >> 20;
+
+  CLI::App app{"vscand: the vscan scanning simulation server"};
+  app.add_option("--listen", options.listen_address, "Address to listen on (host:port; port 0 picks one)")
+      ->capture_default_str();
+  app.add_option("--data-dir", options.data_dir, "Directory of the catalogue and blobs")->capture_default_str();
+  app.add_option("--log-level", log_level, "trace, debug, info, warn, error")->capture_default_str();
+  app.add_option("--token-file", token_file, "Require 'authorization: Bearer <token>' with the token in this file");
+  app.add_option("--tls-cert", options.tls_cert_file, "PEM certificate chain; enables TLS with --tls-key");
+  app.add_option("--tls-key", options.tls_key_file, "PEM private key");
+  app.add_option("--tls-client-ca", options.tls_client_ca_file, "PEM CA bundle; requires client certificates (mTLS)");
+  app.add_option("--worker-threads", options.worker_threads, "Threads for heavy work off the gRPC threads")
+      ->capture_default_str()->check(CLI::Range(1, 256));
+  app.add_option("--max-upload-mib", max_upload_mib, "Largest mesh upload")->capture_default_str()
+      ->check(CLI::Range(1, 65536));
+  app.add_option("--max-rays", options.limits.max_rays_per_scan, "Most rays one scan may cast")
+      ->capture_default_str()->check(CLI::Range(1, 1 << 28));
+  app.add_option("--max-concurrent-scans", options.limits.max_concurrent_scans, "Scans running at once")
+      ->capture_default_str()->check(CLI::Range(1, 1024));
+  app.add_option("--grace-seconds", grace_seconds, "How long SIGTERM waits for running calls")->capture_default_str();
+  app.add_option("--port-file", options.port_file, "Write the bound port to this file once listening");
+  app.add_option("--mesh-importer", options.mesh_importer_path,
+                 "The vscan-mesh-import helper that parses uploads (default: the one next to vscand)");
+  app.add_option("--mesh-import-timeout", options.mesh_import_timeout_s, "Seconds one mesh upload may take to parse")
+      ->capture_default_str()->check(CLI::Range(1, 86400));
+  app.add_option("--mesh-import-memory-mib", options.mesh_import_memory_mib,
+                 "Address space the mesh parser may use for one upload")
+      ->capture_default_str()->check(CLI::Range(64, 1 << 20));
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return e.get_exit_code() == 0 ? app.exit(e) : (app.exit(e), kUsageError);
+  }
+  options.limits.max_upload_bytes = max_upload_mib << 20;
+
+  vscan::SetupLogging("vscand", log_level);
+  if (!token_file.empty()) {
+    std::ifstream in(token_file);
+    std::getline(in, options.token);
+    if (options.token.empty()) {
+      spdlog::error("--token-file: '{}' is missing or empty", token_file);
+      return kUsageError;
+    }
+  }
+
+  const sigset_t stop_signals = BlockStopSignals();
+  auto server = vscan::api::Server::Start(options);
+  if (!server.ok()) {
+    spdlog::error("cannot start: {}", server.status().ToString());
+    return 1;
+  }
+  int signal = 0;
+  sigwait(&stop_signals, &signal);
+  spdlog::info("received {}", signal == SIGTERM ? "SIGTERM" : "SIGINT");
+  (*server)->Shutdown(grace_seconds);
+  return 0;
+}

@@ -1,0 +1,92 @@
+#include "robots/robot_registry.h"
+
+#include <spdlog/spdlog.h>
+
+#include "robots/bundle_codec.h"
+
+namespace vscan::robots {
+namespace {
+
+Pose3 ToPose(const Eigen::Matrix4d& m) {
+  Pose3 pose = Pose3::Identity();
+  pose.matrix() = m;
+  return pose;
+}
+
+}  // namespace
+
+RobotRegistry::RobotRegistry(store::RobotCatalogue& catalogue, store::BlobStore& blobs, uint64_t max_bundle_bytes,
+                             size_t cache_entries)
+    : catalogue_(catalogue), blobs_(blobs), max_bundle_bytes_(max_bundle_bytes), cache_entries_(cache_entries) {}
+
+StatusOr<store::RobotRecord> RobotRegistry::AddRobot(RobotUpload upload) {
+  robot::BundleLimits limits;
+  limits.max_total_bytes = max_bundle_bytes_;
+  ASSIGN_OR_RETURN(ImportedRobot imported, ImportRobot(std::move(upload), limits));
+  store::RobotRecord record;
+  {
+    std::lock_guard lock(store_mutex_);
+    ASSIGN_OR_RETURN(imported.record.bundle_sha256, blobs_.Put(imported.bundle_blob));
+    ASSIGN_OR_RETURN(record, catalogue_.InsertRobot(std::move(imported.record)));
+  }
+  std::lock_guard lock(cache_mutex_);
+  if (chains_.size() >= cache_entries_) chains_.erase(chains_.begin());
+  chains_[record.robot_id] = imported.chain;
+  return record;
+}
+
+Status RobotRegistry::DeleteRobot(const std::string& robot_id) {
+  {
+    std::lock_guard lock(store_mutex_);
+    ASSIGN_OR_RETURN(auto deleted, catalogue_.DeleteRobot(robot_id));
+    if (deleted.second) {
+      // The robot is gone either way; a blob left behind only costs disk space.
+      const Status removed = blobs_.Remove(deleted.first);
+      if (!removed.ok()) spdlog::warn("robot {}: bundle blob not removed: {}", robot_id, removed.ToString());
+    }
+  }
+  std::lock_guard lock(cache_mutex_);
+  chains_.erase(robot_id);
+  return Status::Ok();
+}
+
+StatusOr<std::shared_ptr<const robot::KinematicChain>> RobotRegistry::Chain(const std::string& robot_id) {
+  {
+    std::lock_guard lock(cache_mutex_);
+    if (auto it = chains_.find(robot_id); it != chains_.end()) return it->second;
+  }
+  ASSIGN_OR_RETURN(const store::RobotRecord record, catalogue_.GetRobot(robot_id));
+  ASSIGN_OR_RETURN(const std::string blob, blobs_.Get(record.bundle_sha256));
+  ASSIGN_OR_RETURN(auto files, DecodeBundle(blob));
+  ASSIGN_OR_RETURN(auto chain, LoadStoredChain(record, std::move(files)));
+  std::lock_guard lock(cache_mutex_);
+  if (chains_.size() >= cache_entries_) chains_.erase(chains_.begin());
+  chains_[robot_id] = chain;
+  return chain;
+}
+
+StatusOr<std::pair<store::MountRecord, uint64_t>> RobotRegistry::AddMount(store::MountRecord mount) {
+  ASSIGN_OR_RETURN(auto chain, Chain(mount.robot_id));
+  const size_t dof = static_cast<size_t>(chain->dof());
+  if (mount.encoder_sigma.size() == 1 && dof > 1) mount.encoder_sigma.assign(dof, mount.encoder_sigma.front());
+  if (!mount.encoder_sigma.empty() && mount.encoder_sigma.size() != dof) {
+    return InvalidArgument("encoder_sigma: expected 1 or " + std::to_string(dof) + " values (one per joint of robot '" +
+                           mount.robot_id + "'), got " + std::to_string(mount.encoder_sigma.size()));
+  }
+  return catalogue_.InsertMount(std::move(mount));
+}
+
+StatusOr<MountedRobot> RobotRegistry::Mount(const std::string& mount_id) {
+  MountedRobot out;
+  ASSIGN_OR_RETURN(out.mount, catalogue_.GetMount(mount_id));
+  ASSIGN_OR_RETURN(out.chain, Chain(out.mount.robot_id));
+  if (out.mount.tool_offset) {
+    out.chain = std::make_shared<const robot::KinematicChain>(out.chain->WithTool(ToPose(*out.mount.tool_offset)));
+  }
+  out.placement.frame_from_base = ToPose(out.mount.base_pose);
+  out.placement.encoder_sigma = Eigen::Map<const Eigen::VectorXd>(
+      out.mount.encoder_sigma.data(), static_cast<Eigen::Index>(out.mount.encoder_sigma.size()));
+  return out;
+}
+
+}  // namespace vscan::robots

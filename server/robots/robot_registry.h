@@ -1,0 +1,62 @@
+#pragma once
+// Robots as kinematics needs them: uploads validated and stored durably, chains rebuilt from
+// stored bundles and cached by robot id (robots never change), mounts resolved to a chain with
+// the mount's tool and its place in the world.
+
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <utility>
+
+#include "robot/chain.h"
+#include "robots/arm_kinematics.h"
+#include "robots/robot_import.h"
+#include "store/blob_store.h"
+#include "store/robot_catalogue.h"
+
+namespace vscan::robots {
+
+// A mount with everything needed to move its robot in world coordinates.
+struct MountedRobot {
+  store::MountRecord mount;
+  std::shared_ptr<const robot::KinematicChain> chain;  // the mount's tool on the tip
+  Placement placement;                                 // world_from_base; sigma per joint
+};
+
+class RobotRegistry {
+ public:
+  // Bundles larger than max_bundle_bytes (file bytes plus paths) are RESOURCE_EXHAUSTED.
+  RobotRegistry(store::RobotCatalogue& catalogue, store::BlobStore& blobs, uint64_t max_bundle_bytes,
+                size_t cache_entries = 64);
+
+  store::RobotCatalogue& catalogue() { return catalogue_; }
+  uint64_t max_bundle_bytes() const { return max_bundle_bytes_; }
+
+  // Validates, stores the bundle blob durably, then records the robot.
+  StatusOr<store::RobotRecord> AddRobot(RobotUpload upload);
+  // FAILED_PRECONDITION while mounted; the bundle blob goes when no other robot shares it.
+  Status DeleteRobot(const std::string& robot_id);
+
+  // The robot's chain with its own tool offset.
+  StatusOr<std::shared_ptr<const robot::KinematicChain>> Chain(const std::string& robot_id);
+
+  // Checks the mount against its robot (sigma count, finite poses), then records it. A single
+  // sigma applies to every joint. Returns the mount and the scene's new revision.
+  StatusOr<std::pair<store::MountRecord, uint64_t>> AddMount(store::MountRecord mount);
+  StatusOr<MountedRobot> Mount(const std::string& mount_id);
+
+ private:
+  store::RobotCatalogue& catalogue_;
+  store::BlobStore& blobs_;
+  uint64_t max_bundle_bytes_;
+  size_t cache_entries_;
+
+  // Orders blob writes against blob removals so that a robot never points at a removed bundle.
+  std::mutex store_mutex_;
+  std::mutex cache_mutex_;
+  std::map<std::string, std::shared_ptr<const robot::KinematicChain>> chains_;
+};
+
+}  // namespace vscan::robots

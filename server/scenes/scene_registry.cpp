@@ -1,0 +1,124 @@
+#include "scenes/scene_registry.h"
+
+#include <cmath>
+#include <numbers>
+#include <utility>
+#include <vector>
+
+#include <spdlog/spdlog.h>
+
+namespace vscan::scenes {
+namespace {
+
+constexpr size_t kMeshCacheEntries = 64;
+
+double DegToRad(double deg) { return deg * std::numbers::pi / 180.0; }
+
+}  // namespace
+
+SceneRegistry::SceneRegistry(store::Catalogue& catalogue, store::BlobStore& blobs, size_t cache_entries,
+                             std::optional<geometry::ImportSandbox> import_sandbox)
+    : catalogue_(catalogue),
+      blobs_(blobs),
+      cache_entries_(cache_entries),
+      import_sandbox_(std::move(import_sandbox)) {}
+
+StatusOr<store::MeshRecord> SceneRegistry::AddMesh(std::string_view file_bytes, const MeshUpload& upload) {
+  if (!std::isfinite(upload.scale) || upload.scale <= 0) return InvalidArgument("header.scale: must be positive");
+  const double metres_per_unit = upload.metres_per_unit * upload.scale;
+  ASSIGN_OR_RETURN(TriangleMesh mesh,
+                   import_sandbox_
+                       ? geometry::ImportMeshIsolated(file_bytes, upload.format, metres_per_unit, *import_sandbox_)
+                       : geometry::ImportMesh(file_bytes, upload.format, metres_per_unit));
+  const std::string encoded = geometry::EncodeMesh(mesh);
+  ASSIGN_OR_RETURN(std::string sha, blobs_.Put(encoded));
+
+  store::MeshRecord record;
+  record.name = upload.name;
+  record.sha256 = sha;
+  record.vertex_count = mesh.vertices.size();
+  record.triangle_count = mesh.triangles.size();
+  Eigen::Vector3f lo, hi;
+  mesh.Bounds(lo, hi);
+  record.bounds_min = lo.cast<double>();
+  record.bounds_max = hi.cast<double>();
+  record.source_unit = upload.unit;
+  record.source_scale = upload.scale;
+  ASSIGN_OR_RETURN(store::MeshRecord stored, catalogue_.InsertMesh(record));
+  spdlog::info("mesh {} '{}' stored: {} triangles, blob {}", stored.mesh_id, stored.name, stored.triangle_count,
+               sha.substr(0, 12));
+  return stored;
+}
+
+Status SceneRegistry::DeleteMesh(const std::string& mesh_id) {
+  ASSIGN_OR_RETURN(auto deleted, catalogue_.DeleteMesh(mesh_id));
+  const auto& [sha, unshared] = deleted;
+  if (unshared) {
+    std::lock_guard lock(mutex_);
+    meshes_.erase(sha);
+    // The catalogue no longer names the blob; a failure here only leaves an orphan file.
+    Status removed = blobs_.Remove(sha);
+    if (!removed.ok()) spdlog::warn("mesh {}: blob not removed: {}", mesh_id, removed.ToString());
+  }
+  return Status::Ok();
+}
+
+StatusOr<std::shared_ptr<const TriangleMesh>> SceneRegistry::LoadMesh(const std::string& mesh_id) {
+  ASSIGN_OR_RETURN(store::MeshRecord record, catalogue_.GetMesh(mesh_id));
+  {
+    std::lock_guard lock(mutex_);
+    if (auto it = meshes_.find(record.sha256); it != meshes_.end()) return it->second;
+  }
+  ASSIGN_OR_RETURN(std::string bytes, blobs_.Get(record.sha256));
+  ASSIGN_OR_RETURN(TriangleMesh mesh, geometry::DecodeMesh(bytes));
+  auto shared = std::make_shared<const TriangleMesh>(std::move(mesh));
+  std::lock_guard lock(mutex_);
+  if (meshes_.size() >= kMeshCacheEntries) meshes_.erase(meshes_.begin());
+  meshes_.emplace(record.sha256, shared);
+  return shared;
+}
+
+Pose3 SceneRegistry::WorldFromObject(const store::SceneRecord& scene, const store::ObjectRecord& object,
+                                     double table_angle_deg) {
+  Pose3 pose(object.pose);
+  if (object.on_table && scene.table.enabled) {
+    pose = RotationAboutLine(scene.table.centre, scene.table.axis, DegToRad(table_angle_deg)) * pose;
+  }
+  return pose;
+}
+
+StatusOr<ScanTarget> SceneRegistry::PrepareScan(const std::string& scene_id, std::optional<double> table_angle_deg) {
+  ASSIGN_OR_RETURN(store::SceneRecord scene, catalogue_.GetScene(scene_id));
+  const double angle = table_angle_deg.value_or(scene.table.angle_deg);
+  const CacheKey key{scene.scene_id, scene.revision, scene.table.enabled ? angle : 0.0};
+  {
+    std::lock_guard lock(mutex_);
+    for (auto it = scenes_.begin(); it != scenes_.end(); ++it) {
+      if (it->first == key) {
+        scenes_.splice(scenes_.begin(), scenes_, it);
+        return ScanTarget{std::move(scene), scenes_.front().second};
+      }
+    }
+  }
+  ASSIGN_OR_RETURN(auto built, Build(scene, angle));
+  std::lock_guard lock(mutex_);
+  scenes_.emplace_front(key, built);
+  while (scenes_.size() > cache_entries_) scenes_.pop_back();
+  return ScanTarget{std::move(scene), std::move(built)};
+}
+
+StatusOr<std::shared_ptr<const raycast::RaycastScene>> SceneRegistry::Build(const store::SceneRecord& scene,
+                                                                             double table_angle) {
+  std::vector<raycast::SceneInstance> instances;
+  instances.reserve(scene.objects.size());
+  for (const auto& object : scene.objects) {
+    ASSIGN_OR_RETURN(auto mesh, LoadMesh(object.mesh_id));
+    instances.push_back({mesh, WorldFromObject(scene, object, table_angle), object.scale, object.instance_id});
+  }
+  ASSIGN_OR_RETURN(auto built, raycast::RaycastScene::Build(instances));
+  spdlog::debug("scene {} revision {}: built ray-casting structure over {} triangles", scene.scene_id,
+                scene.revision, built->triangle_count());
+  return built;
+}
+
+}  // namespace vscan::scenes

@@ -1,0 +1,74 @@
+#pragma once
+// Scenes as the scanner sees them: catalogue records turned into cached Embree scenes.
+// One Embree scene is built per (scene, revision, table angle) and shared by concurrent scans.
+
+#include <cstdint>
+#include <list>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <tuple>
+
+#include "geometry/mesh_import.h"
+#include "geometry/sandboxed_import.h"
+#include "raycast/raycast_scene.h"
+#include "store/blob_store.h"
+#include "store/catalogue.h"
+#include "vscan/common/mesh.h"
+#include "vscan/common/pose.h"
+
+namespace vscan::scenes {
+
+// What a scan needs: the scene as it was read and its ray-casting structure.
+struct ScanTarget {
+  store::SceneRecord scene;
+  std::shared_ptr<const raycast::RaycastScene> raycast;
+};
+
+// Parameters of an uploaded mesh file.
+struct MeshUpload {
+  std::string name;
+  geometry::MeshFileFormat format = geometry::MeshFileFormat::kAuto;
+  int unit = 0;            // v1::LengthUnit value, recorded for the user
+  double metres_per_unit = 1.0;
+  double scale = 1.0;
+};
+
+class SceneRegistry {
+ public:
+  // With import_sandbox, uploads are parsed by its helper process; without, in this process.
+  SceneRegistry(store::Catalogue& catalogue, store::BlobStore& blobs, size_t cache_entries = 8,
+                std::optional<geometry::ImportSandbox> import_sandbox = std::nullopt);
+
+  store::Catalogue& catalogue() { return catalogue_; }
+
+  // Parses, normalises to metres, stores the geometry blob durably, then records the mesh.
+  StatusOr<store::MeshRecord> AddMesh(std::string_view file_bytes, const MeshUpload& upload);
+  Status DeleteMesh(const std::string& mesh_id);
+  StatusOr<std::shared_ptr<const TriangleMesh>> LoadMesh(const std::string& mesh_id);
+
+  // Reads the scene and returns its Embree scene, built or from the cache.
+  StatusOr<ScanTarget> PrepareScan(const std::string& scene_id, std::optional<double> table_angle_deg);
+
+  // world_from_object of an object, including the table's turn for objects on the table.
+  static Pose3 WorldFromObject(const store::SceneRecord& scene, const store::ObjectRecord& object,
+                               double table_angle_deg);
+
+ private:
+  using CacheKey = std::tuple<std::string, uint64_t, double>;
+  StatusOr<std::shared_ptr<const raycast::RaycastScene>> Build(const store::SceneRecord& scene, double table_angle);
+
+  store::Catalogue& catalogue_;
+  store::BlobStore& blobs_;
+  size_t cache_entries_;
+  std::optional<geometry::ImportSandbox> import_sandbox_;
+
+  std::mutex mutex_;
+  std::map<std::string, std::shared_ptr<const TriangleMesh>> meshes_;  // by sha256
+  std::list<std::pair<CacheKey, std::shared_ptr<const raycast::RaycastScene>>> scenes_;  // most recent first
+};
+
+}  // namespace vscan::scenes
