@@ -1,0 +1,64 @@
+// vscan: command-line client for vscand.
+
+#include <exception>
+#include <iostream>
+
+#include "commands.h"
+
+namespace {
+
+constexpr const char* kFooter = R"(
+Exit codes:
+  0  success
+  2  usage error (bad or missing arguments)
+  3  the server answered with an error
+  4  the server is unreachable (UNAVAILABLE or DEADLINE_EXCEEDED)
+  5  local I/O error (cannot read an input or write an output file)
+
+Environment:
+  VSCAN_SERVER  default for --server
+  VSCAN_TOKEN   default for --token)";
+
+void AddGlobalOptions(CLI::App& app, vscan::cli::GlobalOptions& g) {
+  app.add_option("--server", g.server, "Server address host:port")->envname("VSCAN_SERVER")->capture_default_str();
+  app.add_option("--token", g.token, "Bearer token sent with every call")->envname("VSCAN_TOKEN");
+  app.add_option("--ca-cert", g.ca_cert, "PEM root certificate; turns TLS on")->check(CLI::ExistingFile);
+  app.add_flag("--json", g.json, "Machine-readable output: one JSON object per command on stdout");
+  app.add_option("--timeout", g.timeout, "Deadline in seconds for each call (default: 30 s, none for scans)")
+      ->check(CLI::PositiveNumber);
+  app.add_flag("-q,--quiet", g.quiet, "Print only ids and errors; no progress bar");
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  vscan::cli::Context ctx;
+  CLI::App app{"vscan: command-line client for the vscan 3D scanning simulator", "vscan"};
+  app.set_version_flag("--version", VSCAN_VERSION);
+  app.require_subcommand(1);
+  app.fallthrough();
+  AddGlobalOptions(app, ctx.global);
+  vscan::cli::AddHealthCommand(app, ctx);
+  vscan::cli::AddSceneCommands(app, ctx);
+  vscan::cli::AddMeshCommands(app, ctx);
+  vscan::cli::AddObjectCommands(app, ctx);
+  vscan::cli::AddTableCommand(app, ctx);
+  vscan::cli::AddScanCommand(app, ctx);
+  vscan::cli::AddRobotCommands(app, ctx);
+  app.footer(kFooter);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    // --help and --version are "errors" with exit code 0; every real parse error is a usage error.
+    const int rc = app.exit(e);
+    return rc == 0 ? 0 : vscan::cli::kExitUsage;
+  }
+  if (!ctx.action) return ctx.UsageError("no command given");
+  try {
+    return ctx.action();
+  } catch (const std::exception& e) {
+    std::cerr << "error: " << e.what() << '\n';
+    return 1;
+  }
+}
