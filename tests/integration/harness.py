@@ -1,0 +1,173 @@
+"""Starts a real vscand on a free port with its own data directory, for integration tests."""
+
+import os
+import signal
+import subprocess
+import sys
+import tempfile
+import time
+import unittest
+
+BUILD_DIR = os.environ["VSCAN_BUILD_DIR"]
+SOURCE_DIR = os.environ["VSCAN_SOURCE_DIR"]
+VSCAND = os.path.join(BUILD_DIR, "server", "vscand")
+VSCAN = os.path.join(BUILD_DIR, "client", "cli", "vscan")
+DATA = os.path.join(SOURCE_DIR, "data")
+BUNNY = os.path.join(DATA, "meshes", "bunny", "bunny_zipper_res2.ply")
+
+sys.path.insert(0, os.path.join(BUILD_DIR, "python"))
+sys.path.insert(0, os.path.join(SOURCE_DIR, "client", "python"))
+
+import grpc  # noqa: E402
+from vscan.v1 import common_pb2, scan_pb2, scan_pb2_grpc, scene_pb2, scene_pb2_grpc, sensor_pb2  # noqa: E402,F401
+
+
+class Server:
+    """One vscand process; restartable on the same data directory."""
+
+    def __init__(self, data_dir=None, extra_args=()):
+        self._tmp = None
+        if data_dir is None:
+            self._tmp = tempfile.TemporaryDirectory(prefix="vscand-test-")
+            data_dir = self._tmp.name
+        self.data_dir = data_dir
+        self.extra_args = list(extra_args)
+        self.process = None
+        self.port = None
+        self.log_path = os.path.join(self.data_dir, "vscand.log")
+
+    @property
+    def address(self):
+        return f"127.0.0.1:{self.port}"
+
+    def start(self):
+        port_file = os.path.join(self.data_dir, "port")
+        if os.path.exists(port_file):
+            os.remove(port_file)
+        with open(self.log_path, "ab") as log:
+            self.process = subprocess.Popen(
+                [VSCAND, "--listen", "127.0.0.1:0", "--port-file", port_file,
+                 "--data-dir", os.path.join(self.data_dir, "store"), "--log-level", "debug", *self.extra_args],
+                stdout=log, stderr=log)
+        deadline = time.time() + 30
+        while time.time() < deadline:
+            if os.path.exists(port_file):
+                with open(port_file) as f:
+                    self.port = int(f.read().strip())
+                return self
+            if self.process.poll() is not None:
+                raise RuntimeError(f"vscand exited with {self.process.returncode}: {self.log()}")
+            time.sleep(0.05)
+        raise RuntimeError("vscand did not start in 30 s")
+
+    def kill9(self):
+        self.process.send_signal(signal.SIGKILL)
+        self.process.wait(timeout=30)
+
+    def stop(self, timeout=30):
+        if self.process and self.process.poll() is None:
+            self.process.send_signal(signal.SIGTERM)
+            return self.process.wait(timeout=timeout)
+        return self.process.returncode if self.process else None
+
+    def log(self):
+        try:
+            with open(self.log_path, errors="replace") as f:
+                return f.read()[-4000:]
+        except OSError:
+            return ""
+
+    def channel(self):
+        return grpc.insecure_channel(self.address)
+
+    def cleanup(self):
+        self.stop()
+        if self._tmp:
+            self._tmp.cleanup()
+
+
+class ServerTestCase(unittest.TestCase):
+    """A fresh server per test class, with raw stubs at hand."""
+
+    server_args = ()
+
+    @classmethod
+    def setUpClass(cls):
+        cls.server = Server(extra_args=cls.server_args).start()
+        cls.channel = cls.server.channel()
+        cls.scenes = scene_pb2_grpc.SceneServiceStub(cls.channel)
+        cls.scans = scan_pb2_grpc.ScanServiceStub(cls.channel)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.channel.close()
+        cls.server.cleanup()
+
+    def upload(self, path, unit=common_pb2.LENGTH_UNIT_METRE, name=None, chunk=1 << 20, scale=0.0):
+        with open(path, "rb") as f:
+            data = f.read()
+        return self.upload_bytes(data, name or os.path.basename(path), unit, chunk, scale)
+
+    def upload_bytes(self, data, name, unit=common_pb2.LENGTH_UNIT_METRE, chunk=1 << 20, scale=0.0):
+        def requests():
+            yield scene_pb2.UploadMeshRequest(header=scene_pb2.MeshHeader(
+                name=name, unit=unit, scale=scale, size_bytes=len(data)))
+            for i in range(0, len(data), chunk):
+                yield scene_pb2.UploadMeshRequest(chunk=data[i:i + chunk])
+        return self.scenes.UploadMesh(requests(), timeout=60).mesh
+
+    def assertCode(self, code, call, field=None):
+        with self.assertRaises(grpc.RpcError) as ctx:
+            result = call()
+            if hasattr(result, "__iter__") and not isinstance(result, (bytes, str)):
+                list(result)
+        self.assertEqual(ctx.exception.code(), code, ctx.exception.details())
+        if field:
+            self.assertIn(field, ctx.exception.details())
+        return ctx.exception
+
+
+def look_at(eye, target, up=(0, 0, 1)):
+    return common_pb2.Pose(look_at=common_pb2.LookAt(
+        eye=common_pb2.Vector3(x=eye[0], y=eye[1], z=eye[2]),
+        target=common_pb2.Vector3(x=target[0], y=target[1], z=target[2]),
+        up=common_pb2.Vector3(x=up[0], y=up[1], z=up[2])))
+
+
+def pinhole(width=160, height=120, hfov=60.0, near=0.05, far=10.0):
+    return sensor_pb2.SensorSpec(pinhole=sensor_pb2.PinholeCamera(
+        width=width, height=height, horizontal_fov_deg=hfov, near=near, far=far))
+
+
+def icosphere_ply(radius, centre, subdivisions=4):
+    """ASCII PLY of an icosphere: an independent mesh with a known surface."""
+    import math
+    t = (1 + math.sqrt(5)) / 2
+    verts = [(-1, t, 0), (1, t, 0), (-1, -t, 0), (1, -t, 0), (0, -1, t), (0, 1, t), (0, -1, -t), (0, 1, -t),
+             (t, 0, -1), (t, 0, 1), (-t, 0, -1), (-t, 0, 1)]
+    verts = [tuple(c / math.sqrt(sum(x * x for x in v)) for c in v) for v in verts]
+    faces = [(0, 11, 5), (0, 5, 1), (0, 1, 7), (0, 7, 10), (0, 10, 11), (1, 5, 9), (5, 11, 4), (11, 10, 2),
+             (10, 7, 6), (7, 1, 8), (3, 9, 4), (3, 4, 2), (3, 2, 6), (3, 6, 8), (3, 8, 9), (4, 9, 5), (2, 4, 11),
+             (6, 2, 10), (8, 6, 7), (9, 8, 1)]
+    for _ in range(subdivisions):
+        cache = {}
+
+        def mid(a, b):
+            key = (min(a, b), max(a, b))
+            if key not in cache:
+                m = [(verts[a][i] + verts[b][i]) / 2 for i in range(3)]
+                n = math.sqrt(sum(x * x for x in m))
+                verts.append(tuple(x / n for x in m))
+                cache[key] = len(verts) - 1
+            return cache[key]
+        new = []
+        for a, b, c in faces:
+            ab, bc, ca = mid(a, b), mid(b, c), mid(c, a)
+            new += [(a, ab, ca), (b, bc, ab), (c, ca, bc), (ab, bc, ca)]
+        faces = new
+    lines = ["ply", "format ascii 1.0", f"element vertex {len(verts)}", "property float x", "property float y",
+             "property float z", f"element face {len(faces)}", "property list uchar int vertex_indices", "end_header"]
+    lines += [f"{v[0] * radius + centre[0]:.9f} {v[1] * radius + centre[1]:.9f} {v[2] * radius + centre[2]:.9f}"
+              for v in verts]
+    lines += [f"3 {a} {b} {c}" for a, b, c in faces]
+    return ("\n".join(lines) + "\n").encode()

@@ -1,0 +1,148 @@
+"""Every bad input gets the most specific status, names its field, and changes nothing."""
+
+import math
+import unittest
+
+import grpc
+
+from harness import BUNNY, ServerTestCase, common_pb2, icosphere_ply, look_at, pinhole, scan_pb2, scene_pb2, sensor_pb2
+
+C = grpc.StatusCode
+
+
+class BadInputTest(ServerTestCase):
+    server_args = ("--max-upload-mib", "1", "--max-rays", "1000000")
+
+    @classmethod
+    def setUpClass(cls):
+        super().setUpClass()
+        cls.scene = cls.scenes.CreateScene(scene_pb2.CreateSceneRequest(name="bad-input")).scene
+        mesh = ServerTestCase.upload_bytes(cls, icosphere_ply(0.1, (0, 0, 0), 2), "sphere.ply")
+        cls.mesh = mesh
+        added = cls.scenes.AddObject(scene_pb2.AddObjectRequest(scene_id=cls.scene.scene_id, mesh_id=mesh.mesh_id))
+        cls.object = added.object
+
+    def revision(self):
+        return self.scenes.GetScene(scene_pb2.GetSceneRequest(scene_id=self.scene.scene_id)).scene.revision
+
+    def mesh_count(self):
+        return len(self.scenes.ListMeshes(scene_pb2.ListMeshesRequest()).meshes)
+
+    def scan(self, **kw):
+        req = dict(scene_id=self.scene.scene_id, sensor=pinhole(), pose=look_at((0.5, 0, 0), (0, 0, 0)))
+        req.update(kw)
+        return lambda: list(self.scans.Scan(scan_pb2.ScanRequest(**req), timeout=30))
+
+    # Unknown ids
+    def test_unknown_ids(self):
+        self.assertCode(C.NOT_FOUND, lambda: self.scenes.GetScene(scene_pb2.GetSceneRequest(scene_id="scn_nope")),
+                        "scene_id")
+        self.assertCode(C.NOT_FOUND, lambda: self.scenes.GetMesh(scene_pb2.GetMeshRequest(mesh_id="msh_nope")),
+                        "mesh_id")
+        self.assertCode(C.NOT_FOUND, self.scan(scene_id="scn_nope"), "scene_id")
+        before = self.revision()
+        self.assertCode(C.NOT_FOUND, lambda: self.scenes.AddObject(scene_pb2.AddObjectRequest(
+            scene_id=self.scene.scene_id, mesh_id="msh_nope")), "mesh_id")
+        self.assertCode(C.NOT_FOUND, lambda: self.scenes.RemoveObject(scene_pb2.RemoveObjectRequest(
+            scene_id=self.scene.scene_id, object_id="obj_nope")), "object_id")
+        self.assertEqual(before, self.revision())
+
+    def test_missing_ids(self):
+        self.assertCode(C.INVALID_ARGUMENT, lambda: self.scenes.GetScene(scene_pb2.GetSceneRequest()), "scene_id")
+        self.assertCode(C.INVALID_ARGUMENT, self.scan(scene_id=""), "scene_id")
+
+    # Poses
+    def test_nan_and_non_rigid_poses(self):
+        before = self.revision()
+        nan = common_pb2.Pose(matrix=common_pb2.Matrix4(values=[math.nan] + [0.0] * 15))
+        self.assertCode(C.INVALID_ARGUMENT, lambda: self.scenes.MoveObject(scene_pb2.MoveObjectRequest(
+            scene_id=self.scene.scene_id, object_id=self.object.object_id, pose=nan)), "pose")
+        sheared = common_pb2.Pose(matrix=common_pb2.Matrix4(values=[2, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]))
+        self.assertCode(C.INVALID_ARGUMENT, lambda: self.scenes.AddObject(scene_pb2.AddObjectRequest(
+            scene_id=self.scene.scene_id, mesh_id=self.mesh.mesh_id, pose=sheared)), "pose.matrix")
+        short = common_pb2.Pose(matrix=common_pb2.Matrix4(values=[1, 0, 0]))
+        self.assertCode(C.INVALID_ARGUMENT, self.scan(pose=short), "pose.matrix.values")
+        self.assertCode(C.INVALID_ARGUMENT, self.scan(pose=look_at((0, 0, 0), (0, 0, 0))), "pose.look_at")
+        self.assertCode(C.INVALID_ARGUMENT, self.scan(pose=look_at((math.nan, 0, 0), (0, 0, 0))), "pose.look_at.eye")
+        bad_quat = common_pb2.Pose(quaternion=common_pb2.QuaternionPose(qw=2.0))
+        self.assertCode(C.INVALID_ARGUMENT, self.scan(pose=bad_quat), "pose.quaternion")
+        self.assertCode(C.INVALID_ARGUMENT, lambda: list(self.scans.Scan(scan_pb2.ScanRequest(
+            scene_id=self.scene.scene_id, sensor=pinhole()))), "pose")
+        self.assertEqual(before, self.revision())
+
+    def test_bad_scale_changes_nothing(self):
+        before = self.revision()
+        self.assertCode(C.INVALID_ARGUMENT, lambda: self.scenes.AddObject(scene_pb2.AddObjectRequest(
+            scene_id=self.scene.scene_id, mesh_id=self.mesh.mesh_id, scale=-1)), "scale")
+        self.assertCode(C.INVALID_ARGUMENT, lambda: self.scenes.AddObject(scene_pb2.AddObjectRequest(
+            scene_id=self.scene.scene_id, mesh_id=self.mesh.mesh_id, scale=math.inf)), "scale")
+        table = scene_pb2.RotaryTable(enabled=True, angle_deg=math.nan)
+        self.assertCode(C.INVALID_ARGUMENT, lambda: self.scenes.SetRotaryTable(scene_pb2.SetRotaryTableRequest(
+            scene_id=self.scene.scene_id, table=table)), "table.angle_deg")
+        self.assertEqual(before, self.revision())
+
+    # Sensors and resolutions
+    def test_resolutions_and_ranges(self):
+        self.assertCode(C.INVALID_ARGUMENT, self.scan(sensor=pinhole(width=0)), "sensor.pinhole.width")
+        self.assertCode(C.INVALID_ARGUMENT, self.scan(sensor=pinhole(height=0)), "sensor.pinhole.height")
+        self.assertCode(C.RESOURCE_EXHAUSTED, self.scan(sensor=pinhole(width=2000, height=2000)), "sensor.pinhole")
+        self.assertCode(C.RESOURCE_EXHAUSTED, self.scan(sensor=pinhole(width=100000, height=1)), "sensor.pinhole.width")
+        self.assertCode(C.INVALID_ARGUMENT, self.scan(sensor=pinhole(near=2.0, far=1.0)), "near")
+        self.assertCode(C.INVALID_ARGUMENT, self.scan(sensor=pinhole(near=1.0, far=1.0)), "near")
+        self.assertCode(C.INVALID_ARGUMENT, self.scan(sensor=pinhole(hfov=180)), "horizontal_fov_deg")
+        self.assertCode(C.INVALID_ARGUMENT, self.scan(sensor=pinhole(near=-1.0)), "near")
+        bad_k = sensor_pb2.SensorSpec(pinhole=sensor_pb2.PinholeCamera(
+            width=10, height=10, intrinsics=sensor_pb2.Intrinsics(fx=0, fy=10, cx=5, cy=5)))
+        self.assertCode(C.INVALID_ARGUMENT, self.scan(sensor=bad_k), "fx")
+        self.assertCode(C.INVALID_ARGUMENT, self.scan(sensor=sensor_pb2.SensorSpec()), "sensor")
+        self.assertCode(C.INVALID_ARGUMENT, self.scan(chunk_bytes=10), "chunk_bytes")
+
+    def test_not_yet_supported_is_unimplemented(self):
+        self.assertCode(C.UNIMPLEMENTED, self.scan(backend=scan_pb2.SCAN_BACKEND_RASTER_DEPTH), "backend")
+        self.assertCode(C.UNIMPLEMENTED, self.scan(noise=sensor_pb2.NoiseSpec(sigma_a=0.001)), "noise")
+        self.assertCode(C.UNIMPLEMENTED, self.scan(sensor=sensor_pb2.SensorSpec(preset="kinect")), "sensor.preset")
+
+    # Meshes
+    def test_malformed_meshes_change_nothing(self):
+        before = self.mesh_count()
+        self.assertCode(C.INVALID_ARGUMENT, lambda: self.upload_bytes(b"ply\nformat ascii 1.0\ngarbage", "x.ply"),
+                        "mesh data")
+        self.assertCode(C.INVALID_ARGUMENT, lambda: self.upload_bytes(b"", "empty.stl"), "mesh data")
+        no_faces = b"ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n" \
+                   b"property float z\nend_header\n0 0 0\n1 0 0\n0 1 0\n"
+        self.assertCode(C.INVALID_ARGUMENT, lambda: self.upload_bytes(no_faces, "nofaces.ply"), "mesh data")
+        self.assertCode(C.INVALID_ARGUMENT, lambda: self.upload_bytes(
+            icosphere_ply(1, (0, 0, 0), 1), "sphere.ply", unit=common_pb2.LENGTH_UNIT_UNSPECIFIED), "header.unit")
+        self.assertCode(C.INVALID_ARGUMENT, lambda: self.upload_bytes(
+            icosphere_ply(1, (0, 0, 0), 1), "sphere.ply", scale=-2), "header.scale")
+        self.assertEqual(before, self.mesh_count())
+
+    def test_upload_without_header(self):
+        self.assertCode(C.INVALID_ARGUMENT, lambda: self.scenes.UploadMesh(
+            iter([scene_pb2.UploadMeshRequest(chunk=b"abc")])), "header")
+
+    def test_oversize_upload(self):
+        before = self.mesh_count()
+        big = b"solid x\n" + b" " * (2 << 20)
+        self.assertCode(C.RESOURCE_EXHAUSTED, lambda: self.upload_bytes(big, "big.stl"), "size_bytes")
+
+        def no_size():
+            yield scene_pb2.UploadMeshRequest(header=scene_pb2.MeshHeader(name="big.stl",
+                                                                          unit=common_pb2.LENGTH_UNIT_METRE))
+            for _ in range(3):
+                yield scene_pb2.UploadMeshRequest(chunk=b" " * (900 << 10))
+        self.assertCode(C.RESOURCE_EXHAUSTED, lambda: self.scenes.UploadMesh(no_size()), "chunk")
+        self.assertEqual(before, self.mesh_count())
+
+    def test_mesh_in_use_cannot_be_deleted(self):
+        self.assertCode(C.FAILED_PRECONDITION, lambda: self.scenes.DeleteMesh(scene_pb2.DeleteMeshRequest(
+            mesh_id=self.mesh.mesh_id)), "mesh_id")
+        self.scenes.GetMesh(scene_pb2.GetMeshRequest(mesh_id=self.mesh.mesh_id))
+
+    def test_bunny_still_scans_after_rejections(self):
+        mesh = self.upload(BUNNY)
+        self.assertGreater(mesh.triangle_count, 16000)
+
+
+if __name__ == "__main__":
+    unittest.main()

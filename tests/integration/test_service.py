@@ -1,0 +1,173 @@
+"""The service end to end through raw stubs: health, reflection, scenes, scans, deadlines, shutdown."""
+
+import math
+import time
+import unittest
+
+import grpc
+import numpy as np
+
+from harness import (BUNNY, Server, ServerTestCase, common_pb2, icosphere_ply, look_at, pinhole, scan_pb2,
+                     scene_pb2)
+from vscan.v1 import job_pb2, job_pb2_grpc, robot_pb2, robot_pb2_grpc
+
+C = grpc.StatusCode
+
+
+def collect(responses):
+    header, chunks, stats = None, [], None
+    for r in responses:
+        kind = r.WhichOneof("part")
+        if kind == "header":
+            header = r.header
+        elif kind == "chunk":
+            chunks.append(r.chunk)
+        else:
+            stats = r.statistics
+    return header, chunks, stats
+
+
+class ServiceTest(ServerTestCase):
+    def test_health_serving(self):
+        check = self.channel.unary_unary("/grpc.health.v1.Health/Check",
+                                         request_serializer=lambda b: b, response_deserializer=lambda b: b)
+        self.assertEqual(check(b"", timeout=10), b"\x08\x01")  # status: SERVING
+
+    def test_reflection_lists_services(self):
+        info = self.channel.stream_stream("/grpc.reflection.v1alpha.ServerReflection/ServerReflectionInfo",
+                                          request_serializer=lambda b: b, response_deserializer=lambda b: b)
+        reply = b"".join(info(iter([b"\x3a\x00"]), timeout=10))  # list_services: ""
+        for name in (b"vscan.v1.SceneService", b"vscan.v1.ScanService", b"vscan.v1.RobotService"):
+            self.assertIn(name, reply)
+
+    def test_later_services_answer_unimplemented(self):
+        jobs = job_pb2_grpc.JobServiceStub(self.channel)
+        self.assertCode(C.UNIMPLEMENTED, lambda: jobs.ListJobs(job_pb2.ListJobsRequest()))
+
+    def test_robot_service_is_served(self):
+        robots = robot_pb2_grpc.RobotServiceStub(self.channel)
+        self.assertCode(C.NOT_FOUND, lambda: robots.GetRobot(robot_pb2.GetRobotRequest(robot_id="r")), "robot_id")
+
+    def test_scene_lifecycle_and_revisions(self):
+        scene = self.scenes.CreateScene(scene_pb2.CreateSceneRequest(name="life")).scene
+        self.assertEqual(scene.revision, 1)
+        mesh = self.upload(BUNNY)
+        added = self.scenes.AddObject(scene_pb2.AddObjectRequest(scene_id=scene.scene_id, mesh_id=mesh.mesh_id,
+                                                                 label="bunny", on_table=True))
+        self.assertEqual(added.revision, 2)
+        self.assertEqual(added.object.instance_id, 1)
+        moved = self.scenes.MoveObject(scene_pb2.MoveObjectRequest(
+            scene_id=scene.scene_id, object_id=added.object.object_id,
+            pose=common_pb2.Pose(quaternion=common_pb2.QuaternionPose(
+                translation=common_pb2.Vector3(x=0.1), qw=1.0)), scale=2.0))
+        self.assertEqual(moved.revision, 3)
+        self.assertEqual(moved.object.scale, 2.0)
+        table = self.scenes.SetRotaryTable(scene_pb2.SetRotaryTableRequest(
+            scene_id=scene.scene_id, table=scene_pb2.RotaryTable(enabled=True, angle_deg=30)))
+        self.assertEqual(table.revision, 4)
+        got = self.scenes.GetScene(scene_pb2.GetSceneRequest(scene_id=scene.scene_id)).scene
+        self.assertEqual(got.revision, 4)
+        self.assertEqual(got.objects[0].label, "bunny")
+        self.assertEqual(got.table.axis.z, 1.0)
+        self.assertAlmostEqual(got.objects[0].pose.matrix.values[3], 0.1)
+        removed = self.scenes.RemoveObject(scene_pb2.RemoveObjectRequest(scene_id=scene.scene_id,
+                                                                         object_id=added.object.object_id))
+        self.assertEqual(removed.revision, 5)
+        self.scenes.DeleteScene(scene_pb2.DeleteSceneRequest(scene_id=scene.scene_id))
+        self.assertCode(C.NOT_FOUND, lambda: self.scenes.GetScene(scene_pb2.GetSceneRequest(scene_id=scene.scene_id)))
+
+    def test_list_pages(self):
+        ids = {self.scenes.CreateScene(scene_pb2.CreateSceneRequest(name=f"p{i}")).scene.scene_id for i in range(5)}
+        seen, token = set(), ""
+        while True:
+            page = self.scenes.ListScenes(scene_pb2.ListScenesRequest(page_size=2, page_token=token))
+            self.assertLessEqual(len(page.scenes), 2)
+            seen |= {s.scene_id for s in page.scenes}
+            token = page.next_page_token
+            if not token:
+                break
+        self.assertTrue(ids <= seen)
+
+    def sphere_scene(self, radius=0.2, centre=(0.0, 0.0, 0.0)):
+        scene = self.scenes.CreateScene(scene_pb2.CreateSceneRequest(name="sphere")).scene
+        mesh = self.upload_bytes(icosphere_ply(radius, centre, 4), "sphere.ply")
+        self.scenes.AddObject(scene_pb2.AddObjectRequest(scene_id=scene.scene_id, mesh_id=mesh.mesh_id))
+        return scene
+
+    def test_scan_streams_chunks_that_numpy_reads(self):
+        radius = 0.2
+        scene = self.sphere_scene(radius)
+        request = scan_pb2.ScanRequest(scene_id=scene.scene_id, sensor=pinhole(320, 240, 40.0),
+                                       pose=look_at((1.0, 0.0, 0.0), (0, 0, 0)), chunk_bytes=16 << 10,
+                                       fields=[scan_pb2.POINT_FIELD_POSITION, scan_pb2.POINT_FIELD_NORMAL,
+                                               scan_pb2.POINT_FIELD_RANGE, scan_pb2.POINT_FIELD_INSTANCE_ID,
+                                               scan_pb2.POINT_FIELD_PIXEL])
+        header, chunks, stats = collect(self.scans.Scan(request, timeout=60))
+        self.assertEqual(header.rays, 320 * 240)
+        self.assertGreater(len(chunks), 1)
+        self.assertEqual(len(chunks), header.chunk_count)
+        self.assertEqual(sum(c.count for c in chunks), header.points)
+        self.assertEqual(stats.points, header.points)
+        pos = np.concatenate([np.frombuffer(c.positions, dtype="<f4").reshape(-1, 3) for c in chunks])
+        nrm = np.concatenate([np.frombuffer(c.normals, dtype="<f4").reshape(-1, 3) for c in chunks])
+        rng = np.concatenate([np.frombuffer(c.ranges, dtype="<f4") for c in chunks])
+        ids = np.concatenate([np.frombuffer(c.instance_ids, dtype="<u4") for c in chunks])
+        pix = np.concatenate([np.frombuffer(c.pixels, dtype="<u4") for c in chunks])
+        r = np.linalg.norm(pos, axis=1)
+        # Icosphere (4 subdivisions) chords sag below the sphere by under 0.3% of the radius.
+        self.assertLess(np.max(np.abs(r - radius)), 0.003 * radius)
+        self.assertTrue(np.all(ids == 1))
+        self.assertTrue(np.all(np.diff(pix.astype(np.int64)) > 0))
+        np.testing.assert_allclose(rng, np.linalg.norm(pos - np.array([1.0, 0, 0]), axis=1), rtol=1e-5)
+        cosang = np.sum(nrm * (pos / r[:, None]), axis=1)
+        self.assertGreater(np.min(cosang), math.cos(math.radians(6)))
+        # Disc of the sphere seen from 1 m: compare the hit count with the analytic solid angle.
+        fx = header.intrinsics.fx
+        half_angle = math.asin(radius / 1.0)
+        expected = math.pi * (fx * math.tan(half_angle)) ** 2
+        self.assertAlmostEqual(header.points / expected, 1.0, delta=0.03)
+
+    def test_table_turns_objects_on_it(self):
+        scene = self.scenes.CreateScene(scene_pb2.CreateSceneRequest(name="table")).scene
+        mesh = self.upload_bytes(icosphere_ply(0.05, (0.0, 0.0, 0.0), 2), "small.ply")
+        pose = common_pb2.Pose(quaternion=common_pb2.QuaternionPose(translation=common_pb2.Vector3(x=0.3), qw=1))
+        self.scenes.AddObject(scene_pb2.AddObjectRequest(scene_id=scene.scene_id, mesh_id=mesh.mesh_id,
+                                                         pose=pose, on_table=True))
+        self.scenes.SetRotaryTable(scene_pb2.SetRotaryTableRequest(
+            scene_id=scene.scene_id, table=scene_pb2.RotaryTable(enabled=True, angle_deg=90)))
+        request = scan_pb2.ScanRequest(scene_id=scene.scene_id, sensor=pinhole(200, 200, 90.0),
+                                       pose=look_at((0, 0, 2.0), (0, 0, 0), up=(0, 1, 0)))
+        _, chunks, _ = collect(self.scans.Scan(request, timeout=60))
+        pos = np.concatenate([np.frombuffer(c.positions, dtype="<f4").reshape(-1, 3) for c in chunks])
+        centre = pos.mean(axis=0)
+        # Turned 90 degrees about +Z: the sphere moved from +X to +Y.
+        self.assertAlmostEqual(centre[0], 0.0, delta=0.01)
+        self.assertAlmostEqual(centre[1], 0.3, delta=0.01)
+        request.table_angle_deg = 0.0
+        _, chunks, _ = collect(self.scans.Scan(request, timeout=60))
+        pos = np.concatenate([np.frombuffer(c.positions, dtype="<f4").reshape(-1, 3) for c in chunks])
+        self.assertAlmostEqual(pos.mean(axis=0)[0], 0.3, delta=0.01)
+
+    def test_deadline_stops_a_large_scan(self):
+        scene = self.sphere_scene()
+        request = scan_pb2.ScanRequest(scene_id=scene.scene_id, sensor=pinhole(4096, 4096, 60.0),
+                                       pose=look_at((1.0, 0.0, 0.0), (0, 0, 0)))
+        self.assertCode(C.DEADLINE_EXCEEDED, lambda: list(self.scans.Scan(request, timeout=0.05)))
+        # The server is still there and answers.
+        self.scenes.GetScene(scene_pb2.GetSceneRequest(scene_id=scene.scene_id))
+
+
+class ShutdownTest(unittest.TestCase):
+    def test_sigterm_stops_cleanly(self):
+        server = Server().start()
+        try:
+            start = time.time()
+            self.assertEqual(server.stop(timeout=30), 0, server.log())
+            self.assertLess(time.time() - start, 15)
+            self.assertIn("stopped", server.log())
+        finally:
+            server.cleanup()
+
+
+if __name__ == "__main__":
+    unittest.main()
