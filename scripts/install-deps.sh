@@ -1,0 +1,48 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages vscan needs (build, run, test, benchmark) and the buf linter.
+# Skips what is already present, so a second run is quick.
+set -euo pipefail
+
+PACKAGES=(
+  # toolchain
+  build-essential cmake ninja-build ccache pkg-config git
+  # contract and transport
+  protobuf-compiler protobuf-compiler-grpc libprotobuf-dev libgrpc-dev libgrpc++-dev grpc-proto
+  # engine
+  libembree-dev libtbb-dev libeigen3-dev libassimp-dev libpcl-dev libbullet-dev libbullet-extras-dev
+  liburdfdom-dev libyaml-cpp-dev libegl-dev libegl-mesa0 libgl-dev libpng-dev
+  # store, logging, command line
+  libsqlite3-dev sqlite3 libssl-dev libspdlog-dev libfmt-dev libcli11-dev
+  # tests, benchmark peers
+  libgtest-dev libgmock-dev libbenchmark-dev liborocos-kdl-dev libkdl-parser-dev
+  # Python client and its tests
+  python3 python3-grpcio python3-protobuf python3-numpy python3-open3d
+)
+
+as_root() {
+  if [ "$(id -u)" -eq 0 ]; then "$@"; else sudo "$@"; fi
+}
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+if ! command -v npm >/dev/null 2>&1; then missing+=(npm); fi
+
+if [ ${#missing[@]} -gt 0 ]; then
+  echo "install-deps: installing ${#missing[@]} packages: ${missing[*]}"
+  as_root apt-get update -qq
+  as_root env DEBIAN_FRONTEND=noninteractive apt-get install -y -qq --no-install-recommends "${missing[@]}" >/dev/null
+else
+  echo "install-deps: all Debian packages present"
+fi
+
+# buf (protobuf linter) from npm, kept inside the checkout.
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+if [ ! -x "$ROOT/.tools/node_modules/.bin/buf" ]; then
+  echo "install-deps: installing buf into .tools/"
+  mkdir -p "$ROOT/.tools"
+  (cd "$ROOT/.tools" && npm install --no-save --no-audit --no-fund --loglevel=error @bufbuild/buf@1.75.0 >/dev/null)
+fi
