@@ -124,11 +124,9 @@ StatusOr<ScanPlan> ParseScanRequest(const v1::ScanRequest& request, const Limits
 
   switch (request.backend()) {
     case v1::SCAN_BACKEND_UNSPECIFIED:
-    case v1::SCAN_BACKEND_RAYCAST:
-      break;
-    case v1::SCAN_BACKEND_RASTER_DEPTH:
-    case v1::SCAN_BACKEND_RASTER_COLOUR:
-      return Unimplemented("backend: raster backends are not supported by this server version");
+    case v1::SCAN_BACKEND_RAYCAST: plan.backend = ScanBackend::kRaycast; break;
+    case v1::SCAN_BACKEND_RASTER_DEPTH: plan.backend = ScanBackend::kRasterDepth; break;
+    case v1::SCAN_BACKEND_RASTER_COLOUR: plan.backend = ScanBackend::kRasterColour; break;
     default:
       return InvalidArgument("backend: unknown value " + std::to_string(request.backend()));
   }

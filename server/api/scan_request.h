@@ -22,8 +22,11 @@ struct RobotPlacement {
   Eigen::VectorXd achieved_joint_positions;
 };
 
+enum class ScanBackend { kRaycast, kRasterDepth, kRasterColour };
+
 struct ScanPlan {
   std::string scene_id;
+  ScanBackend backend = ScanBackend::kRaycast;
   sensor::PinholeCamera camera;
   Pose3 world_from_sensor = Pose3::Identity();
   raycast::ScanFrame frame = raycast::ScanFrame::kWorld;

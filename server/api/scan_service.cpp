@@ -7,6 +7,7 @@
 #include <spdlog/spdlog.h>
 
 #include "api/auth.h"
+#include "api/scan_backends.h"
 #include "api/scan_request.h"
 #include "vscan/common/grpc_status.h"
 #include "vscan/common/point_chunks.h"
@@ -16,6 +17,15 @@ namespace vscan::api {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+v1::ScanBackend BackendToProto(ScanBackend backend) {
+  switch (backend) {
+    case ScanBackend::kRasterDepth: return v1::SCAN_BACKEND_RASTER_DEPTH;
+    case ScanBackend::kRasterColour: return v1::SCAN_BACKEND_RASTER_COLOUR;
+    case ScanBackend::kRaycast: break;
+  }
+  return v1::SCAN_BACKEND_RAYCAST;
+}
 
 double MillisSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
@@ -69,12 +79,8 @@ class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
       Fail(target.status());
       return;
     }
-    raycast::ScanOptions options;
-    options.fields = plan_.fields;
-    options.frame = plan_.frame;
-    options.cancel = &cancel_;
     raycast::ScanStats stats;
-    auto cloud = raycast::Scan(*target->raycast, plan_.camera, plan_.world_from_sensor, options, &stats);
+    auto cloud = RunScanBackend(plan_, *target, context_.raster, &cancel_, &stats);
     if (!cloud.ok()) {
       Fail(cloud.status());
       return;
@@ -103,7 +109,7 @@ class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
     header->set_far(plan_.camera.far);
     FieldsToProto(plan_.fields, header->mutable_fields());
     header->set_frame(plan_.frame == raycast::ScanFrame::kSensor ? v1::FRAME_SENSOR : v1::FRAME_WORLD);
-    header->set_backend(v1::SCAN_BACKEND_RAYCAST);
+    header->set_backend(BackendToProto(plan_.backend));
     header->set_rays(stats.rays);
     header->set_points(cloud_.size());
     header->set_chunk_count(chunk_count_);

@@ -79,6 +79,7 @@ struct Server::Impl {
   std::unique_ptr<scenes::SceneRegistry> registry;
   std::unique_ptr<store::RobotCatalogue> robot_catalogue;
   std::unique_ptr<robots::RobotRegistry> robots;
+  RasterProvider raster;
   std::unique_ptr<jobs::WorkerPool> workers;
   std::unique_ptr<ServiceContext> context;
   std::unique_ptr<SceneService> scene_service;
@@ -115,7 +116,7 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const ServerOptions& options) {
   impl->robots = std::make_unique<robots::RobotRegistry>(*impl->robot_catalogue, *impl->blobs,
                                                          options.limits.max_upload_bytes);
   impl->workers = std::make_unique<jobs::WorkerPool>(std::max<uint32_t>(1, options.worker_threads));
-  impl->context.reset(new ServiceContext{*impl->registry, *impl->workers, impl->options, *impl->robots});
+  impl->context.reset(new ServiceContext{*impl->registry, *impl->workers, impl->options, *impl->robots, impl->raster});
   impl->scene_service = std::make_unique<SceneService>(*impl->context);
   impl->scan_service = std::make_unique<ScanService>(*impl->context);
   impl->robot_service = std::make_unique<RobotService>(*impl->context);

@@ -3,6 +3,7 @@
 
 #include <atomic>
 
+#include "api/raster_provider.h"
 #include "api/server_options.h"
 #include "jobs/worker_pool.h"
 #include "robots/robot_registry.h"
@@ -15,6 +16,7 @@ struct ServiceContext {
   jobs::WorkerPool& workers;
   const ServerOptions& options;
   robots::RobotRegistry& robots;
+  RasterProvider& raster;
   std::atomic<uint32_t> active_scans{0};
 };
 

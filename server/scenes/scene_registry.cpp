@@ -91,34 +91,36 @@ StatusOr<ScanTarget> SceneRegistry::PrepareScan(const std::string& scene_id, std
   ASSIGN_OR_RETURN(store::SceneRecord scene, catalogue_.GetScene(scene_id));
   const double angle = table_angle_deg.value_or(scene.table.angle_deg);
   const CacheKey key{scene.scene_id, scene.revision, scene.table.enabled ? angle : 0.0};
+  const std::string cache_key = scene.scene_id + "@" + std::to_string(scene.revision) + "@" +
+                                std::to_string(std::get<2>(key));
   {
     std::lock_guard lock(mutex_);
     for (auto it = scenes_.begin(); it != scenes_.end(); ++it) {
       if (it->first == key) {
         scenes_.splice(scenes_.begin(), scenes_, it);
-        return ScanTarget{std::move(scene), scenes_.front().second};
+        const Built& hit = scenes_.front().second;
+        return ScanTarget{std::move(scene), hit.raycast, hit.instances, cache_key};
       }
     }
   }
-  ASSIGN_OR_RETURN(auto built, Build(scene, angle));
+  ASSIGN_OR_RETURN(Built built, Build(scene, angle));
   std::lock_guard lock(mutex_);
   scenes_.emplace_front(key, built);
   while (scenes_.size() > cache_entries_) scenes_.pop_back();
-  return ScanTarget{std::move(scene), std::move(built)};
+  return ScanTarget{std::move(scene), built.raycast, built.instances, cache_key};
 }
 
-StatusOr<std::shared_ptr<const raycast::RaycastScene>> SceneRegistry::Build(const store::SceneRecord& scene,
-                                                                             double table_angle) {
-  std::vector<raycast::SceneInstance> instances;
-  instances.reserve(scene.objects.size());
+StatusOr<SceneRegistry::Built> SceneRegistry::Build(const store::SceneRecord& scene, double table_angle) {
+  auto instances = std::make_shared<std::vector<raycast::SceneInstance>>();
+  instances->reserve(scene.objects.size());
   for (const auto& object : scene.objects) {
     ASSIGN_OR_RETURN(auto mesh, LoadMesh(object.mesh_id));
-    instances.push_back({mesh, WorldFromObject(scene, object, table_angle), object.scale, object.instance_id});
+    instances->push_back({mesh, WorldFromObject(scene, object, table_angle), object.scale, object.instance_id});
   }
-  ASSIGN_OR_RETURN(auto built, raycast::RaycastScene::Build(instances));
+  ASSIGN_OR_RETURN(auto raycast, raycast::RaycastScene::Build(*instances));
   spdlog::debug("scene {} revision {}: built ray-casting structure over {} triangles", scene.scene_id,
-                scene.revision, built->triangle_count());
-  return built;
+                scene.revision, raycast->triangle_count());
+  return Built{std::move(raycast), std::move(instances)};
 }
 
 }  // namespace vscan::scenes

@@ -11,6 +11,7 @@
 #include <string>
 #include <string_view>
 #include <tuple>
+#include <vector>
 
 #include "geometry/mesh_import.h"
 #include "geometry/sandboxed_import.h"
@@ -26,6 +27,10 @@ namespace vscan::scenes {
 struct ScanTarget {
   store::SceneRecord scene;
   std::shared_ptr<const raycast::RaycastScene> raycast;
+  // The placed meshes the raycast scene was built from (what the raster backends draw).
+  std::shared_ptr<const std::vector<raycast::SceneInstance>> instances;
+  // Names this (scene, revision, table angle) for caches outside the registry.
+  std::string cache_key;
 };
 
 // Parameters of an uploaded mesh file.
@@ -59,7 +64,11 @@ class SceneRegistry {
 
  private:
   using CacheKey = std::tuple<std::string, uint64_t, double>;
-  StatusOr<std::shared_ptr<const raycast::RaycastScene>> Build(const store::SceneRecord& scene, double table_angle);
+  struct Built {
+    std::shared_ptr<const raycast::RaycastScene> raycast;
+    std::shared_ptr<const std::vector<raycast::SceneInstance>> instances;
+  };
+  StatusOr<Built> Build(const store::SceneRecord& scene, double table_angle);
 
   store::Catalogue& catalogue_;
   store::BlobStore& blobs_;
@@ -68,7 +77,7 @@ class SceneRegistry {
 
   std::mutex mutex_;
   std::map<std::string, std::shared_ptr<const TriangleMesh>> meshes_;  // by sha256
-  std::list<std::pair<CacheKey, std::shared_ptr<const raycast::RaycastScene>>> scenes_;  // most recent first
+  std::list<std::pair<CacheKey, Built>> scenes_;  // most recent first
 };
 
 }  // namespace vscan::scenes

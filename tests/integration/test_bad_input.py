@@ -98,7 +98,7 @@ class BadInputTest(ServerTestCase):
         self.assertCode(C.INVALID_ARGUMENT, self.scan(chunk_bytes=10), "chunk_bytes")
 
     def test_not_yet_supported_is_unimplemented(self):
-        self.assertCode(C.UNIMPLEMENTED, self.scan(backend=scan_pb2.SCAN_BACKEND_RASTER_DEPTH), "backend")
+        self.assertCode(C.INVALID_ARGUMENT, self.scan(backend=99), "backend")
         self.assertCode(C.UNIMPLEMENTED, self.scan(noise=sensor_pb2.NoiseSpec(sigma_a=0.001)), "noise")
         self.assertCode(C.UNIMPLEMENTED, self.scan(sensor=sensor_pb2.SensorSpec(preset="kinect")), "sensor.preset")
 

@@ -127,6 +127,29 @@ class ServiceTest(ServerTestCase):
         expected = math.pi * (fx * math.tan(half_angle)) ** 2
         self.assertAlmostEqual(header.points / expected, 1.0, delta=0.03)
 
+    def test_raster_backends_agree_with_ray_casting(self):
+        scene = self.sphere_scene(0.2, (0.0, 0.0, 0.0))
+        clouds = {}
+        for backend in (scan_pb2.SCAN_BACKEND_RAYCAST, scan_pb2.SCAN_BACKEND_RASTER_DEPTH,
+                        scan_pb2.SCAN_BACKEND_RASTER_COLOUR):
+            request = scan_pb2.ScanRequest(scene_id=scene.scene_id, sensor=pinhole(320, 240, 40.0), backend=backend,
+                                           pose=look_at((1.0, 0.0, 0.0), (0, 0, 0)),
+                                           fields=[scan_pb2.POINT_FIELD_POSITION, scan_pb2.POINT_FIELD_PIXEL])
+            header, chunks, _ = collect(self.scans.Scan(request, timeout=120))
+            self.assertEqual(header.backend, backend)
+            pos = np.concatenate([np.frombuffer(c.positions, dtype="<f4").reshape(-1, 3) for c in chunks])
+            pix = np.concatenate([np.frombuffer(c.pixels, dtype="<u4") for c in chunks])
+            clouds[backend] = dict(zip(pix.tolist(), pos))
+        reference = clouds[scan_pb2.SCAN_BACKEND_RAYCAST]
+        for backend, tolerance in ((scan_pb2.SCAN_BACKEND_RASTER_DEPTH, 1e-4),
+                                   (scan_pb2.SCAN_BACKEND_RASTER_COLOUR, 2e-4)):
+            cloud = clouds[backend]
+            common = reference.keys() & cloud.keys()
+            # Coverage may differ only on the silhouette.
+            self.assertGreater(len(common), 0.995 * max(len(reference), len(cloud)))
+            diff = max(float(np.linalg.norm(reference[p] - cloud[p])) for p in common)
+            self.assertLess(diff, tolerance, backend)
+
     def test_table_turns_objects_on_it(self):
         scene = self.scenes.CreateScene(scene_pb2.CreateSceneRequest(name="table")).scene
         mesh = self.upload_bytes(icosphere_ply(0.05, (0.0, 0.0, 0.0), 2), "small.ply")
