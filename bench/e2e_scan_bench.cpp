@@ -31,6 +31,7 @@ Fixture& Setup() {
     api::ServerOptions options;
     options.listen_address = "127.0.0.1:0";
     options.data_dir = f->data_dir.string();
+    options.mesh_importer_path = VSCAN_MESH_IMPORTER;
     auto server = api::Server::Start(options);
     if (!server.ok()) throw std::runtime_error(server.status().ToString());
     f->server = std::move(server).value();
