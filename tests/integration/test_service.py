@@ -9,7 +9,7 @@ import numpy as np
 
 from harness import (BUNNY, Server, ServerTestCase, common_pb2, icosphere_ply, look_at, pinhole, scan_pb2,
                      scene_pb2)
-from vscan.v1 import job_pb2, job_pb2_grpc, robot_pb2, robot_pb2_grpc
+from vscan.v1 import job_pb2, job_pb2_grpc, robot_pb2, robot_pb2_grpc, scene_pb2_grpc
 
 C = grpc.StatusCode
 
@@ -178,6 +178,30 @@ class ServiceTest(ServerTestCase):
         self.assertCode(C.DEADLINE_EXCEEDED, lambda: list(self.scans.Scan(request, timeout=0.05)))
         # The server is still there and answers.
         self.scenes.GetScene(scene_pb2.GetSceneRequest(scene_id=scene.scene_id))
+
+
+class TokenTest(unittest.TestCase):
+    def test_token_is_required_when_configured(self):
+        import os
+        import tempfile
+        with tempfile.NamedTemporaryFile("w", suffix=".token", delete=False) as f:
+            f.write("s3cret\n")
+        server = Server(extra_args=("--token-file", f.name)).start()
+        try:
+            with server.channel() as channel:
+                scenes = scene_pb2_grpc.SceneServiceStub(channel)
+                with self.assertRaises(grpc.RpcError) as ctx:
+                    scenes.ListScenes(scene_pb2.ListScenesRequest(), timeout=10)
+                self.assertEqual(ctx.exception.code(), C.UNAUTHENTICATED)
+                with self.assertRaises(grpc.RpcError) as ctx:
+                    scenes.ListScenes(scene_pb2.ListScenesRequest(), timeout=10,
+                                      metadata=[("authorization", "Bearer wrong")])
+                self.assertEqual(ctx.exception.code(), C.UNAUTHENTICATED)
+                scenes.ListScenes(scene_pb2.ListScenesRequest(), timeout=10,
+                                  metadata=[("authorization", "Bearer s3cret")])
+        finally:
+            server.cleanup()
+            os.unlink(f.name)
 
 
 class ShutdownTest(unittest.TestCase):
