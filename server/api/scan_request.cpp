@@ -13,13 +13,27 @@ constexpr size_t kMaxChunkBytes = 3u << 20;  // stays under gRPC's default 4 MiB
 constexpr double kDefaultNear = 0.05;
 constexpr double kDefaultFar = 10.0;
 
-bool AnyNoise(const v1::NoiseSpec& n) {
-  return n.sigma_a() != 0 || n.sigma_b() != 0 || n.sigma_c() != 0 || n.outlier_rate() != 0 ||
-         n.grazing_limit_deg() != 0 || n.min_intensity() != 0 || n.flying_pixels() || n.depth_step_m() != 0;
+StatusOr<sensor::DepthNoise> NoiseFromProto(const v1::NoiseSpec& n) {
+  if (n.outlier_rate() != 0) return Unimplemented("noise.outlier_rate: outliers are not supported by this server version");
+  if (n.grazing_limit_deg() != 0) {
+    return Unimplemented("noise.grazing_limit_deg: grazing drop-out is not supported by this server version");
+  }
+  if (n.flying_pixels()) return Unimplemented("noise.flying_pixels: not supported by this server version");
+  sensor::DepthNoise noise;
+  noise.sigma_a = n.sigma_a();
+  noise.sigma_b = n.sigma_b();
+  noise.sigma_c = n.sigma_c();
+  noise.along_ray = n.along_ray();
+  noise.depth_step = n.depth_step_m();
+  noise.min_intensity = n.min_intensity();
+  RETURN_IF_ERROR(sensor::ValidateNoise(noise, "noise"));
+  return noise;
 }
 
-bool AnyDistortion(const v1::Distortion& d) {
-  return d.k1() != 0 || d.k2() != 0 || d.k3() != 0 || d.p1() != 0 || d.p2() != 0;
+StatusOr<sensor::LensDistortion> DistortionFromProto(const v1::Distortion& d) {
+  sensor::LensDistortion distortion{d.k1(), d.k2(), d.k3(), d.p1(), d.p2()};
+  RETURN_IF_ERROR(sensor::ValidateDistortion(distortion, "sensor.pinhole.distortion"));
+  return distortion;
 }
 
 StatusOr<sensor::PinholeCamera> CameraFromProto(const v1::PinholeCamera& p, const Limits& limits) {
@@ -56,9 +70,6 @@ StatusOr<sensor::PinholeCamera> CameraFromProto(const v1::PinholeCamera& p, cons
   if (p.has_lighting()) {
     const auto& l = p.lighting();
     camera.lighting = {l.power(), l.constant(), l.linear(), l.quadratic()};
-  }
-  if (p.has_distortion() && AnyDistortion(p.distortion())) {
-    return Unimplemented(field + ".distortion: lens distortion is not supported by this server version");
   }
   RETURN_IF_ERROR(sensor::ValidateCamera(camera, field, limits.max_rays_per_scan));
   return camera;
@@ -99,6 +110,7 @@ StatusOr<ScanPlan> ParseScanRequest(const v1::ScanRequest& request, const Limits
   switch (request.sensor().kind_case()) {
     case v1::SensorSpec::kPinhole: {
       ASSIGN_OR_RETURN(plan.camera, CameraFromProto(request.sensor().pinhole(), limits));
+      ASSIGN_OR_RETURN(plan.distortion, DistortionFromProto(request.sensor().pinhole().distortion()));
       break;
     }
     case v1::SensorSpec::kPreset:
@@ -131,9 +143,8 @@ StatusOr<ScanPlan> ParseScanRequest(const v1::ScanRequest& request, const Limits
       return InvalidArgument("backend: unknown value " + std::to_string(request.backend()));
   }
 
-  if (request.has_noise() && AnyNoise(request.noise())) {
-    return Unimplemented("noise: noise models are not supported by this server version");
-  }
+  ASSIGN_OR_RETURN(plan.noise, NoiseFromProto(request.noise()));
+  plan.seed = request.seed();
 
   ASSIGN_OR_RETURN(plan.fields, FieldsFromProto(request.fields(), "fields"));
 

@@ -11,6 +11,7 @@
 #include "raycast/scanner.h"
 #include "robots/robot_registry.h"
 #include "sensor/camera.h"
+#include "sensor/measurement.h"
 #include "vscan/common/pose.h"
 #include "vscan/v1/scan.pb.h"
 
@@ -33,6 +34,10 @@ struct ScanPlan {
   uint32_t fields = kFieldsDefault;
   size_t chunk_bytes = 1u << 20;
   std::optional<double> table_angle_deg;
+  // Lens distortion and measurement noise, applied to the clean scan in the sensor frame.
+  sensor::LensDistortion distortion;
+  sensor::DepthNoise noise;
+  uint64_t seed = 0;
   // Set for robot-held scans; world_from_sensor is then the pose the arm reached.
   std::optional<RobotPlacement> robot;
 };

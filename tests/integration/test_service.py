@@ -8,7 +8,7 @@ import grpc
 import numpy as np
 
 from harness import (BUNNY, Server, ServerTestCase, common_pb2, icosphere_ply, look_at, pinhole, scan_pb2,
-                     scene_pb2)
+                     scene_pb2, sensor_pb2)
 from vscan.v1 import job_pb2, job_pb2_grpc, robot_pb2, robot_pb2_grpc, scene_pb2_grpc
 
 C = grpc.StatusCode
@@ -149,6 +149,47 @@ class ServiceTest(ServerTestCase):
             self.assertGreater(len(common), 0.995 * max(len(reference), len(cloud)))
             diff = max(float(np.linalg.norm(reference[p] - cloud[p])) for p in common)
             self.assertLess(diff, tolerance, backend)
+
+    def plane_scene(self, distance):
+        ply = ("ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\nproperty float z\n"
+               "element face 2\nproperty list uchar int vertex_indices\nend_header\n"
+               f"-5 -5 {distance}\n5 -5 {distance}\n5 5 {distance}\n-5 5 {distance}\n3 0 1 2\n3 0 2 3\n").encode()
+        scene = self.scenes.CreateScene(scene_pb2.CreateSceneRequest(name="plane")).scene
+        mesh = self.upload_bytes(ply, "plane.ply")
+        self.scenes.AddObject(scene_pb2.AddObjectRequest(scene_id=scene.scene_id, mesh_id=mesh.mesh_id))
+        return scene
+
+    def test_noise_and_distortion_follow_their_models(self):
+        scene = self.plane_scene(2.0)
+        eye_down_z = common_pb2.Pose(matrix=common_pb2.Matrix4(values=[1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]))
+
+        def scan(noise=None, distortion=None, seed=7):
+            sensor = pinhole(400, 300, 60.0)
+            if distortion:
+                sensor.pinhole.distortion.CopyFrom(distortion)
+            request = scan_pb2.ScanRequest(scene_id=scene.scene_id, sensor=sensor, pose=eye_down_z, seed=seed,
+                                           frame=scan_pb2.FRAME_SENSOR, noise=noise,
+                                           fields=[scan_pb2.POINT_FIELD_POSITION, scan_pb2.POINT_FIELD_PIXEL])
+            _, chunks, _ = collect(self.scans.Scan(request, timeout=60))
+            return np.concatenate([np.frombuffer(c.positions, dtype="<f4").reshape(-1, 3) for c in chunks])
+
+        clean = scan()
+        np.testing.assert_allclose(clean[:, 2], 2.0, rtol=1e-6)
+        # sigma(z) = a + b z + c z^2 at z = 2: 0.001 + 0.002 + 0.004 = 0.007 m, along z here (isotropic).
+        noisy = scan(noise=sensor_pb2.NoiseSpec(sigma_a=0.001, sigma_b=0.001, sigma_c=0.001))
+        self.assertAlmostEqual(float(np.std(noisy[:, 2] - 2.0)) / 0.007, 1.0, delta=0.03)
+        np.testing.assert_array_equal(noisy, scan(noise=sensor_pb2.NoiseSpec(sigma_a=0.001, sigma_b=0.001,
+                                                                            sigma_c=0.001)))
+        self.assertFalse(np.array_equal(noisy, scan(noise=sensor_pb2.NoiseSpec(sigma_a=0.001, sigma_b=0.001,
+                                                                              sigma_c=0.001), seed=8)))
+        k1, p1 = 0.05, 0.002
+        distorted = scan(distortion=sensor_pb2.Distortion(k1=k1, p1=p1))
+        x, y = clean[:, 0] / 2.0, clean[:, 1] / 2.0
+        r2 = x * x + y * y
+        expected_x = (x * (1 + k1 * r2) + 2 * p1 * x * y) * 2.0
+        expected_y = (y * (1 + k1 * r2) + p1 * (r2 + 2 * y * y)) * 2.0
+        np.testing.assert_allclose(distorted[:, 0], expected_x, atol=2e-6)
+        np.testing.assert_allclose(distorted[:, 1], expected_y, atol=2e-6)
 
     def test_table_turns_objects_on_it(self):
         scene = self.scenes.CreateScene(scene_pb2.CreateSceneRequest(name="table")).scene
