@@ -7,6 +7,7 @@
 #include <thread>
 
 #include <CLI/CLI.hpp>
+#include <malloc.h>
 #include <pthread.h>
 #include <spdlog/spdlog.h>
 
@@ -79,6 +80,9 @@ int main(int argc, char** argv) {
     }
   }
 
+  // Scans hand out clouds of tens of MB; keeping freed memory mapped avoids page-faulting it in again.
+  mallopt(M_MMAP_THRESHOLD, 32 << 20);
+  mallopt(M_TRIM_THRESHOLD, 1 << 30);
   const sigset_t stop_signals = BlockStopSignals();
   auto server = vscan::api::Server::Start(options);
   if (!server.ok()) {
