@@ -11,14 +11,14 @@
 
 #include <Eigen/Core>
 
+#include "store/ids.h"
 #include "store/robot_catalogue.h"
 #include "vscan/common/status.h"
 
 namespace vscan::store::robot_rows {
 
-// prefix + 16 random hex digits.
-std::string NewId(std::string_view prefix);
-int64_t NowMs();
+using store::NewId;
+using store::NowMs;
 
 // 16 little-endian doubles, column-major.
 std::string EncodePose(const Eigen::Matrix4d& pose);
