@@ -22,5 +22,6 @@ void AddObjectCommands(CLI::App& app, Context& ctx);
 void AddTableCommand(CLI::App& app, Context& ctx);
 void AddScanCommand(CLI::App& app, Context& ctx);
 void AddRobotCommands(CLI::App& app, Context& ctx);
+void AddSensorsCommand(CLI::App& app, Context& ctx);
 
 }  // namespace vscan::cli

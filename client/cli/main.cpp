@@ -45,6 +45,7 @@ int main(int argc, char** argv) {
   vscan::cli::AddTableCommand(app, ctx);
   vscan::cli::AddScanCommand(app, ctx);
   vscan::cli::AddRobotCommands(app, ctx);
+  vscan::cli::AddSensorsCommand(app, ctx);
   app.footer(kFooter);
 
   try {

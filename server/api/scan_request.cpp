@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "api/validate.h"
+#include "sensor/presets.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::api {
@@ -104,6 +105,7 @@ StatusOr<RobotPlacement> PlaceRobotSensor(const v1::ScanRequest& request, robots
 StatusOr<ScanPlan> ParseScanRequest(const v1::ScanRequest& request, const Limits& limits,
                                     robots::RobotRegistry& robots) {
   ScanPlan plan;
+  std::optional<sensor::DepthNoise> preset_noise;
   RETURN_IF_ERROR(RequireId(request.scene_id(), "scene_id"));
   plan.scene_id = request.scene_id();
 
@@ -113,8 +115,16 @@ StatusOr<ScanPlan> ParseScanRequest(const v1::ScanRequest& request, const Limits
       ASSIGN_OR_RETURN(plan.distortion, DistortionFromProto(request.sensor().pinhole().distortion()));
       break;
     }
-    case v1::SensorSpec::kPreset:
-      return Unimplemented("sensor.preset: sensor presets are not supported by this server version");
+    case v1::SensorSpec::kPreset: {
+      const sensor::SensorPreset* preset = sensor::FindSensorPreset(request.sensor().preset());
+      if (!preset) {
+        return NotFound("sensor.preset: no preset '" + request.sensor().preset() + "' (ListSensorPresets lists them)");
+      }
+      plan.camera = preset->camera;
+      RETURN_IF_ERROR(sensor::ValidateCamera(plan.camera, "sensor.preset", limits.max_rays_per_scan));
+      preset_noise = preset->noise;
+      break;
+    }
     case v1::SensorSpec::kStructuredLight:
       return Unimplemented("sensor.structured_light: not supported by this server version");
     case v1::SensorSpec::KIND_NOT_SET:
@@ -144,6 +154,7 @@ StatusOr<ScanPlan> ParseScanRequest(const v1::ScanRequest& request, const Limits
   }
 
   ASSIGN_OR_RETURN(plan.noise, NoiseFromProto(request.noise()));
+  if (preset_noise && !request.has_noise()) plan.noise = *preset_noise;
   plan.seed = request.seed();
 
   ASSIGN_OR_RETURN(plan.fields, FieldsFromProto(request.fields(), "fields"));

@@ -12,6 +12,9 @@ class ScanService final : public v1::ScanService::CallbackService {
 
   grpc::ServerWriteReactor<v1::ScanResponse>* Scan(grpc::CallbackServerContext* ctx,
                                                    const v1::ScanRequest* request) override;
+  grpc::ServerUnaryReactor* ListSensorPresets(grpc::CallbackServerContext* ctx,
+                                              const v1::ListSensorPresetsRequest* request,
+                                              v1::ListSensorPresetsResponse* response) override;
 
  private:
   ServiceContext& context_;

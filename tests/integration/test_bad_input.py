@@ -101,7 +101,7 @@ class BadInputTest(ServerTestCase):
         self.assertCode(C.INVALID_ARGUMENT, self.scan(backend=99), "backend")
         self.assertCode(C.UNIMPLEMENTED, self.scan(noise=sensor_pb2.NoiseSpec(outlier_rate=0.01)), "noise.outlier_rate")
         self.assertCode(C.INVALID_ARGUMENT, self.scan(noise=sensor_pb2.NoiseSpec(sigma_a=-1)), "noise")
-        self.assertCode(C.UNIMPLEMENTED, self.scan(sensor=sensor_pb2.SensorSpec(preset="kinect")), "sensor.preset")
+        self.assertCode(C.NOT_FOUND, self.scan(sensor=sensor_pb2.SensorSpec(preset="kinect")), "sensor.preset")
 
     # Meshes
     def test_malformed_meshes_change_nothing(self):

@@ -61,6 +61,11 @@ class CliTest(unittest.TestCase):
     def test_health(self):
         self.assertIn("SERVING", self.ok("health"))
 
+    def test_sensors_lists_presets(self):
+        names = self.ok("-q", "sensors").split()
+        self.assertIn("kinect-v1-class", names)
+        self.assertIn("source:", self.ok("sensors", "--verbose"))
+
     def test_scan_writes_ply_with_every_field(self):
         scene = self.bunny_scene()
         out = os.path.join(self.tmp.name, "bunny.ply")

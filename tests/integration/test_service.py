@@ -191,6 +191,24 @@ class ServiceTest(ServerTestCase):
         np.testing.assert_allclose(distorted[:, 0], expected_x, atol=2e-6)
         np.testing.assert_allclose(distorted[:, 1], expected_y, atol=2e-6)
 
+    def test_sensor_presets_carry_their_noise(self):
+        presets = {p.name: p for p in self.scans.ListSensorPresets(scan_pb2.ListSensorPresetsRequest()).presets}
+        self.assertIn("ideal-vga", presets)
+        kinect = presets["kinect-v1-class"]
+        self.assertEqual((kinect.spec.pinhole.width, kinect.spec.pinhole.height), (640, 480))
+        self.assertIn("Khoshelham", kinect.source)
+        scene = self.plane_scene(2.0)
+        identity = common_pb2.Pose(matrix=common_pb2.Matrix4(values=[1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]))
+        request = scan_pb2.ScanRequest(scene_id=scene.scene_id, sensor=sensor_pb2.SensorSpec(preset="kinect-v1-class"),
+                                       pose=identity, seed=3, frame=scan_pb2.FRAME_SENSOR)
+        header, chunks, _ = collect(self.scans.Scan(request, timeout=60))
+        self.assertEqual(header.width, 640)
+        pos = np.concatenate([np.frombuffer(c.positions, dtype="<f4").reshape(-1, 3) for c in chunks]).astype(float)
+        # Noise along the ray: the point stays on its ray; its offset from the plane along the ray is N(0, c z^2).
+        along = np.linalg.norm(pos, axis=1) * (1.0 - 2.0 / pos[:, 2])
+        expected = kinect.noise.sigma_c * 2.0 ** 2
+        self.assertAlmostEqual(float(np.std(along)) / expected, 1.0, delta=0.03)
+
     def test_table_turns_objects_on_it(self):
         scene = self.scenes.CreateScene(scene_pb2.CreateSceneRequest(name="table")).scene
         mesh = self.upload_bytes(icosphere_ply(0.05, (0.0, 0.0, 0.0), 2), "small.ply")

@@ -1,0 +1,26 @@
+#pragma once
+// Named sensors with documented sources: a camera model and its measurement noise.
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "sensor/camera.h"
+#include "sensor/measurement.h"
+
+namespace vscan::sensor {
+
+struct SensorPreset {
+  std::string name;
+  std::string description;
+  // Where the numbers come from.
+  std::string source;
+  PinholeCamera camera;
+  DepthNoise noise;
+};
+
+const std::vector<SensorPreset>& SensorPresets();
+// nullptr when no preset has that name.
+const SensorPreset* FindSensorPreset(std::string_view name);
+
+}  // namespace vscan::sensor
