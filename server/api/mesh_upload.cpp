@@ -6,11 +6,10 @@
 
 #include <spdlog/spdlog.h>
 
-#include "api/auth.h"
 #include "api/scene_convert.h"
 #include "api/scene_service.h"
+#include "api/upload_reactor.h"
 #include "api/validate.h"
-#include "vscan/common/grpc_status.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::api {
@@ -32,43 +31,19 @@ geometry::MeshFileFormat FormatOf(const v1::MeshHeader& header) {
   return geometry::MeshFileFormat::kAuto;
 }
 
-class UploadMeshReactor final : public grpc::ServerReadReactor<v1::UploadMeshRequest> {
+class UploadMeshReactor final : public UploadReactor<v1::UploadMeshRequest> {
  public:
   UploadMeshReactor(grpc::CallbackServerContext* ctx, v1::UploadMeshResponse* response, ServiceContext& context)
-      : ctx_(ctx), response_(response), context_(context) {
-    Status auth = CheckToken(*ctx, context.options.token);
-    if (!auth.ok()) {
-      Fail(auth);
-      return;
-    }
-    StartRead(&request_);
+      : UploadReactor(ctx, context, "UploadMesh"), response_(response) {
+    Start();
   }
-
-  void OnReadDone(bool ok) override {
-    if (!ok) {
-      if (ctx_->IsCancelled()) {
-        Finish(grpc::Status(grpc::StatusCode::CANCELLED, "upload cancelled"));
-        return;
-      }
-      FinishUpload();
-      return;
-    }
-    Status status = Accept();
-    if (!status.ok()) {
-      Fail(status);
-      return;
-    }
-    StartRead(&request_);
-  }
-
-  void OnDone() override { delete this; }
 
  private:
-  Status Accept() {
-    if (request_.has_header()) {
+  Status Accept(const v1::UploadMeshRequest& request) override {
+    if (request.has_header()) {
       if (has_header_) return InvalidArgument("header: sent twice; only the first message is a header");
       has_header_ = true;
-      header_ = request_.header();
+      header_ = request.header();
       RETURN_IF_ERROR(CheckText(header_.name(), "header.name"));
       if (header_.unit() == v1::LENGTH_UNIT_UNSPECIFIED) {
         return InvalidArgument("header.unit: required (the length unit the file is written in)");
@@ -83,46 +58,28 @@ class UploadMeshReactor final : public grpc::ServerReadReactor<v1::UploadMeshReq
       return Status::Ok();
     }
     if (!has_header_) return InvalidArgument("header: the first message must carry the header");
-    if (bytes_.size() + request_.chunk().size() > context_.options.limits.max_upload_bytes) {
+    if (bytes_.size() + request.chunk().size() > context_.options.limits.max_upload_bytes) {
       return ResourceExhausted("chunk: upload exceeds the limit of " +
                                std::to_string(context_.options.limits.max_upload_bytes) + " bytes");
     }
-    bytes_ += request_.chunk();
+    bytes_ += request.chunk();
     return Status::Ok();
   }
 
-  void FinishUpload() {
-    if (!has_header_) {
-      Fail(InvalidArgument("header: the first message must carry the header"));
-      return;
-    }
+  Status Complete() override {
+    if (!has_header_) return InvalidArgument("header: the first message must carry the header");
     scenes::MeshUpload upload;
     upload.name = header_.name().empty() ? "mesh" : header_.name();
     upload.format = FormatOf(header_);
     upload.unit = header_.unit();
     upload.metres_per_unit = MetresPerUnit(header_.unit());
     upload.scale = scale_;
-    const bool posted = context_.workers.Post([this, upload] {
-      auto mesh = context_.registry.AddMesh(bytes_, upload);
-      if (!mesh.ok()) {
-        Fail(mesh.status());
-        return;
-      }
-      ToProto(*mesh, response_->mutable_mesh());
-      Finish(grpc::Status::OK);
-    });
-    if (!posted) Fail(Unavailable("server is shutting down"));
+    ASSIGN_OR_RETURN(store::MeshRecord mesh, context_.registry.AddMesh(bytes_, upload));
+    ToProto(mesh, response_->mutable_mesh());
+    return Status::Ok();
   }
 
-  void Fail(const Status& status) {
-    spdlog::info("UploadMesh -> {}", status.ToString());
-    Finish(ToGrpc(status));
-  }
-
-  grpc::CallbackServerContext* ctx_;
   v1::UploadMeshResponse* response_;
-  ServiceContext& context_;
-  v1::UploadMeshRequest request_;
   v1::MeshHeader header_;
   bool has_header_ = false;
   double scale_ = 1.0;

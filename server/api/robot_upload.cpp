@@ -5,11 +5,10 @@
 
 #include <spdlog/spdlog.h>
 
-#include "api/auth.h"
 #include "api/robot_convert.h"
 #include "api/robot_service.h"
+#include "api/upload_reactor.h"
 #include "api/validate.h"
-#include "vscan/common/grpc_status.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::api {
@@ -20,44 +19,20 @@ constexpr size_t kMaxPathBytes = 4096;
 
 std::string FileField(size_t i) { return "files[" + std::to_string(i) + "].path"; }
 
-class UploadRobotReactor final : public grpc::ServerReadReactor<v1::UploadRobotRequest> {
+class UploadRobotReactor final : public UploadReactor<v1::UploadRobotRequest> {
  public:
   UploadRobotReactor(grpc::CallbackServerContext* ctx, v1::UploadRobotResponse* response, ServiceContext& context)
-      : ctx_(ctx), response_(response), context_(context) {
-    const Status auth = CheckToken(*ctx, context.options.token);
-    if (!auth.ok()) {
-      Fail(auth);
-      return;
-    }
-    StartRead(&request_);
+      : UploadReactor(ctx, context, "UploadRobot"), response_(response) {
+    Start();
   }
-
-  void OnReadDone(bool ok) override {
-    if (!ok) {
-      if (ctx_->IsCancelled()) {
-        Finish(grpc::Status(grpc::StatusCode::CANCELLED, "upload cancelled"));
-        return;
-      }
-      FinishUpload();
-      return;
-    }
-    const Status status = Accept();
-    if (!status.ok()) {
-      Fail(status);
-      return;
-    }
-    StartRead(&request_);
-  }
-
-  void OnDone() override { delete this; }
 
  private:
   uint64_t limit() const { return context_.robots.max_bundle_bytes(); }
 
-  Status Accept() {
-    switch (request_.part_case()) {
-      case v1::UploadRobotRequest::kHeader: return AcceptHeader(request_.header());
-      case v1::UploadRobotRequest::kFile: return AcceptFile(request_.file());
+  Status Accept(const v1::UploadRobotRequest& request) override {
+    switch (request.part_case()) {
+      case v1::UploadRobotRequest::kHeader: return AcceptHeader(request.header());
+      case v1::UploadRobotRequest::kFile: return AcceptFile(request.file());
       case v1::UploadRobotRequest::PART_NOT_SET: break;
     }
     return InvalidArgument("part: every message carries a header or a file");
@@ -107,34 +82,16 @@ class UploadRobotReactor final : public grpc::ServerReadReactor<v1::UploadRobotR
     return Status::Ok();
   }
 
-  void FinishUpload() {
-    if (!has_header_) {
-      Fail(InvalidArgument("header: the first message must carry the header"));
-      return;
-    }
-    const bool posted = context_.workers.Post([this] {
-      auto robot = context_.robots.AddRobot(std::move(upload_));
-      if (!robot.ok()) {
-        Fail(robot.status());
-        return;
-      }
-      spdlog::info("robot {} '{}' uploaded: {} joints, {} files, {} warnings", robot->robot_id, robot->name,
-                   robot->joints.size(), robot->file_count, robot->warnings.size());
-      ToProto(*robot, response_->mutable_robot());
-      Finish(grpc::Status::OK);
-    });
-    if (!posted) Fail(Unavailable("server is shutting down"));
+  Status Complete() override {
+    if (!has_header_) return InvalidArgument("header: the first message must carry the header");
+    ASSIGN_OR_RETURN(auto robot, context_.robots.AddRobot(std::move(upload_)));
+    spdlog::info("robot {} '{}' uploaded: {} joints, {} files, {} warnings", robot.robot_id, robot.name,
+                 robot.joints.size(), robot.file_count, robot.warnings.size());
+    ToProto(robot, response_->mutable_robot());
+    return Status::Ok();
   }
 
-  void Fail(const Status& status) {
-    spdlog::info("UploadRobot -> {}", status.ToString());
-    Finish(ToGrpc(status));
-  }
-
-  grpc::CallbackServerContext* ctx_;
   v1::UploadRobotResponse* response_;
-  ServiceContext& context_;
-  v1::UploadRobotRequest request_;
   bool has_header_ = false;
   robots::RobotUpload upload_;
   uint64_t total_bytes_ = 0;
