@@ -9,6 +9,7 @@
 #include "api/auth.h"
 #include "api/scan_backends.h"
 #include "api/scan_request.h"
+#include "api/scan_target.h"
 #include "vscan/common/grpc_status.h"
 #include "vscan/common/point_chunks.h"
 #include "vscan/common/proto_convert.h"
@@ -74,7 +75,7 @@ class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
 
  private:
   void Run() {
-    auto target = context_.registry.PrepareScan(plan_.scene_id, plan_.table_angle_deg);
+    auto target = PrepareScanTarget(context_, plan_);
     if (!target.ok()) {
       Fail(target.status());
       return;

@@ -1,0 +1,75 @@
+#include "raycast/ray_queries.h"
+
+#include <cmath>
+
+#include <tbb/parallel_for.h>
+
+#include "raycast/embree_scene.h"
+
+namespace vscan::raycast {
+namespace {
+
+constexpr size_t kGrain = 1024;
+
+RTCRay MakeRay(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, float t_near, float t_far) {
+  RTCRay ray{};
+  ray.org_x = origin.x();
+  ray.org_y = origin.y();
+  ray.org_z = origin.z();
+  ray.dir_x = direction.x();
+  ray.dir_y = direction.y();
+  ray.dir_z = direction.z();
+  ray.tnear = t_near;
+  ray.tfar = t_far;
+  ray.mask = ~0u;
+  return ray;
+}
+
+}  // namespace
+
+std::vector<RayHit> IntersectRays(const RaycastScene& scene, std::span<const Eigen::Vector3f> origins,
+                                  std::span<const Eigen::Vector3f> directions, float t_near, float t_far) {
+  std::vector<RayHit> hits(origins.size());
+  const RTCScene rtc = scene.impl().scene;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, origins.size(), kGrain), [&](const tbb::blocked_range<size_t>& r) {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      RTCRayHit query{};
+      query.ray = MakeRay(origins[i], directions[i], t_near, t_far);
+      query.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+      rtcIntersect1(rtc, &context, &query);
+      if (query.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
+      RayHit& out = hits[i];
+      out.hit = true;
+      out.distance = query.ray.tfar;
+      Eigen::Vector3f n(query.hit.Ng_x, query.hit.Ng_y, query.hit.Ng_z);
+      const float length = n.norm();
+      n = length > 0 ? Eigen::Vector3f(n / length) : Eigen::Vector3f(-directions[i]);
+      out.normal = n.dot(directions[i]) > 0 ? Eigen::Vector3f(-n) : n;
+      out.instance_id = scene.InstanceOfGeometry(query.hit.geomID);
+    }
+  });
+  return hits;
+}
+
+std::vector<uint8_t> OccludedSegments(const RaycastScene& scene, std::span<const Eigen::Vector3f> from,
+                                      std::span<const Eigen::Vector3f> to, float margin) {
+  std::vector<uint8_t> occluded(from.size(), 0);
+  const RTCScene rtc = scene.impl().scene;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, from.size(), kGrain), [&](const tbb::blocked_range<size_t>& r) {
+    RTCIntersectContext context;
+    rtcInitIntersectContext(&context);
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const Eigen::Vector3f d = to[i] - from[i];
+      const float length = d.norm();
+      if (!(length > 2 * margin)) continue;
+      RTCRay ray = MakeRay(from[i], d / length, margin, length - margin);
+      rtcOccluded1(rtc, &context, &ray);
+      occluded[i] = std::isinf(ray.tfar) && ray.tfar < 0 ? 1 : 0;
+    }
+  });
+  return occluded;
+}
+
+}  // namespace vscan::raycast
