@@ -101,11 +101,24 @@ StatusOr<std::vector<v1::PointField>> ParseFields(const std::string& text) {
       add(v1::POINT_FIELD_INSTANCE_ID);
     } else if (f == "pixel") {
       add(v1::POINT_FIELD_PIXEL);
+    } else if (f == "clean" || f == "clean_position" || f == "clean-position") {
+      add(v1::POINT_FIELD_CLEAN_POSITION);
+    } else if (f == "incidence" || f == "incidence_angle" || f == "incidence-angle") {
+      add(v1::POINT_FIELD_INCIDENCE_ANGLE);
+    } else if (f == "status") {
+      add(v1::POINT_FIELD_STATUS);
+    } else if (f == "estimated-normal" || f == "estimated_normal") {
+      add(v1::POINT_FIELD_ESTIMATED_NORMAL);
+    } else if (f == "truth" || f == "ground-truth") {
+      add(v1::POINT_FIELD_CLEAN_POSITION);
+      add(v1::POINT_FIELD_INCIDENCE_ANGLE);
+      add(v1::POINT_FIELD_STATUS);
     } else if (f == "all") {
       for (int v = v1::POINT_FIELD_POSITION; v <= v1::POINT_FIELD_PIXEL; ++v) add(static_cast<v1::PointField>(v));
     } else {
       return InvalidArgument("--fields: unknown field '" + raw +
-                             "' (position, normal, range, intensity, instance, pixel, all)");
+                             "' (position, normal, range, intensity, instance, pixel, all, clean, incidence, "
+                             "status, truth, estimated-normal)");
     }
   }
   // Positions always travel; say so explicitly.

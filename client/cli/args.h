@@ -24,7 +24,8 @@ StatusOr<Eigen::Vector3d> ParseVector3(const std::string& text, const std::strin
 StatusOr<v1::LengthUnit> ParseUnit(const std::string& text);
 // ply, obj, stl.
 StatusOr<v1::MeshFormat> ParseMeshFormat(const std::string& text);
-// Comma-separated: position, normal, range, intensity, instance, pixel, or "all".
+// Comma-separated: position, normal, range, intensity, instance, pixel, or "all" (those six);
+// ground truth: clean, incidence, status, or "truth" (those three); estimated-normal.
 StatusOr<std::vector<v1::PointField>> ParseFields(const std::string& text);
 // world or sensor.
 StatusOr<v1::Frame> ParseFrame(const std::string& text);
@@ -75,6 +76,21 @@ struct ScanArgs {
   std::string mount;
   std::string joints;
   bool encoder_noise = false;
+  // Measurement noise and artefacts; any of them given sends a NoiseSpec (replacing a preset's).
+  std::string noise_sigma;  // a[,b[,c]]: sigma = a + b z + c z^2 metres
+  bool along_ray = false;
+  std::optional<double> depth_step_m;
+  std::optional<double> min_intensity;
+  std::optional<double> outlier_rate;
+  std::optional<double> outlier_angle_deg;
+  std::optional<double> outlier_origin_m;
+  std::optional<double> grazing_limit_deg;
+  bool flying_pixels = false;
+  std::optional<double> flying_pixel_edge_m;
+  bool include_rejected = false;
+  // Set when --estimate-normals was given; 0 is the server's default k.
+  std::optional<uint32_t> estimate_normals_k;
+  std::optional<double> normal_max_distance;
 };
 
 StatusOr<v1::ScanRequest> BuildScanRequest(const ScanArgs& args);

@@ -74,6 +74,28 @@ int RunScan(Context& ctx, const ScanCommandArgs& args) {
   return kExitOk;
 }
 
+// Noise and artefacts (NoiseSpec), rejected rays and estimated normals.
+void AddMeasurementOptions(CLI::App* cmd, ScanArgs& s) {
+  cmd->add_option("--noise", s.noise_sigma, "Gaussian sigma a[,b[,c]] = a + b z + c z^2 in metres");
+  cmd->add_flag("--along-ray", s.along_ray, "Noise along the ray instead of isotropic");
+  cmd->add_option("--depth-step", s.depth_step_m, "Depth quantisation step in metres");
+  cmd->add_option("--min-intensity", s.min_intensity, "Reject points dimmer than this");
+  cmd->add_option("--outliers", s.outlier_rate, "Fraction of rays perturbed into outliers (0..1)");
+  cmd->add_option("--outlier-angle", s.outlier_angle_deg, "Outlier rays tilt by up to this angle, degrees");
+  cmd->add_option("--outlier-origin", s.outlier_origin_m, "Outlier ray origins move by up to this, metres");
+  cmd->add_option("--grazing-limit", s.grazing_limit_deg, "Reject points seen at incidence above this, degrees");
+  cmd->add_flag("--flying-pixels", s.flying_pixels, "Mixed points at depth edges");
+  cmd->add_option("--flying-pixel-edge", s.flying_pixel_edge_m, "Depth jump that makes an edge, metres (0.02)");
+  cmd->add_flag("--include-rejected", s.include_rejected,
+                "Also return rejected rays at their clean positions (see the status field)");
+  cmd->add_option("--estimate-normals", s.estimate_normals_k,
+                  "Add k-nearest-neighbour normals of the measured cloud (optional k, default 16)")
+      ->expected(0, 1)
+      ->default_str("0");
+  cmd->add_option("--normal-max-distance", s.normal_max_distance,
+                  "Ignore neighbours farther than this for --estimate-normals, metres");
+}
+
 }  // namespace
 
 void AddScanCommand(CLI::App& app, Context& ctx) {
@@ -106,11 +128,13 @@ void AddScanCommand(CLI::App& app, Context& ctx) {
   cmd->add_option("--frame", s.frame, "Coordinates of the output: world or sensor")->capture_default_str();
   cmd->add_option("--fields", s.fields,
                   "Comma-separated: position,normal,range,intensity,instance,pixel or all "
-                  "(default: all but pixel)");
+                  "(default: all but pixel); ground truth: clean,incidence,status or truth; "
+                  "estimated-normal");
   cmd->add_option("--backend", s.backend, "raycast, depth or colour")->capture_default_str();
   cmd->add_option("--table-angle", s.table_angle_deg, "Rotary table angle for this scan only, degrees");
   cmd->add_option("--chunk-kib", s.chunk_kib, "Size of one streamed chunk in KiB (64..16384, default 1024)");
   cmd->add_option("--seed", s.seed, "Seed for noise")->capture_default_str();
+  AddMeasurementOptions(cmd, s);
   OnRun(cmd, ctx, [&ctx, args] { return RunScan(ctx, *args); });
 }
 

@@ -9,11 +9,13 @@ namespace vscan::cli {
 namespace {
 
 std::string Summary(const v1::SensorPreset& preset) {
-  const auto& p = preset.spec().pinhole();
+  const auto& spec = preset.spec();
+  const auto& p = spec.has_structured_light() ? spec.structured_light().camera() : spec.pinhole();
   const double hfov = 2.0 * std::atan(p.width() / (2.0 * p.intrinsics().fx())) * 180.0 / std::numbers::pi;
   char line[256];
-  std::snprintf(line, sizeof line, "%-18s %5ux%-5u hfov %5.1f deg  range %.2f-%.2f m", preset.name().c_str(),
-                p.width(), p.height(), hfov, p.near(), p.far());
+  std::snprintf(line, sizeof line, "%-18s %5ux%-5u hfov %5.1f deg  range %.2f-%.2f m%s", preset.name().c_str(),
+                p.width(), p.height(), hfov, p.near(), p.far(),
+                spec.has_structured_light() ? "  structured light" : "");
   return line;
 }
 

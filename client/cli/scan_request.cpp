@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <cmath>
 
 #include "args.h"
@@ -70,6 +71,47 @@ StatusOr<Pose3> SensorPose(const ScanArgs& args) {
   return PoseFromLookAt(eye, target, up, "--eye/--target/--up");
 }
 
+bool AnyNoise(const ScanArgs& a) {
+  return !a.noise_sigma.empty() || a.along_ray || a.depth_step_m || a.min_intensity || a.outlier_rate ||
+         a.outlier_angle_deg || a.outlier_origin_m || a.grazing_limit_deg || a.flying_pixels || a.flying_pixel_edge_m;
+}
+
+// Only what the CLI can tell by itself; the server checks ranges and says which field is wrong.
+Status FillNoise(const ScanArgs& a, v1::NoiseSpec* noise) {
+  if (!a.noise_sigma.empty()) {
+    ASSIGN_OR_RETURN(const auto sigma, ParseNumberList(a.noise_sigma, "--noise"));
+    if (sigma.empty() || sigma.size() > 3) return InvalidArgument("--noise: expected a[,b[,c]]");
+    noise->set_sigma_a(sigma[0]);
+    if (sigma.size() > 1) noise->set_sigma_b(sigma[1]);
+    if (sigma.size() > 2) noise->set_sigma_c(sigma[2]);
+  }
+  noise->set_along_ray(a.along_ray);
+  noise->set_depth_step_m(a.depth_step_m.value_or(0));
+  noise->set_min_intensity(a.min_intensity.value_or(0));
+  noise->set_outlier_rate(a.outlier_rate.value_or(0));
+  noise->set_outlier_angle_deg(a.outlier_angle_deg.value_or(0));
+  noise->set_outlier_origin_m(a.outlier_origin_m.value_or(0));
+  noise->set_grazing_limit_deg(a.grazing_limit_deg.value_or(0));
+  noise->set_flying_pixels(a.flying_pixels);
+  noise->set_flying_pixel_edge_m(a.flying_pixel_edge_m.value_or(0));
+  return Status::Ok();
+}
+
+void AddEstimatedNormals(const ScanArgs& a, v1::ScanRequest* request) {
+  if (request->fields().empty()) {
+    for (const auto f : {v1::POINT_FIELD_POSITION, v1::POINT_FIELD_NORMAL, v1::POINT_FIELD_RANGE,
+                         v1::POINT_FIELD_INTENSITY, v1::POINT_FIELD_INSTANCE_ID}) {
+      request->add_fields(f);
+    }
+  }
+  const auto& fields = request->fields();
+  if (std::find(fields.begin(), fields.end(), v1::POINT_FIELD_ESTIMATED_NORMAL) == fields.end()) {
+    request->add_fields(v1::POINT_FIELD_ESTIMATED_NORMAL);
+  }
+  request->mutable_normal_estimation()->set_k(a.estimate_normals_k.value_or(0));
+  request->mutable_normal_estimation()->set_max_distance(a.normal_max_distance.value_or(0));
+}
+
 }  // namespace
 
 StatusOr<v1::ScanRequest> BuildScanRequest(const ScanArgs& args) {
@@ -115,6 +157,12 @@ StatusOr<v1::ScanRequest> BuildScanRequest(const ScanArgs& args) {
     }
     request.set_chunk_bytes(*args.chunk_kib * 1024u);
   }
+  if (AnyNoise(args)) RETURN_IF_ERROR(FillNoise(args, request.mutable_noise()));
+  request.set_include_rejected(args.include_rejected);
+  if (args.normal_max_distance && !args.estimate_normals_k) {
+    return InvalidArgument("--normal-max-distance: needs --estimate-normals");
+  }
+  if (args.estimate_normals_k) AddEstimatedNormals(args, &request);
   request.set_seed(args.seed);
   return request;
 }

@@ -21,13 +21,15 @@ namespace {
 
 static_assert(std::endian::native == std::endian::little, "binary files are written in native little-endian");
 
-// One 4-byte scalar column of the interleaved record, with its names in each format.
+// One scalar column of the interleaved record (4-byte float/uint or 1-byte uchar), with its names
+// in each format.
 struct Column {
   const char* ply_name;
   const char* pcd_name;
   bool is_float;
   const char* base;  // first value of this column; stride between points is `step` bytes
   size_t step;
+  size_t size = 4;
 };
 
 std::vector<Column> Columns(const PointCloud& cloud) {
@@ -41,6 +43,9 @@ std::vector<Column> Columns(const PointCloud& cloud) {
   static const char* const kXyz[3] = {"x", "y", "z"};
   static const char* const kNormPly[3] = {"nx", "ny", "nz"};
   static const char* const kNormPcd[3] = {"normal_x", "normal_y", "normal_z"};
+  static const char* const kClean[3] = {"clean_x", "clean_y", "clean_z"};
+  static const char* const kEstPly[3] = {"enx", "eny", "enz"};
+  static const char* const kEstPcd[3] = {"est_normal_x", "est_normal_y", "est_normal_z"};
   add_vec3(cloud.positions, kXyz, kXyz);
   if (cloud.Has(kFieldNormal)) add_vec3(cloud.normals, kNormPly, kNormPcd);
   if (cloud.Has(kFieldRange))
@@ -51,7 +56,24 @@ std::vector<Column> Columns(const PointCloud& cloud) {
     cols.push_back({"instance", "instance", false, reinterpret_cast<const char*>(cloud.instance_ids.data()), 4});
   if (cloud.Has(kFieldPixel))
     cols.push_back({"pixel", "pixel", false, reinterpret_cast<const char*>(cloud.pixels.data()), 4});
+  if (cloud.Has(kFieldCleanPosition)) add_vec3(cloud.clean_positions, kClean, kClean);
+  if (cloud.Has(kFieldIncidence))
+    cols.push_back({"incidence", "incidence", true, reinterpret_cast<const char*>(cloud.incidence_angles.data()), 4});
+  if (cloud.Has(kFieldStatus))
+    cols.push_back({"status", "status", false, reinterpret_cast<const char*>(cloud.statuses.data()), 1, 1});
+  if (cloud.Has(kFieldEstimatedNormal)) add_vec3(cloud.estimated_normals, kEstPly, kEstPcd);
   return cols;
+}
+
+size_t RecordBytes(const std::vector<Column>& cols) {
+  size_t bytes = 0;
+  for (const Column& c : cols) bytes += c.size;
+  return bytes;
+}
+
+const char* PlyType(const Column& c) {
+  if (c.size == 1) return "uchar";
+  return c.is_float ? "float" : "uint";
 }
 
 Status CheckConsistent(const PointCloud& cloud) {
@@ -67,7 +89,11 @@ Status CheckConsistent(const PointCloud& cloud) {
   RETURN_IF_ERROR(check(kFieldRange, cloud.ranges.size(), "ranges"));
   RETURN_IF_ERROR(check(kFieldIntensity, cloud.intensities.size(), "intensities"));
   RETURN_IF_ERROR(check(kFieldInstanceId, cloud.instance_ids.size(), "instance_ids"));
-  return check(kFieldPixel, cloud.pixels.size(), "pixels");
+  RETURN_IF_ERROR(check(kFieldPixel, cloud.pixels.size(), "pixels"));
+  RETURN_IF_ERROR(check(kFieldCleanPosition, cloud.clean_positions.size(), "clean_positions"));
+  RETURN_IF_ERROR(check(kFieldIncidence, cloud.incidence_angles.size(), "incidence_angles"));
+  RETURN_IF_ERROR(check(kFieldStatus, cloud.statuses.size(), "statuses"));
+  return check(kFieldEstimatedNormal, cloud.estimated_normals.size(), "estimated_normals");
 }
 
 std::string ErrnoText() { return std::strerror(errno); }
@@ -91,7 +117,7 @@ Status WriteAtomically(const std::string& path, const std::string& header, const
   };
   if (std::fwrite(header.data(), 1, header.size(), f) != header.size()) return fail("short write");
 
-  const size_t record = cols.size() * 4;
+  const size_t record = RecordBytes(cols);
   constexpr size_t kBlockPoints = 16384;
   std::vector<char> block(std::min(n, kBlockPoints) * record);
   for (size_t begin = 0; begin < n; begin += kBlockPoints) {
@@ -99,8 +125,8 @@ Status WriteAtomically(const std::string& path, const std::string& header, const
     char* out = block.data();
     for (size_t i = begin; i < begin + count; ++i) {
       for (const Column& c : cols) {
-        std::memcpy(out, c.base + i * c.step, 4);
-        out += 4;
+        std::memcpy(out, c.base + i * c.step, c.size);
+        out += c.size;
       }
     }
     if (std::fwrite(block.data(), 1, count * record, f) != count * record) return fail("short write");
@@ -229,7 +255,7 @@ Status WritePly(const PointCloud& cloud, const std::string& path) {
   const auto cols = Columns(cloud);
   std::string header = "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(cloud.size()) + "\n";
   for (const Column& c : cols) {
-    header += std::string("property ") + (c.is_float ? "float " : "uint ") + c.ply_name + "\n";
+    header += std::string("property ") + PlyType(c) + " " + c.ply_name + "\n";
   }
   header += "end_header\n";
   return WriteAtomically(path, header, cols, cloud.size());
@@ -241,7 +267,7 @@ Status WritePcd(const PointCloud& cloud, const std::string& path) {
   std::string fields, sizes, types, counts;
   for (const Column& c : cols) {
     fields += std::string(" ") + c.pcd_name;
-    sizes += " 4";
+    sizes += " " + std::to_string(c.size);
     types += c.is_float ? " F" : " U";
     counts += " 1";
   }
@@ -305,6 +331,14 @@ StatusOr<PointCloud> ReadPly(const std::string& path) {
   const PlyProperty* intensity = FindProp(*vertex, {"intensity"});
   const PlyProperty* instance = FindProp(*vertex, {"instance", "instance_id"});
   const PlyProperty* pixel = FindProp(*vertex, {"pixel"});
+  const PlyProperty* cx = FindProp(*vertex, {"clean_x"});
+  const PlyProperty* cy = FindProp(*vertex, {"clean_y"});
+  const PlyProperty* cz = FindProp(*vertex, {"clean_z"});
+  const PlyProperty* incidence = FindProp(*vertex, {"incidence"});
+  const PlyProperty* status = FindProp(*vertex, {"status"});
+  const PlyProperty* enx = FindProp(*vertex, {"enx", "est_normal_x"});
+  const PlyProperty* eny = FindProp(*vertex, {"eny", "est_normal_y"});
+  const PlyProperty* enz = FindProp(*vertex, {"enz", "est_normal_z"});
 
   PointCloud cloud;
   cloud.fields = kFieldPosition;
@@ -313,6 +347,10 @@ StatusOr<PointCloud> ReadPly(const std::string& path) {
   if (intensity) cloud.fields |= kFieldIntensity;
   if (instance) cloud.fields |= kFieldInstanceId;
   if (pixel) cloud.fields |= kFieldPixel;
+  if (cx && cy && cz) cloud.fields |= kFieldCleanPosition;
+  if (incidence) cloud.fields |= kFieldIncidence;
+  if (status) cloud.fields |= kFieldStatus;
+  if (enx && eny && enz) cloud.fields |= kFieldEstimatedNormal;
   cloud.Resize(vertex->count);
 
   constexpr size_t kBlockPoints = 16384;
@@ -332,6 +370,10 @@ StatusOr<PointCloud> ReadPly(const std::string& path) {
       if (intensity) cloud.intensities[i] = f(intensity);
       if (instance) cloud.instance_ids[i] = ReadUint(rec + instance->offset, instance->type);
       if (pixel) cloud.pixels[i] = ReadUint(rec + pixel->offset, pixel->type);
+      if (cloud.Has(kFieldCleanPosition)) cloud.clean_positions[i] = {f(cx), f(cy), f(cz)};
+      if (incidence) cloud.incidence_angles[i] = f(incidence);
+      if (status) cloud.statuses[i] = static_cast<uint8_t>(ReadUint(rec + status->offset, status->type));
+      if (cloud.Has(kFieldEstimatedNormal)) cloud.estimated_normals[i] = {f(enx), f(eny), f(enz)};
     }
   }
   return cloud;

@@ -1,22 +1,22 @@
 #include "api/scan_backends.h"
 
 #include "raster/raster_scanner.h"
-#include "sensor/measurement.h"
 
 namespace vscan::api {
 namespace {
 
-StatusOr<PointCloud> RunRaster(const ScanPlan& plan, const scenes::ScanTarget& target, RasterProvider& provider,
+StatusOr<PointCloud> RunRaster(const ScanPlan& plan, const sensor::PinholeCamera& camera, uint32_t fields,
+                               raycast::ScanFrame frame, const scenes::ScanTarget& target, RasterProvider& provider,
                                const std::atomic<bool>* cancel, raycast::ScanStats* stats) {
   ASSIGN_OR_RETURN(raster::RasterRenderer * renderer, provider.Get());
   raster::RasterOptions options;
-  options.fields = plan.fields;
-  options.frame = plan.frame;
+  options.fields = fields;
+  options.frame = frame;
   options.cancel = cancel;
   const auto method = plan.backend == ScanBackend::kRasterDepth ? raster::RasterMethod::kDepthBuffer
                                                                  : raster::RasterMethod::kColourBuffer;
   raster::RasterStats raster_stats;
-  ASSIGN_OR_RETURN(PointCloud cloud, raster::RasterScan(*renderer, target.cache_key, *target.instances, plan.camera,
+  ASSIGN_OR_RETURN(PointCloud cloud, raster::RasterScan(*renderer, target.cache_key, *target.instances, camera,
                                                         plan.world_from_sensor, method, options, &raster_stats));
   stats->rays = raster_stats.pixels;
   stats->points = raster_stats.points;
@@ -28,7 +28,9 @@ StatusOr<PointCloud> RunRaster(const ScanPlan& plan, const scenes::ScanTarget& t
 
 StatusOr<PointCloud> RunClean(const ScanPlan& plan, const scenes::ScanTarget& target, RasterProvider& raster,
                               const std::atomic<bool>* cancel, raycast::ScanStats* stats) {
-  if (plan.backend != ScanBackend::kRaycast) return RunRaster(plan, target, raster, cancel, stats);
+  if (plan.backend != ScanBackend::kRaycast) {
+    return RunRaster(plan, plan.camera, plan.fields, plan.frame, target, raster, cancel, stats);
+  }
   raycast::ScanOptions options;
   options.fields = plan.fields;
   options.frame = plan.frame;
@@ -36,25 +38,48 @@ StatusOr<PointCloud> RunClean(const ScanPlan& plan, const scenes::ScanTarget& ta
   return raycast::Scan(*target.raycast, plan.camera, plan.world_from_sensor, options, stats);
 }
 
-void SensorToWorld(const Pose3& world_from_sensor, PointCloud& cloud) {
-  const Eigen::Affine3f transform(world_from_sensor.matrix().cast<float>());
-  const Eigen::Matrix3f rotation = transform.linear();
-  for (auto& p : cloud.positions) p = transform * p;
-  for (auto& n : cloud.normals) n = rotation * n;
+capture::MeasurementSpec SpecOf(const ScanPlan& plan) {
+  capture::MeasurementSpec spec = plan.measurement;
+  spec.distortion = plan.distortion;
+  spec.noise = plan.noise;
+  spec.seed = plan.seed;
+  spec.fields = plan.fields;
+  return spec;
+}
+
+// The raster backends keep the plan's depth range (their depth precision follows near and far), so
+// they report no out-of-range rejections.
+StatusOr<PointCloud> RunMeasuredRaster(const ScanPlan& plan, const capture::MeasurementSpec& spec,
+                                       const scenes::ScanTarget& target, RasterProvider& raster,
+                                       const std::atomic<bool>* cancel, raycast::ScanStats* stats,
+                                       capture::MeasureStats* measure_stats) {
+  ASSIGN_OR_RETURN(PointCloud clean, RunRaster(plan, plan.camera, kFieldsAll, raycast::ScanFrame::kSensor, target,
+                                               raster, cancel, stats));
+  ASSIGN_OR_RETURN(PointCloud cloud, capture::MeasureScan(*target.raycast, plan.camera, plan.world_from_sensor,
+                                                          std::move(clean), spec, measure_stats));
+  if (plan.frame == raycast::ScanFrame::kWorld) capture::SensorToWorld(plan.world_from_sensor, cloud);
+  return cloud;
 }
 
 }  // namespace
 
 StatusOr<PointCloud> RunScanBackend(const ScanPlan& plan, const scenes::ScanTarget& target, RasterProvider& raster,
-                                    const std::atomic<bool>* cancel, raycast::ScanStats* stats) {
-  if (!plan.distortion.any() && !plan.noise.any()) return RunClean(plan, target, raster, cancel, stats);
-  // The measurement model works in the sensor frame, so the clean scan is taken there first.
-  ScanPlan sensor_plan = plan;
-  sensor_plan.frame = raycast::ScanFrame::kSensor;
-  ASSIGN_OR_RETURN(PointCloud cloud, RunClean(sensor_plan, target, raster, cancel, stats));
-  RETURN_IF_ERROR(sensor::ApplyMeasurementModel(cloud, plan.distortion, plan.noise, plan.seed));
-  if (plan.frame == raycast::ScanFrame::kWorld) SensorToWorld(plan.world_from_sensor, cloud);
-  stats->points = cloud.size();
+                                    const std::atomic<bool>* cancel, raycast::ScanStats* stats,
+                                    capture::MeasureStats* measure_stats) {
+  const capture::MeasurementSpec spec = SpecOf(plan);
+  if (measure_stats) *measure_stats = capture::MeasureStats{};
+  if (!spec.any()) return RunClean(plan, target, raster, cancel, stats);
+  capture::MeasureStats local;
+  capture::MeasureStats& m = measure_stats ? *measure_stats : local;
+  StatusOr<PointCloud> cloud =
+      plan.backend == ScanBackend::kRaycast
+          ? capture::ScanMeasured(*target.raycast, plan.camera, plan.world_from_sensor, spec, plan.frame, cancel,
+                                  stats, &m)
+          : RunMeasuredRaster(plan, spec, target, raster, cancel, stats, &m);
+  if (!cloud.ok()) return cloud.status();
+  stats->points = m.points;
+  stats->min_range = m.min_range;
+  stats->max_range = m.max_range;
   return cloud;
 }
 

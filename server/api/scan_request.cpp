@@ -2,8 +2,9 @@
 
 #include <cmath>
 
+#include "api/measurement_request.h"
+#include "api/sensor_request.h"
 #include "api/validate.h"
-#include "sensor/presets.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::api {
@@ -11,70 +12,6 @@ namespace {
 
 constexpr size_t kMinChunkBytes = 16u << 10;
 constexpr size_t kMaxChunkBytes = 3u << 20;  // stays under gRPC's default 4 MiB receive limit
-constexpr double kDefaultNear = 0.05;
-constexpr double kDefaultFar = 10.0;
-
-StatusOr<sensor::DepthNoise> NoiseFromProto(const v1::NoiseSpec& n) {
-  if (n.outlier_rate() != 0) return Unimplemented("noise.outlier_rate: outliers are not supported by this server version");
-  if (n.grazing_limit_deg() != 0) {
-    return Unimplemented("noise.grazing_limit_deg: grazing drop-out is not supported by this server version");
-  }
-  if (n.flying_pixels()) return Unimplemented("noise.flying_pixels: not supported by this server version");
-  sensor::DepthNoise noise;
-  noise.sigma_a = n.sigma_a();
-  noise.sigma_b = n.sigma_b();
-  noise.sigma_c = n.sigma_c();
-  noise.along_ray = n.along_ray();
-  noise.depth_step = n.depth_step_m();
-  noise.min_intensity = n.min_intensity();
-  RETURN_IF_ERROR(sensor::ValidateNoise(noise, "noise"));
-  return noise;
-}
-
-StatusOr<sensor::LensDistortion> DistortionFromProto(const v1::Distortion& d) {
-  sensor::LensDistortion distortion{d.k1(), d.k2(), d.k3(), d.p1(), d.p2()};
-  RETURN_IF_ERROR(sensor::ValidateDistortion(distortion, "sensor.pinhole.distortion"));
-  return distortion;
-}
-
-StatusOr<sensor::PinholeCamera> CameraFromProto(const v1::PinholeCamera& p, const Limits& limits) {
-  const std::string field = "sensor.pinhole";
-  const double near = p.near() == 0 ? kDefaultNear : p.near();
-  const double far = p.far() == 0 ? kDefaultFar : p.far();
-  if (p.width() == 0) return InvalidArgument(field + ".width: must be positive");
-  if (p.height() == 0) return InvalidArgument(field + ".height: must be positive");
-  sensor::PinholeCamera camera;
-  switch (p.projection_case()) {
-    case v1::PinholeCamera::kIntrinsics: {
-      const auto& k = p.intrinsics();
-      camera.width = p.width();
-      camera.height = p.height();
-      camera.fx = k.fx();
-      camera.fy = k.fy();
-      camera.cx = k.cx();
-      camera.cy = k.cy();
-      camera.near = near;
-      camera.far = far;
-      break;
-    }
-    case v1::PinholeCamera::kHorizontalFovDeg: {
-      const double fov = p.horizontal_fov_deg();
-      if (!std::isfinite(fov) || fov <= 0 || fov >= 180) {
-        return InvalidArgument(field + ".horizontal_fov_deg: must be in (0, 180)");
-      }
-      camera = sensor::CameraFromFov(p.width(), p.height(), fov, near, far);
-      break;
-    }
-    case v1::PinholeCamera::PROJECTION_NOT_SET:
-      return InvalidArgument(field + ": intrinsics or horizontal_fov_deg required");
-  }
-  if (p.has_lighting()) {
-    const auto& l = p.lighting();
-    camera.lighting = {l.power(), l.constant(), l.linear(), l.quadratic()};
-  }
-  RETURN_IF_ERROR(sensor::ValidateCamera(camera, field, limits.max_rays_per_scan));
-  return camera;
-}
 
 // The sensor pose of a robot-held scan, from the mount and the commanded joints.
 StatusOr<RobotPlacement> PlaceRobotSensor(const v1::ScanRequest& request, robots::RobotRegistry& robots,
@@ -97,39 +34,40 @@ StatusOr<RobotPlacement> PlaceRobotSensor(const v1::ScanRequest& request, robots
   ASSIGN_OR_RETURN(const robots::ArmState state, robots::CommandJoints(*mounted->chain, mounted->placement, q,
                                                                        "robot.joint_positions", noise_seed));
   *world_from_sensor = state.achieved_pose;
-  return RobotPlacement{state.commanded_pose, state.achieved};
+  return RobotPlacement{state.commanded_pose, state.achieved, pose.mount_id()};
 }
 
 }  // namespace
 
+StatusOr<ScanBackend> BackendFromProto(int backend) {
+  switch (backend) {
+    case v1::SCAN_BACKEND_UNSPECIFIED:
+    case v1::SCAN_BACKEND_RAYCAST: return ScanBackend::kRaycast;
+    case v1::SCAN_BACKEND_RASTER_DEPTH: return ScanBackend::kRasterDepth;
+    case v1::SCAN_BACKEND_RASTER_COLOUR: return ScanBackend::kRasterColour;
+    default: return InvalidArgument("backend: unknown value " + std::to_string(backend));
+  }
+}
+
+StatusOr<raycast::ScanFrame> FrameFromProto(int frame) {
+  switch (frame) {
+    case v1::FRAME_UNSPECIFIED:
+    case v1::FRAME_WORLD: return raycast::ScanFrame::kWorld;
+    case v1::FRAME_SENSOR: return raycast::ScanFrame::kSensor;
+    default: return InvalidArgument("frame: unknown value " + std::to_string(frame));
+  }
+}
+
 StatusOr<ScanPlan> ParseScanRequest(const v1::ScanRequest& request, const Limits& limits,
                                     robots::RobotRegistry& robots) {
   ScanPlan plan;
-  std::optional<sensor::DepthNoise> preset_noise;
   RETURN_IF_ERROR(RequireId(request.scene_id(), "scene_id"));
   plan.scene_id = request.scene_id();
 
-  switch (request.sensor().kind_case()) {
-    case v1::SensorSpec::kPinhole: {
-      ASSIGN_OR_RETURN(plan.camera, CameraFromProto(request.sensor().pinhole(), limits));
-      ASSIGN_OR_RETURN(plan.distortion, DistortionFromProto(request.sensor().pinhole().distortion()));
-      break;
-    }
-    case v1::SensorSpec::kPreset: {
-      const sensor::SensorPreset* preset = sensor::FindSensorPreset(request.sensor().preset());
-      if (!preset) {
-        return NotFound("sensor.preset: no preset '" + request.sensor().preset() + "' (ListSensorPresets lists them)");
-      }
-      plan.camera = preset->camera;
-      RETURN_IF_ERROR(sensor::ValidateCamera(plan.camera, "sensor.preset", limits.max_rays_per_scan));
-      preset_noise = preset->noise;
-      break;
-    }
-    case v1::SensorSpec::kStructuredLight:
-      return Unimplemented("sensor.structured_light: not supported by this server version");
-    case v1::SensorSpec::KIND_NOT_SET:
-      return InvalidArgument("sensor: required (pinhole)");
-  }
+  ASSIGN_OR_RETURN(const SensorSettings sensing, SensorFromProto(request.sensor(), limits));
+  plan.camera = sensing.camera;
+  plan.distortion = sensing.distortion;
+  const std::optional<sensor::DepthNoise> preset_noise = sensing.preset_noise;
 
   switch (request.placement_case()) {
     case v1::ScanRequest::kPose: {
@@ -144,27 +82,17 @@ StatusOr<ScanPlan> ParseScanRequest(const v1::ScanRequest& request, const Limits
       return InvalidArgument("pose: required");
   }
 
-  switch (request.backend()) {
-    case v1::SCAN_BACKEND_UNSPECIFIED:
-    case v1::SCAN_BACKEND_RAYCAST: plan.backend = ScanBackend::kRaycast; break;
-    case v1::SCAN_BACKEND_RASTER_DEPTH: plan.backend = ScanBackend::kRasterDepth; break;
-    case v1::SCAN_BACKEND_RASTER_COLOUR: plan.backend = ScanBackend::kRasterColour; break;
-    default:
-      return InvalidArgument("backend: unknown value " + std::to_string(request.backend()));
-  }
+  ASSIGN_OR_RETURN(plan.backend, BackendFromProto(request.backend()));
 
   ASSIGN_OR_RETURN(plan.noise, NoiseFromProto(request.noise()));
   if (preset_noise && !request.has_noise()) plan.noise = *preset_noise;
   plan.seed = request.seed();
 
   ASSIGN_OR_RETURN(plan.fields, FieldsFromProto(request.fields(), "fields"));
+  ASSIGN_OR_RETURN(plan.measurement, MeasurementFromProto(request, plan.fields));
+  plan.measurement.structured_light = sensing.structured_light;
 
-  switch (request.frame()) {
-    case v1::FRAME_UNSPECIFIED:
-    case v1::FRAME_WORLD: plan.frame = raycast::ScanFrame::kWorld; break;
-    case v1::FRAME_SENSOR: plan.frame = raycast::ScanFrame::kSensor; break;
-    default: return InvalidArgument("frame: unknown value " + std::to_string(request.frame()));
-  }
+  ASSIGN_OR_RETURN(plan.frame, FrameFromProto(request.frame()));
 
   if (request.chunk_bytes() != 0) {
     if (request.chunk_bytes() < kMinChunkBytes || request.chunk_bytes() > kMaxChunkBytes) {

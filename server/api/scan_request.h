@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 
 #include "api/server_options.h"
+#include "capture/measurement_spec.h"
 #include "raycast/scanner.h"
 #include "robots/robot_registry.h"
 #include "sensor/camera.h"
@@ -21,6 +22,7 @@ namespace vscan::api {
 struct RobotPlacement {
   Pose3 commanded_world_from_sensor = Pose3::Identity();
   Eigen::VectorXd achieved_joint_positions;
+  std::string mount_id;
 };
 
 enum class ScanBackend { kRaycast, kRasterDepth, kRasterColour };
@@ -38,9 +40,16 @@ struct ScanPlan {
   sensor::LensDistortion distortion;
   sensor::DepthNoise noise;
   uint64_t seed = 0;
+  // Outliers, grazing and dim rejection, flying pixels, rejected rays and normal estimation. Its
+  // distortion, noise, seed and fields are not read: the members above are.
+  capture::MeasurementSpec measurement;
   // Set for robot-held scans; world_from_sensor is then the pose the arm reached.
   std::optional<RobotPlacement> robot;
 };
+
+// The request's backend and frame enums (errors name "backend" and "frame").
+StatusOr<ScanBackend> BackendFromProto(int backend);
+StatusOr<raycast::ScanFrame> FrameFromProto(int frame);
 
 // Checks every field of the request; the first problem found is returned, naming its field.
 // Robot placements are resolved through robots.

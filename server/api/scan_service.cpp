@@ -28,6 +28,17 @@ v1::ScanBackend BackendToProto(ScanBackend backend) {
   return v1::SCAN_BACKEND_RAYCAST;
 }
 
+void SetMeasureStatistics(const capture::MeasureStats& m, v1::ScanStatistics& s) {
+  s.set_outliers(m.outliers);
+  s.set_flying_pixels(m.flying_pixels);
+  s.set_rejected_out_of_range(m.rejected_out_of_range);
+  s.set_rejected_shadowed(m.rejected_shadowed);
+  s.set_rejected_grazing(m.rejected_grazing);
+  s.set_rejected_dim(m.rejected_dim);
+  s.set_rejected_unlit(m.rejected_unlit);
+  s.set_measurement_ms(m.elapsed_ms);
+}
+
 double MillisSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
@@ -81,7 +92,8 @@ class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
       return;
     }
     raycast::ScanStats stats;
-    auto cloud = RunScanBackend(plan_, *target, context_.raster, &cancel_, &stats);
+    capture::MeasureStats measure;
+    auto cloud = RunScanBackend(plan_, *target, context_.raster, &cancel_, &stats, &measure);
     if (!cloud.ok()) {
       Fail(cloud.status());
       return;
@@ -122,6 +134,7 @@ class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
     s.set_min_range(stats.min_range);
     s.set_max_range(stats.max_range);
     s.set_scan_ms(stats.elapsed_ms);
+    SetMeasureStatistics(measure, s);
     spdlog::info("scan of {} r{}: {} rays, {} points in {:.1f} ms", plan_.scene_id, target->scene.revision,
                  stats.rays, stats.points, stats.elapsed_ms);
     StartWrite(&response_);

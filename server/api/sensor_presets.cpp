@@ -1,6 +1,7 @@
 // ScanService.ListSensorPresets: the named sensors a scan request may use.
 
 #include "api/scan_service.h"
+#include "api/structured_light_convert.h"
 #include "api/unary.h"
 #include "sensor/presets.h"
 
@@ -11,22 +12,11 @@ void ToProto(const sensor::SensorPreset& preset, v1::SensorPreset* out) {
   out->set_name(preset.name);
   out->set_description(preset.description);
   out->set_source(preset.source);
-  const sensor::PinholeCamera& c = preset.camera;
-  auto* pinhole = out->mutable_spec()->mutable_pinhole();
-  pinhole->set_width(c.width);
-  pinhole->set_height(c.height);
-  auto* k = pinhole->mutable_intrinsics();
-  k->set_fx(c.fx);
-  k->set_fy(c.fy);
-  k->set_cx(c.cx);
-  k->set_cy(c.cy);
-  pinhole->set_near(c.near);
-  pinhole->set_far(c.far);
-  auto* lighting = pinhole->mutable_lighting();
-  lighting->set_power(c.lighting.power);
-  lighting->set_constant(c.lighting.constant);
-  lighting->set_linear(c.lighting.linear);
-  lighting->set_quadratic(c.lighting.quadratic);
+  if (preset.structured_light) {
+    api::ToProto(*preset.structured_light, out->mutable_spec()->mutable_structured_light());
+  } else {
+    api::ToProto(preset.camera, out->mutable_spec()->mutable_pinhole());
+  }
   auto* noise = out->mutable_noise();
   noise->set_sigma_a(preset.noise.sigma_a);
   noise->set_sigma_b(preset.noise.sigma_b);

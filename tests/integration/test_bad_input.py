@@ -99,7 +99,8 @@ class BadInputTest(ServerTestCase):
 
     def test_not_yet_supported_is_unimplemented(self):
         self.assertCode(C.INVALID_ARGUMENT, self.scan(backend=99), "backend")
-        self.assertCode(C.UNIMPLEMENTED, self.scan(noise=sensor_pb2.NoiseSpec(outlier_rate=0.01)), "noise.outlier_rate")
+        self.assertCode(C.INVALID_ARGUMENT, self.scan(noise=sensor_pb2.NoiseSpec(outlier_rate=0.01)),
+                        "noise.outlier_rate")
         self.assertCode(C.INVALID_ARGUMENT, self.scan(noise=sensor_pb2.NoiseSpec(sigma_a=-1)), "noise")
         self.assertCode(C.NOT_FOUND, self.scan(sensor=sensor_pb2.SensorSpec(preset="kinect")), "sensor.preset")
 

@@ -18,6 +18,10 @@ void Reserve(PointCloud* cloud, size_t n) {
   if (cloud->Has(kFieldIntensity)) cloud->intensities.reserve(n);
   if (cloud->Has(kFieldInstanceId)) cloud->instance_ids.reserve(n);
   if (cloud->Has(kFieldPixel)) cloud->pixels.reserve(n);
+  if (cloud->Has(kFieldCleanPosition)) cloud->clean_positions.reserve(n);
+  if (cloud->Has(kFieldIncidence)) cloud->incidence_angles.reserve(n);
+  if (cloud->Has(kFieldStatus)) cloud->statuses.reserve(n);
+  if (cloud->Has(kFieldEstimatedNormal)) cloud->estimated_normals.reserve(n);
 }
 
 // Folds the stream's messages into a ScanResult, checking their order and sizes.

@@ -27,6 +27,25 @@ FIELDS = {
     "instance": scan_pb2.POINT_FIELD_INSTANCE_ID,
     "instance_id": scan_pb2.POINT_FIELD_INSTANCE_ID,
     "pixel": scan_pb2.POINT_FIELD_PIXEL,
+    "clean": scan_pb2.POINT_FIELD_CLEAN_POSITION,
+    "clean_position": scan_pb2.POINT_FIELD_CLEAN_POSITION,
+    "incidence": scan_pb2.POINT_FIELD_INCIDENCE_ANGLE,
+    "incidence_angle": scan_pb2.POINT_FIELD_INCIDENCE_ANGLE,
+    "status": scan_pb2.POINT_FIELD_STATUS,
+    "estimated_normal": scan_pb2.POINT_FIELD_ESTIMATED_NORMAL,
+    "estimated-normal": scan_pb2.POINT_FIELD_ESTIMATED_NORMAL,
+}
+
+# PointStatus values by short name, for reading ScanResult.statuses.
+STATUSES = {
+    "measured": scan_pb2.POINT_STATUS_MEASURED,
+    "outlier": scan_pb2.POINT_STATUS_OUTLIER,
+    "flying_pixel": scan_pb2.POINT_STATUS_FLYING_PIXEL,
+    "out_of_range": scan_pb2.POINT_STATUS_REJECTED_OUT_OF_RANGE,
+    "shadowed": scan_pb2.POINT_STATUS_REJECTED_SHADOWED,
+    "grazing": scan_pb2.POINT_STATUS_REJECTED_GRAZING,
+    "dim": scan_pb2.POINT_STATUS_REJECTED_DIM,
+    "unlit": scan_pb2.POINT_STATUS_REJECTED_UNLIT,
 }
 
 FRAMES = {"world": scan_pb2.FRAME_WORLD, "sensor": scan_pb2.FRAME_SENSOR}

@@ -9,6 +9,7 @@ from ._stubs import scan_pb2
 
 _F32 = np.dtype("<f4")
 _U32 = np.dtype("<u4")
+_U8 = np.dtype("u1")
 
 
 @dataclass
@@ -23,6 +24,10 @@ class ScanResult:
     intensities: Optional[np.ndarray] = None  # (N,) float32
     instance_ids: Optional[np.ndarray] = None  # (N,) uint32
     pixels: Optional[np.ndarray] = None  # (N,) uint32
+    clean_positions: Optional[np.ndarray] = None  # (N, 3) float32, before noise and artefacts
+    incidence_angles: Optional[np.ndarray] = None  # (N,) float32, radians
+    statuses: Optional[np.ndarray] = None  # (N,) uint8, scan_pb2.PointStatus values
+    estimated_normals: Optional[np.ndarray] = None  # (N, 3) float32
 
     def __len__(self):
         return int(self.positions.shape[0])
@@ -36,7 +41,20 @@ _LAYOUT = (
     ("intensities", scan_pb2.POINT_FIELD_INTENSITY, _F32, 1),
     ("instance_ids", scan_pb2.POINT_FIELD_INSTANCE_ID, _U32, 1),
     ("pixels", scan_pb2.POINT_FIELD_PIXEL, _U32, 1),
+    ("clean_positions", scan_pb2.POINT_FIELD_CLEAN_POSITION, _F32, 3),
+    ("incidence_angles", scan_pb2.POINT_FIELD_INCIDENCE_ANGLE, _F32, 1),
+    ("statuses", scan_pb2.POINT_FIELD_STATUS, _U8, 1),
+    ("estimated_normals", scan_pb2.POINT_FIELD_ESTIMATED_NORMAL, _F32, 3),
 )
+
+# Server default when a header lists no fields.
+_DEFAULT_FIELDS = {
+    scan_pb2.POINT_FIELD_POSITION,
+    scan_pb2.POINT_FIELD_NORMAL,
+    scan_pb2.POINT_FIELD_RANGE,
+    scan_pb2.POINT_FIELD_INTENSITY,
+    scan_pb2.POINT_FIELD_INSTANCE_ID,
+}
 
 
 class ScanAssembler:
@@ -55,7 +73,7 @@ class ScanAssembler:
             if self._header is not None:
                 raise ValueError("scan stream: second header")
             self._header = message.header
-            present = set(self._header.fields) or {f for _, f, _, _ in _LAYOUT if f != scan_pb2.POINT_FIELD_PIXEL}
+            present = set(self._header.fields) or set(_DEFAULT_FIELDS)
             present.add(scan_pb2.POINT_FIELD_POSITION)
             self._parts = {name: [] for name, field, _, _ in _LAYOUT if field in present}
         elif part == "chunk":

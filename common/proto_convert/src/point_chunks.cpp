@@ -45,6 +45,11 @@ void PackChunk(const PointCloud& cloud, size_t begin, size_t count, uint32_t ind
   if (cloud.Has(kFieldIntensity)) CopyOut(cloud.intensities, begin, count, out->mutable_intensities());
   if (cloud.Has(kFieldInstanceId)) CopyOut(cloud.instance_ids, begin, count, out->mutable_instance_ids());
   if (cloud.Has(kFieldPixel)) CopyOut(cloud.pixels, begin, count, out->mutable_pixels());
+  if (cloud.Has(kFieldCleanPosition)) CopyOut(cloud.clean_positions, begin, count, out->mutable_clean_positions());
+  if (cloud.Has(kFieldIncidence)) CopyOut(cloud.incidence_angles, begin, count, out->mutable_incidence_angles());
+  if (cloud.Has(kFieldStatus)) CopyOut(cloud.statuses, begin, count, out->mutable_statuses());
+  if (cloud.Has(kFieldEstimatedNormal))
+    CopyOut(cloud.estimated_normals, begin, count, out->mutable_estimated_normals());
 }
 
 Status AppendChunk(const v1::PointChunk& chunk, PointCloud* cloud) {
@@ -57,6 +62,13 @@ Status AppendChunk(const v1::PointChunk& chunk, PointCloud* cloud) {
   if (cloud->Has(kFieldInstanceId))
     RETURN_IF_ERROR(CopyIn(chunk.instance_ids(), n, "instance_ids", &cloud->instance_ids));
   if (cloud->Has(kFieldPixel)) RETURN_IF_ERROR(CopyIn(chunk.pixels(), n, "pixels", &cloud->pixels));
+  if (cloud->Has(kFieldCleanPosition))
+    RETURN_IF_ERROR(CopyIn(chunk.clean_positions(), n, "clean_positions", &cloud->clean_positions));
+  if (cloud->Has(kFieldIncidence))
+    RETURN_IF_ERROR(CopyIn(chunk.incidence_angles(), n, "incidence_angles", &cloud->incidence_angles));
+  if (cloud->Has(kFieldStatus)) RETURN_IF_ERROR(CopyIn(chunk.statuses(), n, "statuses", &cloud->statuses));
+  if (cloud->Has(kFieldEstimatedNormal))
+    RETURN_IF_ERROR(CopyIn(chunk.estimated_normals(), n, "estimated_normals", &cloud->estimated_normals));
   return Status::Ok();
 }
 

@@ -4,6 +4,10 @@
 
 namespace vscan {
 
+static_assert(static_cast<int>(PointStatus::kMeasured) == v1::POINT_STATUS_MEASURED);
+static_assert(static_cast<int>(PointStatus::kFlyingPixel) == v1::POINT_STATUS_FLYING_PIXEL);
+static_assert(static_cast<int>(PointStatus::kRejectedUnlit) == v1::POINT_STATUS_REJECTED_UNLIT);
+
 Eigen::Vector3d FromProto(const v1::Vector3& v) { return {v.x(), v.y(), v.z()}; }
 
 v1::Vector3 ToProto(const Eigen::Vector3d& v) {
@@ -71,6 +75,10 @@ StatusOr<uint32_t> FieldsFromProto(const google::protobuf::RepeatedField<int>& f
       case v1::POINT_FIELD_INTENSITY: out |= kFieldIntensity; break;
       case v1::POINT_FIELD_INSTANCE_ID: out |= kFieldInstanceId; break;
       case v1::POINT_FIELD_PIXEL: out |= kFieldPixel; break;
+      case v1::POINT_FIELD_CLEAN_POSITION: out |= kFieldCleanPosition; break;
+      case v1::POINT_FIELD_INCIDENCE_ANGLE: out |= kFieldIncidence; break;
+      case v1::POINT_FIELD_STATUS: out |= kFieldStatus; break;
+      case v1::POINT_FIELD_ESTIMATED_NORMAL: out |= kFieldEstimatedNormal; break;
       default:
         return InvalidArgument(std::string(field) + ": unknown point field " + std::to_string(f));
     }
@@ -86,6 +94,10 @@ void FieldsToProto(uint32_t fields, google::protobuf::RepeatedField<int>* out) {
   if (fields & kFieldIntensity) out->Add(v1::POINT_FIELD_INTENSITY);
   if (fields & kFieldInstanceId) out->Add(v1::POINT_FIELD_INSTANCE_ID);
   if (fields & kFieldPixel) out->Add(v1::POINT_FIELD_PIXEL);
+  if (fields & kFieldCleanPosition) out->Add(v1::POINT_FIELD_CLEAN_POSITION);
+  if (fields & kFieldIncidence) out->Add(v1::POINT_FIELD_INCIDENCE_ANGLE);
+  if (fields & kFieldStatus) out->Add(v1::POINT_FIELD_STATUS);
+  if (fields & kFieldEstimatedNormal) out->Add(v1::POINT_FIELD_ESTIMATED_NORMAL);
 }
 
 double MetresPerUnit(v1::LengthUnit unit) {

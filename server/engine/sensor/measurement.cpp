@@ -129,6 +129,16 @@ Status ValidateNoise(const DepthNoise& n, std::string_view field) {
   return CheckNonNegative(n.min_intensity, field, "min_intensity");
 }
 
+bool MeasurePoint(Eigen::Vector3d& p, const LensDistortion& distortion, const DepthNoise& noise, uint64_t seed,
+                  uint64_t key) {
+  if (distortion.any()) p = Distort(p, distortion);
+  if (noise.sigma_a > 0 || noise.sigma_b > 0 || noise.sigma_c > 0) {
+    PointNormals normals(seed, key);
+    p = AddNoise(p, noise, normals);
+  }
+  return !(noise.depth_step > 0) || Quantise(p, noise.depth_step);
+}
+
 Status ApplyMeasurementModel(PointCloud& cloud, const LensDistortion& distortion, const DepthNoise& noise,
                              uint64_t seed) {
   RETURN_IF_ERROR(ValidateDistortion(distortion, "distortion"));
@@ -141,22 +151,15 @@ Status ApplyMeasurementModel(PointCloud& cloud, const LensDistortion& distortion
   RETURN_IF_ERROR(CheckArray(cloud.pixels.size(), n, cloud.Has(kFieldPixel), "pixels"));
   if (!distortion.any() && !noise.any()) return Status::Ok();
 
-  const bool distort = distortion.any();
-  const bool add_noise = noise.sigma_a > 0 || noise.sigma_b > 0 || noise.sigma_c > 0;
-  const bool quantise = noise.depth_step > 0;
   const bool dim_filter = noise.min_intensity > 0 && cloud.Has(kFieldIntensity);
-  const bool moves = distort || add_noise || quantise;
+  const bool moves = distortion.any() || noise.sigma_a > 0 || noise.sigma_b > 0 || noise.sigma_c > 0 ||
+                     noise.depth_step > 0;
   const bool by_pixel = cloud.Has(kFieldPixel);
   std::vector<uint8_t> keep(n, 1);
   size_t kept = 0;
   for (size_t i = 0; i < n; ++i) {
     Eigen::Vector3d p = cloud.positions[i].cast<double>();
-    if (distort) p = Distort(p, distortion);
-    if (add_noise) {
-      PointNormals normals(seed, by_pixel ? cloud.pixels[i] : i);
-      p = AddNoise(p, noise, normals);
-    }
-    if (quantise && !Quantise(p, noise.depth_step)) keep[i] = 0;
+    if (moves && !MeasurePoint(p, distortion, noise, seed, by_pixel ? cloud.pixels[i] : i)) keep[i] = 0;
     if (dim_filter && !(cloud.intensities[i] >= noise.min_intensity)) keep[i] = 0;
     if (moves) {
       cloud.positions[i] = p.cast<float>();

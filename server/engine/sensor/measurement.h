@@ -5,6 +5,8 @@
 #include <cstdint>
 #include <string_view>
 
+#include <Eigen/Core>
+
 #include "vscan/common/point_cloud.h"
 #include "vscan/common/status.h"
 
@@ -31,6 +33,12 @@ Status ValidateDistortion(const LensDistortion& distortion, std::string_view fie
 // Sigmas, step and min_intensity must be finite and non-negative; members use the wire names
 // (sigma_a, sigma_b, sigma_c, depth_step_m, min_intensity).
 Status ValidateNoise(const DepthNoise& noise, std::string_view field);
+
+// Distortion, then noise, then depth quantisation of one sensor-frame point, whose noise draws
+// come from (seed, key) only. False when the quantised depth is not positive (the point is dropped).
+// min_intensity is not looked at here.
+bool MeasurePoint(Eigen::Vector3d& p, const LensDistortion& distortion, const DepthNoise& noise, uint64_t seed,
+                  uint64_t key);
 
 // Applies distortion, then noise (isotropic or along the ray), then depth quantisation, then drop-out,
 // to a cloud in the sensor frame (z forward). Ranges of moved points are recomputed; normals are left as they are.

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "sensor/structured_light_presets.h"
+
 namespace vscan::sensor {
 namespace {
 
@@ -42,6 +44,7 @@ std::vector<SensorPreset> MakePresets() {
                      "navigation: evaluation and modeling', ICAR 2015, report axial noise of the order of a "
                      "millimetre or two in the central field; modelled here as a constant 1.5 mm.",
                      Camera(512, 424, 70.6, 0.5, 4.5), kinect_v2});
+  AppendStructuredLightPresets(presets);
   return presets;
 }
 

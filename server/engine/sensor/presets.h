@@ -1,12 +1,14 @@
 #pragma once
 // Named sensors with documented sources: a camera model and its measurement noise.
 
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "sensor/camera.h"
 #include "sensor/measurement.h"
+#include "sensor/structured_light.h"
 
 namespace vscan::sensor {
 
@@ -17,6 +19,8 @@ struct SensorPreset {
   std::string source;
   PinholeCamera camera;
   DepthNoise noise;
+  // Set for structured-light scanners; its camera is the same as `camera`.
+  std::optional<StructuredLight> structured_light;
 };
 
 const std::vector<SensorPreset>& SensorPresets();

@@ -8,9 +8,11 @@
 
 namespace vscan {
 
-// Binary little-endian PLY: x y z [nx ny nz] [range] [intensity] [instance] [pixel].
+// Binary little-endian PLY: x y z [nx ny nz] [range] [intensity] [instance] [pixel]
+// [clean_x clean_y clean_z] [incidence] [status (uchar)] [enx eny enz].
 Status WritePly(const PointCloud& cloud, const std::string& path);
-// Binary PCD v0.7 with the same fields (normal_x.., range, intensity, instance, pixel).
+// Binary PCD v0.7 with the same fields (normal_x.., range, intensity, instance, pixel, clean_x..,
+// incidence, status (1-byte U), est_normal_x..).
 Status WritePcd(const PointCloud& cloud, const std::string& path);
 // Picks the writer from the extension (.ply or .pcd).
 Status WriteCloud(const PointCloud& cloud, const std::string& path);

@@ -16,8 +16,27 @@ enum PointFields : uint32_t {
   kFieldIntensity = 1u << 3,
   kFieldInstanceId = 1u << 4,
   kFieldPixel = 1u << 5,
+  kFieldCleanPosition = 1u << 6,
+  kFieldIncidence = 1u << 7,
+  kFieldStatus = 1u << 8,
+  kFieldEstimatedNormal = 1u << 9,
   kFieldsDefault = kFieldPosition | kFieldNormal | kFieldRange | kFieldIntensity | kFieldInstanceId,
   kFieldsAll = kFieldsDefault | kFieldPixel,
+  // Per-point ground truth of the measurement model.
+  kFieldsGroundTruth = kFieldCleanPosition | kFieldIncidence | kFieldStatus,
+};
+
+// What became of a point's ray; values match vscan.v1.PointStatus.
+enum class PointStatus : uint8_t {
+  kUnspecified = 0,
+  kMeasured = 1,
+  kOutlier = 2,
+  kFlyingPixel = 3,
+  kRejectedOutOfRange = 4,
+  kRejectedShadowed = 5,
+  kRejectedGrazing = 6,
+  kRejectedDim = 7,
+  kRejectedUnlit = 8,
 };
 
 // Positions are always present; other arrays are empty or have size() elements.
@@ -29,6 +48,10 @@ struct PointCloud {
   std::vector<float> intensities;
   std::vector<uint32_t> instance_ids;
   std::vector<uint32_t> pixels;
+  std::vector<Eigen::Vector3f> clean_positions;
+  std::vector<float> incidence_angles;  // radians
+  std::vector<uint8_t> statuses;        // PointStatus values
+  std::vector<Eigen::Vector3f> estimated_normals;
 
   size_t size() const { return positions.size(); }
   bool Has(PointFields f) const { return (fields & f) != 0; }

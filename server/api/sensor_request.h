@@ -1,0 +1,30 @@
+#pragma once
+// The sensor and noise parts of a request (ScanRequest, CampaignSpec) in engine terms. Error
+// messages name the fields relative to the request ("sensor.pinhole.width", "noise.sigma_a").
+
+#include <optional>
+
+#include "api/server_options.h"
+#include "sensor/camera.h"
+#include "sensor/measurement.h"
+#include "sensor/structured_light.h"
+#include "vscan/common/status.h"
+#include "vscan/v1/sensor.pb.h"
+
+namespace vscan::api {
+
+struct SensorSettings {
+  sensor::PinholeCamera camera;
+  sensor::LensDistortion distortion;
+  // A preset's own noise, used when the request sets none.
+  std::optional<sensor::DepthNoise> preset_noise;
+  // Set for structured-light scanners; camera is then its camera.
+  std::optional<sensor::StructuredLight> structured_light;
+};
+
+StatusOr<SensorSettings> SensorFromProto(const v1::SensorSpec& spec, const Limits& limits);
+// The depth members of the noise (sigma, quantisation, dim threshold); the artefact members
+// (outliers, grazing, flying pixels) are read by MeasurementFromProto.
+StatusOr<sensor::DepthNoise> NoiseFromProto(const v1::NoiseSpec& n);
+
+}  // namespace vscan::api
