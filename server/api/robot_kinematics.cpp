@@ -4,7 +4,9 @@
 #include <cstdio>
 #include <numbers>
 #include <optional>
+#include <random>
 
+#include "api/robot_collision.h"
 #include "api/robot_convert.h"
 #include "api/robot_service.h"
 #include "api/unary.h"
@@ -24,6 +26,8 @@ struct Target {
   std::shared_ptr<const robot::KinematicChain> chain;
   robots::Placement placement;
   bool mounted = false;
+  std::string mount_id;
+  std::string scene_id;
 };
 
 StatusOr<Target> ResolveTarget(robots::RobotRegistry& robots, const std::string& robot_id,
@@ -44,6 +48,8 @@ StatusOr<Target> ResolveTarget(robots::RobotRegistry& robots, const std::string&
   target.chain = std::move(mounted.chain);
   target.placement = std::move(mounted.placement);
   target.mounted = true;
+  target.mount_id = mount_id;
+  target.scene_id = mounted.mount.scene_id;
   return target;
 }
 
@@ -123,6 +129,44 @@ std::string RenameGoal(const std::string& message, const v1::InverseKinematicsRe
   return message.starts_with("goal") ? field + message.substr(4) : field + ": " + message;
 }
 
+// A solution and, with avoid_collisions, what it touches.
+struct CheckedAnswer {
+  robots::IkAnswer answer;
+  std::optional<std::string> collision;
+  uint32_t checks = 0;
+};
+
+// Solves; with avoid_collisions, retries from random seeds within the one time budget until a
+// reached solution touches nothing. Keeps the first unreached answer when nothing was reached.
+StatusOr<CheckedAnswer> SolveAvoidingCollisions(ServiceContext& context, const Target& target,
+                                                const robot::IkGoal& goal, const Eigen::VectorXd& seed,
+                                                const robots::IkSettings& settings, bool avoid_collisions) {
+  CheckedAnswer out;
+  ASSIGN_OR_RETURN(out.answer, robots::SolveInPlacement(*target.chain, target.placement, goal, seed, settings));
+  if (!avoid_collisions || !out.answer.reached) return out;
+  using Clock = std::chrono::steady_clock;
+  const auto deadline = Clock::now() + settings.time_budget;
+  ASSIGN_OR_RETURN(const store::SceneRecord scene, context.registry.catalogue().GetScene(target.scene_id));
+  std::mt19937_64 rng(0x5eed);
+  robots::IkSettings retry = settings;
+  for (robots::IkAnswer attempt = out.answer;;) {
+    ASSIGN_OR_RETURN(auto collision, FindRobotCollision(context, target.mount_id, attempt.result.joint_positions,
+                                                        scene.table.angle_deg));
+    ++out.checks;
+    if (attempt.reached) {
+      out.answer = std::move(attempt);
+      out.collision = std::move(collision);
+      if (!out.collision) return out;
+    }
+    const auto left = std::chrono::duration_cast<std::chrono::microseconds>(deadline - Clock::now());
+    if (left.count() <= 0) return out;
+    retry.time_budget = left;
+    ASSIGN_OR_RETURN(attempt, robots::SolveInPlacement(*target.chain, target.placement, goal,
+                                                       robot::RandomJointPositions(*target.chain, rng), retry));
+    if (!attempt.reached) return out;
+  }
+}
+
 }  // namespace
 
 grpc::ServerUnaryReactor* RobotService::ForwardKinematics(grpc::CallbackServerContext* ctx,
@@ -157,9 +201,20 @@ grpc::ServerUnaryReactor* RobotService::InverseKinematics(grpc::CallbackServerCo
     ASSIGN_OR_RETURN(const robots::IkSettings settings, SettingsFromRequest(*request));
     ASSIGN_OR_RETURN(const auto noise_seed,
                      NoiseSeed(target, request->apply_encoder_noise(), request->encoder_noise_seed()));
-    ASSIGN_OR_RETURN(const robots::IkAnswer answer, robots::SolveInPlacement(*target.chain, target.placement, goal,
-                                                                             ToVector(request->seed()), settings));
+    if (request->avoid_collisions() && !target.mounted) {
+      return InvalidArgument("avoid_collisions: needs mount_id (collisions are with the mount's scene)");
+    }
+    ASSIGN_OR_RETURN(const CheckedAnswer checked,
+                     SolveAvoidingCollisions(context_, target, goal, ToVector(request->seed()), settings,
+                                             request->avoid_collisions()));
+    const robots::IkAnswer& answer = checked.answer;
     if (!answer.reached && !request->allow_partial()) return OutOfRange(RenameGoal(answer.failure, *request));
+    if (checked.collision && !request->allow_partial()) {
+      return FailedPrecondition("avoid_collisions: every solution found in " + std::to_string(checked.checks) +
+                                " tries collides; the last: " + *checked.collision);
+    }
+    if (checked.collision) response->set_collision(*checked.collision);
+    response->set_collision_checks(checked.checks);
 
     const robot::IkResult& r = answer.result;
     ToProto(r.joint_positions, response->mutable_joint_positions());

@@ -35,9 +35,7 @@ StatusOr<store::MountRecord> MountFromRequest(const v1::MountRobotRequest& reque
     ASSIGN_OR_RETURN(const Pose3 tool, PoseFromProto(request.tool_offset(), "tool_offset"));
     mount.tool_offset = tool.matrix();
   }
-  if (request.links_visible()) {
-    return Unimplemented("links_visible: robot link geometry in scans is not supported by this server version");
-  }
+  mount.links_visible = request.links_visible();
   ASSIGN_OR_RETURN(mount.encoder_sigma, EncoderSigma(request.encoder_sigma()));
   return mount;
 }
@@ -46,6 +44,7 @@ StatusOr<store::MountRecord> MountFromRequest(const v1::MountRobotRequest& reque
 Status MountToProto(robots::RobotRegistry& robots, const store::MountRecord& mount, v1::Mount* out) {
   ASSIGN_OR_RETURN(const store::RobotRecord robot, robots.catalogue().GetRobot(mount.robot_id));
   ToProto(mount, robot.tool_offset, out);
+  if (mount.links_visible) out->set_link_instance_id_base(robots::LinkInstanceIdBase(mount.mount_id));
   return Status::Ok();
 }
 

@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include "robots/bundle_codec.h"
+#include "robots/link_collision.h"
 
 namespace vscan::robots {
 namespace {
@@ -47,6 +48,7 @@ Status RobotRegistry::DeleteRobot(const std::string& robot_id) {
   }
   std::lock_guard lock(cache_mutex_);
   chains_.erase(robot_id);
+  links_.erase(robot_id);
   return Status::Ok();
 }
 
@@ -87,6 +89,31 @@ StatusOr<MountedRobot> RobotRegistry::Mount(const std::string& mount_id) {
   out.placement.encoder_sigma = Eigen::Map<const Eigen::VectorXd>(
       out.mount.encoder_sigma.data(), static_cast<Eigen::Index>(out.mount.encoder_sigma.size()));
   return out;
+}
+
+StatusOr<std::shared_ptr<const RobotLinks>> RobotRegistry::Links(const std::string& robot_id,
+                                                                 const LinkMeshImporter& import) {
+  {
+    std::lock_guard lock(cache_mutex_);
+    if (auto it = links_.find(robot_id); it != links_.end()) return it->second;
+  }
+  ASSIGN_OR_RETURN(const store::RobotRecord record, catalogue_.GetRobot(robot_id));
+  ASSIGN_OR_RETURN(auto chain, Chain(robot_id));
+  ASSIGN_OR_RETURN(const std::string blob, blobs_.Get(record.bundle_sha256));
+  ASSIGN_OR_RETURN(auto files, DecodeBundle(blob));
+  robot::BundleLimits unlimited;  // checked at upload
+  unlimited.max_total_bytes = ~uint64_t{0};
+  unlimited.max_files = ~uint32_t{0};
+  auto bundle = robot::LoadUrdfBundle(record.urdf_path, std::move(files), unlimited);
+  if (!bundle.ok()) return DataLoss("robot '" + robot_id + "': stored bundle: " + bundle.status().message());
+  ASSIGN_OR_RETURN(RobotLinks loaded, LoadRobotLinks(*bundle, *chain, import));
+  loaded.allowed_contacts = AllowedLinkContacts(loaded, std::make_shared<collision::ShapeCache>());
+  for (const std::string& warning : loaded.warnings) spdlog::warn("robot {}: {}", robot_id, warning);
+  auto shared = std::make_shared<const RobotLinks>(std::move(loaded));
+  std::lock_guard lock(cache_mutex_);
+  if (links_.size() >= cache_entries_) links_.erase(links_.begin());
+  links_[robot_id] = shared;
+  return shared;
 }
 
 }  // namespace vscan::robots

@@ -12,6 +12,7 @@
 
 #include "robot/chain.h"
 #include "robots/arm_kinematics.h"
+#include "robots/link_geometry.h"
 #include "robots/robot_import.h"
 #include "store/blob_store.h"
 #include "store/robot_catalogue.h"
@@ -47,6 +48,10 @@ class RobotRegistry {
   StatusOr<std::pair<store::MountRecord, uint64_t>> AddMount(store::MountRecord mount);
   StatusOr<MountedRobot> Mount(const std::string& mount_id);
 
+  // The robot's link geometry from its stored bundle, mesh files parsed by import; cached by
+  // robot id (a robot's bundle never changes).
+  StatusOr<std::shared_ptr<const RobotLinks>> Links(const std::string& robot_id, const LinkMeshImporter& import);
+
  private:
   store::RobotCatalogue& catalogue_;
   store::BlobStore& blobs_;
@@ -57,6 +62,7 @@ class RobotRegistry {
   std::mutex store_mutex_;
   std::mutex cache_mutex_;
   std::map<std::string, std::shared_ptr<const robot::KinematicChain>> chains_;
+  std::map<std::string, std::shared_ptr<const RobotLinks>> links_;
 };
 
 }  // namespace vscan::robots

@@ -78,6 +78,35 @@ StatusOr<std::shared_ptr<const TriangleMesh>> SceneRegistry::LoadMesh(const std:
   return shared;
 }
 
+StatusOr<TriangleMesh> SceneRegistry::ImportUserMesh(std::string_view file_bytes, geometry::MeshFileFormat format,
+                                                     double metres_per_unit) {
+  return import_sandbox_ ? geometry::ImportMeshIsolated(file_bytes, format, metres_per_unit, *import_sandbox_)
+                         : geometry::ImportMesh(file_bytes, format, metres_per_unit);
+}
+
+StatusOr<ScanTarget> SceneRegistry::WithExtraInstances(const ScanTarget& base, const std::string& extra_key,
+                                                       std::vector<raycast::SceneInstance> extra) {
+  const std::string key = base.cache_key + "|" + extra_key;
+  {
+    std::lock_guard lock(mutex_);
+    for (auto it = extended_.begin(); it != extended_.end(); ++it) {
+      if (it->first == key) {
+        extended_.splice(extended_.begin(), extended_, it);
+        const Built& hit = extended_.front().second;
+        return ScanTarget{base.scene, hit.raycast, hit.instances, key};
+      }
+    }
+  }
+  auto instances = std::make_shared<std::vector<raycast::SceneInstance>>(*base.instances);
+  instances->insert(instances->end(), std::make_move_iterator(extra.begin()), std::make_move_iterator(extra.end()));
+  ASSIGN_OR_RETURN(auto raycast, raycast::RaycastScene::Build(*instances));
+  Built built{std::move(raycast), std::move(instances)};
+  std::lock_guard lock(mutex_);
+  extended_.emplace_front(key, built);
+  while (extended_.size() > cache_entries_) extended_.pop_back();
+  return ScanTarget{base.scene, built.raycast, built.instances, key};
+}
+
 Pose3 SceneRegistry::WorldFromObject(const store::SceneRecord& scene, const store::ObjectRecord& object,
                                      double table_angle_deg) {
   Pose3 pose(object.pose);

@@ -58,6 +58,16 @@ class SceneRegistry {
   // Reads the scene and returns its Embree scene, built or from the cache.
   StatusOr<ScanTarget> PrepareScan(const std::string& scene_id, std::optional<double> table_angle_deg);
 
+  // Parses a mesh file of user data the way uploads are parsed (in the sandbox when there is one).
+  StatusOr<TriangleMesh> ImportUserMesh(std::string_view file_bytes, geometry::MeshFileFormat format,
+                                        double metres_per_unit = 1.0);
+
+  // base with extra instances added (e.g. robot links at given joint positions). The result is
+  // cached under base.cache_key + "|" + extra_key, which names it for outside caches too; the
+  // same key must always come with the same extras.
+  StatusOr<ScanTarget> WithExtraInstances(const ScanTarget& base, const std::string& extra_key,
+                                          std::vector<raycast::SceneInstance> extra);
+
   // world_from_object of an object, including the table's turn for objects on the table.
   static Pose3 WorldFromObject(const store::SceneRecord& scene, const store::ObjectRecord& object,
                                double table_angle_deg);
@@ -78,6 +88,7 @@ class SceneRegistry {
   std::mutex mutex_;
   std::map<std::string, std::shared_ptr<const TriangleMesh>> meshes_;  // by sha256
   std::list<std::pair<CacheKey, Built>> scenes_;  // most recent first
+  std::list<std::pair<std::string, Built>> extended_;  // WithExtraInstances, most recent first
 };
 
 }  // namespace vscan::scenes

@@ -417,12 +417,12 @@ class MountTest(RobotTestBase):
                         "encoder_sigma")
         self.assertCode(C.INVALID_ARGUMENT, lambda: self.mount(scene.scene_id, rid, encoder_sigma=[-1]),
                         "encoder_sigma[0]")
-        self.assertCode(C.UNIMPLEMENTED, lambda: self.mount(scene.scene_id, rid, links_visible=True), "links_visible")
         self.assertCode(C.NOT_FOUND, lambda: self.mount("scn_nope", rid), "scene_id")
         self.assertCode(C.NOT_FOUND, lambda: self.mount(scene.scene_id, "rbt_nope"), "robot_id")
         after = self.scenes.GetScene(scene_pb2.GetSceneRequest(scene_id=scene.scene_id)).scene
         self.assertEqual(after.revision, scene.revision)
 
+        self.assertTrue(self.mount(other.scene_id, rid, links_visible=True).mount.links_visible)
         mounted = self.mount(scene.scene_id, rid)
         self.assertCode(C.FAILED_PRECONDITION, lambda: self.scan(other.scene_id, mounted.mount_id, self.Q),
                         "robot.mount_id")

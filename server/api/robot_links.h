@@ -1,0 +1,26 @@
+#pragma once
+// A scene's mounted robots as geometry: their link meshes, parsed like mesh uploads (robot
+// bundles are user data), and the mounts of a scene.
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "robots/link_geometry.h"
+#include "robots/robot_registry.h"
+#include "scenes/scene_registry.h"
+
+namespace vscan::api {
+
+// STL, OBJ and PLY files through the registry's import path; other formats (e.g. COLLADA) are
+// refused, so the link falls back to its other geometry.
+robots::LinkMeshImporter LinkMeshImporter(scenes::SceneRegistry& registry);
+
+// Every mount of the scene, in mount id order.
+StatusOr<std::vector<store::MountRecord>> SceneMounts(robots::RobotRegistry& robots, const std::string& scene_id);
+
+// The joint positions of a mount nobody commands: zero, clamped into the limits.
+Eigen::VectorXd HomePositions(const robot::KinematicChain& chain);
+
+}  // namespace vscan::api
