@@ -15,16 +15,16 @@
 #include <grpcpp/server_builder.h>
 #include <spdlog/spdlog.h>
 
+#include "api/job_service.h"
+#include "api/job_tracker.h"
 #include "api/robot_service.h"
 #include "api/scan_service.h"
 #include "api/scene_service.h"
-#include "vscan/v1/job.grpc.pb.h"
+#include "jobs/job_runner.h"
+#include "store/job_catalogue.h"
 
 namespace vscan::api {
 namespace {
-
-// Services of the contract this version does not implement yet: every method answers UNIMPLEMENTED.
-class JobService final : public v1::JobService::CallbackService {};
 
 StatusOr<std::string> ReadFile(const std::string& path, const char* flag) {
   std::ifstream in(path, std::ios::binary);
@@ -85,7 +85,10 @@ struct Server::Impl {
   std::unique_ptr<SceneService> scene_service;
   std::unique_ptr<ScanService> scan_service;
   std::unique_ptr<RobotService> robot_service;
-  JobService job_service;
+  std::unique_ptr<store::JobCatalogue> job_catalogue;
+  std::unique_ptr<JobTracker> job_tracker;
+  std::unique_ptr<jobs::JobRunner> job_runner;
+  std::unique_ptr<JobService> job_service;
   std::unique_ptr<grpc::Server> server;
   int port = 0;
 };
@@ -120,6 +123,12 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const ServerOptions& options) {
   impl->scene_service = std::make_unique<SceneService>(*impl->context);
   impl->scan_service = std::make_unique<ScanService>(*impl->context);
   impl->robot_service = std::make_unique<RobotService>(*impl->context);
+  ASSIGN_OR_RETURN(impl->job_catalogue, store::JobCatalogue::Open(data_dir / "catalogue.sqlite"));
+  ASSIGN_OR_RETURN(const int interrupted, impl->job_catalogue->InterruptUnfinished("server stopped while the job ran"));
+  if (interrupted > 0) spdlog::warn("{} jobs were left unfinished by the last run; marked INTERRUPTED", interrupted);
+  impl->job_tracker = std::make_unique<JobTracker>(*impl->job_catalogue, *impl->blobs);
+  impl->job_runner = std::make_unique<jobs::JobRunner>(std::max<uint32_t>(1, options.max_concurrent_jobs));
+  impl->job_service = std::make_unique<JobService>(*impl->context, *impl->job_tracker, *impl->job_runner);
 
   ASSIGN_OR_RETURN(auto credentials, Credentials(options));
   grpc::EnableDefaultHealthCheckService(true);
@@ -129,7 +138,7 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const ServerOptions& options) {
   builder.RegisterService(impl->scene_service.get());
   builder.RegisterService(impl->scan_service.get());
   builder.RegisterService(impl->robot_service.get());
-  builder.RegisterService(&impl->job_service);
+  builder.RegisterService(impl->job_service.get());
   builder.SetMaxReceiveMessageSize(4 << 20);
   impl->server = builder.BuildAndStart();
   if (!impl->server || impl->port == 0) {
@@ -151,6 +160,8 @@ void Server::Shutdown(double grace_seconds) {
   spdlog::info("shutting down: draining calls for up to {:.1f} s", grace_seconds);
   const auto deadline = std::chrono::system_clock::now() +
                         std::chrono::milliseconds(static_cast<int64_t>(grace_seconds * 1000));
+  // Jobs end first (INTERRUPTED, recorded), so that their watch streams end and the drain is quick.
+  impl_->job_runner->Stop();
   impl_->server->Shutdown(deadline);
   impl_->workers->Stop();
   impl_->server->Wait();

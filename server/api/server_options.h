@@ -11,6 +11,8 @@ struct Limits {
   uint64_t max_rays_per_scan = 16ull << 20;
   uint32_t max_concurrent_scans = 4;
   uint32_t max_page_size = 1000;
+  // Jobs waiting for a runner slot; StartCampaign beyond it is RESOURCE_EXHAUSTED.
+  uint32_t max_queued_jobs = 64;
 };
 
 struct ServerOptions {
@@ -25,6 +27,8 @@ struct ServerOptions {
   // Written with the bound port once listening (useful with port 0).
   std::string port_file;
   uint32_t worker_threads = 2;
+  // Jobs (campaigns) running at once, each on its own runner thread.
+  uint32_t max_concurrent_jobs = 1;
   uint32_t scene_cache_entries = 8;
   // The vscan-mesh-import helper that parses uploads; empty means the one next to vscand.
   std::string mesh_importer_path;

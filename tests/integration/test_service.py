@@ -40,9 +40,9 @@ class ServiceTest(ServerTestCase):
         for name in (b"vscan.v1.SceneService", b"vscan.v1.ScanService", b"vscan.v1.RobotService"):
             self.assertIn(name, reply)
 
-    def test_later_services_answer_unimplemented(self):
+    def test_bin_fill_answers_unimplemented(self):
         jobs = job_pb2_grpc.JobServiceStub(self.channel)
-        self.assertCode(C.UNIMPLEMENTED, lambda: jobs.ListJobs(job_pb2.ListJobsRequest()))
+        self.assertCode(C.UNIMPLEMENTED, lambda: jobs.StartBinFill(job_pb2.StartBinFillRequest()), "StartBinFill")
 
     def test_robot_service_is_served(self):
         robots = robot_pb2_grpc.RobotServiceStub(self.channel)

@@ -7,6 +7,7 @@ import grpc
 from . import convert
 from ._stubs import robot_pb2_grpc, scan_pb2, scan_pb2_grpc, scene_pb2, scene_pb2_grpc, sensor_pb2
 from .errors import VscanError, from_rpc_error
+from .jobs import JobCalls
 from .robots import RobotCalls
 from .scan_result import ScanAssembler
 
@@ -37,7 +38,7 @@ def _decode_health_response(data):
     return "UNKNOWN"
 
 
-class Client(RobotCalls):
+class Client(RobotCalls, JobCalls):
     """Talks to one vscand. Failed calls raise VscanError.
 
     address: "host:port". token: bearer token sent with every call. root_cert: PEM file of the
@@ -192,7 +193,8 @@ class Client(RobotCalls):
     def scan(self, scene_id, width=640, height=480, hfov_deg=60.0, eye=None, target=None, up=(0.0, 0.0, 1.0),
              near=0.05, far=10.0, fields=None, frame="world", intrinsics=None, pose_matrix=None,
              backend="raycast", seed=0, table_angle_deg=None, chunk_bytes=None, lighting=None, noise=None,
-             preset=None, progress=None, mount_id=None, joints=None, encoder_noise=False):
+             preset=None, progress=None, mount_id=None, joints=None, encoder_noise=False,
+             include_rejected=False, normal_estimation=None, sensor=None):
         """Scans a scene and returns a ScanResult with numpy arrays.
 
         Place the camera with eye/target/up, a 4x4 world_from_sensor pose_matrix, or on a robot:
@@ -200,12 +202,17 @@ class Client(RobotCalls):
         seeded by seed; header.sensor_pose is then where the arm landed). intrinsics is
         (fx, fy, cx, cy) instead of hfov_deg; lighting is (power, constant, linear, quadratic);
         noise a sensor_pb2.NoiseSpec. fields: names from "position", "normal", "range",
-        "intensity", "instance", "pixel" (None: the server default). progress(points, total) is
-        called after each chunk.
+        "intensity", "instance", "pixel", and the ground truth "clean", "incidence", "status",
+        "estimated_normal" (None: the server default). include_rejected also returns rejected rays
+        at their clean positions; normal_estimation is (k, max_distance) for "estimated_normal".
+        sensor, a sensor_pb2.SensorSpec (e.g. a structured-light scanner), replaces preset and the
+        camera arguments. progress(points, total) is called after each chunk.
         """
         request = scan_pb2.ScanRequest(scene_id=scene_id, seed=int(seed), frame=convert.frame(frame),
                                        backend=convert.backend(backend))
-        if preset:
+        if sensor is not None:
+            request.sensor.CopyFrom(sensor)
+        elif preset:
             request.sensor.preset = preset
         else:
             camera = request.sensor.pinhole
@@ -240,6 +247,11 @@ class Client(RobotCalls):
             request.chunk_bytes = int(chunk_bytes)
         if noise is not None:
             request.noise.CopyFrom(noise)
+        request.include_rejected = bool(include_rejected)
+        if normal_estimation is not None:
+            k, max_distance = normal_estimation
+            request.normal_estimation.k = int(k)
+            request.normal_estimation.max_distance = float(max_distance)
 
         assembler = ScanAssembler(progress)
         stream = self._scans.Scan(request, timeout=self._stream_timeout, metadata=self._metadata)

@@ -1,0 +1,226 @@
+#include "api/campaign_run.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include <spdlog/spdlog.h>
+
+#include "api/campaign_step.h"
+#include "api/campaign_summary.h"
+#include "vscan/common/cloud_io.h"
+#include "vscan/common/proto_convert.h"
+
+namespace vscan::api {
+namespace {
+
+constexpr const char* kPlyMediaType = "model/ply";
+constexpr const char* kJsonMediaType = "application/json";
+
+std::string Number(double x) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof(buffer), "%g", x);
+  return buffer;
+}
+
+std::string Where(uint32_t viewpoint, double angle_deg) {
+  return "viewpoint " + std::to_string(viewpoint) + " at " + Number(angle_deg) + " deg";
+}
+
+const char* StateName(store::JobState state) {
+  switch (state) {
+    case store::JobState::kQueued: return "QUEUED";
+    case store::JobState::kRunning: return "RUNNING";
+    case store::JobState::kSucceeded: return "SUCCEEDED";
+    case store::JobState::kFailed: return "FAILED";
+    case store::JobState::kCancelled: return "CANCELLED";
+    case store::JobState::kInterrupted: return "INTERRUPTED";
+  }
+  return "UNKNOWN";
+}
+
+// Binary little-endian PLY bytes of a cloud, through the project's PLY writer.
+StatusOr<std::string> EncodePly(const PointCloud& cloud, const std::filesystem::path& scratch_dir,
+                                const std::string& name) {
+  std::error_code ec;
+  std::filesystem::create_directories(scratch_dir, ec);
+  if (ec) return Unavailable("campaign: cannot create '" + scratch_dir.string() + "': " + ec.message());
+  const std::filesystem::path path = scratch_dir / name;
+  RETURN_IF_ERROR(WritePly(cloud, path.string()));
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  const bool read_ok = static_cast<bool>(in) || in.eof();
+  in.close();
+  std::filesystem::remove(path, ec);
+  if (!read_ok) return Unavailable("campaign: cannot read back '" + path.string() + "'");
+  return bytes.str();
+}
+
+v1::ScanArtifactInfo ScanInfo(const CampaignStepRecord& record) {
+  v1::ScanArtifactInfo info;
+  info.set_viewpoint_index(record.viewpoint_index);
+  info.set_rotation_index(record.rotation_index);
+  info.set_table_angle_deg(record.table_angle_deg);
+  ToProto(record.arm.commanded_pose, info.mutable_commanded_sensor_pose());
+  ToProto(record.arm.achieved_pose, info.mutable_sensor_pose());
+  const Eigen::VectorXd& c = record.arm.commanded;
+  const Eigen::VectorXd& a = record.arm.achieved;
+  info.mutable_commanded_joint_positions()->Assign(c.data(), c.data() + c.size());
+  info.mutable_achieved_joint_positions()->Assign(a.data(), a.data() + a.size());
+  info.set_points(record.points);
+  return info;
+}
+
+class CampaignRun {
+ public:
+  CampaignRun(ServiceContext& context, JobTracker& tracker, const std::string& job_id, const CampaignPlan& plan,
+              jobs::JobControl& control)
+      : context_(context), tracker_(tracker), job_id_(job_id), plan_(plan), control_(control),
+        scratch_(std::filesystem::path(context.options.data_dir) / "tmp" / job_id) {}
+
+  void Run() {
+    const uint32_t total = plan_.steps_total();
+    Status status = Event(std::to_string(total) + " scans planned (" + std::to_string(plan_.viewpoints.size()) +
+                          " viewpoints x " + std::to_string(plan_.rotations) + " rotations)");
+    if (status.ok()) status = Steps();
+    std::error_code ec;
+    std::filesystem::remove_all(scratch_, ec);
+    store::JobState state = store::JobState::kSucceeded;
+    std::string message;
+    if (control_.stop_requested()) {
+      state = StoppedState(control_.reason());
+      message = state == store::JobState::kCancelled ? "cancelled" : "server stopped while the job ran";
+      message += " after " + std::to_string(records_.size()) + " of " + std::to_string(total) + " steps";
+    } else if (!status.ok()) {
+      state = store::JobState::kFailed;
+      message = status.message();
+    } else {
+      message = "campaign done: " + std::to_string(captured_) + " scans captured, " +
+                std::to_string(records_.size() - captured_) + " steps skipped";
+    }
+    WriteSummary(state);
+    const Status ended = tracker_.End(job_id_, Update(state, message, false));
+    if (!ended.ok()) spdlog::error("job {}: cannot record its end: {}", job_id_, ended.ToString());
+    spdlog::info("job {} {}: {}", job_id_, StateName(state), message);
+  }
+
+ private:
+  JobEventUpdate Update(store::JobState state, const std::string& message, bool reached) const {
+    JobEventUpdate update;
+    update.state = state;
+    update.message = message;
+    update.steps_done = static_cast<uint32_t>(records_.size());
+    update.step = records_.empty() ? 0 : records_.back().step;
+    update.pose_reached = reached;
+    return update;
+  }
+
+  Status Event(const std::string& message, bool reached = false) {
+    return tracker_.Record(job_id_, Update(store::JobState::kRunning, message, reached));
+  }
+
+  Status Steps() {
+    ASSIGN_OR_RETURN(const robots::MountedRobot mounted, context_.robots.Mount(plan_.spec.mount_id()));
+    std::vector<std::optional<ViewpointSolution>> solutions(plan_.viewpoints.size());
+    const auto viewpoints = static_cast<uint32_t>(plan_.viewpoints.size());
+    for (uint32_t r = 0; r < plan_.rotations; ++r) {
+      for (uint32_t v = 0; v < viewpoints; ++v) {
+        if (control_.stop_requested()) return Status::Ok();
+        const double angle = plan_.AngleDeg(r);
+        if (!solutions[v]) {
+          auto solved = SolveViewpoint(mounted, plan_.viewpoints[v]);
+          if (!solved.ok()) return Status(solved.status().code(), Where(v, angle) + ": " + solved.status().message());
+          solutions[v] = std::move(solved).value();
+        }
+        const uint32_t step = r * viewpoints + v;
+        auto result = RunStep(context_, plan_, *solutions[v], angle, StepSeed(plan_.spec.seed(), step),
+                              control_.flag());
+        if (control_.stop_requested()) return Status::Ok();
+        if (!result.ok()) return Status(result.status().code(), Where(v, angle) + ": " + result.status().message());
+        RETURN_IF_ERROR(Record(step, r, v, angle, *solutions[v], std::move(result).value()));
+      }
+    }
+    return Status::Ok();
+  }
+
+  Status Record(uint32_t step, uint32_t r, uint32_t v, double angle, const ViewpointSolution& solution,
+                StepResult result) {
+    CampaignStepRecord record;
+    record.step = step;
+    record.rotation_index = r;
+    record.viewpoint_index = v;
+    record.table_angle_deg = angle;
+    record.seed = result.seed;
+    switch (result.outcome) {
+      case StepResult::Outcome::kUnreachable:
+        record.outcome = "unreachable";
+        record.miss_distance = solution.miss_distance;
+        record.message = Where(v, angle) + ": unreachable, misses by " + Number(solution.miss_distance) + " m";
+        records_.push_back(record);
+        return Event(record.message);
+      case StepResult::Outcome::kCollision:
+        record.outcome = "collision";
+        record.has_arm = true;
+        record.arm = result.arm;
+        record.message = Where(v, angle) + ": skipped, " + result.collision;
+        records_.push_back(record);
+        return Event(record.message, true);
+      case StepResult::Outcome::kCaptured: break;
+    }
+    record.outcome = "captured";
+    record.has_arm = true;
+    record.arm = result.arm;
+    record.points = result.cloud.size();
+    record.file = ScanArtifactName(r, v);
+    ASSIGN_OR_RETURN(const std::string ply, EncodePly(result.cloud, scratch_, record.file));
+    result.cloud = PointCloud();
+    ++captured_;
+    record.message = "scan " + std::to_string(captured_) + " captured (step " + std::to_string(step + 1) + " of " +
+                     std::to_string(plan_.steps_total()) + "): " + Where(v, angle) + ", " +
+                     std::to_string(record.points) + " points";
+    records_.push_back(record);
+    const v1::ScanArtifactInfo info = ScanInfo(record);
+    ASSIGN_OR_RETURN(const v1::Artifact artifact,
+                     tracker_.RecordArtifact(job_id_, record.file, kPlyMediaType, ply, &info,
+                                             Update(store::JobState::kRunning, record.message, true)));
+    records_.back().artifact_id = artifact.artifact_id();
+    return Status::Ok();
+  }
+
+  void WriteSummary(store::JobState state) {
+    const std::string json = CampaignSummaryJson(job_id_, StateName(state), plan_, records_);
+    auto written = tracker_.RecordArtifact(job_id_, "campaign.json", kJsonMediaType, json, nullptr,
+                                           Update(store::JobState::kRunning, "campaign.json written", false));
+    if (!written.ok()) spdlog::error("job {}: cannot store campaign.json: {}", job_id_, written.status().ToString());
+  }
+
+  ServiceContext& context_;
+  JobTracker& tracker_;
+  const std::string job_id_;
+  const CampaignPlan& plan_;
+  jobs::JobControl& control_;
+  const std::filesystem::path scratch_;
+  std::vector<CampaignStepRecord> records_;
+  uint32_t captured_ = 0;
+};
+
+}  // namespace
+
+store::JobState StoppedState(jobs::StopReason reason) {
+  return reason == jobs::StopReason::kCancelled ? store::JobState::kCancelled : store::JobState::kInterrupted;
+}
+
+std::string ScanArtifactName(uint32_t rotation, uint32_t viewpoint) {
+  char name[64];
+  std::snprintf(name, sizeof(name), "scan-r%02u-v%02u.ply", rotation, viewpoint);
+  return name;
+}
+
+void RunCampaign(ServiceContext& context, JobTracker& tracker, const std::string& job_id, const CampaignPlan& plan,
+                 jobs::JobControl& control) {
+  CampaignRun(context, tracker, job_id, plan, control).Run();
+}
+
+}  // namespace vscan::api

@@ -1,0 +1,70 @@
+#include "api/campaign_step.h"
+
+#include "api/robot_collision.h"
+#include "api/scan_backends.h"
+#include "api/scan_request.h"
+#include "api/scan_target.h"
+
+namespace vscan::api {
+namespace {
+
+constexpr double kIkTolerance = 1e-5;
+constexpr std::chrono::milliseconds kIkBudget{200};
+
+uint64_t SplitMix64(uint64_t x) {
+  x += 0x9e3779b97f4a7c15ull;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+
+}  // namespace
+
+uint64_t StepSeed(uint64_t campaign_seed, uint32_t step) { return SplitMix64(campaign_seed ^ SplitMix64(step)); }
+
+StatusOr<ViewpointSolution> SolveViewpoint(const robots::MountedRobot& mounted, const CampaignViewpoint& viewpoint) {
+  robots::IkSettings settings;
+  settings.position_tolerance = kIkTolerance;
+  settings.orientation_tolerance = kIkTolerance;
+  settings.time_budget = kIkBudget;
+  ASSIGN_OR_RETURN(const robots::IkAnswer answer,
+                   robots::SolveInPlacement(*mounted.chain, mounted.placement, viewpoint.goal, {}, settings));
+  ViewpointSolution solution;
+  solution.reached = answer.reached;
+  solution.miss_distance = answer.miss_distance;
+  solution.joints = answer.result.joint_positions;
+  return solution;
+}
+
+StatusOr<StepResult> RunStep(ServiceContext& context, const CampaignPlan& plan, const ViewpointSolution& solution,
+                             double table_angle_deg, uint64_t seed, const std::atomic<bool>* cancel) {
+  StepResult result;
+  result.seed = seed;
+  if (!solution.reached) {
+    result.outcome = StepResult::Outcome::kUnreachable;
+    return result;
+  }
+  ASSIGN_OR_RETURN(const ScanPlan scan,
+                   ParseScanRequest(StepScanRequest(plan.spec, solution.joints, table_angle_deg, seed),
+                                    context.options.limits, context.robots));
+  if (!scan.robot) return Internal("campaign: the step's scan plan has no robot placement");
+  result.arm.commanded = solution.joints;
+  result.arm.achieved = scan.robot->achieved_joint_positions;
+  result.arm.commanded_pose = scan.robot->commanded_world_from_sensor;
+  result.arm.achieved_pose = scan.world_from_sensor;
+  if (plan.spec.reject_collisions()) {
+    ASSIGN_OR_RETURN(const std::optional<std::string> collision,
+                     FindRobotCollision(context, plan.spec.mount_id(), result.arm.achieved, table_angle_deg));
+    if (collision) {
+      result.outcome = StepResult::Outcome::kCollision;
+      result.collision = *collision;
+      return result;
+    }
+  }
+  ASSIGN_OR_RETURN(const scenes::ScanTarget target, PrepareScanTarget(context, scan));
+  ASSIGN_OR_RETURN(result.cloud, RunScanBackend(scan, target, context.raster, cancel, &result.stats));
+  result.outcome = StepResult::Outcome::kCaptured;
+  return result;
+}
+
+}  // namespace vscan::api

@@ -1,0 +1,52 @@
+#include "api/job_convert.h"
+
+#include <google/protobuf/util/time_util.h>
+
+namespace vscan::api {
+
+v1::JobState ToProto(store::JobState state) {
+  switch (state) {
+    case store::JobState::kQueued: return v1::JOB_STATE_QUEUED;
+    case store::JobState::kRunning: return v1::JOB_STATE_RUNNING;
+    case store::JobState::kSucceeded: return v1::JOB_STATE_SUCCEEDED;
+    case store::JobState::kFailed: return v1::JOB_STATE_FAILED;
+    case store::JobState::kCancelled: return v1::JOB_STATE_CANCELLED;
+    case store::JobState::kInterrupted: return v1::JOB_STATE_INTERRUPTED;
+  }
+  return v1::JOB_STATE_UNSPECIFIED;
+}
+
+void SetTime(int64_t ms, google::protobuf::Timestamp* out) {
+  *out = google::protobuf::util::TimeUtil::MillisecondsToTimestamp(ms);
+}
+
+Status ToProto(const store::ArtifactRecord& artifact, v1::Artifact* out) {
+  out->set_artifact_id(artifact.artifact_id);
+  out->set_name(artifact.name);
+  out->set_media_type(artifact.media_type);
+  out->set_size_bytes(artifact.size_bytes);
+  if (!artifact.info.empty() && !out->mutable_scan()->ParseFromString(artifact.info)) {
+    return DataLoss("job catalogue: artifact '" + artifact.artifact_id + "' has an unreadable description");
+  }
+  return Status::Ok();
+}
+
+Status ToProto(const store::JobRecord& job, v1::Job* out) {
+  out->set_job_id(job.job_id);
+  out->set_kind(job.kind);
+  out->set_state(ToProto(job.state));
+  out->set_progress(job.steps_total ? static_cast<double>(job.steps_done) / job.steps_total
+                                    : (job.state == store::JobState::kSucceeded ? 1.0 : 0.0));
+  out->set_message(job.message);
+  out->set_steps_done(job.steps_done);
+  out->set_steps_total(job.steps_total);
+  SetTime(job.create_time_ms, out->mutable_create_time());
+  SetTime(job.update_time_ms, out->mutable_update_time());
+  if (job.kind == "campaign" && !out->mutable_campaign()->ParseFromString(job.spec)) {
+    return DataLoss("job catalogue: job '" + job.job_id + "' has an unreadable campaign spec");
+  }
+  for (const store::ArtifactRecord& artifact : job.artifacts) RETURN_IF_ERROR(ToProto(artifact, out->add_artifacts()));
+  return Status::Ok();
+}
+
+}  // namespace vscan::api

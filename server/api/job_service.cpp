@@ -1,0 +1,110 @@
+#include "api/job_service.h"
+
+#include <memory>
+
+#include <spdlog/spdlog.h>
+
+#include "api/campaign_run.h"
+#include "api/campaign_spec.h"
+#include "api/job_convert.h"
+#include "api/unary.h"
+#include "api/validate.h"
+
+namespace vscan::api {
+namespace {
+
+// "SUCCEEDED" for JOB_STATE_SUCCEEDED.
+std::string StateName(v1::JobState state) { return v1::JobState_Name(state).substr(10); }
+
+bool Ended(v1::JobState state) { return state != v1::JOB_STATE_QUEUED && state != v1::JOB_STATE_RUNNING; }
+
+}  // namespace
+
+grpc::ServerUnaryReactor* JobService::StartCampaign(grpc::CallbackServerContext* ctx,
+                                                    const v1::StartCampaignRequest* request,
+                                                    v1::StartCampaignResponse* response) {
+  return RunUnary(ctx, context_.options.token, "StartCampaign", [&]() -> Status {
+    if (!request->has_spec()) return InvalidArgument("spec: required");
+    ASSIGN_OR_RETURN(CampaignPlan validated, ValidateCampaign(request->spec(), context_));
+    const uint32_t max_queued = context_.options.limits.max_queued_jobs;
+    if (runner_.queued() >= max_queued) {
+      return ResourceExhausted("spec: " + std::to_string(max_queued) + " jobs already wait to run; retry later");
+    }
+    ASSIGN_OR_RETURN(v1::Job job, tracker_.CreateCampaign(request->spec(), validated.steps_total()));
+    const std::string job_id = job.job_id();
+    auto plan = std::make_shared<const CampaignPlan>(std::move(validated));
+    auto work = [this, job_id, plan](jobs::JobControl& control) {
+      try {
+        RunCampaign(context_, tracker_, job_id, *plan, control);
+      } catch (const std::exception& e) {
+        JobEventUpdate update;
+        update.state = store::JobState::kFailed;
+        update.message = std::string("unexpected error: ") + e.what();
+        const Status ended = tracker_.End(job_id, update);
+        if (!ended.ok()) spdlog::error("job {}: {}", job_id, ended.ToString());
+      }
+    };
+    auto dropped = [this, job_id](jobs::StopReason reason) {
+      JobEventUpdate update;
+      update.state = StoppedState(reason);
+      update.message = reason == jobs::StopReason::kCancelled ? "cancelled before it started"
+                                                              : "server stopped while the job ran";
+      const Status ended = tracker_.End(job_id, update);
+      if (!ended.ok()) spdlog::error("job {}: {}", job_id, ended.ToString());
+    };
+    if (!runner_.Submit(job_id, std::move(work), dropped, max_queued + 1)) {
+      dropped(jobs::StopReason::kShutdown);
+      return Unavailable("server is shutting down");
+    }
+    spdlog::info("job {}: campaign of {} scans queued", job_id, plan->steps_total());
+    *response->mutable_job() = std::move(job);
+    return Status::Ok();
+  });
+}
+
+grpc::ServerUnaryReactor* JobService::StartBinFill(grpc::CallbackServerContext* ctx, const v1::StartBinFillRequest*,
+                                                   v1::StartBinFillResponse*) {
+  return RunUnary(ctx, context_.options.token, "StartBinFill", [&]() -> Status {
+    return Unimplemented("StartBinFill: bin fills are not supported by this server version");
+  });
+}
+
+grpc::ServerUnaryReactor* JobService::GetJob(grpc::CallbackServerContext* ctx, const v1::GetJobRequest* request,
+                                             v1::GetJobResponse* response) {
+  return RunUnary(ctx, context_.options.token, "GetJob", [&]() -> Status {
+    RETURN_IF_ERROR(RequireId(request->job_id(), "job_id"));
+    ASSIGN_OR_RETURN(*response->mutable_job(), tracker_.Get(request->job_id()));
+    return Status::Ok();
+  });
+}
+
+grpc::ServerUnaryReactor* JobService::ListJobs(grpc::CallbackServerContext* ctx, const v1::ListJobsRequest* request,
+                                               v1::ListJobsResponse* response) {
+  return RunUnary(ctx, context_.options.token, "ListJobs", [&]() -> Status {
+    ASSIGN_OR_RETURN(int limit, PageSize(request->page_size(), context_.options.limits.max_page_size));
+    RETURN_IF_ERROR(CheckText(request->page_token(), "page_token", 64));
+    ASSIGN_OR_RETURN(auto jobs, tracker_.catalogue().ListJobs(request->page_token(), limit + 1));
+    const bool more = static_cast<int>(jobs.size()) > limit;
+    if (more) jobs.resize(limit);
+    for (const auto& job : jobs) RETURN_IF_ERROR(ToProto(job, response->add_jobs()));
+    if (more) response->set_next_page_token(jobs.back().job_id);
+    return Status::Ok();
+  });
+}
+
+grpc::ServerUnaryReactor* JobService::CancelJob(grpc::CallbackServerContext* ctx, const v1::CancelJobRequest* request,
+                                                v1::CancelJobResponse* response) {
+  return RunUnary(ctx, context_.options.token, "CancelJob", [&]() -> Status {
+    RETURN_IF_ERROR(RequireId(request->job_id(), "job_id"));
+    ASSIGN_OR_RETURN(const v1::Job before, tracker_.Get(request->job_id()));
+    if (Ended(before.state())) {
+      return FailedPrecondition("job_id: job '" + request->job_id() + "' has already ended (" +
+                                StateName(before.state()) + ")");
+    }
+    runner_.Cancel(request->job_id());
+    ASSIGN_OR_RETURN(*response->mutable_job(), tracker_.Get(request->job_id()));
+    return Status::Ok();
+  });
+}
+
+}  // namespace vscan::api

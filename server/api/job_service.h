@@ -1,0 +1,38 @@
+#pragma once
+// JobService: scan campaigns as durable jobs run by the job runner; get, list, cancel, watch them
+// and read what they produced.
+
+#include "api/job_tracker.h"
+#include "api/service_context.h"
+#include "jobs/job_runner.h"
+#include "vscan/v1/job.grpc.pb.h"
+
+namespace vscan::api {
+
+class JobService final : public v1::JobService::CallbackService {
+ public:
+  JobService(ServiceContext& context, JobTracker& tracker, jobs::JobRunner& runner)
+      : context_(context), tracker_(tracker), runner_(runner) {}
+
+  grpc::ServerUnaryReactor* StartCampaign(grpc::CallbackServerContext* ctx, const v1::StartCampaignRequest* request,
+                                          v1::StartCampaignResponse* response) override;
+  grpc::ServerUnaryReactor* StartBinFill(grpc::CallbackServerContext* ctx, const v1::StartBinFillRequest* request,
+                                         v1::StartBinFillResponse* response) override;
+  grpc::ServerUnaryReactor* GetJob(grpc::CallbackServerContext* ctx, const v1::GetJobRequest* request,
+                                   v1::GetJobResponse* response) override;
+  grpc::ServerUnaryReactor* ListJobs(grpc::CallbackServerContext* ctx, const v1::ListJobsRequest* request,
+                                     v1::ListJobsResponse* response) override;
+  grpc::ServerUnaryReactor* CancelJob(grpc::CallbackServerContext* ctx, const v1::CancelJobRequest* request,
+                                      v1::CancelJobResponse* response) override;
+  grpc::ServerWriteReactor<v1::WatchJobResponse>* WatchJob(grpc::CallbackServerContext* ctx,
+                                                           const v1::WatchJobRequest* request) override;
+  grpc::ServerWriteReactor<v1::ReadArtifactResponse>* ReadArtifact(grpc::CallbackServerContext* ctx,
+                                                                   const v1::ReadArtifactRequest* request) override;
+
+ private:
+  ServiceContext& context_;
+  JobTracker& tracker_;
+  jobs::JobRunner& runner_;
+};
+
+}  // namespace vscan::api

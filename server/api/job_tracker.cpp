@@ -1,0 +1,176 @@
+#include "api/job_tracker.h"
+
+#include <algorithm>
+
+#include "api/job_convert.h"
+#include "store/ids.h"
+
+namespace vscan::api {
+namespace {
+
+double Progress(uint32_t done, uint32_t total) { return total ? static_cast<double>(done) / total : 0.0; }
+
+}  // namespace
+
+v1::Job LiveJob::Snapshot() const {
+  std::lock_guard lock(mutex_);
+  return job_;
+}
+
+v1::Job LiveJob::Attach(JobWatcher* watcher, uint64_t* next_sequence) {
+  std::lock_guard lock(mutex_);
+  if (!ended_) watchers_.push_back(watcher);
+  *next_sequence = events_.size() + 1;
+  return job_;
+}
+
+void LiveJob::Detach(JobWatcher* watcher) {
+  std::lock_guard lock(mutex_);
+  watchers_.erase(std::remove(watchers_.begin(), watchers_.end(), watcher), watchers_.end());
+}
+
+LiveJob::Next LiveJob::Get(uint64_t sequence, v1::WatchJobResponse* out) const {
+  std::lock_guard lock(mutex_);
+  if (sequence >= 1 && sequence <= events_.size()) {
+    *out = events_[sequence - 1];
+    return Next::kReady;
+  }
+  return ended_ ? Next::kEnded : Next::kWait;
+}
+
+uint64_t LiveJob::next_sequence() const {
+  std::lock_guard lock(mutex_);
+  return events_.size() + 1;
+}
+
+void LiveJob::Publish(v1::WatchJobResponse response, std::optional<v1::Artifact> artifact, bool ended) {
+  std::vector<JobWatcher*> watchers;
+  {
+    std::lock_guard lock(mutex_);
+    const v1::Job& slim = response.job();
+    job_.set_state(slim.state());
+    job_.set_progress(slim.progress());
+    job_.set_message(slim.message());
+    job_.set_steps_done(slim.steps_done());
+    *job_.mutable_update_time() = slim.update_time();
+    if (artifact) *job_.add_artifacts() = std::move(*artifact);
+    events_.push_back(std::move(response));
+    ended_ = ended;
+    watchers = watchers_;
+    for (JobWatcher* w : watchers) w->Ref();
+    if (ended) watchers_.clear();
+  }
+  for (JobWatcher* w : watchers) {
+    w->OnJobEvent();
+    w->Unref();
+  }
+}
+
+StatusOr<v1::Job> JobTracker::CreateCampaign(const v1::CampaignSpec& spec, uint32_t steps_total) {
+  store::JobRecord record;
+  record.kind = "campaign";
+  record.state = store::JobState::kQueued;
+  record.name = spec.name();
+  record.spec = spec.SerializeAsString();
+  record.message = "queued";
+  record.steps_total = steps_total;
+  ASSIGN_OR_RETURN(record, catalogue_.InsertJob(std::move(record)));
+  v1::Job job;
+  RETURN_IF_ERROR(ToProto(record, &job));
+  std::lock_guard lock(mutex_);
+  live_[job.job_id()] = std::make_shared<LiveJob>(job);
+  return job;
+}
+
+std::shared_ptr<LiveJob> JobTracker::Live(const std::string& job_id) {
+  std::lock_guard lock(mutex_);
+  auto it = live_.find(job_id);
+  return it == live_.end() ? nullptr : it->second;
+}
+
+StatusOr<v1::Job> JobTracker::Get(const std::string& job_id) {
+  if (auto live = Live(job_id)) return live->Snapshot();
+  ASSIGN_OR_RETURN(const store::JobRecord record, catalogue_.GetJob(job_id));
+  v1::Job job;
+  RETURN_IF_ERROR(ToProto(record, &job));
+  return job;
+}
+
+StatusOr<std::shared_ptr<LiveJob>> JobTracker::RequireLive(const std::string& job_id) {
+  auto live = Live(job_id);
+  if (!live) return FailedPrecondition("job_id: job '" + job_id + "' is not running");
+  return live;
+}
+
+v1::WatchJobResponse JobTracker::MakeEvent(const std::shared_ptr<LiveJob>& live, const JobEventUpdate& update,
+                                           uint64_t sequence, int64_t now_ms) const {
+  const v1::Job current = [&] {
+    std::lock_guard lock(live->mutex_);
+    v1::Job slim;
+    slim.set_job_id(live->job_.job_id());
+    slim.set_kind(live->job_.kind());
+    slim.set_steps_total(live->job_.steps_total());
+    *slim.mutable_create_time() = live->job_.create_time();
+    return slim;
+  }();
+  v1::WatchJobResponse response;
+  v1::Job* job = response.mutable_job();
+  *job = current;
+  job->set_state(ToProto(update.state));
+  job->set_steps_done(update.steps_done);
+  job->set_progress(Progress(update.steps_done, job->steps_total()));
+  job->set_message(update.message);
+  SetTime(now_ms, job->mutable_update_time());
+  v1::JobEvent* event = response.mutable_event();
+  event->set_sequence(sequence);
+  SetTime(now_ms, event->mutable_time());
+  event->set_message(update.message);
+  event->set_step(update.step);
+  event->set_pose_reached(update.pose_reached);
+  return response;
+}
+
+Status JobTracker::Record(const std::string& job_id, const JobEventUpdate& update) {
+  ASSIGN_OR_RETURN(auto live, RequireLive(job_id));
+  const uint64_t sequence = live->next_sequence();
+  RETURN_IF_ERROR(catalogue_.UpdateProgress(job_id, {update.state, update.message, update.steps_done, sequence}));
+  live->Publish(MakeEvent(live, update, sequence, store::NowMs()), std::nullopt, false);
+  return Status::Ok();
+}
+
+StatusOr<v1::Artifact> JobTracker::RecordArtifact(const std::string& job_id, const std::string& name,
+                                                  const std::string& media_type, const std::string& bytes,
+                                                  const v1::ScanArtifactInfo* info, const JobEventUpdate& update) {
+  ASSIGN_OR_RETURN(auto live, RequireLive(job_id));
+  ASSIGN_OR_RETURN(const std::string sha256, blobs_.Put(bytes));
+  store::ArtifactRecord record;
+  record.job_id = job_id;
+  record.name = name;
+  record.media_type = media_type;
+  record.sha256 = sha256;
+  record.size_bytes = bytes.size();
+  if (info) record.info = info->SerializeAsString();
+  const uint64_t sequence = live->next_sequence();
+  ASSIGN_OR_RETURN(record, catalogue_.AddArtifact(std::move(record),
+                                                  {update.state, update.message, update.steps_done, sequence}));
+  v1::Artifact artifact;
+  RETURN_IF_ERROR(ToProto(record, &artifact));
+  v1::WatchJobResponse response = MakeEvent(live, update, sequence, record.create_time_ms);
+  *response.mutable_event()->mutable_artifact() = artifact;
+  live->Publish(std::move(response), artifact, false);
+  return artifact;
+}
+
+Status JobTracker::End(const std::string& job_id, const JobEventUpdate& update) {
+  if (!store::IsFinal(update.state)) return Internal("job " + job_id + ": End needs a final state");
+  ASSIGN_OR_RETURN(auto live, RequireLive(job_id));
+  const uint64_t sequence = live->next_sequence();
+  const Status stored = catalogue_.UpdateProgress(job_id, {update.state, update.message, update.steps_done, sequence});
+  // Watchers learn of the end even when it could not be stored; a restart then reports INTERRUPTED.
+  live->Publish(MakeEvent(live, update, sequence, store::NowMs()), std::nullopt, true);
+  std::lock_guard lock(mutex_);
+  live_.erase(job_id);
+  return stored;
+}
+
+}  // namespace vscan::api

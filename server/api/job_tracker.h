@@ -1,0 +1,111 @@
+#pragma once
+// The state of every job: durable rows in the job catalogue, and for jobs that have not ended an
+// in-memory event log that watchers follow. Every change is written to the catalogue before it is
+// published, so whatever a client saw survives a crash.
+
+#include <atomic>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "store/blob_store.h"
+#include "store/job_catalogue.h"
+#include "vscan/v1/job.pb.h"
+
+namespace vscan::api {
+
+// Something that follows a live job (a WatchJob call). The tracker calls OnJobEvent after each
+// event without holding its locks; the watcher then pulls with LiveJob::Next. Reference counted
+// so that a notification in flight keeps it alive; the owner drops the first reference.
+class JobWatcher {
+ public:
+  virtual void OnJobEvent() = 0;
+  void Ref() { refs_.fetch_add(1); }
+  void Unref() {
+    if (refs_.fetch_sub(1) == 1) delete this;
+  }
+
+ protected:
+  virtual ~JobWatcher() = default;
+
+ private:
+  std::atomic<int> refs_{1};
+};
+
+// One job that has not ended (or just ended, while watchers drain it).
+class LiveJob {
+ public:
+  explicit LiveJob(v1::Job job) : job_(std::move(job)) {}
+
+  // The whole job as it is now.
+  v1::Job Snapshot() const;
+  // Registers a watcher and returns the job as it is plus the sequence of the next event.
+  v1::Job Attach(JobWatcher* watcher, uint64_t* next_sequence);
+  void Detach(JobWatcher* watcher);
+
+  enum class Next { kReady, kWait, kEnded };
+  // kReady with *out the event of that sequence; kEnded when the job ended and no event remains.
+  Next Get(uint64_t sequence, v1::WatchJobResponse* out) const;
+  uint64_t next_sequence() const;
+
+ private:
+  friend class JobTracker;
+  // Applies an event to the job, appends it, and tells the watchers.
+  void Publish(v1::WatchJobResponse response, std::optional<v1::Artifact> artifact, bool ended);
+
+  mutable std::mutex mutex_;
+  v1::Job job_;
+  std::vector<v1::WatchJobResponse> events_;  // events_[i] has sequence i + 1
+  bool ended_ = false;
+  std::vector<JobWatcher*> watchers_;
+};
+
+// What one event changes.
+struct JobEventUpdate {
+  store::JobState state = store::JobState::kRunning;
+  std::string message;
+  uint32_t steps_done = 0;
+  uint32_t step = 0;
+  bool pose_reached = false;
+};
+
+class JobTracker {
+ public:
+  JobTracker(store::JobCatalogue& catalogue, store::BlobStore& blobs) : catalogue_(catalogue), blobs_(blobs) {}
+
+  store::JobCatalogue& catalogue() { return catalogue_; }
+  store::BlobStore& blobs() { return blobs_; }
+
+  // Records a QUEUED job and keeps it live.
+  StatusOr<v1::Job> CreateCampaign(const v1::CampaignSpec& spec, uint32_t steps_total);
+  // The job as it is: from memory while live, else from the catalogue.
+  StatusOr<v1::Job> Get(const std::string& job_id);
+  // Null once the job has ended.
+  std::shared_ptr<LiveJob> Live(const std::string& job_id);
+
+  // Persists the event, then publishes it.
+  Status Record(const std::string& job_id, const JobEventUpdate& update);
+  // Stores bytes as a blob (durable), records the artifact with the event, then publishes it.
+  StatusOr<v1::Artifact> RecordArtifact(const std::string& job_id, const std::string& name,
+                                        const std::string& media_type, const std::string& bytes,
+                                        const v1::ScanArtifactInfo* info, const JobEventUpdate& update);
+  // The final event: update.state must be final. The job stops being live.
+  Status End(const std::string& job_id, const JobEventUpdate& update);
+
+ private:
+  StatusOr<std::shared_ptr<LiveJob>> RequireLive(const std::string& job_id);
+  v1::WatchJobResponse MakeEvent(const std::shared_ptr<LiveJob>& live, const JobEventUpdate& update,
+                                 uint64_t sequence, int64_t now_ms) const;
+
+  store::JobCatalogue& catalogue_;
+  store::BlobStore& blobs_;
+  std::mutex mutex_;
+  // Each job has one writer at a time (its runner thread, or whoever drops it from the queue).
+  std::map<std::string, std::shared_ptr<LiveJob>> live_;
+};
+
+}  // namespace vscan::api

@@ -1,0 +1,118 @@
+// JobService.WatchJob: the job as it is, then one response per event until the job ends.
+
+#include <mutex>
+
+#include <spdlog/spdlog.h>
+
+#include "api/auth.h"
+#include "api/job_service.h"
+#include "api/validate.h"
+#include "vscan/common/grpc_status.h"
+
+namespace vscan::api {
+namespace {
+
+// Follows a live job as a JobWatcher: the tracker pokes it after each event and it pulls the next
+// one whenever no write is in flight. Writes and Finish happen outside its lock.
+class WatchReactor final : public grpc::ServerWriteReactor<v1::WatchJobResponse>, public JobWatcher {
+ public:
+  WatchReactor(grpc::CallbackServerContext* ctx, const v1::WatchJobRequest& request, const std::string& token,
+               JobTracker& tracker) {
+    Status status = CheckToken(*ctx, token);
+    if (status.ok()) status = RequireId(request.job_id(), "job_id");
+    if (!status.ok()) {
+      Fail(status);
+      return;
+    }
+    writing_ = true;
+    live_ = tracker.Live(request.job_id());
+    if (live_) {
+      *response_.mutable_job() = live_->Attach(this, &next_);
+      attached_ = true;
+    } else {
+      auto job = tracker.Get(request.job_id());
+      if (!job.ok()) {
+        Fail(job.status());
+        return;
+      }
+      *response_.mutable_job() = std::move(job).value();
+    }
+    StartWrite(&response_);
+  }
+
+  void OnJobEvent() override { Pump(); }
+
+  void OnWriteDone(bool ok) override {
+    {
+      std::lock_guard lock(mutex_);
+      writing_ = false;
+      if (!ok) {
+        finished_ = true;
+      }
+    }
+    if (!ok) {
+      Finish(grpc::Status(grpc::StatusCode::CANCELLED, "watcher went away"));
+      return;
+    }
+    Pump();
+  }
+
+  void OnCancel() override {
+    {
+      std::lock_guard lock(mutex_);
+      if (writing_ || finished_) return;  // a write in flight fails and finishes the call
+      finished_ = true;
+    }
+    Finish(grpc::Status(grpc::StatusCode::CANCELLED, "watch cancelled"));
+  }
+
+  void OnDone() override {
+    if (attached_) live_->Detach(this);
+    Unref();
+  }
+
+ private:
+  void Fail(const Status& status) {
+    spdlog::info("WatchJob -> {}", status.ToString());
+    finished_ = true;
+    Finish(ToGrpc(status));
+  }
+
+  void Pump() {
+    bool write = false;
+    {
+      std::lock_guard lock(mutex_);
+      if (writing_ || finished_) return;
+      const LiveJob::Next next = live_ ? live_->Get(next_, &response_) : LiveJob::Next::kEnded;
+      if (next == LiveJob::Next::kWait) return;
+      if (next == LiveJob::Next::kReady) {
+        ++next_;
+        writing_ = write = true;
+      } else {
+        finished_ = true;
+      }
+    }
+    if (write) {
+      StartWrite(&response_);
+    } else {
+      Finish(grpc::Status::OK);
+    }
+  }
+
+  std::mutex mutex_;
+  std::shared_ptr<LiveJob> live_;
+  bool attached_ = false;
+  bool writing_ = false;
+  bool finished_ = false;
+  uint64_t next_ = 1;
+  v1::WatchJobResponse response_;
+};
+
+}  // namespace
+
+grpc::ServerWriteReactor<v1::WatchJobResponse>* JobService::WatchJob(grpc::CallbackServerContext* ctx,
+                                                                     const v1::WatchJobRequest* request) {
+  return new WatchReactor(ctx, *request, context_.options.token, tracker_);
+}
+
+}  // namespace vscan::api

@@ -1,0 +1,273 @@
+#include "store/job_catalogue.h"
+
+#include <algorithm>
+
+#include "store/ids.h"
+#include "store/sqlite_statement.h"
+
+namespace vscan::store {
+namespace {
+
+using sqlite::Statement;
+
+constexpr int kBusyTimeoutMs = 5000;
+constexpr int kMaxListLimit = 1000;
+
+// Each statement is idempotent, so opening an existing database changes nothing.
+constexpr std::string_view kSchema[] = {
+    R"sql(CREATE TABLE IF NOT EXISTS jobs (
+  job_id TEXT PRIMARY KEY NOT NULL,
+  kind TEXT NOT NULL,
+  state INTEGER NOT NULL,
+  name TEXT NOT NULL,
+  spec BLOB NOT NULL,
+  message TEXT NOT NULL,
+  steps_done INTEGER NOT NULL,
+  steps_total INTEGER NOT NULL,
+  last_sequence INTEGER NOT NULL,
+  create_time_ms INTEGER NOT NULL,
+  update_time_ms INTEGER NOT NULL
+))sql",
+    "CREATE INDEX IF NOT EXISTS jobs_by_state ON jobs(state)",
+    R"sql(CREATE TABLE IF NOT EXISTS job_artifacts (
+  artifact_id TEXT PRIMARY KEY NOT NULL,
+  job_id TEXT NOT NULL REFERENCES jobs(job_id) ON DELETE CASCADE,
+  ordinal INTEGER NOT NULL,
+  name TEXT NOT NULL,
+  media_type TEXT NOT NULL,
+  sha256 TEXT NOT NULL,
+  size_bytes INTEGER NOT NULL,
+  info BLOB NOT NULL,
+  create_time_ms INTEGER NOT NULL,
+  UNIQUE (job_id, ordinal)
+))sql",
+    "CREATE INDEX IF NOT EXISTS job_artifacts_by_sha256 ON job_artifacts(sha256)",
+};
+
+constexpr std::string_view kJobColumns =
+    "job_id, kind, state, name, spec, message, steps_done, steps_total, last_sequence, create_time_ms, update_time_ms";
+constexpr std::string_view kArtifactColumns =
+    "artifact_id, job_id, ordinal, name, media_type, sha256, size_bytes, info, create_time_ms";
+
+std::string Select(std::string_view columns, std::string_view table, std::string_view where) {
+  std::string sql = "SELECT ";
+  sql.append(columns).append(" FROM ").append(table).append(" ").append(where);
+  return sql;
+}
+
+StatusOr<JobState> StateFromInt(int64_t value, const std::string& job_id) {
+  if (value < static_cast<int>(JobState::kQueued) || value > static_cast<int>(JobState::kInterrupted)) {
+    return DataLoss("job catalogue: job '" + job_id + "' has unknown state " + std::to_string(value));
+  }
+  return static_cast<JobState>(value);
+}
+
+StatusOr<JobRecord> ReadJob(const Statement& s) {
+  JobRecord j;
+  j.job_id = s.Text(0);
+  j.kind = s.Text(1);
+  ASSIGN_OR_RETURN(j.state, StateFromInt(s.Int(2), j.job_id));
+  j.name = s.Text(3);
+  j.spec = std::string(s.Blob(4));
+  j.message = s.Text(5);
+  j.steps_done = static_cast<uint32_t>(s.Int(6));
+  j.steps_total = static_cast<uint32_t>(s.Int(7));
+  j.last_sequence = static_cast<uint64_t>(s.Int(8));
+  j.create_time_ms = s.Int(9);
+  j.update_time_ms = s.Int(10);
+  return j;
+}
+
+ArtifactRecord ReadArtifact(const Statement& s) {
+  ArtifactRecord a;
+  a.artifact_id = s.Text(0);
+  a.job_id = s.Text(1);
+  a.ordinal = static_cast<uint32_t>(s.Int(2));
+  a.name = s.Text(3);
+  a.media_type = s.Text(4);
+  a.sha256 = s.Text(5);
+  a.size_bytes = static_cast<uint64_t>(s.Int(6));
+  a.info = std::string(s.Blob(7));
+  a.create_time_ms = s.Int(8);
+  return a;
+}
+
+Status JobNotFound(const std::string& job_id) { return NotFound("job_id: no job '" + job_id + "'"); }
+
+Status ReadArtifacts(sqlite3* db, JobRecord& job) {
+  ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db, Select(kArtifactColumns, "job_artifacts",
+                                                              "WHERE job_id = ?1 ORDER BY ordinal")));
+  s.Bind(1, job.job_id);
+  for (;;) {
+    ASSIGN_OR_RETURN(bool row, s.Step());
+    if (!row) return Status::Ok();
+    job.artifacts.push_back(ReadArtifact(s));
+  }
+}
+
+Status Configure(sqlite3* db) {
+  int rc = sqlite3_busy_timeout(db, kBusyTimeoutMs);
+  if (rc != SQLITE_OK) return sqlite::Error(db, rc, "busy_timeout");
+  {
+    // Finalized before the transaction below: a live statement would block its COMMIT.
+    ASSIGN_OR_RETURN(Statement wal, Statement::Prepare(db, "PRAGMA journal_mode = WAL"));
+    ASSIGN_OR_RETURN(bool row, wal.Step());
+    if (!row || wal.Text(0) != "wal") return Unavailable("job catalogue: the database cannot use WAL journaling");
+  }
+  RETURN_IF_ERROR(sqlite::Exec(db, "PRAGMA synchronous = FULL"));
+  RETURN_IF_ERROR(sqlite::Exec(db, "PRAGMA foreign_keys = ON"));
+  return sqlite::InTransaction(db, true, [&]() -> Status {
+    for (std::string_view sql : kSchema) RETURN_IF_ERROR(sqlite::Exec(db, sql));
+    return Status::Ok();
+  });
+}
+
+}  // namespace
+
+bool IsFinal(JobState state) { return state != JobState::kQueued && state != JobState::kRunning; }
+
+JobCatalogue::JobCatalogue(sqlite3* db) : db_(db) {}
+
+JobCatalogue::~JobCatalogue() { sqlite3_close_v2(db_); }
+
+StatusOr<std::unique_ptr<JobCatalogue>> JobCatalogue::Open(const std::filesystem::path& db_path) {
+  sqlite3* db = nullptr;
+  const int rc = sqlite3_open_v2(db_path.c_str(), &db,
+                                 SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX, nullptr);
+  // The object owns the handle from here on, so every early return closes it.
+  std::unique_ptr<JobCatalogue> catalogue(new JobCatalogue(db));
+  if (rc != SQLITE_OK) return sqlite::Error(db, rc, "open '" + db_path.string() + "'");
+  RETURN_IF_ERROR(Configure(db));
+  return catalogue;
+}
+
+StatusOr<int> JobCatalogue::InterruptUnfinished(const std::string& message) {
+  std::lock_guard lock(mutex_);
+  int changed = 0;
+  RETURN_IF_ERROR(sqlite::InTransaction(db_, true, [&]() -> Status {
+    ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_,
+                                                     "UPDATE jobs SET state = ?1, message = ?2, update_time_ms = ?3 "
+                                                     "WHERE state IN (?4, ?5)"));
+    s.Bind(1, int64_t{static_cast<int>(JobState::kInterrupted)}).Bind(2, message).Bind(3, NowMs());
+    s.Bind(4, int64_t{static_cast<int>(JobState::kQueued)}).Bind(5, int64_t{static_cast<int>(JobState::kRunning)});
+    RETURN_IF_ERROR(s.Run());
+    changed = sqlite3_changes(db_);
+    return Status::Ok();
+  }));
+  return changed;
+}
+
+StatusOr<JobRecord> JobCatalogue::InsertJob(JobRecord job) {
+  if (job.kind.empty()) return InvalidArgument("kind: required");
+  std::lock_guard lock(mutex_);
+  job.job_id = NewId("job_");
+  job.create_time_ms = NowMs();
+  job.update_time_ms = job.create_time_ms;
+  job.artifacts.clear();
+  RETURN_IF_ERROR(sqlite::InTransaction(db_, true, [&]() -> Status {
+    std::string sql = "INSERT INTO jobs (";
+    sql.append(kJobColumns).append(") VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11)");
+    ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_, sql));
+    s.Bind(1, job.job_id).Bind(2, job.kind).Bind(3, int64_t{static_cast<int>(job.state)}).Bind(4, job.name);
+    s.BindBlob(5, job.spec).Bind(6, job.message).Bind(7, int64_t{job.steps_done}).Bind(8, int64_t{job.steps_total});
+    s.Bind(9, static_cast<int64_t>(job.last_sequence)).Bind(10, job.create_time_ms).Bind(11, job.update_time_ms);
+    return s.Run();
+  }));
+  return job;
+}
+
+StatusOr<JobRecord> JobCatalogue::GetJob(const std::string& job_id) {
+  std::lock_guard lock(mutex_);
+  JobRecord job;
+  RETURN_IF_ERROR(sqlite::InTransaction(db_, false, [&]() -> Status {
+    ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_, Select(kJobColumns, "jobs", "WHERE job_id = ?1")));
+    s.Bind(1, job_id);
+    ASSIGN_OR_RETURN(bool row, s.Step());
+    if (!row) return JobNotFound(job_id);
+    ASSIGN_OR_RETURN(job, ReadJob(s));
+    return ReadArtifacts(db_, job);
+  }));
+  return job;
+}
+
+StatusOr<std::vector<JobRecord>> JobCatalogue::ListJobs(const std::string& after_id, int limit) {
+  if (limit <= 0) return InvalidArgument("limit: must be positive, got " + std::to_string(limit));
+  std::lock_guard lock(mutex_);
+  std::vector<JobRecord> jobs;
+  RETURN_IF_ERROR(sqlite::InTransaction(db_, false, [&]() -> Status {
+    ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_, Select(kJobColumns, "jobs",
+                                                                "WHERE job_id > ?1 ORDER BY job_id LIMIT ?2")));
+    s.Bind(1, after_id).Bind(2, int64_t{std::min(limit, kMaxListLimit)});
+    for (;;) {
+      ASSIGN_OR_RETURN(bool row, s.Step());
+      if (!row) break;
+      ASSIGN_OR_RETURN(JobRecord job, ReadJob(s));
+      jobs.push_back(std::move(job));
+    }
+    for (JobRecord& job : jobs) RETURN_IF_ERROR(ReadArtifacts(db_, job));
+    return Status::Ok();
+  }));
+  return jobs;
+}
+
+Status JobCatalogue::UpdateProgressLocked(const std::string& job_id, const JobProgress& progress, int64_t now_ms) {
+  ASSIGN_OR_RETURN(Statement find, Statement::Prepare(db_, "SELECT state FROM jobs WHERE job_id = ?1"));
+  find.Bind(1, job_id);
+  ASSIGN_OR_RETURN(bool found, find.Step());
+  if (!found) return JobNotFound(job_id);
+  ASSIGN_OR_RETURN(const JobState current, StateFromInt(find.Int(0), job_id));
+  if (IsFinal(current)) return FailedPrecondition("job_id: job '" + job_id + "' has already ended");
+  ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_,
+                                                   "UPDATE jobs SET state = ?2, message = ?3, steps_done = ?4, "
+                                                   "last_sequence = ?5, update_time_ms = ?6 WHERE job_id = ?1"));
+  s.Bind(1, job_id).Bind(2, int64_t{static_cast<int>(progress.state)}).Bind(3, progress.message);
+  s.Bind(4, int64_t{progress.steps_done}).Bind(5, static_cast<int64_t>(progress.sequence)).Bind(6, now_ms);
+  return s.Run();
+}
+
+Status JobCatalogue::UpdateProgress(const std::string& job_id, const JobProgress& progress) {
+  std::lock_guard lock(mutex_);
+  return sqlite::InTransaction(db_, true, [&]() { return UpdateProgressLocked(job_id, progress, NowMs()); });
+}
+
+StatusOr<ArtifactRecord> JobCatalogue::AddArtifact(ArtifactRecord artifact, const JobProgress& progress) {
+  if (artifact.sha256.size() != 64) return InvalidArgument("sha256: not a SHA-256 hex digest");
+  std::lock_guard lock(mutex_);
+  artifact.artifact_id = NewId("art_");
+  artifact.create_time_ms = NowMs();
+  RETURN_IF_ERROR(sqlite::InTransaction(db_, true, [&]() -> Status {
+    RETURN_IF_ERROR(UpdateProgressLocked(artifact.job_id, progress, artifact.create_time_ms));
+    ASSIGN_OR_RETURN(Statement next, Statement::Prepare(db_,
+                                                        "SELECT coalesce(max(ordinal) + 1, 0) FROM job_artifacts "
+                                                        "WHERE job_id = ?1"));
+    next.Bind(1, artifact.job_id);
+    ASSIGN_OR_RETURN(bool row, next.Step());
+    artifact.ordinal = row ? static_cast<uint32_t>(next.Int(0)) : 0;
+    std::string sql = "INSERT INTO job_artifacts (";
+    sql.append(kArtifactColumns).append(") VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9)");
+    ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_, sql));
+    s.Bind(1, artifact.artifact_id).Bind(2, artifact.job_id).Bind(3, int64_t{artifact.ordinal});
+    s.Bind(4, artifact.name).Bind(5, artifact.media_type).Bind(6, artifact.sha256);
+    s.Bind(7, static_cast<int64_t>(artifact.size_bytes)).BindBlob(8, artifact.info).Bind(9, artifact.create_time_ms);
+    return s.Run();
+  }));
+  return artifact;
+}
+
+StatusOr<ArtifactRecord> JobCatalogue::GetArtifact(const std::string& job_id, const std::string& artifact_id) {
+  std::lock_guard lock(mutex_);
+  {
+    ASSIGN_OR_RETURN(Statement job, Statement::Prepare(db_, "SELECT 1 FROM jobs WHERE job_id = ?1"));
+    job.Bind(1, job_id);
+    ASSIGN_OR_RETURN(bool found, job.Step());
+    if (!found) return JobNotFound(job_id);
+  }
+  ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_, Select(kArtifactColumns, "job_artifacts",
+                                                              "WHERE job_id = ?1 AND artifact_id = ?2")));
+  s.Bind(1, job_id).Bind(2, artifact_id);
+  ASSIGN_OR_RETURN(bool row, s.Step());
+  if (!row) return NotFound("artifact_id: job '" + job_id + "' has no artifact '" + artifact_id + "'");
+  return ReadArtifact(s);
+}
+
+}  // namespace vscan::store

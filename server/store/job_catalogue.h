@@ -1,0 +1,91 @@
+#pragma once
+// The durable record of long-running jobs and the files they produced. Lives in the catalogue's
+// SQLite file (its own connection: WAL, synchronous=FULL, foreign keys on). Every mutation is one
+// transaction. A job's request and an artifact's description are stored as opaque bytes (the
+// serialized wire messages), so this layer needs no protobuf. Thread-safe (one connection behind a
+// mutex).
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "vscan/common/status.h"
+
+struct sqlite3;
+
+namespace vscan::store {
+
+// Job states, numbered as v1::JobState.
+enum class JobState : int { kQueued = 1, kRunning = 2, kSucceeded = 3, kFailed = 4, kCancelled = 5, kInterrupted = 6 };
+
+bool IsFinal(JobState state);
+
+struct ArtifactRecord {
+  std::string artifact_id;
+  std::string job_id;
+  uint32_t ordinal = 0;  // order of creation within the job, from 0
+  std::string name;
+  std::string media_type;
+  std::string sha256;  // blob holding the bytes
+  uint64_t size_bytes = 0;
+  std::string info;  // serialized description (v1::ScanArtifactInfo for campaign scans), may be empty
+  int64_t create_time_ms = 0;
+};
+
+struct JobRecord {
+  std::string job_id;
+  std::string kind;
+  JobState state = JobState::kQueued;
+  std::string name;
+  std::string spec;  // the serialized request it was started with
+  std::string message;
+  uint32_t steps_done = 0;
+  uint32_t steps_total = 0;
+  uint64_t last_sequence = 0;  // sequence of the latest event
+  int64_t create_time_ms = 0;
+  int64_t update_time_ms = 0;
+  std::vector<ArtifactRecord> artifacts;  // by ordinal
+};
+
+// What an event changes in a job's row.
+struct JobProgress {
+  JobState state = JobState::kRunning;
+  std::string message;
+  uint32_t steps_done = 0;
+  uint64_t sequence = 0;
+};
+
+class JobCatalogue {
+ public:
+  ~JobCatalogue();
+  // Opens the database file, creating the job tables when missing.
+  static StatusOr<std::unique_ptr<JobCatalogue>> Open(const std::filesystem::path& db_path);
+
+  // Jobs still QUEUED or RUNNING (left by a server that stopped) become INTERRUPTED with message.
+  // Returns how many changed.
+  StatusOr<int> InterruptUnfinished(const std::string& message);
+
+  // ids are generated ("job_" + 16 hex digits); the record comes back with id and times set.
+  StatusOr<JobRecord> InsertJob(JobRecord job);
+  // With its artifacts.
+  StatusOr<JobRecord> GetJob(const std::string& job_id);
+  // Ordered by id; ids greater than after_id; at most limit (1..1000).
+  StatusOr<std::vector<JobRecord>> ListJobs(const std::string& after_id, int limit);
+  // NOT_FOUND for an unknown job; FAILED_PRECONDITION when the job already ended.
+  Status UpdateProgress(const std::string& job_id, const JobProgress& progress);
+  // Records an artifact (id generated, "art_" + 16 hex) and the job's progress in one transaction.
+  // The blob it names must already be durable.
+  StatusOr<ArtifactRecord> AddArtifact(ArtifactRecord artifact, const JobProgress& progress);
+  StatusOr<ArtifactRecord> GetArtifact(const std::string& job_id, const std::string& artifact_id);
+
+ private:
+  explicit JobCatalogue(sqlite3* db);
+  Status UpdateProgressLocked(const std::string& job_id, const JobProgress& progress, int64_t now_ms);
+  std::mutex mutex_;
+  sqlite3* db_;
+};
+
+}  // namespace vscan::store
