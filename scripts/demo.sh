@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
-# The main job: set up, build, start vscand on the embedded defaults, scan the Stanford bunny on a
-# turning table from a few poses, and leave binary PLY files and a summary in vscan-demo/.
+# The main job: set up, build, start vscand on the embedded defaults, run a scan campaign of the
+# Stanford bunny on a turntable with a UR5-held camera, and leave binary PLY files and a summary in
+# vscan-demo/.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 OUT="${VSCAN_DEMO_DIR:-$ROOT/vscan-demo}"
@@ -9,8 +10,8 @@ BIN="$ROOT/build/${VSCAN_PRESET:-release}"
 "$ROOT/scripts/install-deps.sh"
 "$ROOT/scripts/build.sh" --target vscand vscan
 
-rm -rf "$OUT/scans" "$OUT/port"
-mkdir -p "$OUT/scans"
+rm -rf "$OUT/port"
+mkdir -p "$OUT"
 "$BIN/server/vscand" --listen 127.0.0.1:0 --port-file "$OUT/port" --data-dir "$OUT/data" \
   2>"$OUT/vscand.log" &
 SERVER_PID=$!
@@ -21,30 +22,38 @@ export VSCAN_SERVER="127.0.0.1:$(cat "$OUT/port")"
 vscan() { "$BIN/client/cli/vscan" "$@"; }
 
 vscan health
-MESH=$(vscan -q mesh upload "$ROOT/data/meshes/bunny/bunny_zipper_res2.ply" --unit m --name bunny)
-SCENE=$(vscan -q scene create bunny-demo)
-vscan -q object add "$SCENE" "$MESH" --label bunny --on-table >/dev/null
-# The bunny stands with +Y up; the table turns about +Y under it.
-vscan -q table set "$SCENE" --centre -0.017,0,0 --axis 0,1,0 --angle 0 >/dev/null
+# The whole scan plan is examples/campaigns/bunny_ur5.yaml: the bunny on a turntable, a UR5 with a
+# depth camera beside it, 4 viewpoints x 10 table angles. The CLI sets it up, runs the campaign on
+# the server, follows it and downloads every scan with its poses.
+rm -rf "$OUT/campaign"
+vscan campaign run "$ROOT/examples/campaigns/bunny_ur5.yaml" -o "$OUT/campaign"
 
-CAMERA=(--width 1280 --height 1024 --hfov 40 --near 0.1 --far 2 --target -0.017,0.11,0 --fields all)
-n=0
-for angle in 0 90 180 270; do
-  n=$((n + 1))
-  vscan --json scan "$SCENE" -o "$OUT/scans/bunny_${n}_table${angle}.ply" "${CAMERA[@]}" \
-    --up 0,1,0 --eye 0.45,0.2,0.1 --table-angle "$angle" >"$OUT/scans/bunny_${n}_table${angle}.json"
-done
-vscan --json scan "$SCENE" -o "$OUT/scans/bunny_5_top.ply" "${CAMERA[@]}" --up 0,0,-1 \
-  --eye -0.017,0.6,0.001 >"$OUT/scans/bunny_5_top.json"
+# summary.txt: one line per scan from the job's record, then the totals (also printed).
+/usr/bin/python3 - "$OUT/campaign/job.json" "$OUT/summary.txt" <<'PY'
+import json, math, sys
+job = json.load(open(sys.argv[1]))
 
-/usr/bin/python3 - "$OUT/scans" <<'PY' | tee "$OUT/summary.txt"
-import json, os, sys
-d = sys.argv[1]
-print(f"{'scan':28} {'points':>9} {'hit ratio':>9} {'server ms':>9} {'total ms':>9}")
-for name in sorted(f for f in os.listdir(d) if f.endswith(".json")):
-    r = json.load(open(os.path.join(d, name)))
-    s = r["statistics"]
-    print(f"{os.path.basename(r['output']):28} {int(s['points']):9d} {s['hitRatio']:9.3f} "
-          f"{s['scanMs']:9.1f} {r['clientMs']:9.1f}")
+def translation(m):
+    v = m["values"]
+    return (v[3], v[7], v[11])
+
+scans = sorted((a for a in job.get("artifacts", []) if "scan" in a), key=lambda a: a["name"])
+lines = [f"{'scan':18} {'viewpoint':>9} {'table deg':>9} {'points':>9} {'pose error mm':>13}"]
+errors = []
+for a in scans:
+    s = a["scan"]
+    errors.append(math.dist(translation(s["commandedSensorPose"]), translation(s["sensorPose"])) * 1000)
+    lines.append(f"{a['name']:18} {s.get('viewpointIndex', 0):9d} {s.get('tableAngleDeg', 0):9.1f} "
+                 f"{int(s['points']):9d} {errors[-1]:13.3f}")
+points = sum(int(a["scan"]["points"]) for a in scans)
+totals = [f"campaign {job['campaign']['name']} ({job['jobId']}): {job['state'].removeprefix('JOB_STATE_')}, "
+          f"{len(scans)} of {job.get('stepsTotal', 0)} scans, {points} points",
+          f"pose error from encoder noise: mean {sum(errors) / max(len(errors), 1):.3f} mm, "
+          f"max {max(errors, default=0):.3f} mm"]
+open(sys.argv[2], "w").write("\n".join(lines + [""] + totals) + "\n")
+print("\n".join(totals))
 PY
-echo "demo: PLY files in $OUT/scans, summary in $OUT/summary.txt"
+# A picture of the first scan from its viewpoint, drawn headless with OpenGL.
+vscan render "$OUT/campaign/scan-r00-v00.ply" -o "$OUT/scan-r00-v00.png" --color normal --width 800 --height 600 \
+  --eye 0.30,0,0.12 --target 0,0,0.07 --up 0,0,1
+echo "demo: PLY files in $OUT/campaign, summary in $OUT/summary.txt, a picture in $OUT/scan-r00-v00.png"

@@ -1,10 +1,9 @@
 #include <cmath>
-#include <fstream>
 
 #include "args.h"
 #include "commands.h"
 #include "describe.h"
-#include "progress.h"
+#include "uploads.h"
 
 namespace vscan::cli {
 namespace {
@@ -35,24 +34,10 @@ int RunUpload(Context& ctx, const UploadArgs& args) {
       return ctx.UsageError(args.file + ": cannot tell the format from the extension; pass --format ply|obj|stl");
     }
   }
-  if (!std::ifstream(args.file, std::ios::binary)) {
-    return ctx.LocalError(NotFound(args.file + ": cannot open for reading"));
-  }
-
-  auto* client = ctx.GetClient();
-  if (!client) return ctx.last_exit();
-  ProgressBar bar("upload", "bytes", !ctx.quiet() && !ctx.json());
-  const auto mesh = client->UploadMeshFile(args.file, options, [&](uint64_t done, uint64_t total) {
-    bar.Update(done, total);
-  });
-  bar.Finish();
-  if (!mesh.ok()) {
-    // The file was readable a moment ago, so a DATA_LOSS here is a local read failure.
-    if (mesh.status().code() == StatusCode::kDataLoss) return ctx.LocalError(mesh.status());
-    return ctx.ServerError(mesh.status());
-  }
-  if (ctx.json()) ctx.EmitJson(ToJson(*mesh));
-  ctx.Done("uploaded mesh " + Describe(*mesh), mesh->mesh_id());
+  v1::Mesh mesh;
+  if (const int rc = UploadMesh(ctx, args.file, options, &mesh); rc != kExitOk) return rc;
+  if (ctx.json()) ctx.EmitJson(ToJson(mesh));
+  ctx.Done("uploaded mesh " + Describe(mesh), mesh.mesh_id());
   return kExitOk;
 }
 

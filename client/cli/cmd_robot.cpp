@@ -1,8 +1,7 @@
-#include <filesystem>
-
 #include "commands.h"
 #include "robot_commands.h"
 #include "robot_format.h"
+#include "uploads.h"
 
 namespace vscan::cli {
 namespace {
@@ -13,26 +12,11 @@ struct UploadArgs {
 };
 
 int RunUpload(Context& ctx, UploadArgs args) {
-  std::error_code ec;
-  if (!std::filesystem::exists(args.path, ec))
-    return ctx.LocalError(NotFound(args.path + ": no such file or directory"));
-  auto* client = ctx.GetClient();
-  if (!client) return ctx.last_exit();
-  const auto robot = client->UploadRobotPath(args.path, args.options);
-  if (!robot.ok()) {
-    // Problems reading the bundle locally are I/O errors; a missing --urdf is a usage error; the
-    // rest came from the server.
-    const Status& status = robot.status();
-    if (status.code() == StatusCode::kInvalidArgument && status.message().starts_with("urdf_path:")) {
-      return ctx.UsageError("--urdf" + status.message().substr(9));
-    }
-    const bool local = (status.code() == StatusCode::kNotFound || status.code() == StatusCode::kDataLoss) &&
-                       status.message().starts_with(args.path);
-    return local ? ctx.LocalError(status) : ctx.ServerError(status);
-  }
-  if (ctx.json()) ctx.EmitJson(ToJson(*robot));
-  ctx.Done("uploaded robot " + Describe(*robot), robot->robot_id());
-  for (const auto& warning : robot->warnings()) ctx.Say("warning: " + warning);
+  v1::Robot robot;
+  if (const int rc = UploadRobot(ctx, args.path, args.options, "--urdf", &robot); rc != kExitOk) return rc;
+  if (ctx.json()) ctx.EmitJson(ToJson(robot));
+  ctx.Done("uploaded robot " + Describe(robot), robot.robot_id());
+  for (const auto& warning : robot.warnings()) ctx.Say("warning: " + warning);
   return kExitOk;
 }
 

@@ -16,6 +16,7 @@
 #include "grpc/health/v1/health.grpc.pb.h"
 #include "vscan/client/types.h"
 #include "vscan/common/status.h"
+#include "vscan/v1/job.grpc.pb.h"
 #include "vscan/v1/robot.grpc.pb.h"
 #include "vscan/v1/scan.grpc.pb.h"
 #include "vscan/v1/scene.grpc.pb.h"
@@ -91,6 +92,19 @@ class Client {
   StatusOr<std::vector<v1::Mount>> ListMounts(const std::string& scene_id = "");
   // Returns the scene's new revision.
   StatusOr<uint64_t> UnmountRobot(const std::string& mount_id);
+
+  // Jobs: scan campaigns and their artifacts.
+  StatusOr<v1::Job> StartCampaign(const v1::CampaignSpec& spec);
+  StatusOr<v1::Job> GetJob(const std::string& job_id);
+  // Every job, following page tokens.
+  StatusOr<std::vector<v1::Job>> ListJobs();
+  StatusOr<v1::Job> CancelJob(const std::string& job_id);
+  // Calls on_event for each message until the server ends the stream (the job finished) or
+  // on_event returns false.
+  Status WatchJob(const std::string& job_id, const JobEventFn& on_event);
+  // Passes the artifact's bytes to sink in order; checks the count against its metadata.
+  StatusOr<v1::Artifact> ReadArtifact(const std::string& job_id, const std::string& artifact_id,
+                                      const ArtifactSink& sink, const ProgressFn& progress = {});
 
  private:
   StatusOr<v1::Mesh> Upload(const MeshUploadOptions& options, uint64_t size,

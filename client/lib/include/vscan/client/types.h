@@ -6,9 +6,12 @@
 #include <functional>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "vscan/common/point_cloud.h"
+#include "vscan/common/status.h"
 #include "vscan/v1/common.pb.h"
+#include "vscan/v1/job.pb.h"
 #include "vscan/v1/robot.pb.h"
 #include "vscan/v1/scan.pb.h"
 #include "vscan/v1/scene.pb.h"
@@ -84,6 +87,11 @@ struct RobotUploadOptions {
   // Largest piece of a file per message.
   size_t chunk_bytes = 1 << 20;
 };
+
+// Returns false to stop watching.
+using JobEventFn = std::function<bool(const v1::WatchJobResponse&)>;
+// Receives an artifact's bytes piece by piece; an error stops the download.
+using ArtifactSink = std::function<Status(std::string_view)>;
 
 // One file of a robot bundle; path relative to the bundle root, '/' separated.
 struct RobotFile {

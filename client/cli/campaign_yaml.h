@@ -1,0 +1,68 @@
+#pragma once
+// Typed reads from a YAML document whose errors carry "source:line: key.path: what".
+
+#include <google/protobuf/message.h>
+#include <yaml-cpp/yaml.h>
+
+#include <Eigen/Core>
+#include <cstdint>
+#include <initializer_list>
+#include <string>
+#include <vector>
+
+#include "vscan/common/status.h"
+
+namespace vscan::cli {
+
+// A node and the key path that leads to it ("viewpoints[2].target").
+struct YamlAt {
+  YAML::Node node;
+  std::string path;
+  // Where a missing node would have been: the enclosing map, for its line number.
+  YAML::Mark mark;
+};
+
+class YamlReader {
+ public:
+  explicit YamlReader(std::string source) : source_(std::move(source)) {}
+
+  // INVALID_ARGUMENT "source:line: path: what".
+  Status Error(const YamlAt& at, const std::string& what) const;
+  Status Error(const YAML::Mark& mark, const std::string& path, const std::string& what) const;
+
+  // The child key of a map (may be undefined: check Has).
+  static YamlAt Child(const YamlAt& map, const std::string& key);
+  static YamlAt Item(const YamlAt& seq, size_t index);
+  static bool Has(const YamlAt& at) { return at.node.IsDefined() && !at.node.IsNull(); }
+
+  // at must be a map whose keys are all in allowed, each once.
+  Status ExpectMap(const YamlAt& at, std::initializer_list<const char*> allowed) const;
+  // Sequence of at least min_size items.
+  Status ExpectSequence(const YamlAt& at, size_t min_size) const;
+
+  StatusOr<double> Number(const YamlAt& at) const;
+  // A whole number in [min, max].
+  StatusOr<uint64_t> Integer(const YamlAt& at, uint64_t min, uint64_t max) const;
+  StatusOr<bool> Bool(const YamlAt& at) const;
+  // A non-empty scalar.
+  StatusOr<std::string> String(const YamlAt& at) const;
+  // A sequence of exactly count numbers.
+  StatusOr<std::vector<double>> Numbers(const YamlAt& at, size_t count) const;
+  StatusOr<Eigen::Vector3d> Vector3(const YamlAt& at) const;
+  // One number, or a list of at least one.
+  StatusOr<std::vector<double>> NumberOrList(const YamlAt& at) const;
+  // A string or a list of strings, joined with commas.
+  StatusOr<std::string> StringOrList(const YamlAt& at) const;
+
+  // Fills message from a map whose keys are its field names (scalars, nested messages; a
+  // vscan.v1.Vector3 may also be written [x, y, z]); at most one field of each oneof.
+  Status FillMessage(const YamlAt& at, google::protobuf::Message* message) const;
+
+ private:
+  Status FillField(const YamlAt& at, const google::protobuf::FieldDescriptor* field,
+                   google::protobuf::Message* message) const;
+
+  std::string source_;
+};
+
+}  // namespace vscan::cli

@@ -1,0 +1,112 @@
+// Client's JobService calls: scan campaigns, their events and their artifacts.
+
+#include "paging.h"
+#include "unary_call.h"
+#include "vscan/v1/job.grpc.pb.h"
+
+namespace vscan::client {
+namespace {
+
+using Stub = v1::JobService::Stub;
+
+std::unique_ptr<Stub> JobStub(const Client& client) { return v1::JobService::NewStub(client.channel()); }
+
+}  // namespace
+
+StatusOr<v1::Job> Client::StartCampaign(const v1::CampaignSpec& spec) {
+  auto stub = JobStub(*this);
+  v1::StartCampaignRequest request;
+  *request.mutable_spec() = spec;
+  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *stub, &Stub::StartCampaign, request));
+  return response.job();
+}
+
+StatusOr<v1::Job> Client::GetJob(const std::string& job_id) {
+  auto stub = JobStub(*this);
+  v1::GetJobRequest request;
+  request.set_job_id(job_id);
+  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *stub, &Stub::GetJob, request));
+  return response.job();
+}
+
+StatusOr<std::vector<v1::Job>> Client::ListJobs() {
+  auto stub = JobStub(*this);
+  return CollectPages<v1::Job>(
+      [&](const std::string& token) {
+        v1::ListJobsRequest request;
+        request.set_page_token(token);
+        return UnaryCall(*this, *stub, &Stub::ListJobs, request);
+      },
+      [](const v1::ListJobsResponse& page) { return page.jobs(); });
+}
+
+StatusOr<v1::Job> Client::CancelJob(const std::string& job_id) {
+  auto stub = JobStub(*this);
+  v1::CancelJobRequest request;
+  request.set_job_id(job_id);
+  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *stub, &Stub::CancelJob, request));
+  return response.job();
+}
+
+Status Client::WatchJob(const std::string& job_id, const JobEventFn& on_event) {
+  auto stub = JobStub(*this);
+  grpc::ClientContext context;
+  PrepareContext(&context, options_.stream_timeout);
+  v1::WatchJobRequest request;
+  request.set_job_id(job_id);
+  auto reader = stub->WatchJob(&context, request);
+  v1::WatchJobResponse response;
+  bool stopped = false;
+  while (reader->Read(&response)) {
+    if (on_event && !on_event(response)) {
+      stopped = true;
+      context.TryCancel();
+      break;
+    }
+  }
+  const grpc::Status status = reader->Finish();
+  if (stopped && status.error_code() == grpc::StatusCode::CANCELLED) return Status::Ok();
+  return FromGrpc(status);
+}
+
+StatusOr<v1::Artifact> Client::ReadArtifact(const std::string& job_id, const std::string& artifact_id,
+                                            const ArtifactSink& sink, const ProgressFn& progress) {
+  auto stub = JobStub(*this);
+  grpc::ClientContext context;
+  PrepareContext(&context, options_.stream_timeout);
+  v1::ReadArtifactRequest request;
+  request.set_job_id(job_id);
+  request.set_artifact_id(artifact_id);
+  auto reader = stub->ReadArtifact(&context, request);
+  v1::ReadArtifactResponse response;
+  v1::Artifact artifact;
+  bool first = true;
+  uint64_t received = 0;
+  Status failed;
+  while (reader->Read(&response)) {
+    if (first) artifact = response.artifact();
+    first = false;
+    received += response.chunk().size();
+    if (received > artifact.size_bytes()) {
+      failed = DataLoss("artifact '" + artifact_id + "': more than its " + std::to_string(artifact.size_bytes()) +
+                        " bytes arrived");
+    } else if (sink) {
+      failed = sink(response.chunk());
+    }
+    if (!failed.ok()) {
+      context.TryCancel();
+      break;
+    }
+    if (progress) progress(received, artifact.size_bytes());
+  }
+  const grpc::Status status = reader->Finish();
+  if (!failed.ok()) return failed;
+  if (!status.ok()) return FromGrpc(status);
+  if (received != artifact.size_bytes()) {
+    return DataLoss("artifact '" + artifact_id + "': got " + std::to_string(received) + " of its " +
+                    std::to_string(artifact.size_bytes()) + " bytes");
+  }
+  return artifact;
+}
+
+}  // namespace vscan::client
