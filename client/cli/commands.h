@@ -21,7 +21,9 @@ void AddMeshCommands(CLI::App& app, Context& ctx);
 void AddObjectCommands(CLI::App& app, Context& ctx);
 void AddTableCommand(CLI::App& app, Context& ctx);
 void AddScanCommand(CLI::App& app, Context& ctx);
+void AddRenderCommand(CLI::App& app, Context& ctx);
 void AddRobotCommands(CLI::App& app, Context& ctx);
+void AddCampaignCommands(CLI::App& app, Context& ctx);
 void AddSensorsCommand(CLI::App& app, Context& ctx);
 
 }  // namespace vscan::cli

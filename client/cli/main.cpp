@@ -44,7 +44,9 @@ int main(int argc, char** argv) {
   vscan::cli::AddObjectCommands(app, ctx);
   vscan::cli::AddTableCommand(app, ctx);
   vscan::cli::AddScanCommand(app, ctx);
+  vscan::cli::AddRenderCommand(app, ctx);
   vscan::cli::AddRobotCommands(app, ctx);
+  vscan::cli::AddCampaignCommands(app, ctx);
   vscan::cli::AddSensorsCommand(app, ctx);
   app.footer(kFooter);
 

@@ -1,0 +1,93 @@
+#include "vscan/render/cloud_colours.h"
+
+#include <algorithm>
+#include <array>
+#include <limits>
+#include <utility>
+
+#include "vscan/render/colour_map.h"
+
+namespace vscan::render {
+namespace {
+
+constexpr std::array<std::pair<const char*, ColourMode>, 5> kModes = {{
+    {"depth", ColourMode::kDepth},
+    {"intensity", ColourMode::kIntensity},
+    {"instance", ColourMode::kInstance},
+    {"normal", ColourMode::kNormal},
+    {"height", ColourMode::kHeight},
+}};
+
+// Maps each value linearly from [min, max] of all values onto Turbo.
+std::vector<Eigen::Vector3f> TurboOf(const std::vector<float>& values) {
+  float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+  for (const float v : values) {
+    lo = std::min(lo, v);
+    hi = std::max(hi, v);
+  }
+  const float scale = hi > lo ? 1.0f / (hi - lo) : 0.0f;
+  std::vector<Eigen::Vector3f> out(values.size());
+  for (size_t i = 0; i < values.size(); ++i) out[i] = Turbo((values[i] - lo) * scale);
+  return out;
+}
+
+Status Missing(ColourMode mode, const char* field) {
+  return FailedPrecondition(std::string("--color ") + ColourModeName(mode) + ": the cloud has no " + field +
+                            " field (scan with --fields " + field + " or all)");
+}
+
+}  // namespace
+
+StatusOr<ColourMode> ParseColourMode(const std::string& name) {
+  for (const auto& [text, mode] : kModes) {
+    if (name == text) return mode;
+  }
+  return InvalidArgument("--color: unknown colour mode '" + name + "' (depth, intensity, instance, normal, height)");
+}
+
+const char* ColourModeName(ColourMode mode) {
+  for (const auto& [text, m] : kModes) {
+    if (m == mode) return text;
+  }
+  return "?";
+}
+
+StatusOr<std::vector<Eigen::Vector3f>> CloudColours(const PointCloud& cloud, ColourMode mode, const View& view) {
+  const size_t n = cloud.size();
+  std::vector<Eigen::Vector3f> out;
+  switch (mode) {
+    case ColourMode::kDepth:
+    case ColourMode::kHeight: {
+      const Eigen::Vector3f up = view.up.normalized();
+      std::vector<float> values(n);
+      for (size_t i = 0; i < n; ++i) {
+        values[i] = mode == ColourMode::kDepth ? (cloud.positions[i] - view.eye).norm() : cloud.positions[i].dot(up);
+      }
+      return TurboOf(values);
+    }
+    case ColourMode::kIntensity: {
+      if (!cloud.Has(kFieldIntensity)) return Missing(mode, "intensity");
+      float hi = 0;
+      for (const float v : cloud.intensities) hi = std::max(hi, v);
+      const float scale = hi > 0 ? 1.0f / hi : 0.0f;
+      out.resize(n);
+      for (size_t i = 0; i < n; ++i) out[i].setConstant(std::clamp(cloud.intensities[i] * scale, 0.0f, 1.0f));
+      return out;
+    }
+    case ColourMode::kInstance:
+      if (!cloud.Has(kFieldInstanceId)) return Missing(mode, "instance");
+      out.resize(n);
+      for (size_t i = 0; i < n; ++i) out[i] = InstanceColour(cloud.instance_ids[i]);
+      return out;
+    case ColourMode::kNormal:
+      if (!cloud.Has(kFieldNormal)) return Missing(mode, "normal");
+      out.resize(n);
+      for (size_t i = 0; i < n; ++i) {
+        out[i] = ((cloud.normals[i] + Eigen::Vector3f::Ones()) / 2).cwiseMax(0.0f).cwiseMin(1.0f);
+      }
+      return out;
+  }
+  return Internal("--color: unhandled colour mode");
+}
+
+}  // namespace vscan::render
