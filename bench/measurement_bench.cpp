@@ -78,6 +78,12 @@ int Main() {
   const capture::MeasurementSpec ground_truth = spec;
   spec.fields |= kFieldEstimatedNormal;
   const capture::MeasurementSpec estimated = spec;
+  // A projector 20 cm beside the camera with the camera's field: one shadow ray per hit.
+  capture::MeasurementSpec structured = noise;
+  sensor::StructuredLight projector;
+  projector.camera = grid.camera;
+  projector.projector_offset = Eigen::Vector3d(0.2, 0, 0);
+  structured.structured_light = projector;
 
   struct Case {
     const char* name;
@@ -91,6 +97,7 @@ int Main() {
       {"+ grazing + flying pixels", measured(grazing_flying)},
       {"+ ground-truth fields", measured(ground_truth)},
       {"+ estimated normals (k=16)", measured(estimated)},
+      {"noise + structured-light projector", measured(structured)},
   };
   std::printf("measurement model, bunny grid (%d copies, %llu triangles), %ux%u, median of %d runs\n", kCopies,
               static_cast<unsigned long long>(scene.triangle_count()), kWidth, kHeight, kRuns);
