@@ -6,7 +6,7 @@
 
 #include <Eigen/Geometry>
 
-#include "gl_program.h"
+#include "raster/gl_program.h"
 #include "offscreen_target.h"
 #include "raster/egl_context.h"
 #include "raster/gl_api.h"
@@ -88,7 +88,7 @@ Status Begin(Frame& frame, const RenderOptions& options, const char* vertex, con
              const char* name) {
   ASSIGN_OR_RETURN(frame.context, raster::EglContext::CreateCurrent());
   ASSIGN_OR_RETURN(frame.target, OffscreenTarget::Create(options.width, options.height));
-  ASSIGN_OR_RETURN(frame.program, BuildProgram(vertex, fragment, name));
+  ASSIGN_OR_RETURN(frame.program, raster::BuildProgram(vertex, fragment, name));
   glGenVertexArrays(1, &frame.vertex_array);
   glBindVertexArray(frame.vertex_array);
   glGenBuffers(3, frame.buffers);

@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "raster/gl_check.h"
+#include "raster/gl_program.h"
 
 namespace vscan::raster {
 namespace {
@@ -48,39 +49,10 @@ void main() {
 }
 )";
 
-StatusOr<GLuint> Compile(GLenum type, const char* source, const char* name) {
-  const GLuint shader = glCreateShader(type);
-  glShaderSource(shader, 1, &source, nullptr);
-  glCompileShader(shader);
-  GLint ok = GL_FALSE;
-  glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-  if (ok == GL_TRUE) return shader;
-  char log[2048] = {};
-  glGetShaderInfoLog(shader, sizeof(log), nullptr, log);
-  glDeleteShader(shader);
-  return Internal(std::string("raster: ") + name + " shader does not compile: " + log);
-}
-
 StatusOr<GLuint> Link(const char* fragment_source, const char* name) {
-  ASSIGN_OR_RETURN(const GLuint vertex, Compile(GL_VERTEX_SHADER, kVertexShader, "vertex"));
-  auto fragment = Compile(GL_FRAGMENT_SHADER, fragment_source, name);
-  if (!fragment.ok()) {
-    glDeleteShader(vertex);
-    return fragment.status();
-  }
-  const GLuint program = glCreateProgram();
-  glAttachShader(program, vertex);
-  glAttachShader(program, *fragment);
-  glLinkProgram(program);
-  glDeleteShader(vertex);
-  glDeleteShader(*fragment);
-  GLint ok = GL_FALSE;
-  glGetProgramiv(program, GL_LINK_STATUS, &ok);
-  if (ok == GL_TRUE) return program;
-  char log[2048] = {};
-  glGetProgramInfoLog(program, sizeof(log), nullptr, log);
-  glDeleteProgram(program);
-  return Internal(std::string("raster: ") + name + " program does not link: " + log);
+  auto program = BuildProgram(kVertexShader, fragment_source, name);
+  if (!program.ok()) return Internal("raster: " + program.status().message());
+  return program;
 }
 
 }  // namespace

@@ -1,8 +1,8 @@
-#include "gl_program.h"
+#include "raster/gl_program.h"
 
 #include <string>
 
-namespace vscan::render {
+namespace vscan::raster {
 namespace {
 
 StatusOr<GLuint> Compile(GLenum type, const char* source, const std::string& name) {
@@ -15,7 +15,7 @@ StatusOr<GLuint> Compile(GLenum type, const char* source, const std::string& nam
   char log[2048] = {};
   glGetShaderInfoLog(shader, sizeof(log), nullptr, log);
   glDeleteShader(shader);
-  return Internal("render: " + name + " shader does not compile: " + log);
+  return Internal(name + " shader does not compile: " + log);
 }
 
 }  // namespace
@@ -39,7 +39,7 @@ StatusOr<GLuint> BuildProgram(const char* vertex_source, const char* fragment_so
   char log[2048] = {};
   glGetProgramInfoLog(program, sizeof(log), nullptr, log);
   glDeleteProgram(program);
-  return Internal(std::string("render: ") + name + " program does not link: " + log);
+  return Internal(std::string(name) + " program does not link: " + log);
 }
 
-}  // namespace vscan::render
+}  // namespace vscan::raster

@@ -4,9 +4,9 @@
 #include "raster/gl_api.h"
 #include "vscan/common/status.h"
 
-namespace vscan::render {
+namespace vscan::raster {
 
 // The program owns nothing else; delete it with glDeleteProgram.
 StatusOr<GLuint> BuildProgram(const char* vertex_source, const char* fragment_source, const char* name);
 
-}  // namespace vscan::render
+}  // namespace vscan::raster
