@@ -12,7 +12,8 @@ import grpc
 import numpy as np
 
 from harness import BUNNY, Server, common_pb2, pinhole, scene_pb2, scene_pb2_grpc
-from test_robots import UR5, UR5_DIR, UrdfChain, axis_angle, matrix, to_pose, transform, upload_ur5
+from test_robots import (UR5, UR5_DIR, UrdfChain, axis_angle, matrix, to_pose, transform, upload_panda,
+                         upload_ur5)
 from vscan.v1 import job_pb2, job_pb2_grpc, robot_pb2, robot_pb2_grpc, sensor_pb2
 
 from vscan_client import Client, VscanError
@@ -292,6 +293,46 @@ class CampaignTest(unittest.TestCase):
         self.assertEqual([s["outcome"] for s in summary["steps"]], ["captured", "unreachable"])
         self.assertFalse(summary["steps"][1]["reached"])
         self.assertNotIn("file", summary["steps"][1])
+
+    def test_reject_collisions_skips_poses_that_touch_the_scene(self):
+        # A Panda beside the bunny with a 30 cm plate through its shoulder (z = 0.25): every
+        # configuration puts panda_link1 through the plate, which the camera does not see.
+        scene = self.fx.bunny_scene()
+        self.add_box(scene.scene_id, "plate", (0.40, -0.15, 0.24), (0.70, 0.15, 0.26))
+        panda = upload_panda(self.fx.robots, name="panda-collisions")
+        mount = self.fx.robots.MountRobot(robot_pb2.MountRobotRequest(
+            scene_id=scene.scene_id, robot_id=panda.robot_id, base_pose=to_pose(self.fx.base)), timeout=10).mount_id
+        plain = spec(scene.scene_id, mount, viewpoints=VIEWPOINTS[:1], rotations=2, sensor=camera(160, 120))
+        _, _, done = self.run_campaign(plain)
+        self.assertEqual([a.name for a in done.artifacts], ["scan-r00-v00.ply", "scan-r01-v00.ply", "campaign.json"])
+
+        checked = job_pb2.CampaignSpec()
+        checked.CopyFrom(plain)
+        checked.reject_collisions = True
+        job, responses, done = self.run_campaign(checked)
+        events = self.check_events(responses, job_pb2.JOB_STATE_SUCCEEDED)
+        self.assertEqual((done.steps_done, done.steps_total), (2, 2))
+        self.assertEqual([a.name for a in done.artifacts], ["campaign.json"])
+        skipped = [e.message for e in events if "skipped," in e.message]
+        self.assertEqual(len(skipped), 2, [e.message for e in events])
+        for message in skipped:
+            self.assertRegex(message, r"viewpoint 0 at (0|120) deg: skipped, link 'panda_link\d' touches object .*plate")
+
+    def add_box(self, scene_id, label, lo, hi):
+        corners = [(x, y, z) for z in (lo[2], hi[2]) for y in (lo[1], hi[1]) for x in (lo[0], hi[0])]
+        faces = [(0, 2, 3), (0, 3, 1), (4, 5, 7), (4, 7, 6), (0, 1, 5), (0, 5, 4), (2, 6, 7), (2, 7, 3),
+                 (0, 4, 6), (0, 6, 2), (1, 3, 7), (1, 7, 5)]
+        lines = ["ply", "format ascii 1.0", "element vertex 8", "property float x", "property float y",
+                 "property float z", "element face 12", "property list uchar int vertex_indices", "end_header"]
+        lines += [f"{x} {y} {z}" for x, y, z in corners] + [f"3 {a} {b} {c}" for a, b, c in faces]
+        data = ("\n".join(lines) + "\n").encode()
+
+        def requests():
+            yield scene_pb2.UploadMeshRequest(header=scene_pb2.MeshHeader(
+                name=label + ".ply", unit=common_pb2.LENGTH_UNIT_METRE, size_bytes=len(data)))
+            yield scene_pb2.UploadMeshRequest(chunk=data)
+        mesh = self.fx.scenes.UploadMesh(requests(), timeout=60).mesh
+        self.fx.scenes.AddObject(scene_pb2.AddObjectRequest(scene_id=scene_id, mesh_id=mesh.mesh_id, label=label))
 
     def test_up_fixes_the_turn_about_the_view_axis(self):
         up = (0.0, 1.0, 1.0)
