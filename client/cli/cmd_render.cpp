@@ -171,7 +171,7 @@ void AddRenderCommand(CLI::App& app, Context& ctx) {
   cmd->add_option("INPUT", args->input, "Cloud (.ply, .pcd) or mesh (.ply with faces, .obj, .stl)")->required();
   cmd->add_option("-o,--output", args->output, "Output image, .png")->required();
   cmd->add_option("--color", args->color,
-                  "Cloud colouring: depth (default), intensity, instance, normal or height; meshes are shaded grey");
+                  "Cloud colouring: depth (default), intensity, instance, normal, height or status; meshes are shaded grey");
   cmd->add_option("--eye", args->eye, "Camera position x,y,z (default: fit the bounds from an oblique view)");
   cmd->add_option("--target", args->target, "Point the camera looks at x,y,z (default: the bounds' centre)");
   cmd->add_option("--up", args->up, "Up direction x,y,z; also the axis of --color height")->capture_default_str();

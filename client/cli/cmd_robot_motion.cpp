@@ -16,6 +16,7 @@ struct MountArgs {
   PoseArgs base;
   PoseArgs tool;
   std::string encoder_sigma;
+  bool links_visible = false;
 };
 
 int RunFk(Context& ctx, const std::string& robot_id, const std::string& joints) {
@@ -77,6 +78,7 @@ StatusOr<v1::MountRobotRequest> BuildMountRequest(const MountArgs& args) {
     ASSIGN_OR_RETURN(const auto sigma, ParseNumberList(args.encoder_sigma, "--encoder-sigma"));
     for (double s : sigma) request.add_encoder_sigma(s);
   }
+  request.set_links_visible(args.links_visible);
   return request;
 }
 
@@ -117,6 +119,8 @@ void AddIk(CLI::App& group, Context& ctx) {
   cmd->add_option("--tolerance", args->tolerance, "Position tolerance in metres (default 1e-5)");
   cmd->add_option("--timeout-ms", args->timeout_ms, "Solver time budget in milliseconds (default 50)");
   cmd->add_flag("--partial", args->allow_partial, "Print the nearest configuration when the goal is out of reach");
+  cmd->add_flag("--avoid-collisions", args->avoid_collisions,
+                "Only accept a solution whose arm is clear of the mount's scene (needs --mount)");
   OnRun(cmd, ctx, [&ctx, args] { return RunIk(ctx, *args); });
 }
 
@@ -133,6 +137,7 @@ void AddMount(CLI::App& group, Context& ctx) {
   cmd->add_option("--tool-rpy", args->tool.rpy, "tip_from_sensor roll,pitch,yaw in degrees");
   cmd->add_option("--encoder-sigma", args->encoder_sigma,
                   "Encoder noise: one sigma for all joints, or one per joint (radians or metres)");
+  cmd->add_flag("--links-visible", args->links_visible, "The robot's links appear in scans of the scene");
   OnRun(cmd, ctx, [&ctx, args] { return RunMount(ctx, *args); });
 }
 

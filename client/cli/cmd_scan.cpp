@@ -42,6 +42,18 @@ void PrintSummary(Context& ctx, const client::ScanResult& result, const std::str
   if (result.cloud.size() > 0) {
     ctx.Say("range: " + Fixed(s.min_range(), 4) + " .. " + Fixed(s.max_range(), 4) + " m");
   }
+  std::string artefacts;
+  const auto add = [&artefacts](uint64_t count, const char* what) {
+    if (count > 0) artefacts += (artefacts.empty() ? "" : ", ") + std::to_string(count) + " " + what;
+  };
+  add(s.outliers(), "outliers");
+  add(s.flying_pixels(), "flying pixels");
+  add(s.rejected_out_of_range(), "out of range");
+  add(s.rejected_unlit(), "unlit");
+  add(s.rejected_shadowed(), "shadowed");
+  add(s.rejected_grazing(), "grazing");
+  add(s.rejected_dim(), "dim");
+  if (!artefacts.empty()) ctx.Say("measurement: " + artefacts + " (" + Fixed(s.measurement_ms(), 1) + " ms)");
   ctx.Say("time: server scan " + Fixed(s.scan_ms(), 1) + " ms, server total " + Fixed(s.total_ms(), 1) +
           " ms, client total " + Fixed(client_ms, 1) + " ms");
   ctx.Say("wrote " + output);

@@ -52,6 +52,7 @@ StatusOr<v1::InverseKinematicsRequest> BuildIkRequest(const IkArgs& args) {
   request.set_tolerance(args.tolerance);
   request.set_timeout_ms(args.timeout_ms);
   request.set_allow_partial(args.allow_partial);
+  request.set_avoid_collisions(args.avoid_collisions);
   return request;
 }
 

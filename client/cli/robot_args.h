@@ -24,6 +24,7 @@ struct IkArgs {
   double tolerance = 0.0;
   double timeout_ms = 0.0;
   bool allow_partial = false;
+  bool avoid_collisions = false;
 };
 
 // Only --position: the tool origin alone; with --quat: the full pose; with --look-at: look from.

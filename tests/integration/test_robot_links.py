@@ -4,15 +4,18 @@ The UR5 bundle ships without meshes, so each test bundle gives every arm link a 
 spanning its link origin and the next joint's origin, thickened by BOX_HALF: a known surface to
 check scanned points against at the forward-kinematics link poses."""
 
+import json
 import os
 import struct
+import subprocess
+import tempfile
 import unittest
 import xml.etree.ElementTree as ET
 
 import grpc
 import numpy as np
 
-from harness import ServerTestCase, common_pb2, look_at, pinhole, scan_pb2
+from harness import VSCAN, ServerTestCase, common_pb2, look_at, pinhole, scan_pb2
 from test_robots import UR5, UR5_DIR, bundle_requests, matrix, read, to_pose, transform
 from vscan.v1 import robot_pb2, robot_pb2_grpc, scene_pb2
 
@@ -203,6 +206,31 @@ class RobotLinksTest(ServerTestCase):
         self.assertGreater(len(points), 1000)
         self.assertFalse(np.any(ids >= LINK_ID_BIT))
         self.assertTrue(np.all(ids == 1))
+
+    def cli(self, *args):
+        result = subprocess.run([VSCAN, "--server", self.server.address, "--json", *args], capture_output=True,
+                                text=True, timeout=60)
+        self.assertEqual(result.returncode, 0, result.stderr)
+        return json.loads(result.stdout)
+
+    def test_cli_mounts_with_visible_links_and_solves_clear_of_the_scene(self):
+        scene = self.scene_with(("floor", plane_ply(3.0, 0.0)))
+        mounted = self.cli("robot", "mount", scene.scene_id, self.ur5.robot_id, "--position", "0,0,0.02",
+                           "--links-visible")
+        self.assertTrue(mounted["mount"]["linksVisible"])
+        with tempfile.TemporaryDirectory() as tmp:
+            out = os.path.join(tmp, "arm.ply")
+            self.cli("scan", scene.scene_id, "-o", out, "--width", "320", "--height", "240", "--eye", "1.6,0.9,1.0",
+                     "--target", "0,0,0.35", "--fields", "position,instance")
+            with open(out, "rb") as f:
+                data = f.read()
+        end = data.index(b"end_header\n") + len(b"end_header\n")
+        rows = np.frombuffer(data[end:], dtype=[("x", "<f4"), ("y", "<f4"), ("z", "<f4"), ("instance", "<u4")])
+        self.assertGreater(int(np.sum(rows["instance"] >= LINK_ID_BIT)), 100)
+        answer = self.cli("robot", "ik", self.ur5.robot_id, "--mount", mounted["mountId"], "--position", "0.4,0.1,0.4",
+                          "--avoid-collisions", "--timeout-ms", "1000")
+        self.assertGreaterEqual(int(answer.get("collisionChecks", 0)), 1)
+        self.assertEqual(answer.get("collision", ""), "")
 
     def ik(self, mount_id, goal, **kwargs):
         return self.robots.InverseKinematics(robot_pb2.InverseKinematicsRequest(

@@ -99,18 +99,19 @@ class RobotCalls:
 
     def inverse_kinematics(self, robot_id="", position=None, quat=None, matrix=None, look_at=None, seed=None,
                            method="default", tolerance=0.0, orientation_tolerance=0.0, timeout_ms=0.0,
-                           allow_partial=False, mount_id="", encoder_noise_seed=None):
+                           allow_partial=False, mount_id="", encoder_noise_seed=None, avoid_collisions=False):
         """The InverseKinematicsResponse for a goal in the base frame (or the world, with mount_id).
 
         Goal: position alone; position + quat (w, x, y, z); a 4x4 matrix; or position + look_at
         (the tool's z axis towards that point). An unreachable goal raises VscanError
         (OUT_OF_RANGE) unless allow_partial, which answers with reached=False and the nearest
-        configuration.
+        configuration. avoid_collisions (with mount_id) only accepts a solution whose arm is clear of
+        the scene.
         """
         request = robot_pb2.InverseKinematicsRequest(
             robot_id=robot_id, mount_id=mount_id, method=convert.ik_method(method), tolerance=float(tolerance),
             orientation_tolerance_rad=float(orientation_tolerance), timeout_ms=float(timeout_ms),
-            allow_partial=bool(allow_partial))
+            allow_partial=bool(allow_partial), avoid_collisions=bool(avoid_collisions))
         if matrix is not None or quat is not None:
             request.tool_pose.CopyFrom(convert.pose(position if position is not None else (0.0, 0.0, 0.0), quat,
                                                     matrix))
@@ -129,11 +130,13 @@ class RobotCalls:
         return self._call(self._robots.InverseKinematics, request)
 
     def mount_robot(self, scene_id, robot_id, position=(0.0, 0.0, 0.0), quat=None, matrix=None, tool_position=None,
-                    tool_quat=None, tool_matrix=None, encoder_sigma=None):
+                    tool_quat=None, tool_matrix=None, encoder_sigma=None, links_visible=False):
         """Places a robot in a scene (world_from_base from position + quat, or matrix); the tool offset
-        (tip_from_sensor) defaults to the robot's. Returns the MountRobotResponse (mount_id, revision, mount)."""
+        (tip_from_sensor) defaults to the robot's; links_visible puts its links in scans.
+        Returns the MountRobotResponse (mount_id, revision, mount)."""
         request = robot_pb2.MountRobotRequest(scene_id=scene_id, robot_id=robot_id,
-                                              base_pose=convert.pose(position, quat, matrix))
+                                              base_pose=convert.pose(position, quat, matrix),
+                                              links_visible=bool(links_visible))
         tool = _optional_pose(tool_position, tool_quat, tool_matrix)
         if tool is not None:
             request.tool_offset.CopyFrom(tool)

@@ -10,12 +10,13 @@
 namespace vscan::render {
 namespace {
 
-constexpr std::array<std::pair<const char*, ColourMode>, 5> kModes = {{
+constexpr std::array<std::pair<const char*, ColourMode>, 6> kModes = {{
     {"depth", ColourMode::kDepth},
     {"intensity", ColourMode::kIntensity},
     {"instance", ColourMode::kInstance},
     {"normal", ColourMode::kNormal},
     {"height", ColourMode::kHeight},
+    {"status", ColourMode::kStatus},
 }};
 
 // Maps each value linearly from [min, max] of all values onto Turbo.
@@ -38,11 +39,26 @@ Status Missing(ColourMode mode, const char* field) {
 
 }  // namespace
 
+Eigen::Vector3f StatusColour(uint8_t status) {
+  switch (static_cast<PointStatus>(status)) {
+    case PointStatus::kMeasured: return {0.8f, 0.8f, 0.8f};
+    case PointStatus::kOutlier: return {0.9f, 0.1f, 0.1f};
+    case PointStatus::kFlyingPixel: return {1.0f, 0.55f, 0.0f};
+    case PointStatus::kRejectedOutOfRange: return {0.55f, 0.2f, 0.75f};
+    case PointStatus::kRejectedShadowed: return {0.1f, 0.3f, 0.9f};
+    case PointStatus::kRejectedGrazing: return {0.95f, 0.85f, 0.1f};
+    case PointStatus::kRejectedDim: return {0.3f, 0.3f, 0.3f};
+    case PointStatus::kRejectedUnlit: return {0.1f, 0.8f, 0.85f};
+    case PointStatus::kUnspecified: break;
+  }
+  return Eigen::Vector3f::Zero();
+}
+
 StatusOr<ColourMode> ParseColourMode(const std::string& name) {
   for (const auto& [text, mode] : kModes) {
     if (name == text) return mode;
   }
-  return InvalidArgument("--color: unknown colour mode '" + name + "' (depth, intensity, instance, normal, height)");
+  return InvalidArgument("--color: unknown colour mode '" + name + "' (depth, intensity, instance, normal, height, status)");
 }
 
 const char* ColourModeName(ColourMode mode) {
@@ -85,6 +101,11 @@ StatusOr<std::vector<Eigen::Vector3f>> CloudColours(const PointCloud& cloud, Col
       for (size_t i = 0; i < n; ++i) {
         out[i] = ((cloud.normals[i] + Eigen::Vector3f::Ones()) / 2).cwiseMax(0.0f).cwiseMin(1.0f);
       }
+      return out;
+    case ColourMode::kStatus:
+      if (!cloud.Has(kFieldStatus)) return Missing(mode, "status");
+      out.resize(n);
+      for (size_t i = 0; i < n; ++i) out[i] = StatusColour(cloud.statuses[i]);
       return out;
   }
   return Internal("--color: unhandled colour mode");

@@ -45,10 +45,28 @@ TEST(InstanceColourTest, ZeroIsGreyAndOtherIdsAreDistinct) {
 TEST(CloudColoursTest, ParsesModesAndRejectsOthersNamingTheOption) {
   EXPECT_EQ(*ParseColourMode("normal"), ColourMode::kNormal);
   EXPECT_EQ(*ParseColourMode("height"), ColourMode::kHeight);
+  EXPECT_EQ(*ParseColourMode("status"), ColourMode::kStatus);
   const auto bad = ParseColourMode("rainbow");
   ASSERT_FALSE(bad.ok());
   EXPECT_EQ(bad.status().code(), StatusCode::kInvalidArgument);
   EXPECT_EQ(bad.status().message().rfind("--color", 0), 0u) << bad.status().message();
+}
+
+TEST(CloudColoursTest, EveryPointStatusHasItsOwnColour) {
+  PointCloud cloud;
+  cloud.fields = kFieldPosition | kFieldStatus;
+  for (uint8_t s = 1; s <= static_cast<uint8_t>(PointStatus::kRejectedUnlit); ++s) {
+    cloud.positions.emplace_back(s, 0, 0);
+    cloud.statuses.push_back(s);
+  }
+  const auto colours = *CloudColours(cloud, ColourMode::kStatus, View{});
+  ASSERT_EQ(colours.size(), cloud.size());
+  for (size_t i = 0; i < colours.size(); ++i) {
+    EXPECT_EQ(colours[i], StatusColour(cloud.statuses[i]));
+    EXPECT_GT(colours[i].maxCoeff(), 0.2f) << "status " << int(cloud.statuses[i]);
+    for (size_t j = 0; j < i; ++j) EXPECT_GT((colours[i] - colours[j]).norm(), 0.2f) << i << " vs " << j;
+  }
+  EXPECT_EQ(StatusColour(0), Eigen::Vector3f::Zero());
 }
 
 TEST(CloudColoursTest, MissingFieldNamesTheOptionAndTheField) {
@@ -57,7 +75,8 @@ TEST(CloudColoursTest, MissingFieldNamesTheOptionAndTheField) {
   const View view;
   for (const auto& [mode, field] : {std::pair{ColourMode::kIntensity, "intensity"},
                                     std::pair{ColourMode::kInstance, "instance"},
-                                    std::pair{ColourMode::kNormal, "normal"}}) {
+                                    std::pair{ColourMode::kNormal, "normal"},
+                                    std::pair{ColourMode::kStatus, "status"}}) {
     const auto colours = CloudColours(cloud, mode, view);
     ASSERT_FALSE(colours.ok()) << field;
     EXPECT_EQ(colours.status().code(), StatusCode::kFailedPrecondition);

@@ -18,9 +18,14 @@ enum class ColourMode {
   kInstance,   // InstanceColour(id)
   kNormal,     // (n + 1) / 2 as RGB
   kHeight,     // position along view.up, lowest point 0 to highest 1 on Turbo
+  kStatus,     // StatusColour(status): measured grey, artefacts and each reject reason their own colour
 };
 
-// depth, intensity, instance, normal or height; INVALID_ARGUMENT naming --color otherwise.
+// Measured light grey, outlier red, flying pixel orange, out of range purple, shadowed blue,
+// grazing yellow, dim dark grey, unlit cyan; anything else black.
+Eigen::Vector3f StatusColour(uint8_t status);
+
+// depth, intensity, instance, normal, height or status; INVALID_ARGUMENT naming --color otherwise.
 StatusOr<ColourMode> ParseColourMode(const std::string& name);
 const char* ColourModeName(ColourMode mode);
 
