@@ -2,6 +2,7 @@
 
 import math
 import os
+import re
 import subprocess
 import sys
 import unittest
@@ -74,6 +75,25 @@ class PythonClientTest(unittest.TestCase):
                              env=env, capture_output=True, text=True, timeout=120)
         self.assertEqual(out.returncode, 0, out.stderr)
         self.assertIn("points", out.stdout)
+
+    def test_campaign_example_merges_scans_in_the_bunny_frame(self):
+        env = dict(os.environ, VSCAN_PY_STUBS=os.path.join(BUILD_DIR, "python"))
+        out = subprocess.run([sys.executable, os.path.join(SOURCE_DIR, "client", "python", "examples",
+                                                           "campaign_to_numpy.py"),
+                              "--server", self.server.address, "--rotations", "4"],
+                             env=env, capture_output=True, text=True, timeout=300)
+        self.assertEqual(out.returncode, 0, out.stderr)
+        self.assertIn("16 scans of 16 steps", out.stdout)
+        # Turned back by their table angles, the scans form one bunny: about 15 cm tall, standing on z = 0.
+        bounds = re.search(r"bounds \[([^\]]+)\] \.\. \[([^\]]+)\]", out.stdout)
+        self.assertIsNotNone(bounds, out.stdout)
+        lo = np.array([float(v) for v in bounds.group(1).split()])
+        hi = np.array([float(v) for v in bounds.group(2).split()])
+        self.assertAlmostEqual(lo[2], 0.0, delta=0.005)
+        self.assertAlmostEqual(hi[2], 0.154, delta=0.01)
+        # 15.6 cm nose to tail along x, 12 cm across: a quarter turn left unturned would swap them.
+        self.assertAlmostEqual(hi[0] - lo[0], 0.156, delta=0.008)
+        self.assertAlmostEqual(hi[1] - lo[1], 0.121, delta=0.008)
 
 
 if __name__ == "__main__":
