@@ -56,6 +56,8 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::Range(1, 1024));
   app.add_option("--max-concurrent-jobs", options.max_concurrent_jobs, "Jobs (scan campaigns) running at once")
       ->capture_default_str()->check(CLI::Range(1, 64));
+  app.add_option("--max-queued-jobs", options.limits.max_queued_jobs, "Jobs that may wait for a free job slot")
+      ->capture_default_str()->check(CLI::Range(1, 10000));
   app.add_option("--grace-seconds", grace_seconds, "How long SIGTERM waits for running calls")->capture_default_str();
   app.add_option("--port-file", options.port_file, "Write the bound port to this file once listening");
   app.add_option("--mesh-importer", options.mesh_importer_path,

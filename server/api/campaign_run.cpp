@@ -182,10 +182,12 @@ class CampaignRun {
                      std::to_string(record.points) + " points";
     records_.push_back(record);
     const v1::ScanArtifactInfo info = ScanInfo(record);
-    ASSIGN_OR_RETURN(const v1::Artifact artifact,
-                     tracker_.RecordArtifact(job_id_, record.file, kPlyMediaType, ply, &info,
-                                             Update(store::JobState::kRunning, record.message, true)));
-    records_.back().artifact_id = artifact.artifact_id();
+    auto artifact = tracker_.RecordArtifact(job_id_, record.file, kPlyMediaType, ply, &info,
+                                            Update(store::JobState::kRunning, record.message, true));
+    if (!artifact.ok()) {
+      return Status(artifact.status().code(), "cannot store " + record.file + ": " + artifact.status().message());
+    }
+    records_.back().artifact_id = artifact->artifact_id();
     return Status::Ok();
   }
 

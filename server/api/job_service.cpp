@@ -1,5 +1,6 @@
 #include "api/job_service.h"
 
+#include <algorithm>
 #include <memory>
 
 #include <spdlog/spdlog.h>
@@ -18,6 +19,10 @@ std::string StateName(v1::JobState state) { return v1::JobState_Name(state).subs
 
 bool Ended(v1::JobState state) { return state != v1::JOB_STATE_QUEUED && state != v1::JOB_STATE_RUNNING; }
 
+// A ListJobs page stays within what a client with gRPC's default 4 MiB receive limit accepts.
+constexpr size_t kMaxListBytes = 3u << 20;
+constexpr int kListBatch = 16;
+
 }  // namespace
 
 grpc::ServerUnaryReactor* JobService::StartCampaign(grpc::CallbackServerContext* ctx,
@@ -27,6 +32,7 @@ grpc::ServerUnaryReactor* JobService::StartCampaign(grpc::CallbackServerContext*
     if (!request->has_spec()) return InvalidArgument("spec: required");
     ASSIGN_OR_RETURN(CampaignPlan validated, ValidateCampaign(request->spec(), context_));
     const uint32_t max_queued = context_.options.limits.max_queued_jobs;
+    std::lock_guard admit(admit_mutex_);
     if (runner_.queued() >= max_queued) {
       return ResourceExhausted("spec: " + std::to_string(max_queued) + " jobs already wait to run; retry later");
     }
@@ -52,7 +58,7 @@ grpc::ServerUnaryReactor* JobService::StartCampaign(grpc::CallbackServerContext*
       const Status ended = tracker_.End(job_id, update);
       if (!ended.ok()) spdlog::error("job {}: {}", job_id, ended.ToString());
     };
-    if (!runner_.Submit(job_id, std::move(work), dropped, max_queued + 1)) {
+    if (!runner_.Submit(job_id, std::move(work), dropped, max_queued)) {
       dropped(jobs::StopReason::kShutdown);
       return Unavailable("server is shutting down");
     }
@@ -83,11 +89,30 @@ grpc::ServerUnaryReactor* JobService::ListJobs(grpc::CallbackServerContext* ctx,
   return RunUnary(ctx, context_.options.token, "ListJobs", [&]() -> Status {
     ASSIGN_OR_RETURN(int limit, PageSize(request->page_size(), context_.options.limits.max_page_size));
     RETURN_IF_ERROR(CheckText(request->page_token(), "page_token", 64));
-    ASSIGN_OR_RETURN(auto jobs, tracker_.catalogue().ListJobs(request->page_token(), limit + 1));
-    const bool more = static_cast<int>(jobs.size()) > limit;
-    if (more) jobs.resize(limit);
-    for (const auto& job : jobs) RETURN_IF_ERROR(ToProto(job, response->add_jobs()));
-    if (more) response->set_next_page_token(jobs.back().job_id);
+    // Jobs carry every artifact, so a page is also cut at a byte budget (at least one job), read
+    // from the catalogue a few jobs at a time.
+    std::string after = request->page_token();
+    size_t bytes = 0;
+    bool more = false;
+    while (response->jobs_size() < limit) {
+      const int batch = std::min(kListBatch, limit - response->jobs_size());
+      ASSIGN_OR_RETURN(auto jobs, tracker_.catalogue().ListJobs(after, batch + 1));
+      more = static_cast<int>(jobs.size()) > batch;
+      if (more) jobs.resize(batch);
+      for (const auto& record : jobs) {
+        v1::Job job;
+        RETURN_IF_ERROR(ToProto(record, &job));
+        bytes += job.ByteSizeLong();
+        if (response->jobs_size() > 0 && bytes > kMaxListBytes) {
+          more = true;
+          break;
+        }
+        *response->add_jobs() = std::move(job);
+      }
+      if (!more || bytes > kMaxListBytes) break;
+      after = response->jobs().rbegin()->job_id();
+    }
+    if (more) response->set_next_page_token(response->jobs().rbegin()->job_id());
     return Status::Ok();
   });
 }
@@ -101,7 +126,11 @@ grpc::ServerUnaryReactor* JobService::CancelJob(grpc::CallbackServerContext* ctx
       return FailedPrecondition("job_id: job '" + request->job_id() + "' has already ended (" +
                                 StateName(before.state()) + ")");
     }
-    runner_.Cancel(request->job_id());
+    {
+      // A job being started is in the catalogue before it is in the runner's queue.
+      std::lock_guard admit(admit_mutex_);
+      runner_.Cancel(request->job_id());
+    }
     ASSIGN_OR_RETURN(*response->mutable_job(), tracker_.Get(request->job_id()));
     return Status::Ok();
   });

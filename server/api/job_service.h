@@ -2,6 +2,8 @@
 // JobService: scan campaigns as durable jobs run by the job runner; get, list, cancel, watch them
 // and read what they produced.
 
+#include <mutex>
+
 #include "api/job_tracker.h"
 #include "api/service_context.h"
 #include "jobs/job_runner.h"
@@ -33,6 +35,9 @@ class JobService final : public v1::JobService::CallbackService {
   ServiceContext& context_;
   JobTracker& tracker_;
   jobs::JobRunner& runner_;
+  // Makes the queue check, the job's creation and its submission one step, so that the queue
+  // bound holds under concurrent starts and no cancel falls between creation and submission.
+  std::mutex admit_mutex_;
 };
 
 }  // namespace vscan::api

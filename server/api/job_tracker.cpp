@@ -19,20 +19,25 @@ v1::Job LiveJob::Snapshot() const {
 
 v1::Job LiveJob::Attach(JobWatcher* watcher, uint64_t* next_sequence) {
   std::lock_guard lock(mutex_);
-  if (!ended_) watchers_.push_back(watcher);
-  *next_sequence = events_.size() + 1;
+  *next_sequence = first_sequence_ + events_.size();
+  if (!ended_) watchers_[watcher] = *next_sequence;
   return job_;
 }
 
 void LiveJob::Detach(JobWatcher* watcher) {
   std::lock_guard lock(mutex_);
-  watchers_.erase(std::remove(watchers_.begin(), watchers_.end(), watcher), watchers_.end());
+  watchers_.erase(watcher);
+  TrimLocked();
 }
 
-LiveJob::Next LiveJob::Get(uint64_t sequence, v1::WatchJobResponse* out) const {
+LiveJob::Next LiveJob::Get(JobWatcher* watcher, uint64_t sequence, v1::WatchJobResponse* out) {
   std::lock_guard lock(mutex_);
-  if (sequence >= 1 && sequence <= events_.size()) {
-    *out = events_[sequence - 1];
+  if (sequence >= first_sequence_ && sequence < first_sequence_ + events_.size()) {
+    *out = events_[sequence - first_sequence_];
+    if (auto it = watchers_.find(watcher); it != watchers_.end()) {
+      it->second = sequence + 1;
+      TrimLocked();
+    }
     return Next::kReady;
   }
   return ended_ ? Next::kEnded : Next::kWait;
@@ -40,7 +45,26 @@ LiveJob::Next LiveJob::Get(uint64_t sequence, v1::WatchJobResponse* out) const {
 
 uint64_t LiveJob::next_sequence() const {
   std::lock_guard lock(mutex_);
-  return events_.size() + 1;
+  return first_sequence_ + events_.size();
+}
+
+bool LiveJob::ended() const {
+  std::lock_guard lock(mutex_);
+  return ended_;
+}
+
+size_t LiveJob::retained_events() const {
+  std::lock_guard lock(mutex_);
+  return events_.size();
+}
+
+void LiveJob::TrimLocked() {
+  uint64_t keep_from = first_sequence_ + events_.size();
+  for (const auto& [watcher, next] : watchers_) keep_from = std::min(keep_from, next);
+  while (first_sequence_ < keep_from) {
+    events_.pop_front();
+    ++first_sequence_;
+  }
 }
 
 void LiveJob::Publish(v1::WatchJobResponse response, std::optional<v1::Artifact> artifact, bool ended) {
@@ -55,10 +79,13 @@ void LiveJob::Publish(v1::WatchJobResponse response, std::optional<v1::Artifact>
     *job_.mutable_update_time() = slim.update_time();
     if (artifact) *job_.add_artifacts() = std::move(*artifact);
     events_.push_back(std::move(response));
+    TrimLocked();
     ended_ = ended;
-    watchers = watchers_;
-    for (JobWatcher* w : watchers) w->Ref();
-    if (ended) watchers_.clear();
+    // Watchers stay registered after the end: they still drain what they have not taken.
+    for (const auto& [watcher, next] : watchers_) {
+      watcher->Ref();
+      watchers.push_back(watcher);
+    }
   }
   for (JobWatcher* w : watchers) {
     w->OnJobEvent();
@@ -98,7 +125,7 @@ StatusOr<v1::Job> JobTracker::Get(const std::string& job_id) {
 
 StatusOr<std::shared_ptr<LiveJob>> JobTracker::RequireLive(const std::string& job_id) {
   auto live = Live(job_id);
-  if (!live) return FailedPrecondition("job_id: job '" + job_id + "' is not running");
+  if (!live || live->ended()) return FailedPrecondition("job_id: job '" + job_id + "' is not running");
   return live;
 }
 
@@ -133,8 +160,11 @@ v1::WatchJobResponse JobTracker::MakeEvent(const std::shared_ptr<LiveJob>& live,
 Status JobTracker::Record(const std::string& job_id, const JobEventUpdate& update) {
   ASSIGN_OR_RETURN(auto live, RequireLive(job_id));
   const uint64_t sequence = live->next_sequence();
-  RETURN_IF_ERROR(catalogue_.UpdateProgress(job_id, {update.state, update.message, update.steps_done, sequence}));
-  live->Publish(MakeEvent(live, update, sequence, store::NowMs()), std::nullopt, false);
+  // One time for the stored row and the event, so that GetJob and WatchJob agree.
+  const int64_t now_ms = store::NowMs();
+  RETURN_IF_ERROR(
+      catalogue_.UpdateProgress(job_id, {update.state, update.message, update.steps_done, sequence, now_ms}));
+  live->Publish(MakeEvent(live, update, sequence, now_ms), std::nullopt, false);
   return Status::Ok();
 }
 
@@ -165,11 +195,17 @@ Status JobTracker::End(const std::string& job_id, const JobEventUpdate& update) 
   if (!store::IsFinal(update.state)) return Internal("job " + job_id + ": End needs a final state");
   ASSIGN_OR_RETURN(auto live, RequireLive(job_id));
   const uint64_t sequence = live->next_sequence();
-  const Status stored = catalogue_.UpdateProgress(job_id, {update.state, update.message, update.steps_done, sequence});
+  const int64_t now_ms = store::NowMs();
+  const Status stored =
+      catalogue_.UpdateProgress(job_id, {update.state, update.message, update.steps_done, sequence, now_ms});
   // Watchers learn of the end even when it could not be stored; a restart then reports INTERRUPTED.
-  live->Publish(MakeEvent(live, update, sequence, store::NowMs()), std::nullopt, true);
-  std::lock_guard lock(mutex_);
-  live_.erase(job_id);
+  live->Publish(MakeEvent(live, update, sequence, now_ms), std::nullopt, true);
+  // Until the end is stored the catalogue still says the job runs: the ended job then stays in
+  // memory, so that it does not read as running again (the next start marks it INTERRUPTED).
+  if (stored.ok()) {
+    std::lock_guard lock(mutex_);
+    live_.erase(job_id);
+  }
   return stored;
 }
 

@@ -5,6 +5,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <deque>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -36,7 +37,8 @@ class JobWatcher {
   std::atomic<int> refs_{1};
 };
 
-// One job that has not ended (or just ended, while watchers drain it).
+// One job that has not ended (or just ended, while watchers drain it). Keeps only the events some
+// attached watcher has yet to take, so a long job with no slow watcher holds none.
 class LiveJob {
  public:
   explicit LiveJob(v1::Job job) : job_(std::move(job)) {}
@@ -48,20 +50,28 @@ class LiveJob {
   void Detach(JobWatcher* watcher);
 
   enum class Next { kReady, kWait, kEnded };
-  // kReady with *out the event of that sequence; kEnded when the job ended and no event remains.
-  Next Get(uint64_t sequence, v1::WatchJobResponse* out) const;
+  // kReady with *out the event of that sequence, which the watcher then no longer needs kept;
+  // kEnded when the job ended and no event remains.
+  Next Get(JobWatcher* watcher, uint64_t sequence, v1::WatchJobResponse* out);
   uint64_t next_sequence() const;
+  bool ended() const;
+  // Events held for watchers that have not taken them yet.
+  size_t retained_events() const;
 
  private:
   friend class JobTracker;
   // Applies an event to the job, appends it, and tells the watchers.
   void Publish(v1::WatchJobResponse response, std::optional<v1::Artifact> artifact, bool ended);
+  // Drops the events every attached watcher has taken. Needs mutex_.
+  void TrimLocked();
 
   mutable std::mutex mutex_;
   v1::Job job_;
-  std::vector<v1::WatchJobResponse> events_;  // events_[i] has sequence i + 1
+  std::deque<v1::WatchJobResponse> events_;  // events_[i] has sequence first_sequence_ + i
+  uint64_t first_sequence_ = 1;
   bool ended_ = false;
-  std::vector<JobWatcher*> watchers_;
+  // Each attached watcher and the sequence of the next event it will ask for.
+  std::map<JobWatcher*, uint64_t> watchers_;
 };
 
 // What one event changes.
@@ -84,7 +94,7 @@ class JobTracker {
   StatusOr<v1::Job> CreateCampaign(const v1::CampaignSpec& spec, uint32_t steps_total);
   // The job as it is: from memory while live, else from the catalogue.
   StatusOr<v1::Job> Get(const std::string& job_id);
-  // Null once the job has ended.
+  // Null once the job has ended (ended but not null while its end could not be stored).
   std::shared_ptr<LiveJob> Live(const std::string& job_id);
 
   // Persists the event, then publishes it.

@@ -60,7 +60,9 @@ class WatchReactor final : public grpc::ServerWriteReactor<v1::WatchJobResponse>
   void OnCancel() override {
     {
       std::lock_guard lock(mutex_);
-      if (writing_ || finished_) return;  // a write in flight fails and finishes the call
+      cancelled_ = true;
+      // A write in flight may still complete ok; its OnWriteDone then finishes the call.
+      if (writing_ || finished_) return;
       finished_ = true;
     }
     Finish(grpc::Status(grpc::StatusCode::CANCELLED, "watch cancelled"));
@@ -79,23 +81,30 @@ class WatchReactor final : public grpc::ServerWriteReactor<v1::WatchJobResponse>
   }
 
   void Pump() {
-    bool write = false;
+    enum class Action { kNone, kWrite, kEnd, kCancel } action = Action::kNone;
     {
       std::lock_guard lock(mutex_);
       if (writing_ || finished_) return;
-      const LiveJob::Next next = live_ ? live_->Get(next_, &response_) : LiveJob::Next::kEnded;
-      if (next == LiveJob::Next::kWait) return;
-      if (next == LiveJob::Next::kReady) {
+      if (cancelled_) {
+        action = Action::kCancel;
+      } else {
+        const LiveJob::Next next = live_ ? live_->Get(this, next_, &response_) : LiveJob::Next::kEnded;
+        if (next == LiveJob::Next::kWait) return;
+        action = next == LiveJob::Next::kReady ? Action::kWrite : Action::kEnd;
+      }
+      if (action == Action::kWrite) {
         ++next_;
-        writing_ = write = true;
+        writing_ = true;
       } else {
         finished_ = true;
       }
     }
-    if (write) {
+    if (action == Action::kWrite) {
       StartWrite(&response_);
-    } else {
+    } else if (action == Action::kEnd) {
       Finish(grpc::Status::OK);
+    } else {
+      Finish(grpc::Status(grpc::StatusCode::CANCELLED, "watch cancelled"));
     }
   }
 
@@ -104,6 +113,7 @@ class WatchReactor final : public grpc::ServerWriteReactor<v1::WatchJobResponse>
   bool attached_ = false;
   bool writing_ = false;
   bool finished_ = false;
+  bool cancelled_ = false;
   uint64_t next_ = 1;
   v1::WatchJobResponse response_;
 };

@@ -126,6 +126,8 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const ServerOptions& options) {
   ASSIGN_OR_RETURN(impl->job_catalogue, store::JobCatalogue::Open(data_dir / "catalogue.sqlite"));
   ASSIGN_OR_RETURN(const int interrupted, impl->job_catalogue->InterruptUnfinished("server stopped while the job ran"));
   if (interrupted > 0) spdlog::warn("{} jobs were left unfinished by the last run; marked INTERRUPTED", interrupted);
+  // Scans being encoded when the last run stopped (campaigns' scratch files).
+  std::filesystem::remove_all(data_dir / "tmp", ec);
   impl->job_tracker = std::make_unique<JobTracker>(*impl->job_catalogue, *impl->blobs);
   impl->job_runner = std::make_unique<jobs::JobRunner>(std::max<uint32_t>(1, options.max_concurrent_jobs));
   impl->job_service = std::make_unique<JobService>(*impl->context, *impl->job_tracker, *impl->job_runner);

@@ -227,7 +227,8 @@ Status JobCatalogue::UpdateProgressLocked(const std::string& job_id, const JobPr
 
 Status JobCatalogue::UpdateProgress(const std::string& job_id, const JobProgress& progress) {
   std::lock_guard lock(mutex_);
-  return sqlite::InTransaction(db_, true, [&]() { return UpdateProgressLocked(job_id, progress, NowMs()); });
+  const int64_t time_ms = progress.time_ms ? progress.time_ms : NowMs();
+  return sqlite::InTransaction(db_, true, [&]() { return UpdateProgressLocked(job_id, progress, time_ms); });
 }
 
 StatusOr<ArtifactRecord> JobCatalogue::AddArtifact(ArtifactRecord artifact, const JobProgress& progress) {

@@ -56,6 +56,7 @@ struct JobProgress {
   std::string message;
   uint32_t steps_done = 0;
   uint64_t sequence = 0;
+  int64_t time_ms = 0;  // when it happened; 0 means now
 };
 
 class JobCatalogue {

@@ -5,6 +5,7 @@ import json
 import math
 import os
 import re
+import threading
 import time
 import unittest
 
@@ -141,6 +142,7 @@ class CampaignTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.server = Server().start()
+        cls.addClassCleanup(cls.server.cleanup)  # also when the fixture below fails
         cls.fx = CampaignFixture(cls.server)
         cls.client = Client(cls.server.address, stream_timeout=300)
         cls.vertices = bunny_vertices()
@@ -150,7 +152,6 @@ class CampaignTest(unittest.TestCase):
     def tearDownClass(cls):
         cls.client.close()
         cls.fx.close()
-        cls.server.cleanup()
 
     def assertCode(self, code, call, field=None):
         with self.assertRaises(grpc.RpcError) as ctx:
@@ -377,6 +378,39 @@ class CampaignTest(unittest.TestCase):
         self.assertEqual(err.exception.code, C.FAILED_PRECONDITION)
         self.assertTrue(err.exception.message.startswith("job_id:"))
 
+    def test_watchers_that_come_and_go_while_the_job_is_cancelled(self):
+        s = spec(self.fx.scene.scene_id, self.fx.mount, viewpoints=VIEWPOINTS, rotations=60, step=6.0,
+                 sensor=camera(80, 60))
+        job = self.client.start_campaign(spec=s)
+        followers, errors = [[] for _ in range(2)], []
+
+        def follow(seen):
+            seen.extend(self.fx.jobs.WatchJob(job_pb2.WatchJobRequest(job_id=job.job_id), timeout=120))
+
+        def come_and_go(k):
+            try:
+                for round_ in range(6):
+                    stream = self.fx.jobs.WatchJob(job_pb2.WatchJobRequest(job_id=job.job_id), timeout=120)
+                    for i, _ in enumerate(stream):
+                        if i >= (k + round_) % 4:
+                            break
+                    stream.cancel()
+            except grpc.RpcError as err:
+                if err.code() != C.CANCELLED:
+                    errors.append(err)
+        threads = [threading.Thread(target=follow, args=(seen,)) for seen in followers]
+        threads += [threading.Thread(target=come_and_go, args=(k,)) for k in range(6)]
+        for t in threads:
+            t.start()
+        wait_for(lambda: len(self.client.get_job(job.job_id).artifacts) >= 3, what="three scans")
+        self.client.cancel_job(job.job_id)
+        for t in threads:
+            t.join()
+        self.assertEqual(errors, [])
+        for seen in followers:
+            self.check_events(seen, job_pb2.JOB_STATE_CANCELLED)
+        self.assertEqual(self.client.get_job(job.job_id).state, job_pb2.JOB_STATE_CANCELLED)
+
     def test_bad_specs_name_their_field_and_create_no_job(self):
         scene, mount, jobs = self.fx.scene.scene_id, self.fx.mount, self.fx.jobs
         before = len(self.client.list_jobs())
@@ -457,6 +491,118 @@ class CampaignTest(unittest.TestCase):
             job_id=ids[0], artifact_id="art_0000000000000000"), timeout=10), "artifact_id")
 
 
+class CampaignListBoundsTest(unittest.TestCase):
+    def test_list_pages_fit_a_client_with_default_message_limits(self):
+        # Each job carries its 1000-viewpoint spec (some 60 kB): 80 of them are more than the 4 MiB a
+        # gRPC client accepts by default, which a page of 100 must not exceed.
+        server = Server().start()
+        try:
+            fx = CampaignFixture(server)
+            views = [((0.25, 0.0001 * (i + 1), 0.3), (0.001, 0.002, 0.11)) for i in range(1000)]
+            big = spec(fx.scene.scene_id, fx.mount, viewpoints=views, rotations=1, sensor=camera(8, 6))
+            self.assertGreater(80 * big.ByteSize(), 4 << 20)
+            started = []
+            for _ in range(80):
+                job = fx.jobs.StartCampaign(job_pb2.StartCampaignRequest(spec=big), timeout=30).job
+                fx.jobs.CancelJob(job_pb2.CancelJobRequest(job_id=job.job_id), timeout=30)
+                started.append(job.job_id)
+            fx.close()
+            with Client(server.address) as client:
+                for job_id in started:
+                    self.assertEqual(client.wait_job(job_id, timeout=120).state, job_pb2.JOB_STATE_CANCELLED)
+            with grpc.insecure_channel(server.address) as channel:  # gRPC's default limits
+                jobs = job_pb2_grpc.JobServiceStub(channel)
+                ids, token, pages = [], "", 0
+                while True:
+                    page = jobs.ListJobs(job_pb2.ListJobsRequest(page_token=token), timeout=30)
+                    pages += 1
+                    self.assertLessEqual(page.ByteSize(), 4 << 20)
+                    self.assertTrue(all(len(j.campaign.viewpoints) == 1000 for j in page.jobs))
+                    ids += [j.job_id for j in page.jobs]
+                    if not page.next_page_token:
+                        break
+                    token = page.next_page_token
+            self.assertEqual(ids, sorted(started))
+            self.assertGreater(pages, 1)
+        finally:
+            server.cleanup()
+
+
+class CampaignQueueTest(unittest.TestCase):
+    def test_concurrent_starts_never_overfill_the_queue(self):
+        server = Server(extra_args=["--max-queued-jobs", "2"]).start()
+        try:
+            fx = CampaignFixture(server)
+            running = fx.jobs.StartCampaign(job_pb2.StartCampaignRequest(
+                spec=spec(fx.scene.scene_id, fx.mount, **CampaignRestartTest.LONG)), timeout=30).job
+            wait_for(lambda: fx.jobs.GetJob(job_pb2.GetJobRequest(job_id=running.job_id), timeout=10).job.state ==
+                     job_pb2.JOB_STATE_RUNNING, what="the first job to run")
+            small = spec(fx.scene.scene_id, fx.mount, viewpoints=VIEWPOINTS[:1], rotations=1, sensor=camera(8, 6))
+            results = []
+
+            def start():
+                try:
+                    results.append(fx.jobs.StartCampaign(job_pb2.StartCampaignRequest(spec=small), timeout=30).job)
+                except grpc.RpcError as err:
+                    results.append(err)
+            threads = [threading.Thread(target=start) for _ in range(16)]
+            for t in threads:
+                t.start()
+            for t in threads:
+                t.join()
+            accepted = [r.job_id for r in results if isinstance(r, job_pb2.Job)]
+            refused = [r for r in results if isinstance(r, grpc.RpcError)]
+            self.assertEqual(len(accepted), 2, [e.details() for e in refused])
+            self.assertEqual({e.code() for e in refused}, {C.RESOURCE_EXHAUSTED})
+            with Client(server.address) as client:
+                # A refused start leaves no job behind.
+                self.assertEqual(sorted(j.job_id for j in client.list_jobs()), sorted([running.job_id] + accepted))
+                client.cancel_job(running.job_id)
+                for job_id in accepted:
+                    self.assertEqual(client.wait_job(job_id, timeout=120).state, job_pb2.JOB_STATE_SUCCEEDED)
+            fx.close()
+        finally:
+            server.cleanup()
+
+
+class CampaignStorageFailureTest(unittest.TestCase):
+    def test_a_scan_that_cannot_be_stored_fails_the_job_and_keeps_the_server(self):
+        server = Server().start()
+        blobs = os.path.join(server.data_dir, "store", "blobs")
+        try:
+            fx = CampaignFixture(server)
+            s = spec(fx.scene.scene_id, fx.mount, **CampaignRestartTest.LONG)
+            job = fx.jobs.StartCampaign(job_pb2.StartCampaignRequest(spec=s), timeout=30).job
+
+            def scans_done():
+                got = fx.jobs.GetJob(job_pb2.GetJobRequest(job_id=job.job_id), timeout=10).job
+                return got if len(got.artifacts) >= 2 else None
+            wait_for(scans_done, what="two scans")
+            # The blob store's directory turns into a file: every later blob write fails.
+            os.rename(blobs, blobs + ".away")
+            with open(blobs, "w") as f:
+                f.write("not a directory\n")
+            with Client(server.address) as client:
+                done = client.wait_job(job.job_id, timeout=120)
+                self.assertEqual(done.state, job_pb2.JOB_STATE_FAILED)
+                self.assertRegex(done.message, r"^cannot store scan-r\d\d-v\d\d\.ply: .*blobs")
+                self.assertGreaterEqual(len(done.artifacts), 2)
+                self.assertLess(done.steps_done, done.steps_total)
+                self.assertTrue(all(a.name.endswith(".ply") for a in done.artifacts))
+                os.remove(blobs)
+                os.rename(blobs + ".away", blobs)
+                # What was stored before stays whole, and the server still runs campaigns.
+                for artifact in done.artifacts:
+                    points, _ = parse_ply(client.read_artifact(job.job_id, artifact.artifact_id)[1])
+                    self.assertEqual(len(points), artifact.scan.points)
+                small = spec(fx.scene.scene_id, fx.mount, viewpoints=VIEWPOINTS[:1], rotations=1, sensor=camera(80, 60))
+                again = client.wait_job(client.start_campaign(spec=small).job_id, timeout=120)
+                self.assertEqual(again.state, job_pb2.JOB_STATE_SUCCEEDED, again.message)
+            fx.close()
+        finally:
+            server.cleanup()
+
+
 class CampaignRestartTest(unittest.TestCase):
     LONG = dict(viewpoints=VIEWPOINTS * 2, rotations=100, step=3.6)
 
@@ -477,7 +623,13 @@ class CampaignRestartTest(unittest.TestCase):
         try:
             job_id, _ = self.start_long(server)
             server.kill9()
+            # A scan the killed server was encoding is left in its scratch directory.
+            scratch = os.path.join(server.data_dir, "store", "tmp", job_id)
+            os.makedirs(scratch, exist_ok=True)
+            with open(os.path.join(scratch, "scan-r00-v01.ply"), "wb") as f:
+                f.write(b"ply\n")
             server.start()
+            self.assertFalse(os.path.exists(scratch))
             with Client(server.address) as client:
                 job = client.get_job(job_id)
                 self.assertEqual(job.state, job_pb2.JOB_STATE_INTERRUPTED)
