@@ -48,13 +48,13 @@ capture::MeasurementSpec SpecOf(const ScanPlan& plan) {
 }
 
 // The raster backends keep the plan's depth range (their depth precision follows near and far), so
-// they report no out-of-range rejections.
+// they report no out-of-range rejections and see through surfaces nearer than near.
 StatusOr<PointCloud> RunMeasuredRaster(const ScanPlan& plan, const capture::MeasurementSpec& spec,
                                        const scenes::ScanTarget& target, RasterProvider& raster,
                                        const std::atomic<bool>* cancel, raycast::ScanStats* stats,
                                        capture::MeasureStats* measure_stats) {
-  ASSIGN_OR_RETURN(PointCloud clean, RunRaster(plan, plan.camera, kFieldsAll, raycast::ScanFrame::kSensor, target,
-                                               raster, cancel, stats));
+  ASSIGN_OR_RETURN(PointCloud clean, RunRaster(plan, plan.camera, capture::CleanFieldsFor(spec),
+                                               raycast::ScanFrame::kSensor, target, raster, cancel, stats));
   ASSIGN_OR_RETURN(PointCloud cloud, capture::MeasureScan(*target.raycast, plan.camera, plan.world_from_sensor,
                                                           std::move(clean), spec, measure_stats));
   if (plan.frame == raycast::ScanFrame::kWorld) capture::SensorToWorld(plan.world_from_sensor, cloud);

@@ -250,6 +250,83 @@ class MeasurementTest(unittest.TestCase):
         with self.assertRaises(VscanError):
             self.plane_scan(N(outlier_rate=float("nan"), outlier_angle_deg=1))
 
+    def test_non_finite_values_name_their_field(self):
+        stub = scan_pb2_grpc.ScanServiceStub(self.server.channel())
+        est = [S.POINT_FIELD_POSITION, S.POINT_FIELD_ESTIMATED_NORMAL]
+
+        def structured(camera=None, **kw):
+            sl = sensor_pb2.StructuredLightScanner(projector_offset=common_pb2.Vector3(x=0.1), **kw)
+            sl.camera.CopyFrom(camera or pinhole().pinhole)
+            return sensor_pb2.SensorSpec(structured_light=sl)
+
+        def intrinsics(**kw):
+            k = dict(fx=100.0, fy=100.0, cx=80.0, cy=60.0)
+            k.update(kw)
+            return sensor_pb2.PinholeCamera(width=160, height=120, intrinsics=sensor_pb2.Intrinsics(**k))
+
+        for bad in (float("nan"), float("inf"), -float("inf")):
+            cases = [("noise." + name, dict(noise=sensor_pb2.NoiseSpec(**{name: bad})))
+                     for name in ("sigma_a", "sigma_b", "sigma_c", "outlier_rate", "outlier_angle_deg",
+                                  "outlier_origin_m", "grazing_limit_deg", "min_intensity", "depth_step_m",
+                                  "flying_pixel_edge_m")]
+            cases.append(("normal_estimation.max_distance",
+                          dict(fields=est, normal_estimation=S.NormalEstimation(k=8, max_distance=bad))))
+            for name in ("projector_horizontal_fov_deg", "projector_vertical_fov_deg", "disparity_step_px",
+                         "convergence_distance"):
+                cases.append(("sensor.structured_light." + name, dict(sensor=structured(**{name: bad}))))
+            cases.append(("sensor.structured_light.projector_offset",
+                          dict(sensor=sensor_pb2.SensorSpec(structured_light=sensor_pb2.StructuredLightScanner(
+                              camera=pinhole().pinhole, projector_offset=common_pb2.Vector3(x=0.1, z=bad))))))
+            for name in ("fx", "fy", "cx", "cy"):
+                cases.append(("sensor.structured_light.camera.intrinsics." + name,
+                              dict(sensor=structured(camera=intrinsics(**{name: bad})))))
+                cases.append(("sensor.pinhole.intrinsics." + name,
+                              dict(sensor=sensor_pb2.SensorSpec(pinhole=intrinsics(**{name: bad})))))
+            for name in ("near", "far"):
+                camera = pinhole().pinhole
+                setattr(camera, name, bad)
+                cases.append(("sensor.structured_light.camera." + name, dict(sensor=structured(camera=camera))))
+            camera = pinhole().pinhole
+            camera.distortion.k1 = bad
+            cases.append(("sensor.structured_light.camera.distortion.k1", dict(sensor=structured(camera=camera))))
+            for field, kw in cases:
+                request = dict(scene_id=self.plane_scene, sensor=pinhole(),
+                               pose=look_at((0, 0, 1), (0, 0, 0), (0, 1, 0)))
+                request.update(kw)
+                with self.subTest(field=field, value=bad):
+                    with self.assertRaises(grpc.RpcError) as ctx:
+                        list(stub.Scan(S.ScanRequest(**request), timeout=30))
+                    self.assertEqual(ctx.exception.code(), C.INVALID_ARGUMENT, ctx.exception.details())
+                    self.assertTrue(ctx.exception.details().startswith(field + ":"), ctx.exception.details())
+
+    def test_raster_measured_statuses_match_ray_casting(self):
+        # The wall lies beyond far: ray casting finds it (out of range), the raster backend does not; in
+        # range, both must give the same verdicts, at the sphere's rim included.
+        for noise, status in ((sensor_pb2.NoiseSpec(flying_pixels=True), S.POINT_STATUS_MEASURED),
+                              (sensor_pb2.NoiseSpec(grazing_limit_deg=60), S.POINT_STATUS_REJECTED_GRAZING)):
+            clouds = {}
+            for backend in ("raycast", "depth"):
+                result = self.sphere_scan(noise, fields=TRUTH, include_rejected=True, backend=backend)
+                keep = result.statuses != S.POINT_STATUS_REJECTED_OUT_OF_RANGE
+                clouds[backend] = dict(zip(result.pixels[keep].tolist(), result.statuses[keep].tolist()))
+            ray, raster = clouds["raycast"], clouds["depth"]
+            common = ray.keys() & raster.keys()
+            self.assertGreater(len(common), 0.99 * max(len(ray), len(raster)))
+            same = sum(ray[p] == raster[p] for p in common)
+            self.assertGreater(same, 0.995 * len(common), noise)
+            self.assertGreater(sum(ray[p] == status for p in common), 100)
+
+    def test_every_ray_rejected_with_estimated_normals(self):
+        # Seen from 1 m with far = 0.5: every hit is out of range.
+        result = self.client.scan(self.plane_scene, width=64, height=48, hfov_deg=60, eye=(0, 0, 1),
+                                  target=(0, 0, 0), up=(0, 1, 0), far=0.5, fields=TRUTH + ["estimated_normal"],
+                                  normal_estimation=(8, 0.0), include_rejected=True, noise=sensor_pb2.NoiseSpec())
+        self.assertEqual(len(result), 64 * 48)
+        self.assertTrue(np.all(result.statuses == S.POINT_STATUS_REJECTED_OUT_OF_RANGE))
+        self.assertTrue(np.all(result.estimated_normals == 0))
+        self.assertEqual(result.stats.points, 0)
+        self.assertEqual(result.stats.rejected_out_of_range, 64 * 48)
+
 
 if __name__ == "__main__":
     unittest.main()

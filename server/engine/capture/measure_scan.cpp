@@ -1,6 +1,7 @@
 #include "capture/measure_scan.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -20,8 +21,8 @@ namespace {
 
 constexpr double kExtendedNear = 1e-4;
 constexpr double kExtendedFarFactor = 4.0;
-constexpr uint32_t kCleanFields = kFieldsAll;
 constexpr size_t kBlock = 16384;
+using StatusCounts = std::array<uint64_t, static_cast<size_t>(PointStatus::kRejectedUnlit) + 1>;
 
 bool Returned(uint8_t status) {
   const auto s = static_cast<PointStatus>(status);
@@ -30,12 +31,12 @@ bool Returned(uint8_t status) {
 
 bool Rejected(uint8_t status) { return status >= static_cast<uint8_t>(PointStatus::kRejectedOutOfRange); }
 
-Status CheckClean(const PointCloud& c) {
-  const uint32_t missing = kCleanFields & ~c.fields;
-  if (missing) return InvalidArgument("clean cloud: needs normal, range, intensity, instance id and pixel fields");
+Status CheckClean(const PointCloud& c, uint32_t needed) {
+  if (needed & ~c.fields) return InvalidArgument("clean cloud: lacks fields of CleanFieldsFor(spec)");
   const size_t n = c.size();
-  if (c.normals.size() != n || c.ranges.size() != n || c.intensities.size() != n || c.instance_ids.size() != n ||
-      c.pixels.size() != n) {
+  const auto wrong = [&](uint32_t field, size_t size) { return (needed & field) && size != n; };
+  if (wrong(kFieldNormal, c.normals.size()) || wrong(kFieldIntensity, c.intensities.size()) ||
+      wrong(kFieldInstanceId, c.instance_ids.size()) || wrong(kFieldPixel, c.pixels.size())) {
     return InvalidArgument("clean cloud: arrays of different lengths");
   }
   return Status::Ok();
@@ -103,26 +104,23 @@ uint64_t QuantiseDisparities(const sensor::StructuredLight& sl, std::vector<uint
   return dropped;
 }
 
-void Count(const std::vector<uint8_t>& status, MeasureStats& stats) {
-  for (const uint8_t s : status) {
-    switch (static_cast<PointStatus>(s)) {
-      case PointStatus::kMeasured: ++stats.points; break;
-      case PointStatus::kOutlier:
-        ++stats.points;
-        ++stats.outliers;
-        break;
-      case PointStatus::kFlyingPixel:
-        ++stats.points;
-        ++stats.flying_pixels;
-        break;
-      case PointStatus::kRejectedOutOfRange: ++stats.rejected_out_of_range; break;
-      case PointStatus::kRejectedShadowed: ++stats.rejected_shadowed; break;
-      case PointStatus::kRejectedGrazing: ++stats.rejected_grazing; break;
-      case PointStatus::kRejectedDim: ++stats.rejected_dim; break;
-      case PointStatus::kRejectedUnlit: ++stats.rejected_unlit; break;
-      case PointStatus::kUnspecified: break;
-    }
-  }
+// How many rays of each PointStatus a block holds, and the range span of its returned points.
+struct BlockTally {
+  StatusCounts of_status{};
+  size_t kept = 0;
+  double min_range = std::numeric_limits<double>::infinity(), max_range = 0;
+};
+
+void Count(const StatusCounts& n, MeasureStats& stats) {
+  const auto at = [&](PointStatus s) { return n[static_cast<size_t>(s)]; };
+  stats.outliers = at(PointStatus::kOutlier);
+  stats.flying_pixels = at(PointStatus::kFlyingPixel);
+  stats.points = at(PointStatus::kMeasured) + stats.outliers + stats.flying_pixels;
+  stats.rejected_out_of_range = at(PointStatus::kRejectedOutOfRange);
+  stats.rejected_shadowed = at(PointStatus::kRejectedShadowed);
+  stats.rejected_grazing = at(PointStatus::kRejectedGrazing);
+  stats.rejected_dim = at(PointStatus::kRejectedDim);
+  stats.rejected_unlit = at(PointStatus::kRejectedUnlit);
 }
 
 // Normals of the returned points, in clean-cloud order; 0,0,0 for the others and where too few
@@ -149,7 +147,43 @@ StatusOr<std::vector<Eigen::Vector3f>> EstimatedNormals(const std::vector<uint8_
   return out;
 }
 
+// The output when every ray is kept: slot i is ray i, so the working arrays become the cloud's
+// instead of being copied. Rejected rays sit at their clean positions in measured (only returned
+// rays are ever moved).
+PointCloud TakeEveryRay(uint32_t fields, PointCloud& clean, std::vector<Eigen::Vector3f>& measured,
+                        std::vector<float>& incidence, std::vector<uint8_t>& status,
+                        std::vector<Eigen::Vector3f>& estimated) {
+  PointCloud out;
+  out.fields = fields;
+  out.positions = std::move(measured);
+  if (out.Has(kFieldNormal)) out.normals = std::move(clean.normals);
+  if (out.Has(kFieldRange)) {
+    out.ranges.resize(out.size());
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, out.size(), kBlock), [&](const tbb::blocked_range<size_t>& r) {
+      for (size_t i = r.begin(); i != r.end(); ++i) out.ranges[i] = out.positions[i].norm();
+    });
+  }
+  if (out.Has(kFieldIntensity)) out.intensities = std::move(clean.intensities);
+  if (out.Has(kFieldInstanceId)) out.instance_ids = std::move(clean.instance_ids);
+  if (out.Has(kFieldPixel)) out.pixels = std::move(clean.pixels);
+  if (out.Has(kFieldCleanPosition)) out.clean_positions = std::move(clean.positions);
+  if (out.Has(kFieldIncidence)) out.incidence_angles = std::move(incidence);
+  if (out.Has(kFieldStatus)) out.statuses = std::move(status);
+  if (out.Has(kFieldEstimatedNormal)) out.estimated_normals = std::move(estimated);
+  return out;
+}
+
 }  // namespace
+
+uint32_t CleanFieldsFor(const MeasurementSpec& spec) {
+  uint32_t fields = kFieldPosition | kFieldPixel;
+  if (spec.grazing_limit_deg > 0 || spec.flying_pixels.enabled || (spec.fields & (kFieldNormal | kFieldIncidence))) {
+    fields |= kFieldNormal;
+  }
+  if (spec.noise.min_intensity > 0 || (spec.fields & kFieldIntensity)) fields |= kFieldIntensity;
+  if (spec.fields & kFieldInstanceId) fields |= kFieldInstanceId;
+  return fields;
+}
 
 sensor::PinholeCamera ExtendedRangeCamera(const sensor::PinholeCamera& camera) {
   sensor::PinholeCamera extended = camera;
@@ -162,7 +196,7 @@ StatusOr<PointCloud> MeasureScan(const raycast::RaycastScene& scene, const senso
                                  const Pose3& world_from_sensor, PointCloud clean, const MeasurementSpec& spec,
                                  MeasureStats* stats) {
   const auto start = std::chrono::steady_clock::now();
-  RETURN_IF_ERROR(CheckClean(clean));
+  RETURN_IF_ERROR(CheckClean(clean, CleanFieldsFor(spec)));
   MeasureStats local;
   MeasureStats& s = stats ? *stats : local;
   s = MeasureStats{};
@@ -180,7 +214,6 @@ StatusOr<PointCloud> MeasureScan(const raycast::RaycastScene& scene, const senso
   if (spec.flying_pixels.enabled) MixDepthEdges(clean, camera, spec, status, measured);
   s.dropped += ApplyNoise(clean, spec, status, measured);
   if (spec.structured_light) s.dropped += QuantiseDisparities(*spec.structured_light, status, measured);
-  Count(status, s);
 
   std::vector<Eigen::Vector3f> estimated;
   if (spec.fields & kFieldEstimatedNormal) {
@@ -188,16 +221,39 @@ StatusOr<PointCloud> MeasureScan(const raycast::RaycastScene& scene, const senso
   }
 
   const auto keep = [&](size_t i) { return Returned(status[i]) || (spec.include_rejected && Rejected(status[i])); };
-  // Output slots per block first, so that blocks fill the output in parallel and in pixel order.
+  // Output slots per block first, so that blocks fill the output in parallel and in pixel order; the
+  // counters and the range span come with them.
   const size_t blocks = (status.size() + kBlock - 1) / kBlock;
-  std::vector<size_t> first(blocks + 1, 0);
+  std::vector<BlockTally> tally(blocks);
   tbb::parallel_for(size_t{0}, blocks, [&](size_t b) {
-    size_t kept = 0;
-    for (size_t i = b * kBlock, end = std::min(status.size(), i + kBlock); i < end; ++i) kept += keep(i);
-    first[b + 1] = kept;
+    BlockTally& t = tally[b];
+    for (size_t i = b * kBlock, end = std::min(status.size(), i + kBlock); i < end; ++i) {
+      ++t.of_status[status[i]];
+      t.kept += keep(i);
+      if (!Returned(status[i])) continue;
+      const double range = measured[i].norm();
+      t.min_range = std::min(t.min_range, range);
+      t.max_range = std::max(t.max_range, range);
+    }
   });
-  for (size_t b = 0; b < blocks; ++b) first[b + 1] += first[b];
+  std::vector<size_t> first(blocks + 1, 0);
+  StatusCounts of_status{};
+  double min_range = std::numeric_limits<double>::infinity(), max_range = 0;
+  for (size_t b = 0; b < blocks; ++b) {
+    first[b + 1] = first[b] + tally[b].kept;
+    for (size_t k = 0; k < of_status.size(); ++k) of_status[k] += tally[b].of_status[k];
+    min_range = std::min(min_range, tally[b].min_range);
+    max_range = std::max(max_range, tally[b].max_range);
+  }
+  Count(of_status, s);
+  s.min_range = s.points ? min_range : 0;
+  s.max_range = max_range;
 
+  if (first[blocks] == status.size()) {
+    PointCloud out = TakeEveryRay(spec.fields | kFieldPosition, clean, measured, incidence, status, estimated);
+    s.elapsed_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    return out;
+  }
   PointCloud out;
   out.fields = spec.fields | kFieldPosition;
   out.Resize(first[blocks]);
@@ -219,15 +275,6 @@ StatusOr<PointCloud> MeasureScan(const raycast::RaycastScene& scene, const senso
       ++k;
     }
   });
-  double min_range = std::numeric_limits<double>::infinity(), max_range = 0;
-  for (size_t i = 0; i < status.size(); ++i) {
-    if (!Returned(status[i])) continue;
-    const double range = measured[i].norm();
-    min_range = std::min(min_range, range);
-    max_range = std::max(max_range, range);
-  }
-  s.min_range = s.points ? min_range : 0;
-  s.max_range = max_range;
   s.elapsed_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   return out;
 }
@@ -237,7 +284,7 @@ StatusOr<PointCloud> ScanMeasured(const raycast::RaycastScene& scene, const sens
                                   raycast::ScanFrame frame, const std::atomic<bool>* cancel,
                                   raycast::ScanStats* scan_stats, MeasureStats* stats) {
   raycast::ScanOptions options;
-  options.fields = kCleanFields;
+  options.fields = CleanFieldsFor(spec);
   options.frame = raycast::ScanFrame::kSensor;
   options.cancel = cancel;
   ASSIGN_OR_RETURN(PointCloud clean,

@@ -39,10 +39,14 @@ struct MeasureStats {
 // the surfaces that lie outside [near, far].
 sensor::PinholeCamera ExtendedRangeCamera(const sensor::PinholeCamera& camera);
 
-// clean: the clean scan in the sensor frame with position, normal, range, intensity, instance id
-// and pixel, ideally taken with ExtendedRangeCamera(camera). Returns the measured cloud in the
-// sensor frame with spec.fields; rejected rays only with spec.include_rejected, at their clean
-// positions. scene is where outlier rays are re-cast (world_from_sensor places the sensor in it).
+// The fields the clean scan under a measured one must have: position and pixel, and normal,
+// intensity and instance id only where a verdict, an artefact or spec.fields reads them (ranges are
+// recomputed from the positions).
+uint32_t CleanFieldsFor(const MeasurementSpec& spec);
+
+// clean: the clean scan in the sensor frame with (at least) CleanFieldsFor(spec), ideally taken with
+// ExtendedRangeCamera(camera). Returns the measured cloud in the sensor frame with spec.fields;
+// rejected rays only with spec.include_rejected, at their clean positions. scene is where outlier rays are re-cast (world_from_sensor places the sensor in it).
 StatusOr<PointCloud> MeasureScan(const raycast::RaycastScene& scene, const sensor::PinholeCamera& camera,
                                  const Pose3& world_from_sensor, PointCloud clean_sensor_cloud,
                                  const MeasurementSpec& spec, MeasureStats* stats);

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 
+#include <tbb/parallel_for.h>
+
 #include "capture/pixel_draws.h"
 #include "raycast/ray_queries.h"
 
@@ -41,13 +43,19 @@ OutlierCounts CastOutliers(const raycast::RaycastScene& scene, const sensor::Pin
   const Eigen::Matrix3d rotation = world_from_sensor.linear();
   const Eigen::Vector3d centre = world_from_sensor.translation();
 
+  // The pick draw of every measured pixel in parallel, the rays of the (few) picked ones after.
+  std::vector<uint8_t> pick(clean.size(), 0);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, clean.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      if (status[i] != static_cast<uint8_t>(PointStatus::kMeasured)) continue;
+      pick[i] = PixelDraws(spec.seed, DrawStream::kOutlierPick, clean.pixels[i]).Uniform() < o.rate;
+    }
+  });
   std::vector<size_t> picked;
   std::vector<Eigen::Vector3f> origins, directions;
   for (size_t i = 0; i < clean.size(); ++i) {
-    if (status[i] != static_cast<uint8_t>(PointStatus::kMeasured)) continue;
+    if (!pick[i]) continue;
     const uint32_t pixel = clean.pixels[i];
-    PixelDraws pick(spec.seed, DrawStream::kOutlierPick, pixel);
-    if (!(pick.Uniform() < o.rate)) continue;
     PixelDraws draws(spec.seed, DrawStream::kOutlierRay, pixel);
     const Eigen::Vector3d ray =
         camera.RayThroughPixel(pixel % camera.width, pixel / camera.width).cast<double>().normalized();
@@ -63,13 +71,15 @@ OutlierCounts CastOutliers(const raycast::RaycastScene& scene, const sensor::Pin
   OutlierCounts counts;
   for (size_t k = 0; k < picked.size(); ++k) {
     const size_t i = picked[k];
-    if (!hits[k].hit) {
+    const Eigen::Vector3d world = origins[k].cast<double>() + directions[k].cast<double>() * hits[k].distance;
+    const Eigen::Vector3d point = sensor_from_world * world;
+    // The sensor reports no depth outside its range, wherever the light came from.
+    if (!hits[k].hit || point.z() < camera.near || point.z() > camera.far) {
       status[i] = static_cast<uint8_t>(PointStatus::kUnspecified);
       ++counts.missed;
       continue;
     }
-    const Eigen::Vector3d world = origins[k].cast<double>() + directions[k].cast<double>() * hits[k].distance;
-    measured[i] = (sensor_from_world * world).cast<float>();
+    measured[i] = point.cast<float>();
     status[i] = static_cast<uint8_t>(PointStatus::kOutlier);
     ++counts.outliers;
   }

@@ -15,12 +15,13 @@ namespace vscan::capture {
 
 struct OutlierCounts {
   uint64_t outliers = 0;  // pixels now reporting a perturbed hit
-  uint64_t missed = 0;    // perturbed rays that hit nothing: the pixel is dropped
+  uint64_t missed = 0;    // perturbed rays that hit nothing in range: the pixel is dropped
 };
 
 // Picks the outlier pixels among status == MEASURED with a per-pixel draw below spec.outliers.rate,
 // casts their perturbed rays (up to max_distance) and writes the hits into measured (sensor frame)
-// with status OUTLIER; a miss gets status UNSPECIFIED (dropped).
+// with status OUTLIER; a miss, or a hit whose depth lies outside [camera.near, camera.far], gets
+// status UNSPECIFIED (dropped).
 OutlierCounts CastOutliers(const raycast::RaycastScene& scene, const sensor::PinholeCamera& camera,
                            const Pose3& world_from_sensor, const PointCloud& clean, const MeasurementSpec& spec,
                            float max_distance, std::vector<uint8_t>& status,

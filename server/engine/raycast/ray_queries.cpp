@@ -1,5 +1,6 @@
 #include "raycast/ray_queries.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <tbb/parallel_for.h>
@@ -54,7 +55,8 @@ std::vector<RayHit> IntersectRays(const RaycastScene& scene, std::span<const Eig
 }
 
 std::vector<uint8_t> OccludedSegments(const RaycastScene& scene, std::span<const Eigen::Vector3f> from,
-                                      std::span<const Eigen::Vector3f> to, float margin) {
+                                      std::span<const Eigen::Vector3f> to, float relative_margin,
+                                      float min_margin) {
   std::vector<uint8_t> occluded(from.size(), 0);
   const RTCScene rtc = scene.impl().scene;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, from.size(), kGrain), [&](const tbb::blocked_range<size_t>& r) {
@@ -63,6 +65,7 @@ std::vector<uint8_t> OccludedSegments(const RaycastScene& scene, std::span<const
     for (size_t i = r.begin(); i != r.end(); ++i) {
       const Eigen::Vector3f d = to[i] - from[i];
       const float length = d.norm();
+      const float margin = std::max(min_margin, relative_margin * length);
       if (!(length > 2 * margin)) continue;
       RTCRay ray = MakeRay(from[i], d / length, margin, length - margin);
       rtcOccluded1(rtc, &context, &ray);

@@ -23,9 +23,11 @@ struct RayHit {
 std::vector<RayHit> IntersectRays(const RaycastScene& scene, std::span<const Eigen::Vector3f> origins,
                                   std::span<const Eigen::Vector3f> directions, float t_near, float t_far);
 
-// 1 where something lies on the segment from[i] -> to[i], excluding `margin` metres at each end
-// (so the surface a segment ends on does not shadow itself); 0 where the segment is free.
+// 1 where something lies on the segment from[i] -> to[i], excluding a margin at each end of
+// max(min_margin, relative_margin * the segment's length) metres (so the surface a segment ends on
+// does not shadow itself); 0 where the segment is free.
 std::vector<uint8_t> OccludedSegments(const RaycastScene& scene, std::span<const Eigen::Vector3f> from,
-                                      std::span<const Eigen::Vector3f> to, float margin);
+                                      std::span<const Eigen::Vector3f> to, float relative_margin,
+                                      float min_margin);
 
 }  // namespace vscan::raycast

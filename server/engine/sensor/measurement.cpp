@@ -42,14 +42,13 @@ class PointNormals {
   double Next() {
     if (has_spare_) {
       has_spare_ = false;
-      return spare_;
+      return radius_ * std::sin(angle_);  // the pair's second deviate, only paid for when asked for
     }
     const double u1 = Uniform(), u2 = Uniform();
-    const double radius = std::sqrt(-2.0 * std::log(u1));
-    const double angle = 2.0 * std::numbers::pi * u2;
-    spare_ = radius * std::sin(angle);
+    radius_ = std::sqrt(-2.0 * std::log(u1));
+    angle_ = 2.0 * std::numbers::pi * u2;
     has_spare_ = true;
-    return radius * std::cos(angle);
+    return radius_ * std::cos(angle_);
   }
 
  private:
@@ -58,7 +57,7 @@ class PointNormals {
 
   uint64_t base_;
   uint64_t counter_ = 0;
-  double spare_ = 0;
+  double radius_ = 0, angle_ = 0;
   bool has_spare_ = false;
 };
 
@@ -136,7 +135,9 @@ bool MeasurePoint(Eigen::Vector3d& p, const LensDistortion& distortion, const De
     PointNormals normals(seed, key);
     p = AddNoise(p, noise, normals);
   }
-  return !(noise.depth_step > 0) || Quantise(p, noise.depth_step);
+  if (noise.depth_step > 0 && !Quantise(p, noise.depth_step)) return false;
+  // Huge (finite) sigmas or distortion coefficients can push a point, or its range, beyond single precision.
+  return std::isfinite(p.cast<float>().squaredNorm());
 }
 
 Status ApplyMeasurementModel(PointCloud& cloud, const LensDistortion& distortion, const DepthNoise& noise,

@@ -35,15 +35,16 @@ Status ValidateDistortion(const LensDistortion& distortion, std::string_view fie
 Status ValidateNoise(const DepthNoise& noise, std::string_view field);
 
 // Distortion, then noise, then depth quantisation of one sensor-frame point, whose noise draws
-// come from (seed, key) only. False when the quantised depth is not positive (the point is dropped).
+// come from (seed, key) only. False when the quantised depth is not positive or the point is no
+// longer finite in single precision (the point is dropped).
 // min_intensity is not looked at here.
 bool MeasurePoint(Eigen::Vector3d& p, const LensDistortion& distortion, const DepthNoise& noise, uint64_t seed,
                   uint64_t key);
 
 // Applies distortion, then noise (isotropic or along the ray), then depth quantisation, then drop-out,
 // to a cloud in the sensor frame (z forward). Ranges of moved points are recomputed; normals are left as they are.
-// Points at or behind the sensor plane are not distorted, and points whose quantised depth is not positive are
-// dropped. Each point's noise comes from (seed, pixel index) when the cloud has pixels, else (seed, point index),
+// Points at or behind the sensor plane are not distorted, and points whose quantised depth is not positive
+// (or that leave single precision) are dropped. Each point's noise comes from (seed, pixel index) when the cloud has pixels, else (seed, point index),
 // so the result is reproducible bit for bit.
 Status ApplyMeasurementModel(PointCloud& sensor_frame_cloud, const LensDistortion& distortion,
                              const DepthNoise& noise, uint64_t seed);

@@ -23,18 +23,16 @@ std::vector<ProjectorVisibility> ProjectorVisibilityOf(const raycast::RaycastSce
 
   std::vector<size_t> lit_candidates;
   std::vector<Eigen::Vector3f> from, to;
-  float max_length = 0;
   for (size_t i = 0; i < sensor_points.size(); ++i) {
     const Eigen::Vector3d p = sensor_points[i].cast<double>();
     if (!p.allFinite() || !field.Contains(p)) continue;
     lit_candidates.push_back(i);
     from.push_back(projector_world);
     to.push_back((world_from_sensor * p).cast<float>());
-    max_length = std::max(max_length, (to.back() - projector_world).norm());
   }
-  // One margin for the batch; OccludedSegments trims it from both ends, which is harmless at the projector.
-  const float margin = std::max(kMinMargin, kRelativeMargin * max_length);
-  const std::vector<uint8_t> occluded = raycast::OccludedSegments(scene, from, to, margin);
+  // Each segment's own margin, so that far points do not widen the near ones'; OccludedSegments trims
+  // it from both ends, which is harmless at the projector.
+  const std::vector<uint8_t> occluded = raycast::OccludedSegments(scene, from, to, kRelativeMargin, kMinMargin);
   for (size_t k = 0; k < lit_candidates.size(); ++k) {
     visibility[lit_candidates[k]] = occluded[k] ? ProjectorVisibility::kShadowed : ProjectorVisibility::kLit;
   }

@@ -61,6 +61,24 @@ TEST(OutlierTest, TiltStaysWithinTheCone) {
   EXPECT_GT(largest, 8.0);
 }
 
+TEST(OutlierTest, TiltIsUniformOverTheConesSolidAngle) {
+  // Uniform in solid angle, a tilt below half the cone's angle has probability
+  // (1 - cos 10) / (1 - cos 20) = 0.252; uniform in angle it would be 0.5.
+  const auto scene = Build({test::Plane(2.0, 50.0)});
+  const PointCloud cloud = Measure(*scene, Camera(200, 150, 60), OutlierSpecOf(1.0, 20, 0), nullptr);
+  size_t outliers = 0, within_half = 0;
+  for (size_t i = 0; i < cloud.size(); ++i) {
+    if (cloud.statuses[i] != Code(PointStatus::kOutlier)) continue;
+    ++outliers;
+    const Eigen::Vector3d measured = cloud.positions[i].cast<double>().normalized();
+    const double c = measured.dot(cloud.clean_positions[i].cast<double>().normalized());
+    within_half += std::acos(std::min(1.0, c)) < 10 * std::numbers::pi / 180;
+  }
+  ASSERT_GT(outliers, 25000u);
+  const double expected = (1 - std::cos(10 * std::numbers::pi / 180)) / (1 - std::cos(20 * std::numbers::pi / 180));
+  EXPECT_NEAR(static_cast<double>(within_half) / static_cast<double>(outliers), expected, 0.015);
+}
+
 TEST(OutlierTest, OriginOnlyPerturbationStaysOnThePlane) {
   const auto scene = Build({test::Plane(2.0, 50.0)});
   const auto camera = Camera(200, 150, 60);
@@ -87,6 +105,17 @@ TEST(OutlierTest, MissedRaysAreDroppedAndCounted) {
   EXPECT_GT(stats.dropped, 0u);
   EXPECT_EQ(cloud.size(), stats.points);
   EXPECT_EQ(stats.points + stats.dropped, stats.hits);
+}
+
+TEST(OutlierTest, HitsOutsideTheDepthRangeAreDropped) {
+  // Rays tilted off the sphere reach the wall, beyond far: the sensor cannot report them.
+  const auto scene = Build({test::Sphere({0, 0, 2}, 0.5), test::Plane(5.0, 20.0)});
+  MeasureStats stats;
+  const PointCloud cloud = Measure(*scene, Camera(120, 120, 40, /*far=*/3.0), OutlierSpecOf(0.5, 30, 0), &stats);
+  EXPECT_GT(stats.outliers, 300u);
+  EXPECT_GT(stats.dropped, 300u);
+  for (size_t i = 0; i < cloud.size(); ++i) EXPECT_LE(cloud.positions[i].z(), 3.0f) << "pixel " << cloud.pixels[i];
+  EXPECT_EQ(stats.points + stats.rejected() + stats.dropped, stats.hits);
 }
 
 TEST(FlyingPixelTest, OnlyAtTheBoxEdgeAndBetweenTheDepths) {

@@ -125,6 +125,46 @@ TEST(MeasureScanTest, IncludeRejectedGivesEachReasonWhereExpected) {
   for (uint8_t s : measured.statuses) EXPECT_EQ(s, Code(PointStatus::kMeasured));
 }
 
+TEST(MeasureScanTest, KeepingEveryRayGivesTheSameRowsAsDroppingTheRejected) {
+  // With include_rejected nothing is dropped here (every ray is kept, the arrays move into the
+  // output); without it the rejected rays are left out. The returned rows must agree bit for bit.
+  const auto scene = Build({test::Sphere(kCentre, kRadius), test::Plane(5.0, 20.0)});
+  const auto camera = Camera(160, 160, 40, /*far=*/3.0);
+  MeasurementSpec spec = TruthSpec();
+  spec.fields |= kFieldEstimatedNormal;
+  spec.grazing_limit_deg = 70;
+  spec.noise.sigma_a = 0.001;
+  spec.flying_pixels.enabled = true;
+  spec.seed = 8;
+  spec.include_rejected = true;
+  MeasureStats all_stats, returned_stats;
+  const PointCloud all = Measure(*scene, camera, spec, &all_stats);
+  ASSERT_EQ(all.size(), all_stats.hits);
+  spec.include_rejected = false;
+  const PointCloud returned = Measure(*scene, camera, spec, &returned_stats);
+  ASSERT_EQ(returned.size(), returned_stats.points);
+  ASSERT_GT(all_stats.rejected(), 1000u);
+  size_t k = 0;
+  for (size_t i = 0; i < all.size(); ++i) {
+    if (all.statuses[i] >= Code(PointStatus::kRejectedOutOfRange)) continue;
+    ASSERT_LT(k, returned.size());
+    EXPECT_EQ(all.positions[i], returned.positions[k]);
+    EXPECT_EQ(all.normals[i], returned.normals[k]);
+    EXPECT_EQ(all.ranges[i], returned.ranges[k]);
+    EXPECT_EQ(all.intensities[i], returned.intensities[k]);
+    EXPECT_EQ(all.instance_ids[i], returned.instance_ids[k]);
+    EXPECT_EQ(all.pixels[i], returned.pixels[k]);
+    EXPECT_EQ(all.clean_positions[i], returned.clean_positions[k]);
+    EXPECT_EQ(all.incidence_angles[i], returned.incidence_angles[k]);
+    EXPECT_EQ(all.statuses[i], returned.statuses[k]);
+    EXPECT_EQ(all.estimated_normals[i], returned.estimated_normals[k]);
+    ++k;
+  }
+  EXPECT_EQ(k, returned.size());
+  EXPECT_EQ(all_stats.min_range, returned_stats.min_range);
+  EXPECT_EQ(all_stats.max_range, returned_stats.max_range);
+}
+
 TEST(MeasureScanTest, CountersAddUpWithEveryArtefact) {
   const auto scene = Build({test::Sphere(kCentre, kRadius), test::Plane(3.0, 1.0)});
   const auto camera = Camera(200, 160, 50, 2.8);
