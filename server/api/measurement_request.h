@@ -9,8 +9,8 @@
 namespace vscan::api {
 
 // Outliers, grazing limit, flying pixels, rejected rays and normal estimation, checked against
-// fields (the request's PointFields bits). Distortion, depth noise, seed and fields are left at
-// their defaults: a ScanPlan holds those itself.
+// fields (the request's PointFields bits), which the spec keeps. Distortion, depth noise and seed
+// are left at their defaults: ParseScanRequest fills them from the sensor and the noise.
 StatusOr<capture::MeasurementSpec> MeasurementFromProto(const v1::ScanRequest& request, uint32_t fields);
 
 }  // namespace vscan::api

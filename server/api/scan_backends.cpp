@@ -38,15 +38,6 @@ StatusOr<PointCloud> RunClean(const ScanPlan& plan, const scenes::ScanTarget& ta
   return raycast::Scan(*target.raycast, plan.camera, plan.world_from_sensor, options, stats);
 }
 
-capture::MeasurementSpec SpecOf(const ScanPlan& plan) {
-  capture::MeasurementSpec spec = plan.measurement;
-  spec.distortion = plan.distortion;
-  spec.noise = plan.noise;
-  spec.seed = plan.seed;
-  spec.fields = plan.fields;
-  return spec;
-}
-
 // The raster backends keep the plan's depth range (their depth precision follows near and far), so
 // they report no out-of-range rejections and see through surfaces nearer than near.
 StatusOr<PointCloud> RunMeasuredRaster(const ScanPlan& plan, const capture::MeasurementSpec& spec,
@@ -66,7 +57,7 @@ StatusOr<PointCloud> RunMeasuredRaster(const ScanPlan& plan, const capture::Meas
 StatusOr<PointCloud> RunScanBackend(const ScanPlan& plan, const scenes::ScanTarget& target, RasterProvider& raster,
                                     const std::atomic<bool>* cancel, raycast::ScanStats* stats,
                                     capture::MeasureStats* measure_stats) {
-  const capture::MeasurementSpec spec = SpecOf(plan);
+  const capture::MeasurementSpec& spec = plan.measurement;
   if (measure_stats) *measure_stats = capture::MeasureStats{};
   if (!spec.any()) return RunClean(plan, target, raster, cancel, stats);
   capture::MeasureStats local;

@@ -66,8 +66,6 @@ StatusOr<ScanPlan> ParseScanRequest(const v1::ScanRequest& request, const Limits
 
   ASSIGN_OR_RETURN(const SensorSettings sensing, SensorFromProto(request.sensor(), limits));
   plan.camera = sensing.camera;
-  plan.distortion = sensing.distortion;
-  const std::optional<sensor::DepthNoise> preset_noise = sensing.preset_noise;
 
   switch (request.placement_case()) {
     case v1::ScanRequest::kPose: {
@@ -84,13 +82,13 @@ StatusOr<ScanPlan> ParseScanRequest(const v1::ScanRequest& request, const Limits
 
   ASSIGN_OR_RETURN(plan.backend, BackendFromProto(request.backend()));
 
-  ASSIGN_OR_RETURN(plan.noise, NoiseFromProto(request.noise()));
-  if (preset_noise && !request.has_noise()) plan.noise = *preset_noise;
-  plan.seed = request.seed();
-
   ASSIGN_OR_RETURN(plan.fields, FieldsFromProto(request.fields(), "fields"));
   ASSIGN_OR_RETURN(plan.measurement, MeasurementFromProto(request, plan.fields));
+  ASSIGN_OR_RETURN(plan.measurement.noise, NoiseFromProto(request.noise()));
+  if (sensing.preset_noise && !request.has_noise()) plan.measurement.noise = *sensing.preset_noise;
+  plan.measurement.distortion = sensing.distortion;
   plan.measurement.structured_light = sensing.structured_light;
+  plan.measurement.seed = request.seed();
 
   ASSIGN_OR_RETURN(plan.frame, FrameFromProto(request.frame()));
 

@@ -36,12 +36,8 @@ struct ScanPlan {
   uint32_t fields = kFieldsDefault;
   size_t chunk_bytes = 1u << 20;
   std::optional<double> table_angle_deg;
-  // Lens distortion and measurement noise, applied to the clean scan in the sensor frame.
-  sensor::LensDistortion distortion;
-  sensor::DepthNoise noise;
-  uint64_t seed = 0;
-  // Outliers, grazing and dim rejection, flying pixels, rejected rays and normal estimation. Its
-  // distortion, noise, seed and fields are not read: the members above are.
+  // Distortion, noise, artefacts, rejected rays and normal estimation on top of the clean scan
+  // (its fields equal the plan's).
   capture::MeasurementSpec measurement;
   // Set for robot-held scans; world_from_sensor is then the pose the arm reached.
   std::optional<RobotPlacement> robot;

@@ -10,17 +10,10 @@ namespace {
 
 constexpr uint32_t kMaxSide = 16384;
 
-std::string Path(std::string_view field, std::string_view member) {
-  std::string path(field);
-  path += '.';
-  path += member;
-  return path;
-}
-
 bool FinitePositive(double x) { return std::isfinite(x) && x > 0; }
 
 Status ValidateLighting(const Lighting& l, std::string_view field) {
-  const std::string path = Path(field, "lighting");
+  const std::string path = FieldPath(field, "lighting");
   if (!std::isfinite(l.power) || !std::isfinite(l.constant) || !std::isfinite(l.linear) ||
       !std::isfinite(l.quadratic)) {
     return InvalidArgument(path + ": NaN or infinite value");
@@ -50,26 +43,26 @@ PinholeCamera CameraFromFov(uint32_t width, uint32_t height, double horizontal_f
 }
 
 Status ValidateCamera(const PinholeCamera& camera, std::string_view field, uint64_t max_rays) {
-  if (camera.width == 0) return InvalidArgument(Path(field, "width") + ": must be positive");
-  if (camera.height == 0) return InvalidArgument(Path(field, "height") + ": must be positive");
+  if (camera.width == 0) return InvalidArgument(FieldPath(field, "width") + ": must be positive");
+  if (camera.height == 0) return InvalidArgument(FieldPath(field, "height") + ": must be positive");
   if (camera.width > kMaxSide) {
-    return ResourceExhausted(Path(field, "width") + ": at most " + std::to_string(kMaxSide) + " pixels");
+    return ResourceExhausted(FieldPath(field, "width") + ": at most " + std::to_string(kMaxSide) + " pixels");
   }
   if (camera.height > kMaxSide) {
-    return ResourceExhausted(Path(field, "height") + ": at most " + std::to_string(kMaxSide) + " pixels");
+    return ResourceExhausted(FieldPath(field, "height") + ": at most " + std::to_string(kMaxSide) + " pixels");
   }
   if (camera.pixel_count() > max_rays) {
-    return ResourceExhausted(Path(field, "width") + " x " + Path(field, "height") + ": " +
+    return ResourceExhausted(FieldPath(field, "width") + " x " + FieldPath(field, "height") + ": " +
                              std::to_string(camera.pixel_count()) + " rays exceed the limit of " +
                              std::to_string(max_rays));
   }
-  if (!FinitePositive(camera.fx)) return InvalidArgument(Path(field, "fx") + ": must be finite and positive");
-  if (!FinitePositive(camera.fy)) return InvalidArgument(Path(field, "fy") + ": must be finite and positive");
-  if (!std::isfinite(camera.cx)) return InvalidArgument(Path(field, "cx") + ": must be finite");
-  if (!std::isfinite(camera.cy)) return InvalidArgument(Path(field, "cy") + ": must be finite");
-  if (!FinitePositive(camera.near)) return InvalidArgument(Path(field, "near") + ": must be finite and positive");
-  if (!std::isfinite(camera.far)) return InvalidArgument(Path(field, "far") + ": must be finite");
-  if (camera.near >= camera.far) return InvalidArgument(Path(field, "near") + " must be less than far");
+  if (!FinitePositive(camera.fx)) return InvalidArgument(FieldPath(field, "fx") + ": must be finite and positive");
+  if (!FinitePositive(camera.fy)) return InvalidArgument(FieldPath(field, "fy") + ": must be finite and positive");
+  if (!std::isfinite(camera.cx)) return InvalidArgument(FieldPath(field, "cx") + ": must be finite");
+  if (!std::isfinite(camera.cy)) return InvalidArgument(FieldPath(field, "cy") + ": must be finite");
+  if (!FinitePositive(camera.near)) return InvalidArgument(FieldPath(field, "near") + ": must be finite and positive");
+  if (!std::isfinite(camera.far)) return InvalidArgument(FieldPath(field, "far") + ": must be finite");
+  if (camera.near >= camera.far) return InvalidArgument(FieldPath(field, "near") + " must be less than far");
   return ValidateLighting(camera.lighting, field);
 }
 

@@ -9,21 +9,14 @@
 namespace vscan::sensor {
 namespace {
 
-std::string Path(std::string_view field, std::string_view member) {
-  std::string path(field);
-  path += '.';
-  path += member;
-  return path;
-}
-
 Status CheckFinite(double value, std::string_view field, std::string_view member) {
-  if (!std::isfinite(value)) return InvalidArgument(Path(field, member) + ": NaN or infinite value");
+  if (!std::isfinite(value)) return InvalidArgument(FieldPath(field, member) + ": NaN or infinite value");
   return Status::Ok();
 }
 
 Status CheckNonNegative(double value, std::string_view field, std::string_view member) {
   RETURN_IF_ERROR(CheckFinite(value, field, member));
-  if (value < 0) return InvalidArgument(Path(field, member) + ": must be >= 0");
+  if (value < 0) return InvalidArgument(FieldPath(field, member) + ": must be >= 0");
   return Status::Ok();
 }
 

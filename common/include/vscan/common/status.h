@@ -4,6 +4,7 @@
 #include <cassert>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <utility>
 #include <variant>
 
@@ -56,6 +57,14 @@ inline Status Internal(std::string m) { return {StatusCode::kInternal, std::move
 inline Status Cancelled(std::string m) { return {StatusCode::kCancelled, std::move(m)}; }
 inline Status Unavailable(std::string m) { return {StatusCode::kUnavailable, std::move(m)}; }
 inline Status DataLoss(std::string m) { return {StatusCode::kDataLoss, std::move(m)}; }
+
+// "parent.member", the path error messages use to name a nested request field.
+inline std::string FieldPath(std::string_view parent, std::string_view member) {
+  std::string path(parent);
+  path += '.';
+  path += member;
+  return path;
+}
 
 // A value or the Status that explains why there is none.
 template <typename T>
