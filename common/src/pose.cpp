@@ -3,6 +3,8 @@
 #include <cmath>
 #include <string>
 
+#include "vscan/common/physical_limits.h"
+
 namespace vscan {
 namespace {
 
@@ -26,6 +28,7 @@ StatusOr<Pose3> PoseFromMatrix(const Eigen::Matrix4d& m, std::string_view field)
     return InvalidArgument(Field(field) + ": rotation is not orthonormal (scale or shear is not a rigid pose)");
   }
   if (r.determinant() < 0) return InvalidArgument(Field(field) + ": rotation is a reflection (determinant -1)");
+  RETURN_IF_ERROR(CheckPosition(m.topRightCorner<3, 1>(), Field(field) + " translation (values 3, 7, 11)"));
   Pose3 pose = Pose3::Identity();
   // Re-orthonormalise so accumulated float error does not leak into the scene.
   pose.linear() = Eigen::Quaterniond(r).normalized().toRotationMatrix();
@@ -35,7 +38,7 @@ StatusOr<Pose3> PoseFromMatrix(const Eigen::Matrix4d& m, std::string_view field)
 
 StatusOr<Pose3> PoseFromQuaternion(const Eigen::Vector3d& t, const Eigen::Quaterniond& q,
                                    std::string_view field) {
-  if (!t.allFinite()) return InvalidArgument(Field(field) + ".translation: NaN or infinite value");
+  RETURN_IF_ERROR(CheckPosition(t, Field(field) + ".translation"));
   if (!q.coeffs().allFinite()) return InvalidArgument(Field(field) + ": quaternion has NaN or infinite values");
   const double norm = q.norm();
   if (std::abs(norm - 1.0) > 1e-3) {
@@ -49,8 +52,8 @@ StatusOr<Pose3> PoseFromQuaternion(const Eigen::Vector3d& t, const Eigen::Quater
 
 StatusOr<Pose3> PoseFromLookAt(const Eigen::Vector3d& eye, const Eigen::Vector3d& target,
                                const Eigen::Vector3d& up, std::string_view field) {
-  if (!eye.allFinite()) return InvalidArgument(Field(field) + ".eye: NaN or infinite value");
-  if (!target.allFinite()) return InvalidArgument(Field(field) + ".target: NaN or infinite value");
+  RETURN_IF_ERROR(CheckPosition(eye, Field(field) + ".eye"));
+  RETURN_IF_ERROR(CheckPosition(target, Field(field) + ".target"));
   if (!up.allFinite()) return InvalidArgument(Field(field) + ".up: NaN or infinite value");
   const Eigen::Vector3d forward = target - eye;
   if (forward.norm() < 1e-9) return InvalidArgument(Field(field) + ": eye and target coincide");

@@ -5,6 +5,7 @@
 #include "api/measurement_request.h"
 #include "api/sensor_request.h"
 #include "api/validate.h"
+#include "vscan/common/physical_limits.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::api {
@@ -33,6 +34,8 @@ StatusOr<RobotPlacement> PlaceRobotSensor(const v1::ScanRequest& request, robots
       pose.apply_encoder_noise() ? std::optional<uint64_t>(request.seed()) : std::nullopt;
   ASSIGN_OR_RETURN(const robots::ArmState state, robots::CommandJoints(*mounted->chain, mounted->placement, q,
                                                                        "robot.joint_positions", noise_seed));
+  // Each part is bounded where it entered; their composition is checked as well.
+  RETURN_IF_ERROR(CheckPosition(state.achieved_pose.translation(), "robot.mount_id (the sensor position it reaches)"));
   *world_from_sensor = state.achieved_pose;
   return RobotPlacement{state.commanded_pose, state.achieved, pose.mount_id()};
 }

@@ -28,13 +28,6 @@ StatusOr<sensor::PinholeCamera> CameraFromProto(const v1::PinholeCamera& p, cons
   switch (p.projection_case()) {
     case v1::PinholeCamera::kIntrinsics: {
       const auto& k = p.intrinsics();
-      // Checked here so that messages name the wire path (ValidateCamera says "<field>.fx").
-      const std::string intrinsics = field + ".intrinsics.";
-      const auto positive = [](double f) { return std::isfinite(f) && f > 0; };
-      if (!positive(k.fx())) return InvalidArgument(intrinsics + "fx: must be finite and positive");
-      if (!positive(k.fy())) return InvalidArgument(intrinsics + "fy: must be finite and positive");
-      if (!std::isfinite(k.cx())) return InvalidArgument(intrinsics + "cx: must be finite");
-      if (!std::isfinite(k.cy())) return InvalidArgument(intrinsics + "cy: must be finite");
       camera.width = p.width();
       camera.height = p.height();
       camera.fx = k.fx();
@@ -43,6 +36,8 @@ StatusOr<sensor::PinholeCamera> CameraFromProto(const v1::PinholeCamera& p, cons
       camera.cy = k.cy();
       camera.near = near;
       camera.far = far;
+      // Checked here so that messages name the wire path (ValidateCamera says "<field>.fx").
+      RETURN_IF_ERROR(sensor::ValidateIntrinsics(camera, field + ".intrinsics"));
       break;
     }
     case v1::PinholeCamera::kHorizontalFovDeg: {

@@ -9,6 +9,7 @@
 
 #include "store/catalogue_schema.h"
 #include "store/sqlite_statement.h"
+#include "vscan/common/physical_limits.h"
 
 namespace vscan::store {
 namespace {
@@ -104,18 +105,11 @@ Status CheckLimit(int limit) {
 
 Status CheckPose(const Eigen::Matrix4d& pose) {
   if (!pose.allFinite()) return InvalidArgument("pose: every element must be finite");
-  return Status::Ok();
-}
-
-Status CheckScale(double scale) {
-  if (!std::isfinite(scale) || scale <= 0) {
-    return InvalidArgument("scale: must be finite and positive, got " + std::to_string(scale));
-  }
-  return Status::Ok();
+  return CheckPosition(pose.topRightCorner<3, 1>(), "pose translation");
 }
 
 Status CheckTable(const TableRecord& table) {
-  if (!table.centre.allFinite()) return InvalidArgument("table.centre: every element must be finite");
+  RETURN_IF_ERROR(CheckPosition(table.centre, "table.centre"));
   if (!table.axis.allFinite() || table.axis.norm() == 0) {
     return InvalidArgument("table.axis: must be finite and non-zero");
   }
@@ -135,6 +129,35 @@ Status Configure(sqlite3* db) {
 
 Status SceneNotFound(const std::string& scene_id) { return NotFound("scene_id: no scene '" + scene_id + "'"); }
 Status MeshNotFound(const std::string& mesh_id) { return NotFound("mesh_id: no mesh '" + mesh_id + "'"); }
+
+// The mesh's box, scaled and placed, must stay within the bounds where meshes may lie.
+Status CheckPlacement(sqlite3* db, const std::string& mesh_id, const Eigen::Matrix4d& pose, double scale) {
+  ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db, "SELECT min_x, min_y, min_z, max_x, max_y, max_z "
+                                                       "FROM meshes WHERE mesh_id = ?1"));
+  s.Bind(1, mesh_id);
+  ASSIGN_OR_RETURN(bool found, s.Step());
+  if (!found) return MeshNotFound(mesh_id);
+  const Eigen::Vector3d lo(s.Double(0), s.Double(1), s.Double(2)), hi(s.Double(3), s.Double(4), s.Double(5));
+  double reach = 0;
+  for (int corner = 0; corner < 8; ++corner) {
+    const Eigen::Vector3d local((corner & 1 ? hi : lo).x(), (corner & 2 ? hi : lo).y(), (corner & 4 ? hi : lo).z());
+    const Eigen::Vector3d world = pose.topLeftCorner<3, 3>() * (scale * local) + pose.topRightCorner<3, 1>();
+    reach = std::max(reach, world.cwiseAbs().maxCoeff());
+  }
+  if (!(reach <= kMaxMeshCoordinateM)) {
+    return InvalidArgument("scale: mesh '" + mesh_id + "' placed at this pose and scale reaches " +
+                           std::to_string(reach) + " m from the origin; objects must lie within 1e4 m");
+  }
+  return Status::Ok();
+}
+
+Status CheckScale(double scale) {
+  if (!std::isfinite(scale) || scale <= 0) {
+    return InvalidArgument("scale: must be finite and positive, got " + std::to_string(scale));
+  }
+  return Status::Ok();
+}
+
 Status ObjectNotFound(const std::string& scene_id, const std::string& object_id) {
   return NotFound("object_id: no object '" + object_id + "' in scene '" + scene_id + "'");
 }
@@ -355,10 +378,7 @@ StatusOr<std::pair<ObjectRecord, uint64_t>> Catalogue::AddObject(ObjectRecord ob
     object.instance_id = static_cast<uint32_t>(scene.Int(1));
     RETURN_IF_ERROR(scene.Run());
 
-    ASSIGN_OR_RETURN(Statement mesh, Statement::Prepare(db_, "SELECT 1 FROM meshes WHERE mesh_id = ?1"));
-    mesh.Bind(1, object.mesh_id);
-    ASSIGN_OR_RETURN(bool mesh_found, mesh.Step());
-    if (!mesh_found) return MeshNotFound(object.mesh_id);
+    RETURN_IF_ERROR(CheckPlacement(db_, object.mesh_id, object.pose, object.scale));
 
     ASSIGN_OR_RETURN(Statement insert, Statement::Prepare(db_, Sql("INSERT INTO objects (", kObjectColumns,
                                                                    ") VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)")));
@@ -384,6 +404,7 @@ StatusOr<std::pair<ObjectRecord, uint64_t>> Catalogue::MoveObject(const std::str
     ASSIGN_OR_RETURN(object, LoadObject(db_, scene_id, object_id));
     object.pose = pose;
     if (scale) object.scale = *scale;
+    RETURN_IF_ERROR(CheckPlacement(db_, object.mesh_id, object.pose, object.scale));
     ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_, "UPDATE objects SET pose = ?1, scale = ?2 WHERE object_id = ?3"));
     s.BindBlob(1, EncodePose(object.pose)).Bind(2, object.scale).Bind(3, object_id);
     return s.Run();

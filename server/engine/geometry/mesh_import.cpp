@@ -10,7 +10,6 @@
 
 #include <array>
 #include <bit>
-#include <cfloat>
 #include <cmath>
 #include <limits>
 #include <unordered_map>
@@ -20,6 +19,7 @@
 #include <Eigen/Geometry>
 
 #include "geometry/ply_header.h"
+#include "vscan/common/physical_limits.h"
 
 namespace vscan::geometry {
 namespace {
@@ -186,8 +186,9 @@ class MeshBuilder {
     Eigen::Vector3d p = (world_from_mesh * local).head<3>() * metres_per_unit_;
     Eigen::Vector3f q;
     for (int i = 0; i < 3; ++i) {
-      if (!std::isfinite(p[i]) || std::abs(p[i]) > FLT_MAX) {
-        return InvalidArgument("mesh data: a vertex coordinate is not finite (or overflows after scaling)");
+      if (!std::isfinite(p[i])) return InvalidArgument("mesh data: a vertex coordinate is not finite");
+      if (std::abs(p[i]) > kMaxMeshCoordinateM) {
+        return InvalidArgument("mesh data: a vertex lies beyond 10 km once scaled to metres (|x|, |y|, |z| <= 1e4 m)");
       }
       q[i] = static_cast<float>(p[i]) + 0.0f;  // + 0.0f turns -0 into +0 so they merge
     }

@@ -6,6 +6,7 @@
 #include <tbb/parallel_for.h>
 
 #include "raycast/embree_scene.h"
+#include "raycast/ray_bounds.h"
 
 namespace vscan::raycast {
 namespace {
@@ -36,6 +37,7 @@ std::vector<RayHit> IntersectRays(const RaycastScene& scene, std::span<const Eig
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     for (size_t i = r.begin(); i != r.end(); ++i) {
+      if (!EmbreeAcceptsRay(origins[i], directions[i], t_near, t_far)) continue;  // a miss
       RTCRayHit query{};
       query.ray = MakeRay(origins[i], directions[i], t_near, t_far);
       query.hit.geomID = RTC_INVALID_GEOMETRY_ID;
@@ -66,7 +68,7 @@ std::vector<uint8_t> OccludedSegments(const RaycastScene& scene, std::span<const
       const Eigen::Vector3f d = to[i] - from[i];
       const float length = d.norm();
       const float margin = std::max(min_margin, relative_margin * length);
-      if (!(length > 2 * margin)) continue;
+      if (!(length > 2 * margin) || !EmbreeAcceptsRay(from[i], d / length, margin, length - margin)) continue;
       RTCRay ray = MakeRay(from[i], d / length, margin, length - margin);
       rtcOccluded1(rtc, &context, &ray);
       occluded[i] = std::isinf(ray.tfar) && ray.tfar < 0 ? 1 : 0;

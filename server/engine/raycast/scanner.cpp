@@ -11,6 +11,7 @@
 #include <tbb/task_arena.h>
 
 #include "raycast/cloud_append.h"
+#include "raycast/ray_bounds.h"
 #include "raycast/scan_setup.h"
 #include "raycast/strip_tracer.h"
 
@@ -55,6 +56,11 @@ StatusOr<PointCloud> Scan(const RaycastScene& scene, const sensor::PinholeCamera
   const auto start = std::chrono::steady_clock::now();
   RETURN_IF_ERROR(sensor::ValidateCamera(camera, "camera", std::numeric_limits<uint64_t>::max()));
   if (!world_from_sensor.matrix().allFinite()) return InvalidArgument("world_from_sensor: NaN or infinite value");
+  // The validated camera bounds the ray directions; this bounds their origin.
+  if (!EmbreeAcceptsRay(world_from_sensor.translation().cast<float>(), Eigen::Vector3f::UnitZ(),
+                        static_cast<float>(camera.near), static_cast<float>(camera.far))) {
+    return InvalidArgument("world_from_sensor: translation beyond the range rays can be cast from");
+  }
 
   const ScanSetup setup = MakeScanSetup(scene.impl(), camera, world_from_sensor, options);
   PointCloud cloud;

@@ -5,12 +5,14 @@
 #include <numbers>
 #include <string>
 
+#include "vscan/common/physical_limits.h"
+
 namespace vscan::sensor {
 namespace {
 
 constexpr uint32_t kMaxSide = 16384;
-
-bool FinitePositive(double x) { return std::isfinite(x) && x > 0; }
+constexpr double kMinLightingTerm = 1e-6;
+constexpr double kMaxLightingTerm = 1e6;
 
 Status ValidateLighting(const Lighting& l, std::string_view field) {
   const std::string path = FieldPath(field, "lighting");
@@ -23,6 +25,29 @@ Status ValidateLighting(const Lighting& l, std::string_view field) {
   }
   if (l.constant + l.linear + l.quadratic <= 0) {
     return InvalidArgument(path + ": constant + linear + quadratic attenuation must be positive");
+  }
+  // Intensities are single precision: bounded terms keep power / attenuation finite at any range.
+  const auto in_range = [](double term) { return term == 0 || (term >= kMinLightingTerm && term <= kMaxLightingTerm); };
+  if (l.power > kMaxLightingTerm || !in_range(l.constant) || !in_range(l.linear) || !in_range(l.quadratic)) {
+    return InvalidArgument(path + ": power at most 1e6; each attenuation term 0 or in [1e-6, 1e6]");
+  }
+  return Status::Ok();
+}
+
+// One image axis: focal length f and principal point c over `pixels`. Bounds the tangent of the
+// widest ray so that ray directions stay finite and far inside float range.
+Status ValidateAxis(double f, double c, uint32_t pixels, std::string_view field, const char* f_name,
+                    const char* c_name) {
+  if (!std::isfinite(f) || f < kMinFocalPx || f > kMaxFocalPx) {
+    return InvalidArgument(FieldPath(field, f_name) + ": must be between 0.01 and 1e8 pixels");
+  }
+  if (!std::isfinite(c) || std::abs(c - pixels / 2.0) > 10.0 * pixels) {
+    return InvalidArgument(FieldPath(field, c_name) + ": must be finite and within 10 image sizes of the centre");
+  }
+  const double widest = std::max(std::abs(0.5 - c), std::abs(pixels - 0.5 - c));
+  if (widest / f > kMaxRayTangent) {
+    return InvalidArgument(FieldPath(field, f_name) + ": field of view reaches 90 degrees off axis (" +
+                           FieldPath(field, c_name) + " / " + f_name + " gives a ray tangent above 1000)");
   }
   return Status::Ok();
 }
@@ -42,6 +67,11 @@ PinholeCamera CameraFromFov(uint32_t width, uint32_t height, double horizontal_f
   return camera;
 }
 
+Status ValidateIntrinsics(const PinholeCamera& camera, std::string_view field) {
+  RETURN_IF_ERROR(ValidateAxis(camera.fx, camera.cx, camera.width, field, "fx", "cx"));
+  return ValidateAxis(camera.fy, camera.cy, camera.height, field, "fy", "cy");
+}
+
 Status ValidateCamera(const PinholeCamera& camera, std::string_view field, uint64_t max_rays) {
   if (camera.width == 0) return InvalidArgument(FieldPath(field, "width") + ": must be positive");
   if (camera.height == 0) return InvalidArgument(FieldPath(field, "height") + ": must be positive");
@@ -56,12 +86,13 @@ Status ValidateCamera(const PinholeCamera& camera, std::string_view field, uint6
                              std::to_string(camera.pixel_count()) + " rays exceed the limit of " +
                              std::to_string(max_rays));
   }
-  if (!FinitePositive(camera.fx)) return InvalidArgument(FieldPath(field, "fx") + ": must be finite and positive");
-  if (!FinitePositive(camera.fy)) return InvalidArgument(FieldPath(field, "fy") + ": must be finite and positive");
-  if (!std::isfinite(camera.cx)) return InvalidArgument(FieldPath(field, "cx") + ": must be finite");
-  if (!std::isfinite(camera.cy)) return InvalidArgument(FieldPath(field, "cy") + ": must be finite");
-  if (!FinitePositive(camera.near)) return InvalidArgument(FieldPath(field, "near") + ": must be finite and positive");
-  if (!std::isfinite(camera.far)) return InvalidArgument(FieldPath(field, "far") + ": must be finite");
+  RETURN_IF_ERROR(ValidateIntrinsics(camera, field));
+  if (!std::isfinite(camera.near) || camera.near < kMinNearM) {
+    return InvalidArgument(FieldPath(field, "near") + ": must be at least 1e-6 m");
+  }
+  if (!std::isfinite(camera.far) || camera.far > kMaxFarM) {
+    return InvalidArgument(FieldPath(field, "far") + ": must be finite and at most 1e5 m");
+  }
   if (camera.near >= camera.far) return InvalidArgument(FieldPath(field, "near") + " must be less than far");
   return ValidateLighting(camera.lighting, field);
 }

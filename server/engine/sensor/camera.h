@@ -37,6 +37,10 @@ struct PinholeCamera {
 // Square pixels, principal point at the image centre.
 PinholeCamera CameraFromFov(uint32_t width, uint32_t height, double horizontal_fov_deg, double near, double far);
 
+// Checks fx, fy, cx, cy against the physical bounds (physical_limits.h) for the camera's size;
+// messages name field.fx and so on.
+Status ValidateIntrinsics(const PinholeCamera& camera, std::string_view field);
+
 // Checks sizes, intrinsics, range and lighting; messages start with field.
 Status ValidateCamera(const PinholeCamera& camera, std::string_view field, uint64_t max_rays);
 

@@ -7,6 +7,8 @@
 
 #include <Eigen/Geometry>
 
+#include "vscan/common/physical_limits.h"
+
 namespace vscan::sensor {
 namespace {
 
@@ -47,8 +49,9 @@ Status ValidateStructuredLight(const StructuredLight& sl, std::string_view field
     return InvalidArgument(FieldPath(field, "disparity_step_px") + ": must be in [0, 1000] pixels");
   }
   const double zc = sl.convergence_distance;
-  if (!std::isfinite(zc) || zc < 0) {
-    return InvalidArgument(FieldPath(field, "convergence_distance") + ": must be finite and non-negative (0: parallel axes)");
+  if (!std::isfinite(zc) || zc < 0 || zc > kMaxFarM) {
+    return InvalidArgument(FieldPath(field, "convergence_distance") +
+                           ": must be in [0, 1e5] metres (0: parallel axes)");
   }
   if (zc > 0 && zc <= o.z()) {
     return InvalidArgument(FieldPath(field, "convergence_distance") +

@@ -53,6 +53,15 @@ TEST(MeshImportRejectTest, BadScale) {
   EXPECT_TRUE(ImportMesh(kTrianglePly, MeshFileFormat::kPly, 1e-6).ok());
 }
 
+TEST(MeshImportRejectTest, VerticesBeyondTenKilometresOnceScaled) {
+  const std::string huge = BinaryStl({{1e38f, 0, 0, 0, 1, 0, 0, 0, 1}});
+  ExpectInvalid(ImportMesh(huge, MeshFileFormat::kStl, 1.0), "mesh data: a vertex lies beyond 10 km");
+  // 2 m in kilometres is 2 km: in bounds; 20 km is not.
+  const std::string two = BinaryStl({{2, 0, 0, 0, 1, 0, 0, 0, 1}});
+  EXPECT_TRUE(ImportMesh(two, MeshFileFormat::kStl, 1000.0).ok());
+  ExpectInvalid(ImportMesh(two, MeshFileFormat::kStl, 10000.0), "mesh data: a vertex lies beyond 10 km");
+}
+
 TEST(MeshImportRejectTest, EmptyBytes) {
   for (auto format : kAllFormats) ExpectInvalid(ImportMesh("", format, 1.0), "mesh data: empty");
 }
@@ -93,7 +102,7 @@ TEST(MeshImportRejectTest, NonFiniteVertices) {
 TEST(MeshImportRejectTest, CoordinatesThatOverflowFloatAfterScaling) {
   std::string ply = kTrianglePly;
   ply.replace(ply.find("1 0 0\n"), 1, "3e38");
-  EXPECT_TRUE(ImportMesh(ply, MeshFileFormat::kPly, 1.0).ok());
+  ExpectInvalid(ImportMesh(ply, MeshFileFormat::kPly, 1.0), "mesh data: ");
   ExpectInvalid(ImportMesh(ply, MeshFileFormat::kPly, 10.0), "mesh data: ");
 }
 

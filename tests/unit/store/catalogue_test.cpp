@@ -318,6 +318,34 @@ TEST_F(CatalogueTest, InvalidValuesAreRejected) {
   EXPECT_EQ(RevisionOf(scene.scene_id), 1u);
 }
 
+TEST_F(CatalogueTest, ObjectsThatWouldLeaveTheWorldBoundsAreRejected) {
+  MeshRecord mesh = AddMesh();
+  SceneRecord scene = AddScene();
+  ObjectRecord far_away = SampleObject(scene.scene_id, mesh.mesh_id, 0);
+  far_away.pose = Eigen::Matrix4d::Identity();
+  far_away.pose(0, 3) = 1e39;
+  ExpectStatus(catalogue_->AddObject(far_away).status(), StatusCode::kInvalidArgument, "pose translation: ");
+  // A bunny-sized box scaled by 1e6 reaches about 190 km.
+  ObjectRecord huge = SampleObject(scene.scene_id, mesh.mesh_id, 0);
+  huge.pose = Eigen::Matrix4d::Identity();
+  huge.scale = 1e6;
+  ExpectStatus(catalogue_->AddObject(huge).status(), StatusCode::kInvalidArgument, "scale: ");
+  huge.scale = 1e4;
+  auto added = catalogue_->AddObject(huge);
+  ASSERT_TRUE(added.ok()) << added.status().ToString();
+  const uint64_t revision = RevisionOf(scene.scene_id);
+  ExpectStatus(catalogue_->MoveObject(scene.scene_id, added->first.object_id, huge.pose, 1e6).status(),
+               StatusCode::kInvalidArgument, "scale: ");
+  Eigen::Matrix4d shifted = huge.pose;
+  shifted(2, 3) = 9999;  // in bounds itself, but the scaled mesh then reaches past 1e4 m
+  ExpectStatus(catalogue_->MoveObject(scene.scene_id, added->first.object_id, shifted, std::nullopt).status(),
+               StatusCode::kInvalidArgument, "scale: ");
+  TableRecord table;
+  table.centre = {0, 0, 2e4};
+  ExpectStatus(catalogue_->SetTable(scene.scene_id, table).status(), StatusCode::kInvalidArgument, "table.centre: ");
+  EXPECT_EQ(RevisionOf(scene.scene_id), revision);
+}
+
 TEST_F(CatalogueTest, DeleteSceneRemovesItsObjects) {
   MeshRecord mesh = AddMesh();
   SceneRecord doomed = AddScene("doomed");
