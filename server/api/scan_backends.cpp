@@ -47,7 +47,7 @@ StatusOr<PointCloud> RunMeasuredRaster(const ScanPlan& plan, const capture::Meas
   ASSIGN_OR_RETURN(PointCloud clean, RunRaster(plan, plan.camera, capture::CleanFieldsFor(spec),
                                                raycast::ScanFrame::kSensor, target, raster, cancel, stats));
   ASSIGN_OR_RETURN(PointCloud cloud, capture::MeasureScan(*target.raycast, plan.camera, plan.world_from_sensor,
-                                                          std::move(clean), spec, measure_stats));
+                                                          std::move(clean), spec, cancel, measure_stats));
   if (plan.frame == raycast::ScanFrame::kWorld) capture::SensorToWorld(plan.world_from_sensor, cloud);
   return cloud;
 }

@@ -15,6 +15,7 @@
 #include "capture/ray_verdicts.h"
 #include "normals/normal_estimation.h"
 #include "sensor/structured_light_visibility.h"
+#include "vscan/common/physical_limits.h"
 
 namespace vscan::capture {
 namespace {
@@ -127,7 +128,8 @@ void Count(const StatusCounts& n, MeasureStats& stats) {
 // neighbours were found.
 StatusOr<std::vector<Eigen::Vector3f>> EstimatedNormals(const std::vector<uint8_t>& status,
                                                         const std::vector<Eigen::Vector3f>& measured,
-                                                        const NormalEstimationSpec& spec) {
+                                                        const NormalEstimationSpec& spec,
+                                                        const std::atomic<bool>* cancel) {
   std::vector<Eigen::Vector3f> points;
   std::vector<size_t> index;
   for (size_t i = 0; i < status.size(); ++i) {
@@ -139,6 +141,7 @@ StatusOr<std::vector<Eigen::Vector3f>> EstimatedNormals(const std::vector<uint8_
   options.k = spec.k;
   options.max_distance = static_cast<float>(spec.max_distance);
   options.viewpoint = Eigen::Vector3f::Zero();
+  options.cancel = cancel;
   ASSIGN_OR_RETURN(std::vector<Eigen::Vector3f> estimated, normals::EstimateNormals(points, options));
   std::vector<Eigen::Vector3f> out(status.size(), Eigen::Vector3f::Zero());
   for (size_t k = 0; k < index.size(); ++k) {
@@ -188,13 +191,13 @@ uint32_t CleanFieldsFor(const MeasurementSpec& spec) {
 sensor::PinholeCamera ExtendedRangeCamera(const sensor::PinholeCamera& camera) {
   sensor::PinholeCamera extended = camera;
   extended.near = std::min(camera.near, kExtendedNear);
-  extended.far = camera.far * kExtendedFarFactor;
+  extended.far = std::min(camera.far * kExtendedFarFactor, kMaxFarM);
   return extended;
 }
 
 StatusOr<PointCloud> MeasureScan(const raycast::RaycastScene& scene, const sensor::PinholeCamera& camera,
                                  const Pose3& world_from_sensor, PointCloud clean, const MeasurementSpec& spec,
-                                 MeasureStats* stats) {
+                                 const std::atomic<bool>* cancel, MeasureStats* stats) {
   const auto start = std::chrono::steady_clock::now();
   RETURN_IF_ERROR(CheckClean(clean, CleanFieldsFor(spec)));
   MeasureStats local;
@@ -217,7 +220,7 @@ StatusOr<PointCloud> MeasureScan(const raycast::RaycastScene& scene, const senso
 
   std::vector<Eigen::Vector3f> estimated;
   if (spec.fields & kFieldEstimatedNormal) {
-    ASSIGN_OR_RETURN(estimated, EstimatedNormals(status, measured, spec.normal_estimation));
+    ASSIGN_OR_RETURN(estimated, EstimatedNormals(status, measured, spec.normal_estimation, cancel));
   }
 
   const auto keep = [&](size_t i) { return Returned(status[i]) || (spec.include_rejected && Rejected(status[i])); };
@@ -289,7 +292,7 @@ StatusOr<PointCloud> ScanMeasured(const raycast::RaycastScene& scene, const sens
   options.cancel = cancel;
   ASSIGN_OR_RETURN(PointCloud clean,
                    raycast::Scan(scene, ExtendedRangeCamera(camera), world_from_sensor, options, scan_stats));
-  ASSIGN_OR_RETURN(PointCloud cloud, MeasureScan(scene, camera, world_from_sensor, std::move(clean), spec, stats));
+  ASSIGN_OR_RETURN(PointCloud cloud, MeasureScan(scene, camera, world_from_sensor, std::move(clean), spec, cancel, stats));
   if (frame == raycast::ScanFrame::kWorld) SensorToWorld(world_from_sensor, cloud);
   return cloud;
 }

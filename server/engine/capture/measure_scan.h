@@ -47,9 +47,10 @@ uint32_t CleanFieldsFor(const MeasurementSpec& spec);
 // clean: the clean scan in the sensor frame with (at least) CleanFieldsFor(spec), ideally taken with
 // ExtendedRangeCamera(camera). Returns the measured cloud in the sensor frame with spec.fields;
 // rejected rays only with spec.include_rejected, at their clean positions. scene is where outlier rays are re-cast (world_from_sensor places the sensor in it).
+// cancel, when set, is polled by the long stages (normal estimation) and stops them with CANCELLED.
 StatusOr<PointCloud> MeasureScan(const raycast::RaycastScene& scene, const sensor::PinholeCamera& camera,
                                  const Pose3& world_from_sensor, PointCloud clean_sensor_cloud,
-                                 const MeasurementSpec& spec, MeasureStats* stats);
+                                 const MeasurementSpec& spec, const std::atomic<bool>* cancel, MeasureStats* stats);
 
 // The ray-cast scan with the measurement model: widened clean scan, MeasureScan, then the frame.
 StatusOr<PointCloud> ScanMeasured(const raycast::RaycastScene& scene, const sensor::PinholeCamera& camera,

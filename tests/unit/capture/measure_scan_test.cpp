@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <numbers>
@@ -282,6 +283,23 @@ TEST(MeasureScanTest, OutOfRangeUsesTheDepthLimits) {
   const PointCloud within = Measure(*scene, Camera(64, 48, 40, /*far=*/2.5), spec, &stats);
   EXPECT_EQ(stats.rejected_out_of_range, 0u);
   EXPECT_EQ(within.size(), 64u * 48u);
+}
+
+TEST(MeasureScanTest, CancelStopsTheNormalEstimation) {
+  const auto scene = Build({test::Sphere(kCentre, kRadius)});
+  const auto camera = Camera(160, 160, 32);
+  raycast::ScanOptions options;
+  options.fields = kFieldsAll;
+  options.frame = raycast::ScanFrame::kSensor;
+  auto clean = raycast::Scan(*scene, camera, Pose3::Identity(), options);
+  ASSERT_TRUE(clean.ok()) << clean.status().ToString();
+  MeasurementSpec spec;
+  spec.fields = kFieldsAll | kFieldEstimatedNormal;
+  spec.normal_estimation.k = 16;
+  const std::atomic<bool> cancelled{true};
+  auto cloud = MeasureScan(*scene, camera, Pose3::Identity(), std::move(clean).value(), spec, &cancelled, nullptr);
+  ASSERT_FALSE(cloud.ok());
+  EXPECT_EQ(cloud.status().code(), StatusCode::kCancelled) << cloud.status().ToString();
 }
 
 }  // namespace
