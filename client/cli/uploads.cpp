@@ -24,6 +24,24 @@ int UploadMesh(Context& ctx, const std::string& file, const client::MeshUploadOp
   return kExitOk;
 }
 
+namespace {
+
+// The client library names local files by their path below the bundle argument: unreadable ones
+// (NOT_FOUND, DATA_LOSS) and links that leave the bundle (INVALID_ARGUMENT). Server messages start
+// with a request field instead.
+bool NamesLocalPath(const Status& status, const std::string& path) {
+  const StatusCode code = status.code();
+  if (code != StatusCode::kNotFound && code != StatusCode::kDataLoss && code != StatusCode::kInvalidArgument) {
+    return false;
+  }
+  const std::string& message = status.message();
+  if (!message.starts_with(path)) return false;
+  const char next = message.size() > path.size() ? message[path.size()] : '\0';
+  return next == ':' || next == '/' || path.ends_with('/');
+}
+
+}  // namespace
+
 int UploadRobot(Context& ctx, const std::string& path, const client::RobotUploadOptions& options,
                 const std::string& urdf_option, v1::Robot* robot) {
   std::error_code ec;
@@ -32,15 +50,13 @@ int UploadRobot(Context& ctx, const std::string& path, const client::RobotUpload
   if (!client) return ctx.last_exit();
   auto uploaded = client->UploadRobotPath(path, options);
   if (!uploaded.ok()) {
-    // Problems reading the bundle locally are I/O errors; a missing URDF choice is a usage error;
-    // the rest came from the server.
+    // Problems reading the bundle locally (links out of it too) are local errors; a missing URDF
+    // choice is a usage error; the rest came from the server.
     const Status& status = uploaded.status();
     if (status.code() == StatusCode::kInvalidArgument && status.message().starts_with("urdf_path:")) {
       return ctx.UsageError(urdf_option + status.message().substr(9));
     }
-    const bool local = (status.code() == StatusCode::kNotFound || status.code() == StatusCode::kDataLoss) &&
-                       status.message().starts_with(path);
-    return local ? ctx.LocalError(status) : ctx.ServerError(status);
+    return NamesLocalPath(status, path) ? ctx.LocalError(status) : ctx.ServerError(status);
   }
   *robot = std::move(uploaded).value();
   return kExitOk;

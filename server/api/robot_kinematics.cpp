@@ -12,6 +12,7 @@
 #include "api/unary.h"
 #include "api/validate.h"
 #include "robot/forward_kinematics.h"
+#include "vscan/common/physical_limits.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::api {
@@ -77,13 +78,13 @@ StatusOr<robot::IkGoal> GoalFromRequest(const v1::InverseKinematicsRequest& requ
       if (!look.has_target()) return InvalidArgument("look_from.target: required");
       const Eigen::Vector3d position = FromProto(look.position());
       const Eigen::Vector3d target = FromProto(look.target());
-      if (!position.allFinite()) return InvalidArgument("look_from.position: NaN or infinite value");
-      if (!target.allFinite()) return InvalidArgument("look_from.target: NaN or infinite value");
+      RETURN_IF_ERROR(CheckPosition(position, "look_from.position"));
+      RETURN_IF_ERROR(CheckPosition(target, "look_from.target"));
       return robot::LookAtGoal(position, target, "look_from");
     }
     case v1::InverseKinematicsRequest::kToolPosition: {
       const Eigen::Vector3d position = FromProto(request.tool_position());
-      if (!position.allFinite()) return InvalidArgument("tool_position: NaN or infinite value");
+      RETURN_IF_ERROR(CheckPosition(position, "tool_position"));
       return robot::PositionGoal(position);
     }
     case v1::InverseKinematicsRequest::GOAL_NOT_SET: break;

@@ -7,13 +7,18 @@ namespace {
 
 // Links whose pose no chain joint changes.
 std::vector<bool> FixedToBase(const RobotLinks& links) {
-  std::vector<bool> fixed(links.names.size(), true);
-  for (size_t i = 0; i < links.names.size(); ++i) {
-    for (int at = static_cast<int>(i); at >= 0; at = links.joints[static_cast<size_t>(at)].parent) {
-      if (links.joints[static_cast<size_t>(at)].chain_joint >= 0) {
+  const size_t n = links.names.size();
+  std::vector<bool> fixed(n, true);
+  for (size_t i = 0; i < n; ++i) {
+    // At most one step per link, so parents that loop (refused at upload) cannot hold the walk.
+    int at = static_cast<int>(i);
+    for (size_t steps = 0; at >= 0 && steps < n; ++steps) {
+      const LinkJoint& joint = links.joints[static_cast<size_t>(at)];
+      if (joint.chain_joint >= 0) {
         fixed[i] = false;
         break;
       }
+      at = joint.parent;
     }
   }
   return fixed;

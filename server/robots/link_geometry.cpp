@@ -10,6 +10,8 @@
 
 #include <Eigen/Geometry>
 
+#include "vscan/common/physical_limits.h"
+
 namespace vscan::robots {
 namespace {
 
@@ -81,6 +83,13 @@ TriangleMesh SphereMesh(double radius) {
   return mesh;
 }
 
+bool WithinMeshBounds(const TriangleMesh& mesh) {
+  for (const Eigen::Vector3f& v : mesh.vertices) {
+    if (!v.allFinite() || v.cwiseAbs().maxCoeff() > kMaxMeshCoordinateM) return false;
+  }
+  return true;
+}
+
 // Imports each bundle file once and keeps one scaled copy per scale.
 class MeshLoader {
  public:
@@ -95,6 +104,12 @@ class MeshLoader {
     if (raw == nullptr) return nullptr;
     auto mesh = std::make_shared<TriangleMesh>(*raw);
     for (Eigen::Vector3f& v : mesh->vertices) v = v.cwiseProduct(scale.cast<float>());
+    // Mesh and scale are each bounded where they enter; their product is checked here.
+    if (!WithinMeshBounds(*mesh)) {
+      warnings_.push_back(field + ": '" + path + "' scaled by its mesh scale reaches beyond " +
+                          std::to_string(static_cast<int>(kMaxMeshCoordinateM)) + " m; the shape is left out");
+      mesh = nullptr;
+    }
     scaled_.emplace(key, mesh);
     return mesh;
   }
@@ -250,6 +265,10 @@ std::vector<Pose3> LinkPoses(const RobotLinks& links, const Eigen::VectorXd& q) 
         if (pending.empty()) break;
         at = pending.back();
         pending.pop_back();
+      } else if (pending.size() == n) {
+        // Parents that loop (refused at upload): leave these links where they are.
+        pending.clear();
+        break;
       } else {
         pending.push_back(at);
         at = static_cast<size_t>(parent);

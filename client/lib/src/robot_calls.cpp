@@ -29,13 +29,35 @@ bool IsUrdf(const std::filesystem::path& path) {
   return ext == ".urdf";
 }
 
-// Every regular file below dir, with its path relative to dir, in path order.
+// True when path, already made absolute and free of links, lies inside root (or is root).
+bool IsWithin(const std::filesystem::path& path, const std::filesystem::path& root) {
+  const std::filesystem::path relative = path.lexically_relative(root);
+  return !relative.empty() && *relative.begin() != "..";
+}
+
+// A symbolic link may point anywhere; one that resolves outside the bundle is refused, so that
+// an upload never carries files from elsewhere on this machine.
+Status CheckLink(const std::filesystem::directory_entry& entry, const std::filesystem::path& root) {
+  std::error_code ec;
+  const std::filesystem::path target = std::filesystem::weakly_canonical(entry.path(), ec);
+  if (ec) return NotFound(entry.path().string() + ": cannot resolve the symbolic link: " + ec.message());
+  if (IsWithin(target, root)) return Status::Ok();
+  return InvalidArgument(entry.path().string() + ": symbolic link to '" + target.string() +
+                         "' leaves the bundle directory");
+}
+
+// Every regular file below dir, with its path relative to dir, in path order. Directory links
+// are not descended into; file links are followed when they stay inside dir.
 StatusOr<std::vector<RobotFile>> ReadDirectory(const std::filesystem::path& dir) {
   std::vector<RobotFile> files;
   std::error_code ec;
+  const std::filesystem::path root = std::filesystem::canonical(dir, ec);
+  if (ec) return NotFound(dir.string() + ": " + ec.message());
   for (auto it = std::filesystem::recursive_directory_iterator(dir, ec);
        !ec && it != std::filesystem::recursive_directory_iterator(); it.increment(ec)) {
-    if (!it->is_regular_file(ec)) continue;
+    std::error_code entry_ec;  // an entry that cannot be inspected (a dangling link) is skipped
+    if (it->is_symlink(entry_ec)) RETURN_IF_ERROR(CheckLink(*it, root));
+    if (!it->is_regular_file(entry_ec)) continue;
     ASSIGN_OR_RETURN(std::string bytes, ReadFile(it->path()));
     files.push_back({it->path().lexically_relative(dir).generic_string(), std::move(bytes)});
   }

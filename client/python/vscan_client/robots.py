@@ -11,14 +11,29 @@ from .errors import from_rpc_error
 _CHUNK_BYTES = 1 << 20
 
 
+def _check_link(local, root):
+    """Refuses a symbolic link that resolves outside the bundle directory root (already resolved)."""
+    target = os.path.realpath(local)
+    if os.path.commonpath([target, root]) != root:
+        raise ValueError(f"{local}: symbolic link to '{target}' leaves the bundle directory")
+
+
 def _bundle_files(path):
-    """[(bundle path, local path)] of a directory (paths relative to it) or of one file."""
+    """[(bundle path, local path)] of a directory (paths relative to it) or of one file.
+
+    Links to directories are not descended into; links that lead out of the directory are refused.
+    """
     if not os.path.isdir(path):
         return [(os.path.basename(path), path)]
+    root = os.path.realpath(path)
     files = []
-    for root, _dirs, names in os.walk(path):
+    for parent, dirs, names in os.walk(path):
+        for name in dirs + names:
+            local = os.path.join(parent, name)
+            if os.path.islink(local):
+                _check_link(local, root)
         for name in names:
-            local = os.path.join(root, name)
+            local = os.path.join(parent, name)
             if os.path.isfile(local):
                 files.append((os.path.relpath(local, path).replace(os.sep, "/"), local))
     return sorted(files)

@@ -2,7 +2,9 @@
 
 #include <urdf_model/model.h>
 
+#include "robot/urdf_bounds.h"
 #include "robot/urdf_parse.h"
+#include "robot/urdf_tree.h"
 
 namespace vscan::robot {
 namespace {
@@ -84,6 +86,8 @@ StatusOr<UrdfBundle> LoadUrdfBundle(std::string_view urdf_path, std::vector<Bund
     return InvalidArgument("urdf_path: '" + bundle.urdf_path + "' is not among the bundle's files");
   }
   ASSIGN_OR_RETURN(bundle.model, ParseUrdfXml(urdf_file->second));
+  RETURN_IF_ERROR(CheckUrdfTree(*bundle.model));
+  RETURN_IF_ERROR(CheckUrdfBounds(*bundle.model));
   RETURN_IF_ERROR(CollectMeshes(bundle));
   return bundle;
 }

@@ -48,8 +48,9 @@ struct UrdfBundle {
 };
 
 // Normalises every path (InvalidArgument naming files[i].path on an escape or a duplicate),
-// enforces limits (ResourceExhausted), parses the URDF (InvalidArgument "urdf: ...") and resolves
-// mesh references as ResolveMeshReference documents; escaping references are InvalidArgument.
+// enforces limits (ResourceExhausted), parses the URDF (InvalidArgument "urdf: ..."), checks that
+// its joints form a tree (CheckUrdfTree) and its geometry is bounded (CheckUrdfBounds), and
+// resolves mesh references as ResolveMeshReference documents; escaping references are InvalidArgument.
 StatusOr<UrdfBundle> LoadUrdfBundle(std::string_view urdf_path, std::vector<BundleFile> files,
                                     const BundleLimits& limits = {});
 

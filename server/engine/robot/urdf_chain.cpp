@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <limits>
+#include <set>
 
 #include <urdf_model/model.h>
 
@@ -16,10 +17,12 @@ StatusOr<LinkPtr> FindLink(const urdf::ModelInterface& model, const std::string&
   return link;
 }
 
-// The deepest links below base, by joint count.
-std::vector<LinkPtr> DeepestLinks(const LinkPtr& base) {
+// The deepest links below base, by joint count. Each link is entered once: a link reached a
+// second time (a cycle, or two parent joints) is an error, not an endless walk.
+StatusOr<std::vector<LinkPtr>> DeepestLinks(const LinkPtr& base) {
   std::vector<LinkPtr> deepest;
   int best_depth = -1;
+  std::set<const urdf::Link*> seen = {base.get()};
   std::vector<std::pair<LinkPtr, int>> stack = {{base, 0}};
   while (!stack.empty()) {
     auto [link, depth] = stack.back();
@@ -29,13 +32,19 @@ std::vector<LinkPtr> DeepestLinks(const LinkPtr& base) {
       deepest.clear();
     }
     if (depth == best_depth) deepest.push_back(link);
-    for (const auto& child : link->child_links) stack.emplace_back(child, depth + 1);
+    for (const auto& child : link->child_links) {
+      if (!seen.insert(child.get()).second) {
+        return InvalidArgument("joints: link '" + child->name + "' is reached twice from '" + base->name +
+                               "' (the joints are not a tree)");
+      }
+      stack.emplace_back(child, depth + 1);
+    }
   }
   return deepest;
 }
 
 StatusOr<LinkPtr> DefaultTip(const LinkPtr& base) {
-  std::vector<LinkPtr> deepest = DeepestLinks(base);
+  ASSIGN_OR_RETURN(std::vector<LinkPtr> deepest, DeepestLinks(base));
   if (deepest.size() == 1) return deepest.front();
   std::sort(deepest.begin(), deepest.end(), [](const LinkPtr& a, const LinkPtr& b) { return a->name < b->name; });
   std::string names;
@@ -97,9 +106,15 @@ StatusOr<KinematicChain> BuildChain(const urdf::ModelInterface& model, const Cha
     ASSIGN_OR_RETURN(tip, FindLink(model, spec.tip_link, "tip_link"));
   }
   std::vector<ChainSegment> segments;
+  std::set<const urdf::Link*> seen;
   for (LinkPtr link = tip; link != base; link = link->getParent()) {
     if (link->parent_joint == nullptr || link->getParent() == nullptr) {
       return InvalidArgument("tip_link: '" + tip->name + "' is not below base_link '" + base->name + "'");
+    }
+    // urdfdom's parent pointers can loop when the joints do.
+    if (!seen.insert(link.get()).second) {
+      return InvalidArgument("tip_link: the links above '" + tip->name + "' loop through '" + link->name +
+                             "' (the joints are not a tree)");
     }
     ASSIGN_OR_RETURN(ChainSegment segment, ToSegment(*link->parent_joint));
     segments.push_back(std::move(segment));

@@ -20,7 +20,8 @@ struct ChainSpec {
 };
 
 // NotFound for an unknown link ("base_link: no link 'x'"); InvalidArgument when the tip is not
-// below the base, the default tip is ambiguous, or the path holds a floating, planar or mimic joint.
+// below the base, the default tip is ambiguous, the path holds a floating, planar or mimic joint,
+// or the links loop (LoadUrdfBundle refuses such URDFs first; the walks stay bounded regardless).
 StatusOr<KinematicChain> BuildChain(const urdf::ModelInterface& model, const ChainSpec& spec);
 
 }  // namespace vscan::robot
