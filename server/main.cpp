@@ -1,9 +1,12 @@
 // vscand: the vscan server.
 
+#include <chrono>
+#include <condition_variable>
 #include <csignal>
 #include <fstream>
 #include <cstdlib>
 #include <iostream>
+#include <mutex>
 #include <thread>
 
 #include <CLI/CLI.hpp>
@@ -17,6 +20,9 @@
 namespace {
 
 constexpr int kUsageError = 2;
+constexpr int kForcedStop = 1;
+// How long past the grace period cancelled calls may take to end before the process exits anyway.
+constexpr double kStopSeconds = 5;
 
 // Blocks SIGINT/SIGTERM in every thread so that only sigwait in main sees them.
 sigset_t BlockStopSignals() {
@@ -27,6 +33,35 @@ sigset_t BlockStopSignals() {
   pthread_sigmask(SIG_BLOCK, &set, nullptr);
   return set;
 }
+
+// Ends the process if the shutdown has not finished in time: work that ignores cancellation must not
+// keep a stopping server alive, and the store is built to survive an abrupt end (kill -9) anyway.
+class StopDeadline {
+ public:
+  explicit StopDeadline(double seconds) : thread_([this, seconds] { Watch(seconds); }) {}
+  ~StopDeadline() {
+    {
+      std::lock_guard lock(mutex_);
+      done_ = true;
+    }
+    wake_.notify_one();
+    thread_.join();
+  }
+
+ private:
+  void Watch(double seconds) {
+    std::unique_lock lock(mutex_);
+    if (wake_.wait_for(lock, std::chrono::duration<double>(seconds), [this] { return done_; })) return;
+    spdlog::error("calls did not end within {:.1f} s of the stop signal; exiting without them", seconds);
+    spdlog::default_logger()->flush();
+    std::_Exit(kForcedStop);
+  }
+
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  bool done_ = false;
+  std::thread thread_;
+};
 
 }  // namespace
 
@@ -58,7 +93,13 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::Range(1, 64));
   app.add_option("--max-queued-jobs", options.limits.max_queued_jobs, "Jobs that may wait for a free job slot")
       ->capture_default_str()->check(CLI::Range(1, 10000));
-  app.add_option("--grace-seconds", grace_seconds, "How long SIGTERM waits for running calls")->capture_default_str();
+  app.add_option("--grace-seconds", grace_seconds,
+                 "How long SIGTERM waits for running calls before it cancels them; work still running " +
+                     std::to_string(static_cast<int>(kStopSeconds)) + " s later is abandoned (exit status 1)")
+      ->capture_default_str()->check(CLI::Range(0.0, 86400.0));
+  app.add_option("--stalled-reader-seconds", options.stalled_reader_seconds,
+                 "A scan stream whose client has not read for this long is cancelled and its slot freed")
+      ->capture_default_str()->check(CLI::Range(0.1, 86400.0));
   app.add_option("--port-file", options.port_file, "Write the bound port to this file once listening");
   app.add_option("--mesh-importer", options.mesh_importer_path,
                  "The vscan-mesh-import helper that parses uploads (default: the one next to vscand)");
@@ -96,6 +137,7 @@ int main(int argc, char** argv) {
   int signal = 0;
   sigwait(&stop_signals, &signal);
   spdlog::info("received {}", signal == SIGTERM ? "SIGTERM" : "SIGINT");
+  StopDeadline stop_deadline(grace_seconds + kStopSeconds);
   (*server)->Shutdown(grace_seconds);
   return 0;
 }

@@ -10,6 +10,7 @@
 #include "api/scan_backends.h"
 #include "api/scan_request.h"
 #include "api/scan_target.h"
+#include "api/write_watch.h"
 #include "vscan/common/grpc_status.h"
 #include "vscan/common/point_chunks.h"
 #include "vscan/common/proto_convert.h"
@@ -47,7 +48,7 @@ double MillisSince(Clock::time_point start) {
 class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
  public:
   ScanReactor(const v1::ScanRequest& request, grpc::CallbackServerContext* ctx, ServiceContext& context)
-      : context_(context) {
+      : context_(context), write_watch_(context.stalled_readers, ctx) {
     Status status = CheckToken(*ctx, context.options.token);
     if (!status.ok()) {
       Fail(status);
@@ -69,9 +70,13 @@ class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
     if (!context_.workers.Post([this] { Run(); })) Fail(Unavailable("server is shutting down"));
   }
 
-  void OnCancel() override { cancel_.store(true); }
+  void OnCancel() override {
+    cancel_.store(true);
+    spdlog::info("scan of {}: call cancelled", plan_.scene_id);
+  }
 
   void OnWriteDone(bool ok) override {
+    write_watch_.Done();
     if (!ok) {
       Finish(grpc::Status(grpc::StatusCode::CANCELLED, "client went away"));
       return;
@@ -80,12 +85,18 @@ class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
   }
 
   void OnDone() override {
+    write_watch_.Release();
     if (holds_slot_) context_.active_scans.fetch_sub(1);
     delete this;
   }
 
  private:
   void Run() {
+    // Queued behind other work while the call was cancelled (server shutdown, client gone).
+    if (cancel_.load()) {
+      Fail(Cancelled("scan cancelled"));
+      return;
+    }
     auto target = PrepareScanTarget(context_, plan_);
     if (!target.ok()) {
       Fail(target.status());
@@ -137,6 +148,11 @@ class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
     SetMeasureStatistics(measure, s);
     spdlog::info("scan of {} r{}: {} rays, {} points in {:.1f} ms", plan_.scene_id, target->scene.revision,
                  stats.rays, stats.points, stats.elapsed_ms);
+    Write();
+  }
+
+  void Write() {
+    write_watch_.Started("scan of " + plan_.scene_id);
     StartWrite(&response_);
   }
 
@@ -151,14 +167,14 @@ class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
       const size_t count = std::min(points_per_chunk_, cloud_.size() - begin);
       PackChunk(cloud_, begin, count, next_chunk_, response_.mutable_chunk());
       ++next_chunk_;
-      StartWrite(&response_);
+      Write();
       return;
     }
     if (!statistics_sent_) {
       statistics_sent_ = true;
       statistics_.set_total_ms(MillisSince(start_));
       *response_.mutable_statistics() = statistics_;
-      StartWrite(&response_);
+      Write();
       return;
     }
     Finish(grpc::Status::OK);
@@ -170,6 +186,7 @@ class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
   }
 
   ServiceContext& context_;
+  WriteWatch write_watch_;
   const Clock::time_point start_ = Clock::now();
   ScanPlan plan_;
   bool holds_slot_ = false;

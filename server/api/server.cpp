@@ -3,6 +3,7 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <system_error>
 
@@ -15,11 +16,13 @@
 #include <grpcpp/server_builder.h>
 #include <spdlog/spdlog.h>
 
+#include "api/data_dir_lock.h"
 #include "api/job_service.h"
 #include "api/job_tracker.h"
 #include "api/robot_service.h"
 #include "api/scan_service.h"
 #include "api/scene_service.h"
+#include "api/stall_watchdog.h"
 #include "jobs/job_runner.h"
 #include "store/job_catalogue.h"
 
@@ -73,6 +76,8 @@ StatusOr<geometry::ImportSandbox> MeshImportSandbox(const ServerOptions& options
 }  // namespace
 
 struct Server::Impl {
+  // First member, so that it is released last, after the store has closed.
+  std::optional<DataDirLock> data_dir_lock;
   ServerOptions options;
   std::unique_ptr<store::Catalogue> catalogue;
   std::unique_ptr<store::BlobStore> blobs;
@@ -81,6 +86,7 @@ struct Server::Impl {
   std::unique_ptr<robots::RobotRegistry> robots;
   RasterProvider raster;
   std::unique_ptr<jobs::WorkerPool> workers;
+  std::unique_ptr<StallWatchdog> stalled_readers;
   std::unique_ptr<ServiceContext> context;
   std::unique_ptr<SceneService> scene_service;
   std::unique_ptr<ScanService> scan_service;
@@ -106,6 +112,8 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const ServerOptions& options) {
   const std::filesystem::path data_dir(options.data_dir);
   std::filesystem::create_directories(data_dir, ec);
   if (ec) return Unavailable("--data-dir: cannot create '" + options.data_dir + "': " + ec.message());
+  // Before anything in the directory is read or written: a second server would interrupt our jobs.
+  ASSIGN_OR_RETURN(impl->data_dir_lock, DataDirLock::Acquire(data_dir));
 
   ASSIGN_OR_RETURN(impl->catalogue, store::Catalogue::Open(data_dir / "catalogue.sqlite"));
   impl->blobs = std::make_unique<store::BlobStore>(data_dir / "blobs");
@@ -120,6 +128,10 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const ServerOptions& options) {
                                                          options.limits.max_upload_bytes);
   impl->workers = std::make_unique<jobs::WorkerPool>(std::max<uint32_t>(1, options.worker_threads));
   impl->context.reset(new ServiceContext{*impl->registry, *impl->workers, impl->options, *impl->robots, impl->raster});
+  const std::chrono::duration<double> stall_limit(options.stalled_reader_seconds);
+  impl->stalled_readers =
+      std::make_unique<StallWatchdog>(std::chrono::duration_cast<StallWatchdog::Clock::duration>(stall_limit));
+  impl->context->stalled_readers = impl->stalled_readers.get();
   impl->scene_service = std::make_unique<SceneService>(*impl->context);
   impl->scan_service = std::make_unique<ScanService>(*impl->context);
   impl->robot_service = std::make_unique<RobotService>(*impl->context);
@@ -164,10 +176,13 @@ void Server::Shutdown(double grace_seconds) {
                         std::chrono::milliseconds(static_cast<int64_t>(grace_seconds * 1000));
   // Jobs end first (INTERRUPTED, recorded), so that their watch streams end and the drain is quick.
   impl_->job_runner->Stop();
+  // Past the deadline gRPC cancels the calls still running (their OnCancel) and waits for them to end.
   impl_->server->Shutdown(deadline);
+  if (std::chrono::system_clock::now() >= deadline) spdlog::info("grace period over: running calls were cancelled");
   impl_->workers->Stop();
   impl_->server->Wait();
   impl_->server.reset();
+  impl_->stalled_readers->Stop();
   spdlog::info("stopped");
 }
 

@@ -34,6 +34,8 @@ struct ServerOptions {
   std::string mesh_importer_path;
   uint32_t mesh_import_timeout_s = 60;
   uint64_t mesh_import_memory_mib = 8192;
+  // A Scan stream whose client has not read for this long is cancelled and its slot freed.
+  double stalled_reader_seconds = 10;
   Limits limits;
 };
 

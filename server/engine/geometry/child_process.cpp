@@ -4,7 +4,7 @@
 #include <poll.h>
 #include <pthread.h>
 #include <signal.h>
-#include <spawn.h>
+#include <sys/prctl.h>
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -109,49 +109,75 @@ class SigpipeBlocked {
   bool was_pending_ = false;
 };
 
-class SpawnSetup {
- public:
-  SpawnSetup() {
-    posix_spawn_file_actions_init(&actions);
-    posix_spawnattr_init(&attributes);
-  }
-  SpawnSetup(const SpawnSetup&) = delete;
-  SpawnSetup& operator=(const SpawnSetup&) = delete;
-  ~SpawnSetup() {
-    posix_spawn_file_actions_destroy(&actions);
-    posix_spawnattr_destroy(&attributes);
-  }
+// Closes [first, last]; async-signal-safe. The loop, up to max_fd, is for kernels before 5.9.
+void CloseDescriptors(unsigned first, unsigned last, int max_fd) {
+  if (first > last || ::close_range(first, last, 0) == 0) return;
+  for (unsigned fd = first; fd <= last && fd < static_cast<unsigned>(max_fd); ++fd) ::close(static_cast<int>(fd));
+}
 
-  posix_spawn_file_actions_t actions;
-  posix_spawnattr_t attributes;
-};
+// Tells the parent why the child could not exec, and ends it.
+[[noreturn]] void ExecFailed(int error_fd, int error) {
+  [[maybe_unused]] ssize_t n = ::write(error_fd, &error, sizeof(error));
+  ::_exit(127);
+}
 
-// The child starts with an empty signal mask and default handlers: the server blocks its stop
-// signals and may ignore SIGPIPE, and both would otherwise carry over.
+// Runs in the forked child, so only async-signal-safe calls: the parent has other threads, whose
+// locks may be held forever here. Reports why it could not exec through error_fd.
+[[noreturn]] void ExecChild(char* const* args, int stdin_fd, int stdout_fd, int error_fd, pid_t parent,
+                            int max_fd) {
+  // Dies with the thread that started it (RunChild waits for it there), so that a killed server
+  // leaves no helper behind; a parent that died before the prctl is caught by getppid.
+  if (::prctl(PR_SET_PDEATHSIG, SIGKILL) != 0) ExecFailed(error_fd, errno);
+  if (::getppid() != parent) ::_exit(127);
+  // Default handlers and an empty mask: the server blocks its stop signals and may ignore
+  // SIGPIPE, and both would otherwise carry over through exec.
+  struct sigaction default_action {};
+  default_action.sa_handler = SIG_DFL;
+  for (int sig = 1; sig < NSIG; ++sig) ::sigaction(sig, &default_action, nullptr);
+  if (::dup2(stdin_fd, STDIN_FILENO) < 0 || ::dup2(stdout_fd, STDOUT_FILENO) < 0) ExecFailed(error_fd, errno);
+  const int null_fd = ::open("/dev/null", O_WRONLY);
+  if (null_fd < 0 || ::dup2(null_fd, STDERR_FILENO) < 0) ExecFailed(error_fd, errno);
+  // Nothing else is inherited; error_fd is close-on-exec and closes itself.
+  CloseDescriptors(STDERR_FILENO + 1, error_fd - 1, max_fd);
+  CloseDescriptors(error_fd + 1, ~0u, max_fd);
+  sigset_t none;
+  sigemptyset(&none);
+  ::sigprocmask(SIG_SETMASK, &none, nullptr);
+  ::execve(args[0], args, environ);
+  ExecFailed(error_fd, errno);
+}
+
+// fork and exec rather than posix_spawn, which cannot tie the child's life to ours.
 StatusOr<pid_t> Spawn(const std::vector<std::string>& argv, int stdin_fd, int stdout_fd) {
   const std::string& path = argv.front();
-  SpawnSetup setup;
-  sigset_t none, all;
-  sigemptyset(&none);
-  sigfillset(&all);
-  int rc = posix_spawn_file_actions_adddup2(&setup.actions, stdin_fd, STDIN_FILENO);
-  if (rc == 0) rc = posix_spawn_file_actions_adddup2(&setup.actions, stdout_fd, STDOUT_FILENO);
-  if (rc == 0) rc = posix_spawn_file_actions_addopen(&setup.actions, STDERR_FILENO, "/dev/null", O_WRONLY, 0);
-#if defined(__GLIBC__) && __GLIBC_PREREQ(2, 34)
-  if (rc == 0) rc = posix_spawn_file_actions_addclosefrom_np(&setup.actions, STDERR_FILENO + 1);
-#endif
-  if (rc == 0) rc = posix_spawnattr_setsigmask(&setup.attributes, &none);
-  if (rc == 0) rc = posix_spawnattr_setsigdefault(&setup.attributes, &all);
-  if (rc == 0) rc = posix_spawnattr_setflags(&setup.attributes, POSIX_SPAWN_SETSIGMASK | POSIX_SPAWN_SETSIGDEF);
-  if (rc != 0) return Unavailable("cannot start '" + path + "': " + ErrorText(rc));
-
   std::vector<char*> args;
   for (const std::string& arg : argv) args.push_back(const_cast<char*>(arg.c_str()));
   args.push_back(nullptr);
-  pid_t pid = -1;
-  rc = posix_spawn(&pid, path.c_str(), &setup.actions, &setup.attributes, args.data(), environ);
-  if (rc != 0) return Unavailable("cannot start '" + path + "': " + ErrorText(rc));
-  return pid;
+  Pipe exec_error;
+  RETURN_IF_ERROR(OpenPipe(exec_error));
+  const pid_t parent = ::getpid();
+  const int max_fd = static_cast<int>(std::clamp<long>(::sysconf(_SC_OPEN_MAX), 1024, INT_MAX));
+  // Blocked across the fork so that none of the server's handlers can run in the child.
+  sigset_t all, previous;
+  sigfillset(&all);
+  pthread_sigmask(SIG_SETMASK, &all, &previous);
+  const pid_t pid = ::fork();
+  if (pid == 0) ExecChild(args.data(), stdin_fd, stdout_fd, exec_error.write.get(), parent, max_fd);
+  const int fork_error = errno;
+  pthread_sigmask(SIG_SETMASK, &previous, nullptr);
+  if (pid < 0) return Unavailable("cannot start '" + path + "': " + ErrorText(fork_error));
+
+  // The pipe closes at the child's exec, or carries the errno of what failed before it.
+  exec_error.write.Reset();
+  int child_error = 0;
+  ssize_t n;
+  do {
+    n = ::read(exec_error.read.get(), &child_error, sizeof(child_error));
+  } while (n < 0 && errno == EINTR);
+  if (n != sizeof(child_error)) return pid;
+  while (::waitpid(pid, nullptr, 0) < 0 && errno == EINTR) {
+  }
+  return Unavailable("cannot start '" + path + "': " + ErrorText(child_error));
 }
 
 int PollTimeoutMs(Clock::duration remaining) {

@@ -1,6 +1,7 @@
 #pragma once
 // Runs a program with bytes on its stdin and collects its stdout, under a wall-clock deadline.
-// Safe in a multi-threaded process: posix_spawn, close-on-exec pipes, the child always reaped.
+// Safe in a multi-threaded process: fork and exec, close-on-exec pipes, the child always reaped and
+// killed by the kernel should the thread that started it die first (PR_SET_PDEATHSIG).
 
 #include <chrono>
 #include <cstddef>
