@@ -213,12 +213,11 @@ class PlanParser {
       if (const YamlAt u = YamlReader::Child(look_at, "up"); YamlReader::Has(u)) {
         ASSIGN_OR_RETURN(up, yaml_.Vector3(u));
       }
-      RETURN_IF_ERROR(CheckLookAt(look_at, eye, target, up));
       v1::Pose pose;
       *pose.mutable_look_at()->mutable_eye() = ToProto(eye);
       *pose.mutable_look_at()->mutable_target() = ToProto(target);
       *pose.mutable_look_at()->mutable_up() = ToProto(up);
-      return pose;
+      return Checked(at, std::move(pose));
     }
     Pose3 pose = Pose3::Identity();
     if (YamlReader::Has(matrix)) {
@@ -241,23 +240,19 @@ class PlanParser {
     if (YamlReader::Has(xyz)) {
       ASSIGN_OR_RETURN(pose.translation(), yaml_.Vector3(xyz));
     }
-    return PoseToProto(pose);
+    return Checked(at, PoseToProto(pose));
+  }
+
+  // The rules the server applies to every pose it is sent (proto_convert), checked before upload.
+  StatusOr<v1::Pose> Checked(const YamlAt& at, v1::Pose pose) const {
+    const auto checked = PoseFromProto(pose, at.path);
+    if (!checked.ok()) return yaml_.Error(at.node.Mark(), "", checked.status().message());
+    return pose;
   }
 
   StatusOr<Eigen::Vector3d> RequiredVector(const YamlAt& at) const {
     if (!YamlReader::Has(at)) return yaml_.Error(at, "required: [x, y, z] in metres");
     return yaml_.Vector3(at);
-  }
-
-  Status CheckLookAt(const YamlAt& at, const Eigen::Vector3d& eye, const Eigen::Vector3d& target,
-                     const Eigen::Vector3d& up) const {
-    const Eigen::Vector3d forward = target - eye;
-    if (forward.norm() < 1e-9) return yaml_.Error(YamlReader::Child(at, "target"), "coincides with the position");
-    if (up.norm() < 1e-12 || forward.normalized().cross(up.normalized()).norm() < 1e-6) {
-      const YamlAt u = YamlReader::Child(at, "up");
-      return yaml_.Error(YamlReader::Has(u) ? u : at, "up is parallel to the viewing direction; give another up");
-    }
-    return Status::Ok();
   }
 
   Status ParseSensor(const YamlAt& top, v1::CampaignSpec* spec) const {
@@ -307,12 +302,10 @@ class PlanParser {
       v1::Viewpoint* viewpoint = spec->add_viewpoints();
       *viewpoint->mutable_position() = ToProto(position);
       *viewpoint->mutable_target() = ToProto(target);
-      Eigen::Vector3d up = Eigen::Vector3d::UnitZ();
       if (const YamlAt u = YamlReader::Child(item, "up"); YamlReader::Has(u)) {
-        ASSIGN_OR_RETURN(up, yaml_.Vector3(u));
+        ASSIGN_OR_RETURN(const Eigen::Vector3d up, yaml_.Vector3(u));
         *viewpoint->mutable_up() = ToProto(up);
       }
-      RETURN_IF_ERROR(CheckLookAt(item, position, target, up));
     }
     return Status::Ok();
   }
@@ -320,7 +313,8 @@ class PlanParser {
   Status ParseSchedule(const YamlAt& top, v1::CampaignSpec* spec) const {
     uint64_t rotations = 1;
     if (const YamlAt r = YamlReader::Child(top, "rotations"); YamlReader::Has(r)) {
-      ASSIGN_OR_RETURN(rotations, yaml_.Integer(r, 1, 100000));
+      // The upper bound is the server's (checked with validate_only before anything is uploaded).
+      ASSIGN_OR_RETURN(rotations, yaml_.Integer(r, 1, UINT32_MAX));
     }
     spec->set_rotations(static_cast<uint32_t>(rotations));
     // A full turn split evenly unless the step is given.
@@ -374,7 +368,10 @@ StatusOr<CampaignPlan> ParseCampaignPlan(const std::string& yaml, const std::str
     return YamlReader(source).Error(e.mark, "", "not valid YAML: " + e.msg);
   }
   try {
-    return PlanParser(source, base_dir).Parse(root);
+    ASSIGN_OR_RETURN(CampaignPlan plan, PlanParser(source, base_dir).Parse(root));
+    plan.source = source;
+    plan.key_marks = KeyMarks(root);
+    return plan;
   } catch (const YAML::Exception& e) {
     return YamlReader(source).Error(e.mark, "", e.msg);
   }

@@ -3,7 +3,10 @@
 // viewpoints of a scan campaign. Parsing needs no server; every error names the file, the line and
 // the key path ("plan.yaml:14: viewpoints[2].target: expected 3 numbers").
 
+#include <yaml-cpp/mark.h>
+
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -53,6 +56,10 @@ struct CampaignPlan {
   std::string mount_id;
   // scene_id and mount_id are filled in when the plan runs.
   v1::CampaignSpec spec;
+  // The plan's name in messages, and where each key path ("viewpoints[2].target"; "" the whole
+  // plan) stands in it, so that errors found later still name the file and the line.
+  std::string source;
+  std::map<std::string, YAML::Mark> key_marks;
 };
 
 // source names the text in messages (usually the path as given); relative paths in the plan are

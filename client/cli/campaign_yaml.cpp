@@ -25,7 +25,29 @@ std::string Describe(const YAML::Node& node) {
   }
 }
 
+void IndexKeys(const YAML::Node& node, const std::string& path, std::map<std::string, YAML::Mark>* out) {
+  if (node.IsMap()) {
+    for (const auto& entry : node) {
+      const std::string key = path.empty() ? entry.first.Scalar() : path + "." + entry.first.Scalar();
+      out->emplace(key, entry.first.Mark());
+      IndexKeys(entry.second, key, out);
+    }
+  } else if (node.IsSequence()) {
+    for (size_t i = 0; i < node.size(); ++i) {
+      const std::string key = path + "[" + std::to_string(i) + "]";
+      out->emplace(key, node[i].Mark());
+      IndexKeys(node[i], key, out);
+    }
+  }
+}
+
 }  // namespace
+
+std::map<std::string, YAML::Mark> KeyMarks(const YAML::Node& root) {
+  std::map<std::string, YAML::Mark> out{{"", root.Mark()}};
+  IndexKeys(root, "", &out);
+  return out;
+}
 
 Status YamlReader::Error(const YamlAt& at, const std::string& what) const {
   const YAML::Mark mark = at.node.IsDefined() && at.node.Mark().line >= 0 ? at.node.Mark() : at.mark;

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <cstdint>
 #include <initializer_list>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -64,5 +65,8 @@ class YamlReader {
 
   std::string source_;
 };
+
+// Every key path of a document (as YamlAt paths read: "a.b", "a[2]"; "" the root) and its mark.
+std::map<std::string, YAML::Mark> KeyMarks(const YAML::Node& root);
 
 }  // namespace vscan::cli

@@ -70,8 +70,13 @@ int RunCampaign(Context& ctx, const RunArgs& args) {
     if (plan.status().code() == StatusCode::kInvalidArgument) return ctx.UsageError(plan.status().message());
     return ctx.LocalError(plan.status());
   }
+  // Nothing is uploaded for a plan the server would refuse; what a failed setup created is removed.
+  if (const int rc = CheckPlanOnServer(ctx, *plan); rc != kExitOk) return rc;
   CampaignSetup setup;
-  if (const int rc = SetUpCampaign(ctx, *plan, &setup); rc != kExitOk) return rc;
+  if (const int rc = SetUpCampaign(ctx, *plan, &setup); rc != kExitOk) {
+    UndoCampaignSetup(ctx, setup);
+    return rc;
+  }
   v1::CampaignSpec spec = plan->spec;
   spec.set_scene_id(setup.scene_id);
   spec.set_mount_id(setup.mount_id);
@@ -79,7 +84,13 @@ int RunCampaign(Context& ctx, const RunArgs& args) {
   auto* client = ctx.GetClient();
   if (!client) return ctx.last_exit();
   const auto job = client->StartCampaign(spec);
-  if (!job.ok()) return ctx.ServerError(job.status());
+  if (!job.ok()) {
+    const int rc = ReportCallError(ctx, *plan, PlanCall::kStartCampaign, job.status());
+    // After a lost answer the job may exist and need what setup made.
+    const StatusCode code = job.status().code();
+    if (code != StatusCode::kDeadlineExceeded && code != StatusCode::kCancelled) UndoCampaignSetup(ctx, setup);
+    return rc;
+  }
   const std::string ids = ",\"sceneId\":" + JsonQuote(setup.scene_id) + ",\"mountId\":" + JsonQuote(setup.mount_id);
   if (args.detach) {
     if (ctx.json()) ctx.EmitJson("{\"job\":" + ToJson(*job) + ids + "}");

@@ -1,17 +1,18 @@
 #include "api/campaign_spec.h"
 
 #include <cmath>
+#include <optional>
 
 #include "api/robot_collision.h"
 #include "api/scan_request.h"
 #include "api/validate.h"
+#include "vscan/common/physical_limits.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::api {
 namespace {
 
 constexpr double kMaxAbsAngleDeg = 1e6;
-constexpr double kMaxAbsCoordinate = 1e4;
 
 // Field-naming failures get the prefix; trouble of the server itself (UNAVAILABLE, ...) does not.
 bool NamesAField(StatusCode code) {
@@ -31,10 +32,7 @@ std::string Index(const char* field, int i) { return std::string(field) + "[" + 
 StatusOr<Eigen::Vector3d> Point(bool has, const v1::Vector3& p, const std::string& field) {
   if (!has) return InvalidArgument(field + ": required");
   const Eigen::Vector3d point = FromProto(p);
-  if (!point.allFinite()) return InvalidArgument(field + ": NaN or infinite value");
-  if (point.cwiseAbs().maxCoeff() > kMaxAbsCoordinate) {
-    return InvalidArgument(field + ": coordinates beyond 10 km");
-  }
+  RETURN_IF_ERROR(CheckPosition(point, field));
   return point;
 }
 
@@ -83,15 +81,21 @@ Status CheckAngles(const v1::CampaignSpec& spec, uint32_t rotations) {
   return Status::Ok();
 }
 
-// The scene must exist, hold the mount, and have a table when the campaign turns it. Returns the
-// middle of the arm's joint limits.
-StatusOr<Eigen::VectorXd> CheckSceneAndMount(const v1::CampaignSpec& spec, uint32_t rotations, ServiceContext& context) {
+// The middle of the arm's joint limits; unset in a dry run that names no mount.
+using Home = std::optional<Eigen::VectorXd>;
+
+// The scene must exist, hold the mount, and have a table when the campaign turns it. A dry run
+// looks up only the ids it is given: a client checks a plan before it creates the scene and mount.
+StatusOr<Home> CheckSceneAndMount(const v1::CampaignSpec& spec, uint32_t rotations, bool dry_run,
+                                  ServiceContext& context) {
+  if (dry_run && spec.scene_id().empty() && spec.mount_id().empty()) return Home();
   RETURN_IF_ERROR(RequireId(spec.scene_id(), "scene_id"));
   ASSIGN_OR_RETURN(const store::SceneRecord scene, context.registry.catalogue().GetScene(spec.scene_id()));
   if (rotations > 1 && !scene.table.enabled) {
     return FailedPrecondition("rotations: scene '" + spec.scene_id() + "' has no rotary table enabled to turn (" +
                               std::to_string(rotations) + " rotations asked)");
   }
+  if (dry_run && spec.mount_id().empty()) return Home();
   RETURN_IF_ERROR(RequireId(spec.mount_id(), "mount_id"));
   ASSIGN_OR_RETURN(const robots::MountedRobot mounted, context.robots.Mount(spec.mount_id()));
   if (mounted.mount.scene_id != spec.scene_id()) {
@@ -106,10 +110,20 @@ StatusOr<Eigen::VectorXd> CheckSceneAndMount(const v1::CampaignSpec& spec, uint3
       return s.message().starts_with("reject_collisions") ? s : Status(s.code(), "reject_collisions: " + s.message());
     }
   }
-  return mounted.chain->MidLimits();
+  return Home(mounted.chain->MidLimits());
 }
 
-StatusOr<CampaignPlan> Validate(const v1::CampaignSpec& spec, ServiceContext& context) {
+// The ScanRequest every step's scan is parsed from, at the first table angle. Without a mount (a
+// dry run) the sensor stands at a fixed pose instead: only where it stands depends on the mount.
+v1::ScanRequest FirstStepRequest(const v1::CampaignSpec& spec, const Home& home) {
+  if (home) return StepScanRequest(spec, *home, spec.start_angle_deg(), spec.seed());
+  v1::ScanRequest request = StepScanRequest(spec, Eigen::VectorXd(), spec.start_angle_deg(), spec.seed());
+  if (request.scene_id().empty()) request.set_scene_id("validate-only");  // never looked up by the parser
+  request.mutable_pose()->mutable_look_at()->mutable_target()->set_x(1.0);
+  return request;
+}
+
+StatusOr<CampaignPlan> Validate(const v1::CampaignSpec& spec, bool dry_run, ServiceContext& context) {
   CampaignPlan plan;
   plan.spec = spec;
   RETURN_IF_ERROR(CheckText(spec.name(), "name"));
@@ -130,12 +144,9 @@ StatusOr<CampaignPlan> Validate(const v1::CampaignSpec& spec, ServiceContext& co
                            " scans, more than the " + std::to_string(kMaxCampaignSteps) + " a campaign may hold");
   }
   RETURN_IF_ERROR(CheckAngles(spec, plan.rotations));
-  ASSIGN_OR_RETURN(const Eigen::VectorXd home, CheckSceneAndMount(spec, plan.rotations, context));
+  ASSIGN_OR_RETURN(const Home home, CheckSceneAndMount(spec, plan.rotations, dry_run, context));
   // Sensor, noise, backend, fields and frame, checked by the parser every step's scan goes through.
-  RETURN_IF_ERROR(
-      ParseScanRequest(StepScanRequest(spec, home, spec.start_angle_deg(), spec.seed()), context.options.limits,
-                       context.robots)
-          .status());
+  RETURN_IF_ERROR(ParseScanRequest(FirstStepRequest(spec, home), context.options.limits, context.robots).status());
   return plan;
 }
 
@@ -164,8 +175,8 @@ Status InSpec(const Status& status) {
   return Status(status.code(), "spec." + status.message());
 }
 
-StatusOr<CampaignPlan> ValidateCampaign(const v1::CampaignSpec& spec, ServiceContext& context) {
-  auto plan = Validate(spec, context);
+StatusOr<CampaignPlan> ValidateCampaign(const v1::CampaignSpec& spec, ServiceContext& context, bool validate_only) {
+  auto plan = Validate(spec, validate_only, context);
   if (!plan.ok()) return InSpec(plan.status());
   return plan;
 }

@@ -42,8 +42,10 @@ struct CampaignPlan {
 v1::ScanRequest StepScanRequest(const v1::CampaignSpec& spec, const Eigen::VectorXd& joints, double table_angle_deg,
                                 uint64_t seed);
 
-// Checks the spec against the server's limits, the scene and the mount.
-StatusOr<CampaignPlan> ValidateCampaign(const v1::CampaignSpec& spec, ServiceContext& context);
+// Checks the spec against the server's limits, the scene and the mount. validate_only (a dry run)
+// skips the scene and mount checks when their ids are empty; every other check is the same.
+StatusOr<CampaignPlan> ValidateCampaign(const v1::CampaignSpec& spec, ServiceContext& context,
+                                        bool validate_only = false);
 
 // Prefixes a status message with the request field that holds the spec ("spec.").
 Status InSpec(const Status& status);

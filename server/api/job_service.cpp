@@ -30,7 +30,8 @@ grpc::ServerUnaryReactor* JobService::StartCampaign(grpc::CallbackServerContext*
                                                     v1::StartCampaignResponse* response) {
   return RunUnary(ctx, context_.options.token, "StartCampaign", [&]() -> Status {
     if (!request->has_spec()) return InvalidArgument("spec: required");
-    ASSIGN_OR_RETURN(CampaignPlan validated, ValidateCampaign(request->spec(), context_));
+    ASSIGN_OR_RETURN(CampaignPlan validated, ValidateCampaign(request->spec(), context_, request->validate_only()));
+    if (request->validate_only()) return Status::Ok();
     const uint32_t max_queued = context_.options.limits.max_queued_jobs;
     std::lock_guard admit(admit_mutex_);
     if (runner_.queued() >= max_queued) {
@@ -88,7 +89,7 @@ grpc::ServerUnaryReactor* JobService::ListJobs(grpc::CallbackServerContext* ctx,
                                                v1::ListJobsResponse* response) {
   return RunUnary(ctx, context_.options.token, "ListJobs", [&]() -> Status {
     ASSIGN_OR_RETURN(int limit, PageSize(request->page_size(), context_.options.limits.max_page_size));
-    RETURN_IF_ERROR(CheckText(request->page_token(), "page_token", 64));
+    RETURN_IF_ERROR(CheckPageToken(request->page_token(), "job_"));
     // Jobs carry every artifact, so a page is also cut at a byte budget (at least one job), read
     // from the catalogue a few jobs at a time.
     std::string after = request->page_token();

@@ -21,6 +21,14 @@ StatusOr<v1::Job> Client::StartCampaign(const v1::CampaignSpec& spec) {
   return response.job();
 }
 
+Status Client::ValidateCampaign(const v1::CampaignSpec& spec) {
+  auto stub = JobStub(*this);
+  v1::StartCampaignRequest request;
+  *request.mutable_spec() = spec;
+  request.set_validate_only(true);
+  return UnaryCall(*this, *stub, &Stub::StartCampaign, request).status();
+}
+
 StatusOr<v1::Job> Client::GetJob(const std::string& job_id) {
   auto stub = JobStub(*this);
   v1::GetJobRequest request;

@@ -58,6 +58,13 @@ class JobCalls:
             spec = campaign_spec(scene_id, mount_id, viewpoints, **options)
         return self._call(self._jobs.StartCampaign, job_pb2.StartCampaignRequest(spec=spec)).job
 
+    def validate_campaign(self, scene_id="", mount_id="", viewpoints=(), spec=None, **options):
+        """Checks a campaign as start_campaign would and starts nothing; raises VscanError naming the
+        field. Empty scene_id and mount_id are not looked up (check a plan before building it)."""
+        if spec is None:
+            spec = campaign_spec(scene_id, mount_id, viewpoints, **options)
+        self._call(self._jobs.StartCampaign, job_pb2.StartCampaignRequest(spec=spec, validate_only=True))
+
     def get_job(self, job_id):
         return self._call(self._jobs.GetJob, job_pb2.GetJobRequest(job_id=job_id)).job
 

@@ -183,6 +183,36 @@ TEST(CampaignPlan, PoseForms) {
   EXPECT_TRUE((tool->linear() * Eigen::Vector3d::UnitZ()).isApprox(-Eigen::Vector3d::UnitZ(), 1e-12));
 }
 
+// Values only the server's rules judge parse here; `vscan campaign run` asks the server about them
+// (validate_only) before it uploads anything.
+TEST(CampaignPlan, ServerBoundsAreLeftToTheServer) {
+  const std::string down = Edit("- {position: [0.4, 0, 0.3], target: [0, 0, 0.05]}",
+                                "- {position: [0, 0, 0.5], target: [0, 0, 0.05]}");
+  const auto plan = Parse(Edit("rotations: 4", "rotations: 5000", down));
+  ASSERT_TRUE(plan.ok()) << plan.status().message();
+  EXPECT_EQ(plan->spec.rotations(), 5000u);
+  // Straight down without `up`: the arm chooses the turn about the view axis; no up to be parallel.
+  EXPECT_FALSE(plan->spec.viewpoints(0).has_up());
+}
+
+TEST(CampaignPlan, KnowsTheLineOfEveryKey) {
+  const auto plan = Parse(kPlan);
+  ASSERT_TRUE(plan.ok()) << plan.status().message();
+  EXPECT_EQ(plan->source, "plan.yaml");
+  const std::pair<const char*, int> lines[] = {{"", 1},
+                                               {"scene.objects[0].pose", 10},
+                                               {"scene.table.axis", 11},
+                                               {"robot.encoder_sigma", 19},
+                                               {"sensor.pinhole.width", 21},
+                                               {"viewpoints[2]", 29},
+                                               {"viewpoints[2].target", 30},
+                                               {"rotations", 31}};
+  for (const auto& [key, line] : lines) {
+    ASSERT_TRUE(plan->key_marks.contains(key)) << key;
+    EXPECT_EQ(plan->key_marks.at(key).line + 1, line) << key;
+  }
+}
+
 struct BadPlan {
   std::string name;
   std::string from;
@@ -210,10 +240,9 @@ INSTANTIATE_TEST_SUITE_P(
         BadPlan{"short_target", "- position: [-0.4, 0, 0.3]\n    target: [0, 0, 0.05]",
                 "- position: [-0.4, 0, 0.3]\n    target: [0, 0]",
                 "plan.yaml:30: viewpoints[2].target: expected 3 numbers, got 2 items"},
-        BadPlan{"target_at_position", "target: [0, 0, 0.05], up", "target: [0, 0.4, 0.3], up",
-                "plan.yaml:28: viewpoints[1].target: coincides"},
-        BadPlan{"up_along_view", "up: [0, 0, 1]}", "up: [0, 0.4, 0.25]}",
-                "plan.yaml:28: viewpoints[1].up: up is parallel"},
+        BadPlan{"look_at_eye_on_target", "base_pose: {xyz: [-0.5, 0, 0], rpy_deg: [0, 0, 90]}",
+                "base_pose: {look_at: {eye: [1, 0, 0], target: [1, 0, 0]}}",
+                "plan.yaml:17: robot.base_pose.look_at: eye and target coincide"},
         BadPlan{"unknown_key", "rotations: 4", "rotation: 4", "plan.yaml:31: rotation: unknown key"},
         BadPlan{"zero_rotations", "rotations: 4", "rotations: 0", "plan.yaml:31: rotations: must be between 1 and"},
         BadPlan{"fractional_rotations", "rotations: 4", "rotations: 2.5",

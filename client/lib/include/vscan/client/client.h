@@ -95,6 +95,9 @@ class Client {
 
   // Jobs: scan campaigns and their artifacts.
   StatusOr<v1::Job> StartCampaign(const v1::CampaignSpec& spec);
+  // StartCampaign with validate_only: the server's verdict on spec; nothing is started. Empty
+  // scene_id and mount_id are not looked up.
+  Status ValidateCampaign(const v1::CampaignSpec& spec);
   StatusOr<v1::Job> GetJob(const std::string& job_id);
   // Every job, following page tokens.
   StatusOr<std::vector<v1::Job>> ListJobs();
