@@ -14,7 +14,8 @@ client::Client* Context::GetClient() {
   options.bearer_token = global.token;
   options.tls_root_cert_path = global.ca_cert;
   if (global.timeout) {
-    const auto ms = std::chrono::milliseconds(static_cast<int64_t>(std::llround(*global.timeout * 1000.0)));
+    // Rounded up, so that a deadline below a millisecond is still a deadline.
+    const auto ms = std::chrono::milliseconds(static_cast<int64_t>(std::ceil(*global.timeout * 1000.0)));
     options.unary_timeout = ms;
     options.stream_timeout = ms;
   }
@@ -53,7 +54,13 @@ int Context::ServerError(const Status& status) const {
   return Report(status, unreachable ? kExitUnreachable : kExitServerError);
 }
 
-int Context::LocalError(const Status& status) const { return Report(status, kExitLocalIo); }
+int Context::LocalError(const Status& status) const {
+  std::cerr << "error: " << status.message() << '\n';
+  if (global.json) {
+    EmitJson("{\"error\":{\"code\":\"LOCAL_IO\",\"message\":" + JsonQuote(status.message()) + "}}");
+  }
+  return kExitLocalIo;
+}
 
 int Context::UsageError(const std::string& message) const {
   std::cerr << "error: " << message << "\nRun with --help for more information.\n";

@@ -1,5 +1,6 @@
 // vscan: command-line client for vscand.
 
+#include <cmath>
 #include <exception>
 #include <iostream>
 
@@ -25,7 +26,7 @@ void AddGlobalOptions(CLI::App& app, vscan::cli::GlobalOptions& g) {
   app.add_option("--ca-cert", g.ca_cert, "PEM root certificate; turns TLS on")->check(CLI::ExistingFile);
   app.add_flag("--json", g.json, "Machine-readable output: one JSON object per command on stdout");
   app.add_option("--timeout", g.timeout, "Deadline in seconds for each call (default: 30 s, none for scans)")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Range(1e-6, 1e7));
   app.add_flag("-q,--quiet", g.quiet, "Print only ids and errors; no progress bar");
 }
 
@@ -58,6 +59,10 @@ int main(int argc, char** argv) {
     return rc == 0 ? 0 : vscan::cli::kExitUsage;
   }
   if (!ctx.action) return ctx.UsageError("no command given");
+  // CLI11's range check lets NaN through (every comparison with it is false).
+  if (ctx.global.timeout && !std::isfinite(*ctx.global.timeout)) {
+    return ctx.UsageError("--timeout: must be a number of seconds in [1e-06, 1e7]");
+  }
   try {
     return ctx.action();
   } catch (const std::exception& e) {

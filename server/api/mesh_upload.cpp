@@ -45,6 +45,9 @@ class UploadMeshReactor final : public UploadReactor<v1::UploadMeshRequest> {
       has_header_ = true;
       header_ = request.header();
       RETURN_IF_ERROR(CheckText(header_.name(), "header.name"));
+      if (!v1::MeshFormat_IsValid(header_.format())) {
+        return InvalidArgument("header.format: unknown value " + std::to_string(header_.format()));
+      }
       if (header_.unit() == v1::LENGTH_UNIT_UNSPECIFIED) {
         return InvalidArgument("header.unit: required (the length unit the file is written in)");
       }

@@ -65,7 +65,7 @@ grpc::ServerUnaryReactor* RobotService::ListRobots(grpc::CallbackServerContext* 
                                                    v1::ListRobotsResponse* response) {
   return RunUnary(ctx, context_.options.token, "ListRobots", [&]() -> Status {
     ASSIGN_OR_RETURN(int limit, PageSize(request->page_size(), context_.options.limits.max_page_size));
-    RETURN_IF_ERROR(CheckText(request->page_token(), "page_token", 64));
+    RETURN_IF_ERROR(CheckPageToken(request->page_token(), "rbt_"));
     ASSIGN_OR_RETURN(auto robots, context_.robots.catalogue().ListRobots(request->page_token(), limit + 1));
     const bool more = static_cast<int>(robots.size()) > limit;
     if (more) robots.resize(limit);
@@ -110,7 +110,7 @@ grpc::ServerUnaryReactor* RobotService::ListMounts(grpc::CallbackServerContext* 
   return RunUnary(ctx, context_.options.token, "ListMounts", [&]() -> Status {
     if (!request->scene_id().empty()) RETURN_IF_ERROR(RequireId(request->scene_id(), "scene_id"));
     ASSIGN_OR_RETURN(int limit, PageSize(request->page_size(), context_.options.limits.max_page_size));
-    RETURN_IF_ERROR(CheckText(request->page_token(), "page_token", 64));
+    RETURN_IF_ERROR(CheckPageToken(request->page_token(), "mnt_"));
     ASSIGN_OR_RETURN(auto mounts,
                      context_.robots.catalogue().ListMounts(request->scene_id(), request->page_token(), limit + 1));
     const bool more = static_cast<int>(mounts.size()) > limit;

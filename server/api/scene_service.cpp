@@ -52,7 +52,7 @@ grpc::ServerUnaryReactor* SceneService::ListScenes(grpc::CallbackServerContext* 
                                                    v1::ListScenesResponse* response) {
   return RunUnary(ctx, context_.options.token, "ListScenes", [&]() -> Status {
     ASSIGN_OR_RETURN(int limit, PageSize(request->page_size(), context_.options.limits.max_page_size));
-    RETURN_IF_ERROR(CheckText(request->page_token(), "page_token", 64));
+    RETURN_IF_ERROR(CheckPageToken(request->page_token(), "scn_"));
     ASSIGN_OR_RETURN(auto scenes, context_.registry.catalogue().ListScenes(request->page_token(), limit + 1));
     const bool more = static_cast<int>(scenes.size()) > limit;
     if (more) scenes.resize(limit);
@@ -86,7 +86,7 @@ grpc::ServerUnaryReactor* SceneService::ListMeshes(grpc::CallbackServerContext* 
                                                    v1::ListMeshesResponse* response) {
   return RunUnary(ctx, context_.options.token, "ListMeshes", [&]() -> Status {
     ASSIGN_OR_RETURN(int limit, PageSize(request->page_size(), context_.options.limits.max_page_size));
-    RETURN_IF_ERROR(CheckText(request->page_token(), "page_token", 64));
+    RETURN_IF_ERROR(CheckPageToken(request->page_token(), "msh_"));
     ASSIGN_OR_RETURN(auto meshes, context_.registry.catalogue().ListMeshes(request->page_token(), limit + 1));
     const bool more = static_cast<int>(meshes.size()) > limit;
     if (more) meshes.resize(limit);

@@ -7,6 +7,7 @@ namespace vscan::api {
 namespace {
 
 constexpr int kDefaultPageSize = 100;
+constexpr size_t kIdHexDigits = 16;
 
 }  // namespace
 
@@ -19,6 +20,25 @@ Status RequireId(const std::string& id, std::string_view field) {
 Status CheckText(const std::string& text, std::string_view field, size_t max_length) {
   if (text.size() > max_length) {
     return InvalidArgument(std::string(field) + ": longer than " + std::to_string(max_length) + " bytes");
+  }
+  const auto control = std::find_if(text.begin(), text.end(), [](unsigned char c) { return c < 0x20 || c == 0x7f; });
+  if (control != text.end()) {
+    return InvalidArgument(std::string(field) + ": control character (code " +
+                           std::to_string(static_cast<unsigned char>(*control)) + ") at byte " +
+                           std::to_string(control - text.begin()));
+  }
+  return Status::Ok();
+}
+
+Status CheckPageToken(const std::string& token, std::string_view id_prefix) {
+  if (token.empty()) return Status::Ok();
+  const bool well_formed = token.size() == id_prefix.size() + kIdHexDigits && token.starts_with(id_prefix) &&
+                           std::all_of(token.begin() + id_prefix.size(), token.end(), [](char c) {
+                             return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f');
+                           });
+  if (!well_formed) {
+    return InvalidArgument("page_token: not a token this call returned (expected empty or '" +
+                           std::string(id_prefix) + "' and 16 hex digits)");
   }
   return Status::Ok();
 }

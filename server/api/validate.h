@@ -10,7 +10,10 @@
 namespace vscan::api {
 
 Status RequireId(const std::string& id, std::string_view field);
+// At most max_length bytes and no control characters (NUL, newline, ...).
 Status CheckText(const std::string& text, std::string_view field, size_t max_length = 256);
+// Empty, or an id of the listed kind (id_prefix + 16 hex digits) as a previous page returned.
+Status CheckPageToken(const std::string& token, std::string_view id_prefix);
 // 0 means 1; otherwise finite, positive and at most 1e6.
 StatusOr<double> ScaleOrDefault(double scale, std::string_view field);
 // page_size 0 means default; negative is INVALID_ARGUMENT; large is clamped.

@@ -6,6 +6,7 @@ import unittest
 import grpc
 
 from harness import BUNNY, ServerTestCase, common_pb2, icosphere_ply, look_at, pinhole, scan_pb2, scene_pb2, sensor_pb2
+from vscan.v1 import job_pb2, job_pb2_grpc
 
 C = grpc.StatusCode
 
@@ -97,12 +98,102 @@ class BadInputTest(ServerTestCase):
         self.assertCode(C.INVALID_ARGUMENT, self.scan(sensor=sensor_pb2.SensorSpec()), "sensor")
         self.assertCode(C.INVALID_ARGUMENT, self.scan(chunk_bytes=10), "chunk_bytes")
 
-    def test_not_yet_supported_is_unimplemented(self):
+    def test_unknown_enums_bad_noise_and_unknown_presets(self):
         self.assertCode(C.INVALID_ARGUMENT, self.scan(backend=99), "backend")
         self.assertCode(C.INVALID_ARGUMENT, self.scan(noise=sensor_pb2.NoiseSpec(outlier_rate=0.01)),
                         "noise.outlier_rate")
         self.assertCode(C.INVALID_ARGUMENT, self.scan(noise=sensor_pb2.NoiseSpec(sigma_a=-1)), "noise")
         self.assertCode(C.NOT_FOUND, self.scan(sensor=sensor_pb2.SensorSpec(preset="kinect")), "sensor.preset")
+
+    # Geometry beyond the physical bounds (docs/API.md, "Bounds"): refused where it enters, so that
+    # no ray the server builds can abort it.
+    def intrinsics(self, fx, fy, cx, cy, width=64, height=48, **kw):
+        return sensor_pb2.PinholeCamera(width=width, height=height,
+                                        intrinsics=sensor_pb2.Intrinsics(fx=fx, fy=fy, cx=cx, cy=cy), **kw)
+
+    def test_huge_and_tiny_geometry_is_refused(self):
+        field = "sensor.pinhole.intrinsics."
+        for (fx, fy, cx, cy), name in [((1e-20, 1e-20, 320, 240), "fx"), ((1, 1, 1e20, 240), "cx"),
+                                       ((1, 1, 32, 1e20), "cy"), ((1e20, 50, 32, 24), "fx"),
+                                       ((0.02, 50, 32, 24), "fx"), ((50, math.nan, 32, 24), "fy")]:
+            sensor = sensor_pb2.SensorSpec(pinhole=self.intrinsics(fx, fy, cx, cy))
+            self.assertCode(C.INVALID_ARGUMENT, self.scan(sensor=sensor), field + name)
+        self.assertCode(C.INVALID_ARGUMENT, self.scan(sensor=pinhole(near=1e-20)), "sensor.pinhole.near")
+        self.assertCode(C.INVALID_ARGUMENT, self.scan(sensor=pinhole(far=1e19)), "sensor.pinhole.far")
+        self.assertCode(C.INVALID_ARGUMENT, self.scan(pose=look_at((2e18, 0, 0.2), (0, 0, 0.07))), "pose.look_at.eye")
+        self.assertCode(C.INVALID_ARGUMENT, self.scan(pose=look_at((0.5, 0, 0), (0, 1e19, 0))), "pose.look_at.target")
+        matrix = common_pb2.Pose(matrix=common_pb2.Matrix4(values=[1, 0, 0, 1e19, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]))
+        self.assertCode(C.INVALID_ARGUMENT, self.scan(pose=matrix), "pose.matrix translation")
+        quat = common_pb2.Pose(quaternion=common_pb2.QuaternionPose(
+            qw=1, translation=common_pb2.Vector3(x=0, y=-1e19, z=0)))
+        self.assertCode(C.INVALID_ARGUMENT, self.scan(pose=quat), "pose.quaternion.translation")
+        tiny = sensor_pb2.SensorSpec(structured_light=sensor_pb2.StructuredLightScanner(
+            camera=self.intrinsics(1e-20, 1e-20, 32, 24), projector_offset=common_pb2.Vector3(x=0.1)))
+        self.assertCode(C.INVALID_ARGUMENT, self.scan(sensor=tiny), "sensor.structured_light.camera.intrinsics.fx")
+        # Still serving, and a sensible request near the bounds works.
+        near_bounds = sensor_pb2.SensorSpec(pinhole=self.intrinsics(40, 40, 32, 24, near=1e-6, far=1e5))
+        self.assertEqual(self.scan(sensor=near_bounds)()[-1].statistics.rays, 64 * 48)
+
+    def test_campaign_with_absurd_intrinsics_is_refused_at_start(self):
+        jobs = job_pb2_grpc.JobServiceStub(self.channel)
+        spec = job_pb2.CampaignSpec(
+            scene_id=self.scene.scene_id, sensor=sensor_pb2.SensorSpec(pinhole=self.intrinsics(1e-20, 1e-20, 32, 24)),
+            viewpoints=[job_pb2.Viewpoint(position=common_pb2.Vector3(x=0.5), target=common_pb2.Vector3())])
+        self.assertCode(C.INVALID_ARGUMENT, lambda: jobs.StartCampaign(job_pb2.StartCampaignRequest(
+            spec=spec, validate_only=True), timeout=10), "sensor.pinhole.intrinsics.fx")
+
+    def test_objects_and_meshes_beyond_the_world_bounds_change_nothing(self):
+        before, meshes = self.revision(), self.mesh_count()
+        far = common_pb2.Pose(quaternion=common_pb2.QuaternionPose(qw=1, translation=common_pb2.Vector3(x=1e39)))
+        self.assertCode(C.INVALID_ARGUMENT, lambda: self.scenes.AddObject(scene_pb2.AddObjectRequest(
+            scene_id=self.scene.scene_id, mesh_id=self.mesh.mesh_id, pose=far)), "pose.quaternion.translation")
+        # A sphere of 0.1 m scaled by 1e6 reaches 100 km.
+        self.assertCode(C.INVALID_ARGUMENT, lambda: self.scenes.AddObject(scene_pb2.AddObjectRequest(
+            scene_id=self.scene.scene_id, mesh_id=self.mesh.mesh_id, scale=1e6)), "scale")
+        self.assertCode(C.INVALID_ARGUMENT, lambda: self.scenes.MoveObject(scene_pb2.MoveObjectRequest(
+            scene_id=self.scene.scene_id, object_id=self.object.object_id, pose=look_at((0, 0, 0), (1, 0, 0)),
+            scale=1e6)), "scale")
+        table = scene_pb2.RotaryTable(enabled=True, centre=common_pb2.Vector3(z=1e19), axis=common_pb2.Vector3(z=1))
+        self.assertCode(C.INVALID_ARGUMENT, lambda: self.scenes.SetRotaryTable(scene_pb2.SetRotaryTableRequest(
+            scene_id=self.scene.scene_id, table=table)), "table.centre")
+        self.assertCode(C.INVALID_ARGUMENT, lambda: self.upload_bytes(
+            icosphere_ply(1e38, (0, 0, 0), 1), "huge.ply"), "mesh data")
+        self.assertCode(C.INVALID_ARGUMENT, lambda: self.upload_bytes(
+            icosphere_ply(1, (0, 0, 0), 1), "sphere.ply", scale=1e5), "mesh data")
+        self.assertEqual(before, self.revision())
+        self.assertEqual(meshes, self.mesh_count())
+        self.assertGreater(self.scan()()[-1].statistics.points, 0, "the scene still scans")
+
+    def test_unknown_mesh_format(self):
+        data = icosphere_ply(1, (0, 0, 0), 1)
+
+        def requests():
+            yield scene_pb2.UploadMeshRequest(header=scene_pb2.MeshHeader(
+                name="sphere.ply", unit=common_pb2.LENGTH_UNIT_METRE, format=99, size_bytes=len(data)))
+            yield scene_pb2.UploadMeshRequest(chunk=data)
+        self.assertCode(C.INVALID_ARGUMENT, lambda: self.scenes.UploadMesh(requests(), timeout=30), "header.format")
+
+    def test_garbage_page_tokens(self):
+        for token in ("garbage", "scn_", "scn_zzzzzzzzzzzzzzzz", "msh_0123456789abcdef"):
+            self.assertCode(C.INVALID_ARGUMENT, lambda: self.scenes.ListScenes(
+                scene_pb2.ListScenesRequest(page_token=token)), "page_token")
+        self.assertCode(C.INVALID_ARGUMENT, lambda: self.scenes.ListMeshes(
+            scene_pb2.ListMeshesRequest(page_token="scn_0123456789abcdef")), "page_token")
+        jobs = job_pb2_grpc.JobServiceStub(self.channel)
+        self.assertCode(C.INVALID_ARGUMENT, lambda: jobs.ListJobs(job_pb2.ListJobsRequest(page_token="x")),
+                        "page_token")
+        self.scenes.ListScenes(scene_pb2.ListScenesRequest(page_token="scn_0123456789abcdef"))
+
+    def test_names_with_control_characters(self):
+        before = len(self.scenes.ListScenes(scene_pb2.ListScenesRequest()).scenes)
+        for name in ("two\nlines", "nul\x00byte", "bell\x07"):
+            self.assertCode(C.INVALID_ARGUMENT, lambda: self.scenes.CreateScene(
+                scene_pb2.CreateSceneRequest(name=name)), "name")
+            self.assertCode(C.INVALID_ARGUMENT, lambda: self.upload_bytes(
+                icosphere_ply(1, (0, 0, 0), 1), name + ".ply"), "header.name")
+        self.assertCode(C.INVALID_ARGUMENT, lambda: self.scenes.AddObject(scene_pb2.AddObjectRequest(
+            scene_id=self.scene.scene_id, mesh_id=self.mesh.mesh_id, label="a\nb")), "label")
+        self.assertEqual(before, len(self.scenes.ListScenes(scene_pb2.ListScenesRequest()).scenes))
 
     # Meshes
     def test_malformed_meshes_change_nothing(self):

@@ -124,6 +124,23 @@ class CliTest(unittest.TestCase):
         self.assertEqual(io_error.returncode, 5, io_error.stderr)
         no_file = self.vscan("mesh", "upload", "/nonexistent.ply", "--unit", "m")
         self.assertEqual(no_file.returncode, 5, no_file.stderr)
+        self.assertIn("/nonexistent.ply", no_file.stderr)
+        self.assertNotIn("NOT_FOUND", no_file.stderr, "a local file error is not a server answer")
+
+    def test_token_with_a_newline_is_a_usage_error(self):
+        for token in ("s3cret\nx", "two words", "tab\there"):
+            result = self.vscan("--token", token, "scene", "list")
+            self.assertEqual(result.returncode, 2, result.stderr)
+            self.assertIn("bearer_token", result.stderr)
+
+    def test_sub_millisecond_timeout_is_still_a_deadline(self):
+        scene = self.bunny_scene()
+        result = self.vscan("--timeout", "0.000001", "scan", scene, "-o", os.path.join(self.tmp.name, "t.ply"),
+                            "--width", "1280", "--height", "1024", "--eye", "0.5,0,0.2", "--target", "0,0,0.07")
+        self.assertEqual(result.returncode, 4, result.stderr)
+        self.assertIn("DEADLINE_EXCEEDED", result.stderr)
+        for bad in ("0", "-1", "1e300", "nan"):
+            self.assertEqual(self.vscan("--timeout", bad, "scene", "list").returncode, 2, bad)
 
 
 if __name__ == "__main__":

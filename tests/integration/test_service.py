@@ -258,6 +258,15 @@ class TokenTest(unittest.TestCase):
                 self.assertEqual(ctx.exception.code(), C.UNAUTHENTICATED)
                 scenes.ListScenes(scene_pb2.ListScenesRequest(), timeout=10,
                                   metadata=[("authorization", "Bearer s3cret")])
+                # The scheme is case-insensitive (RFC 6750 / 7235); the token is not.
+                for header in ("bearer s3cret", "BEARER s3cret", "Bearer  s3cret"):
+                    scenes.ListScenes(scene_pb2.ListScenesRequest(), timeout=10,
+                                      metadata=[("authorization", header)])
+                for header in ("Bearer S3CRET", "Basic s3cret", "Bearers3cret", "Bearer ", "s3cret"):
+                    with self.assertRaises(grpc.RpcError) as ctx:
+                        scenes.ListScenes(scene_pb2.ListScenesRequest(), timeout=10,
+                                          metadata=[("authorization", header)])
+                    self.assertEqual(ctx.exception.code(), C.UNAUTHENTICATED, header)
         finally:
             server.cleanup()
             os.unlink(f.name)

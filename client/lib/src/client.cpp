@@ -30,6 +30,12 @@ StatusOr<std::shared_ptr<grpc::ChannelCredentials>> Credentials(const ClientOpti
 
 StatusOr<Client> Client::Connect(const std::string& target, const ClientOptions& options) {
   if (target.empty()) return InvalidArgument("target: empty server address");
+  // gRPC aborts the process on a header value it cannot send; refuse such a token here instead.
+  for (const unsigned char c : options.bearer_token) {
+    if (c < 0x21 || c > 0x7e) {
+      return InvalidArgument("bearer_token: only visible ASCII characters (no spaces, newlines or control characters)");
+    }
+  }
   ASSIGN_OR_RETURN(auto credentials, Credentials(options));
   grpc::ChannelArguments args;
   args.SetMaxReceiveMessageSize(options.max_receive_bytes);
