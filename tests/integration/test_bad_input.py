@@ -142,6 +142,27 @@ class BadInputTest(ServerTestCase):
         self.assertCode(C.INVALID_ARGUMENT, lambda: jobs.StartCampaign(job_pb2.StartCampaignRequest(
             spec=spec, validate_only=True), timeout=10), "sensor.pinhole.intrinsics.fx")
 
+    def test_campaign_plans_are_checked_before_anything_exists(self):
+        jobs = job_pb2_grpc.JobServiceStub(self.channel)
+        before = len(jobs.ListJobs(job_pb2.ListJobsRequest()).jobs)
+        view = job_pb2.Viewpoint(position=common_pb2.Vector3(x=0.5), target=common_pb2.Vector3())
+
+        def check(code, field, **kw):
+            spec = dict(sensor=pinhole(), viewpoints=[view])
+            spec.update(kw)
+            self.assertCode(code, lambda: jobs.StartCampaign(job_pb2.StartCampaignRequest(
+                spec=job_pb2.CampaignSpec(**spec), validate_only=True), timeout=10), field)
+        check(C.INVALID_ARGUMENT, "spec.rotations", rotations=3601, rotation_step_deg=1)
+        check(C.INVALID_ARGUMENT, "spec.sensor.pinhole.width", sensor=pinhole(width=0))
+        check(C.RESOURCE_EXHAUSTED, "spec.sensor.pinhole.width", sensor=pinhole(width=100000, height=1))
+        check(C.INVALID_ARGUMENT, "spec.rotation_step_deg", rotations=2, rotation_step_deg=0)
+        check(C.INVALID_ARGUMENT, "spec.rotation_step_deg", rotations=2, rotation_step_deg=1e300)
+        check(C.INVALID_ARGUMENT, "spec.viewpoints[0].position",
+              viewpoints=[job_pb2.Viewpoint(position=common_pb2.Vector3(x=2e4), target=common_pb2.Vector3())])
+        check(C.NOT_FOUND, "spec.scene_id", scene_id="scn_0000000000000000")
+        check(C.INVALID_ARGUMENT, "spec.scene_id", mount_id="mnt_0000000000000000")
+        self.assertEqual(before, len(jobs.ListJobs(job_pb2.ListJobsRequest()).jobs))
+
     def test_objects_and_meshes_beyond_the_world_bounds_change_nothing(self):
         before, meshes = self.revision(), self.mesh_count()
         far = common_pb2.Pose(quaternion=common_pb2.QuaternionPose(qw=1, translation=common_pb2.Vector3(x=1e39)))
