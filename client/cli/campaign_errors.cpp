@@ -28,19 +28,6 @@ constexpr std::pair<std::string_view, std::string_view> kDefaultedBy[] = {
     {"rotation_step_deg", "rotations"},
 };
 
-// The codes with which the server judges a request's values (as api::InSpec prefixes them).
-bool NamesAField(StatusCode code) {
-  switch (code) {
-    case StatusCode::kInvalidArgument:
-    case StatusCode::kNotFound:
-    case StatusCode::kFailedPrecondition:
-    case StatusCode::kOutOfRange:
-    case StatusCode::kUnimplemented:
-    case StatusCode::kResourceExhausted: return true;
-    default: return false;
-  }
-}
-
 bool IsPathChar(char c) {
   return (c >= 'a' && c <= 'z') || (c >= 'A' && c <= 'Z') || (c >= '0' && c <= '9') || c == '_' || c == '.' ||
          c == '[' || c == ']';

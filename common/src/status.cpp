@@ -23,6 +23,18 @@ const char* StatusCodeName(StatusCode code) {
   return "UNKNOWN";
 }
 
+bool NamesAField(StatusCode code) {
+  switch (code) {
+    case StatusCode::kInvalidArgument:
+    case StatusCode::kNotFound:
+    case StatusCode::kFailedPrecondition:
+    case StatusCode::kOutOfRange:
+    case StatusCode::kUnimplemented:
+    case StatusCode::kResourceExhausted: return true;
+    default: return false;
+  }
+}
+
 std::string Status::ToString() const {
   if (ok()) return "OK";
   return std::string(StatusCodeName(code_)) + ": " + message_;

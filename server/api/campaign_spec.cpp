@@ -14,19 +14,6 @@ namespace {
 
 constexpr double kMaxAbsAngleDeg = 1e6;
 
-// Field-naming failures get the prefix; trouble of the server itself (UNAVAILABLE, ...) does not.
-bool NamesAField(StatusCode code) {
-  switch (code) {
-    case StatusCode::kInvalidArgument:
-    case StatusCode::kNotFound:
-    case StatusCode::kFailedPrecondition:
-    case StatusCode::kOutOfRange:
-    case StatusCode::kUnimplemented:
-    case StatusCode::kResourceExhausted: return true;
-    default: return false;
-  }
-}
-
 std::string Index(const char* field, int i) { return std::string(field) + "[" + std::to_string(i) + "]"; }
 
 StatusOr<Eigen::Vector3d> Point(bool has, const v1::Vector3& p, const std::string& field) {

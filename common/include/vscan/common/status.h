@@ -46,6 +46,9 @@ class Status {
 };
 
 const char* StatusCodeName(StatusCode code);
+// The codes that judge a request's own values, whose messages start with the field they name;
+// false for trouble of the server itself (UNAVAILABLE, INTERNAL, ...).
+bool NamesAField(StatusCode code);
 
 inline Status InvalidArgument(std::string m) { return {StatusCode::kInvalidArgument, std::move(m)}; }
 inline Status NotFound(std::string m) { return {StatusCode::kNotFound, std::move(m)}; }
