@@ -21,6 +21,7 @@
 #include "api/scan_service.h"
 #include "api/scene_service.h"
 #include "jobs/job_runner.h"
+#include "store/database.h"
 #include "store/job_catalogue.h"
 
 namespace vscan::api {
@@ -74,6 +75,7 @@ StatusOr<geometry::ImportSandbox> MeshImportSandbox(const ServerOptions& options
 
 struct Server::Impl {
   ServerOptions options;
+  std::shared_ptr<store::Database> database;
   std::unique_ptr<store::Catalogue> catalogue;
   std::unique_ptr<store::BlobStore> blobs;
   std::unique_ptr<scenes::SceneRegistry> registry;
@@ -107,7 +109,8 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const ServerOptions& options) {
   std::filesystem::create_directories(data_dir, ec);
   if (ec) return Unavailable("--data-dir: cannot create '" + options.data_dir + "': " + ec.message());
 
-  ASSIGN_OR_RETURN(impl->catalogue, store::Catalogue::Open(data_dir / "catalogue.sqlite"));
+  ASSIGN_OR_RETURN(impl->database, store::Database::Open(data_dir / "catalogue.sqlite"));
+  impl->catalogue = std::make_unique<store::Catalogue>(impl->database);
   impl->blobs = std::make_unique<store::BlobStore>(data_dir / "blobs");
   RETURN_IF_ERROR(impl->blobs->Open());
   ASSIGN_OR_RETURN(geometry::ImportSandbox import_sandbox, MeshImportSandbox(options));
@@ -115,7 +118,7 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const ServerOptions& options) {
                options.mesh_import_timeout_s, options.mesh_import_memory_mib);
   impl->registry = std::make_unique<scenes::SceneRegistry>(*impl->catalogue, *impl->blobs,
                                                            options.scene_cache_entries, std::move(import_sandbox));
-  ASSIGN_OR_RETURN(impl->robot_catalogue, store::RobotCatalogue::Open(data_dir / "catalogue.sqlite"));
+  impl->robot_catalogue = std::make_unique<store::RobotCatalogue>(impl->database);
   impl->robots = std::make_unique<robots::RobotRegistry>(*impl->robot_catalogue, *impl->blobs,
                                                          options.limits.max_upload_bytes);
   impl->workers = std::make_unique<jobs::WorkerPool>(std::max<uint32_t>(1, options.worker_threads));
@@ -123,7 +126,7 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const ServerOptions& options) {
   impl->scene_service = std::make_unique<SceneService>(*impl->context);
   impl->scan_service = std::make_unique<ScanService>(*impl->context);
   impl->robot_service = std::make_unique<RobotService>(*impl->context);
-  ASSIGN_OR_RETURN(impl->job_catalogue, store::JobCatalogue::Open(data_dir / "catalogue.sqlite"));
+  impl->job_catalogue = std::make_unique<store::JobCatalogue>(impl->database);
   ASSIGN_OR_RETURN(const int interrupted, impl->job_catalogue->InterruptUnfinished("server stopped while the job ran"));
   if (interrupted > 0) spdlog::warn("{} jobs were left unfinished by the last run; marked INTERRUPTED", interrupted);
   // Scans being encoded when the last run stopped (campaigns' scratch files).
