@@ -34,6 +34,10 @@ struct ServerOptions {
   std::string mesh_importer_path;
   uint32_t mesh_import_timeout_s = 60;
   uint64_t mesh_import_memory_mib = 8192;
+  // Ended jobs are deleted (with their artifacts) this long after their last change; 0 keeps them.
+  double job_retention_hours = 0;
+  // How often retention is applied (besides once at start).
+  uint32_t job_retention_check_s = 300;
   Limits limits;
 };
 

@@ -215,4 +215,49 @@ StatusOr<ArtifactRecord> JobCatalogue::GetArtifact(const std::string& job_id, co
   return ReadArtifact(s);
 }
 
+StatusOr<std::vector<std::string>> JobCatalogue::DeleteJob(const std::string& job_id) {
+  std::lock_guard lock(mutex_);
+  std::vector<std::string> blobs;
+  RETURN_IF_ERROR(sqlite::InTransaction(db_, true, [&]() -> Status {
+    ASSIGN_OR_RETURN(Statement find, Statement::Prepare(db_, "SELECT state FROM jobs WHERE job_id = ?1"));
+    find.Bind(1, job_id);
+    ASSIGN_OR_RETURN(bool found, find.Step());
+    if (!found) return JobNotFound(job_id);
+    ASSIGN_OR_RETURN(const JobState state, StateFromCode(find.Int(0), job_id));
+    if (!IsFinal(state)) {
+      return FailedPrecondition("job_id: job '" + job_id + "' is still " +
+                                (state == JobState::kQueued ? "queued" : "running") + "; cancel it first");
+    }
+    ASSIGN_OR_RETURN(Statement names, Statement::Prepare(db_, "SELECT DISTINCT sha256 FROM job_artifacts "
+                                                              "WHERE job_id = ?1"));
+    names.Bind(1, job_id);
+    for (;;) {
+      ASSIGN_OR_RETURN(bool row, names.Step());
+      if (!row) break;
+      blobs.push_back(names.Text(0));
+    }
+    // Its artifact rows go with it (ON DELETE CASCADE).
+    ASSIGN_OR_RETURN(Statement del, Statement::Prepare(db_, "DELETE FROM jobs WHERE job_id = ?1"));
+    del.Bind(1, job_id);
+    return del.Run();
+  }));
+  return blobs;
+}
+
+StatusOr<std::vector<std::string>> JobCatalogue::ListEndedBefore(int64_t cutoff_ms, int limit) {
+  if (limit <= 0) return InvalidArgument("limit: must be positive, got " + std::to_string(limit));
+  std::lock_guard lock(mutex_);
+  ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_,
+                                                   "SELECT job_id FROM jobs WHERE state NOT IN (?1, ?2) AND "
+                                                   "update_time_ms < ?3 ORDER BY update_time_ms LIMIT ?4"));
+  s.Bind(1, Code(JobState::kQueued)).Bind(2, Code(JobState::kRunning)).Bind(3, cutoff_ms);
+  s.Bind(4, int64_t{std::min(limit, kMaxListLimit)});
+  std::vector<std::string> ids;
+  for (;;) {
+    ASSIGN_OR_RETURN(bool row, s.Step());
+    if (!row) return ids;
+    ids.push_back(s.Text(0));
+  }
+}
+
 }  // namespace vscan::store

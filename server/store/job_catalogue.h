@@ -80,6 +80,11 @@ class JobCatalogue {
   // The blob it names must already be durable.
   StatusOr<ArtifactRecord> AddArtifact(ArtifactRecord artifact, const JobProgress& progress);
   StatusOr<ArtifactRecord> GetArtifact(const std::string& job_id, const std::string& artifact_id);
+  // Deletes an ended job and its artifact rows; returns the blobs they named (for CollectBlobs).
+  // NOT_FOUND for an unknown job, FAILED_PRECONDITION while it is queued or running.
+  StatusOr<std::vector<std::string>> DeleteJob(const std::string& job_id);
+  // Ids of ended jobs last changed before cutoff_ms, oldest first, at most limit.
+  StatusOr<std::vector<std::string>> ListEndedBefore(int64_t cutoff_ms, int limit);
 
  private:
   Status UpdateProgressLocked(const std::string& job_id, const JobProgress& progress, int64_t now_ms);
