@@ -110,7 +110,7 @@ class JobTracker {
   // Deletes an ended job, its artifacts and the blobs nothing else names. NOT_FOUND for an unknown
   // job, FAILED_PRECONDITION while it is queued or running.
   StatusOr<store::CollectedBlobs> Delete(const std::string& job_id);
-  // Deletes the jobs that ended (or last changed) more than max_age_ms ago; returns how many.
+  // Deletes the ended jobs last changed before cutoff_ms (retention); returns how many.
   StatusOr<int> DeleteEndedBefore(int64_t cutoff_ms);
 
  private:
