@@ -108,6 +108,12 @@ int main(int argc, char** argv) {
   app.add_option("--mesh-import-memory-mib", options.mesh_import_memory_mib,
                  "Address space the mesh parser may use for one upload")
       ->capture_default_str()->check(CLI::Range(64, 1 << 20));
+  app.add_option("--job-retention-hours", options.job_retention_hours,
+                 "Delete ended jobs and their artifacts this many hours after they ended (0: keep forever)")
+      ->capture_default_str()->check(CLI::Range(0.0, 1e6));
+  app.add_option("--job-retention-check-seconds", options.job_retention_check_s,
+                 "How often job retention is applied (besides once at start)")
+      ->capture_default_str()->check(CLI::Range(1, 86400));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,4 +1,4 @@
-// `vscan campaign run|list|get|watch|cancel|artifacts`.
+// `vscan campaign run|list|get|watch|cancel|delete|artifacts`.
 
 #include <algorithm>
 #include <chrono>
@@ -201,6 +201,26 @@ void AddCancel(CLI::App& group, Context& ctx) {
   });
 }
 
+void AddDelete(CLI::App& group, Context& ctx) {
+  auto* cmd = group.add_subcommand("delete", "Delete an ended campaign job and its scans from the server");
+  auto id = std::make_shared<std::string>();
+  cmd->add_option("JOB", *id, "Job id (cancel a running job first)")->required();
+  OnRun(cmd, ctx, [&ctx, id]() -> int {
+    auto* client = ctx.GetClient();
+    if (!client) return ctx.last_exit();
+    const auto deleted = client->DeleteJob(*id);
+    if (!deleted.ok()) return ctx.ServerError(deleted.status());
+    if (ctx.json()) {
+      ctx.EmitJson("{\"jobId\":" + JsonQuote(*id) + ",\"removedFiles\":" + std::to_string(deleted->removed_files()) +
+                   ",\"removedBytes\":" + std::to_string(deleted->removed_bytes()) + "}");
+    }
+    ctx.Done("deleted job " + *id + " (" + std::to_string(deleted->removed_files()) + " files, " +
+                 std::to_string(deleted->removed_bytes()) + " bytes freed)",
+             *id);
+    return kExitOk;
+  });
+}
+
 void AddArtifacts(CLI::App& group, Context& ctx) {
   auto* cmd = group.add_subcommand("artifacts", "List a job's artifacts, or download them with -o");
   auto id = std::make_shared<std::string>();
@@ -243,6 +263,7 @@ void AddCampaignCommands(CLI::App& app, Context& ctx) {
   AddGet(*group, ctx);
   AddWatch(*group, ctx);
   AddCancel(*group, ctx);
+  AddDelete(*group, ctx);
   AddArtifacts(*group, ctx);
 }
 

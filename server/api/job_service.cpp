@@ -137,4 +137,16 @@ grpc::ServerUnaryReactor* JobService::CancelJob(grpc::CallbackServerContext* ctx
   });
 }
 
+grpc::ServerUnaryReactor* JobService::DeleteJob(grpc::CallbackServerContext* ctx, const v1::DeleteJobRequest* request,
+                                                v1::DeleteJobResponse* response) {
+  return RunUnary(ctx, context_.options.token, "DeleteJob", [&]() -> Status {
+    RETURN_IF_ERROR(RequireId(request->job_id(), "job_id"));
+    ASSIGN_OR_RETURN(const store::CollectedBlobs removed, tracker_.Delete(request->job_id()));
+    spdlog::info("job {}: deleted ({} files, {} bytes freed)", request->job_id(), removed.files, removed.bytes);
+    response->set_removed_files(removed.files);
+    response->set_removed_bytes(removed.bytes);
+    return Status::Ok();
+  });
+}
+
 }  // namespace vscan::api

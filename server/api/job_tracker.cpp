@@ -172,12 +172,13 @@ StatusOr<v1::Artifact> JobTracker::RecordArtifact(const std::string& job_id, con
                                                   const std::string& media_type, const std::string& bytes,
                                                   const v1::ScanArtifactInfo* info, const JobEventUpdate& update) {
   ASSIGN_OR_RETURN(auto live, RequireLive(job_id));
-  ASSIGN_OR_RETURN(const std::string sha256, blobs_.Put(bytes));
+  // Pinned until its row is stored, so that deleting another job cannot collect it meanwhile.
+  ASSIGN_OR_RETURN(const store::BlobPin pin, blobs_.PutPinned(bytes));
   store::ArtifactRecord record;
   record.job_id = job_id;
   record.name = name;
   record.media_type = media_type;
-  record.sha256 = sha256;
+  record.sha256 = pin.sha256();
   record.size_bytes = bytes.size();
   if (info) record.info = info->SerializeAsString();
   const uint64_t sequence = live->next_sequence();
@@ -207,6 +208,28 @@ Status JobTracker::End(const std::string& job_id, const JobEventUpdate& update) 
     live_.erase(job_id);
   }
   return stored;
+}
+
+StatusOr<store::CollectedBlobs> JobTracker::Delete(const std::string& job_id) {
+  // The catalogue refuses a job it records as unfinished; one whose end could not be stored is
+  // live and ended here but still running there, and is refused too.
+  ASSIGN_OR_RETURN(const std::vector<std::string> blobs, catalogue_.DeleteJob(job_id));
+  return store::CollectBlobs(catalogue_.database(), blobs_, blobs);
+}
+
+StatusOr<int> JobTracker::DeleteEndedBefore(int64_t cutoff_ms) {
+  constexpr int kBatch = 100;
+  int deleted = 0;
+  for (;;) {
+    ASSIGN_OR_RETURN(const std::vector<std::string> ids, catalogue_.ListEndedBefore(cutoff_ms, kBatch));
+    for (const std::string& id : ids) {
+      const auto freed = Delete(id);
+      // A job deleted by a client meanwhile is not an error.
+      if (!freed.ok() && freed.status().code() != StatusCode::kNotFound) return freed.status();
+      if (freed.ok()) ++deleted;
+    }
+    if (static_cast<int>(ids.size()) < kBatch) return deleted;
+  }
 }
 
 }  // namespace vscan::api

@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "store/blob_gc.h"
 #include "store/blob_store.h"
 #include "store/job_catalogue.h"
 #include "vscan/v1/job.pb.h"
@@ -105,6 +106,12 @@ class JobTracker {
                                         const v1::ScanArtifactInfo* info, const JobEventUpdate& update);
   // The final event: update.state must be final. The job stops being live.
   Status End(const std::string& job_id, const JobEventUpdate& update);
+
+  // Deletes an ended job, its artifacts and the blobs nothing else names. NOT_FOUND for an unknown
+  // job, FAILED_PRECONDITION while it is queued or running.
+  StatusOr<store::CollectedBlobs> Delete(const std::string& job_id);
+  // Deletes the ended jobs last changed before cutoff_ms (retention); returns how many.
+  StatusOr<int> DeleteEndedBefore(int64_t cutoff_ms);
 
  private:
   StatusOr<std::shared_ptr<LiveJob>> RequireLive(const std::string& job_id);

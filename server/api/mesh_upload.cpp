@@ -8,6 +8,7 @@
 
 #include "api/scene_convert.h"
 #include "api/scene_service.h"
+#include "api/stored_enum_convert.h"
 #include "api/upload_reactor.h"
 #include "api/validate.h"
 #include "vscan/common/proto_convert.h"
@@ -51,7 +52,7 @@ class UploadMeshReactor final : public UploadReactor<v1::UploadMeshRequest> {
       if (header_.unit() == v1::LENGTH_UNIT_UNSPECIFIED) {
         return InvalidArgument("header.unit: required (the length unit the file is written in)");
       }
-      if (MetresPerUnit(header_.unit()) == 0) return InvalidArgument("header.unit: unknown unit");
+      if (MetresPerUnit(header_.unit()) == 0 || !kLengthUnits.Backward(header_.unit())) return InvalidArgument("header.unit: unknown unit");
       ASSIGN_OR_RETURN(scale_, ScaleOrDefault(header_.scale(), "header.scale"));
       if (header_.size_bytes() > context_.options.limits.max_upload_bytes) {
         return ResourceExhausted("header.size_bytes: " + std::to_string(header_.size_bytes()) +
@@ -74,7 +75,7 @@ class UploadMeshReactor final : public UploadReactor<v1::UploadMeshRequest> {
     scenes::MeshUpload upload;
     upload.name = header_.name().empty() ? "mesh" : header_.name();
     upload.format = FormatOf(header_);
-    upload.unit = header_.unit();
+    upload.unit = *kLengthUnits.Backward(header_.unit());
     upload.metres_per_unit = MetresPerUnit(header_.unit());
     upload.scale = scale_;
     ASSIGN_OR_RETURN(store::MeshRecord mesh, context_.registry.AddMesh(bytes_, upload));

@@ -2,6 +2,7 @@
 
 #include <google/protobuf/util/time_util.h>
 
+#include "api/stored_enum_convert.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::api {
@@ -13,10 +14,6 @@ void SetTime(int64_t ms, google::protobuf::Timestamp* out) {
 
 void SetPose(const Eigen::Matrix4d& m, v1::Pose* out) { vscan::ToProto(Pose3(m), out->mutable_matrix()); }
 
-v1::JointType JointTypeOf(int value) {
-  return v1::JointType_IsValid(value) ? static_cast<v1::JointType>(value) : v1::JOINT_TYPE_UNSPECIFIED;
-}
-
 }  // namespace
 
 void ToProto(const store::RobotRecord& robot, v1::Robot* out) {
@@ -27,7 +24,7 @@ void ToProto(const store::RobotRecord& robot, v1::Robot* out) {
   for (const store::JointRecord& j : robot.joints) {
     v1::Joint* joint = out->add_joints();
     joint->set_name(j.name);
-    joint->set_type(JointTypeOf(j.type));
+    joint->set_type(*kJointKinds.Forward(j.type));
     joint->set_lower(j.lower);
     joint->set_upper(j.upper);
     joint->set_max_velocity(j.max_velocity);

@@ -1,5 +1,7 @@
 #include "api/scene_convert.h"
 
+#include "api/stored_enum_convert.h"
+
 #include <google/protobuf/util/time_util.h>
 
 #include "vscan/common/proto_convert.h"
@@ -48,7 +50,7 @@ void ToProto(const store::MeshRecord& mesh, v1::Mesh* out) {
   out->set_triangle_count(mesh.triangle_count);
   *out->mutable_bounds()->mutable_min() = vscan::ToProto(mesh.bounds_min);
   *out->mutable_bounds()->mutable_max() = vscan::ToProto(mesh.bounds_max);
-  out->set_source_unit(static_cast<v1::LengthUnit>(mesh.source_unit));
+  out->set_source_unit(*kLengthUnits.Forward(mesh.source_unit));
   out->set_source_scale(mesh.source_scale);
   SetTime(mesh.create_time_ms, out->mutable_create_time());
 }

@@ -24,6 +24,10 @@
 #include "api/scene_service.h"
 #include "api/stall_watchdog.h"
 #include "jobs/job_runner.h"
+#include "jobs/periodic_task.h"
+#include "store/blob_gc.h"
+#include "store/database.h"
+#include "store/ids.h"
 #include "store/job_catalogue.h"
 
 namespace vscan::api {
@@ -73,12 +77,26 @@ StatusOr<geometry::ImportSandbox> MeshImportSandbox(const ServerOptions& options
   return sandbox;
 }
 
+// Blobs older than this that no row names are left by a crash between a row's deletion and its file's.
+constexpr std::chrono::minutes kOrphanBlobAge{5};
+
+void ApplyRetention(JobTracker& tracker, double retention_hours) {
+  const auto max_age_ms = static_cast<int64_t>(retention_hours * 3600e3);
+  const auto deleted = tracker.DeleteEndedBefore(store::NowMs() - max_age_ms);
+  if (!deleted.ok()) {
+    spdlog::warn("job retention: {}", deleted.status().ToString());
+  } else if (*deleted > 0) {
+    spdlog::info("job retention: deleted {} jobs that ended over {} h ago", *deleted, retention_hours);
+  }
+}
+
 }  // namespace
 
 struct Server::Impl {
   // First member, so that it is released last, after the store has closed.
   std::optional<DataDirLock> data_dir_lock;
   ServerOptions options;
+  std::shared_ptr<store::Database> database;
   std::unique_ptr<store::Catalogue> catalogue;
   std::unique_ptr<store::BlobStore> blobs;
   std::unique_ptr<scenes::SceneRegistry> registry;
@@ -95,6 +113,7 @@ struct Server::Impl {
   std::unique_ptr<JobTracker> job_tracker;
   std::unique_ptr<jobs::JobRunner> job_runner;
   std::unique_ptr<JobService> job_service;
+  std::unique_ptr<jobs::PeriodicTask> retention;
   std::unique_ptr<grpc::Server> server;
   int port = 0;
 };
@@ -115,15 +134,22 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const ServerOptions& options) {
   // Before anything in the directory is read or written: a second server would interrupt our jobs.
   ASSIGN_OR_RETURN(impl->data_dir_lock, DataDirLock::Acquire(data_dir));
 
-  ASSIGN_OR_RETURN(impl->catalogue, store::Catalogue::Open(data_dir / "catalogue.sqlite"));
+  ASSIGN_OR_RETURN(impl->database, store::Database::Open(data_dir / "catalogue.sqlite"));
+  impl->catalogue = std::make_unique<store::Catalogue>(impl->database);
   impl->blobs = std::make_unique<store::BlobStore>(data_dir / "blobs");
   RETURN_IF_ERROR(impl->blobs->Open());
+  // An orphan only costs disk space: a failed sweep does not stop the server.
+  if (const auto swept = store::SweepOrphanBlobs(*impl->database, *impl->blobs, kOrphanBlobAge); !swept.ok()) {
+    spdlog::warn("orphan blob sweep: {}", swept.status().ToString());
+  } else if (swept->files > 0) {
+    spdlog::info("removed {} orphan blob files ({} bytes)", swept->files, swept->bytes);
+  }
   ASSIGN_OR_RETURN(geometry::ImportSandbox import_sandbox, MeshImportSandbox(options));
   spdlog::info("mesh uploads are parsed by {} (at most {} s, {} MiB)", import_sandbox.helper_path,
                options.mesh_import_timeout_s, options.mesh_import_memory_mib);
   impl->registry = std::make_unique<scenes::SceneRegistry>(*impl->catalogue, *impl->blobs,
                                                            options.scene_cache_entries, std::move(import_sandbox));
-  ASSIGN_OR_RETURN(impl->robot_catalogue, store::RobotCatalogue::Open(data_dir / "catalogue.sqlite"));
+  impl->robot_catalogue = std::make_unique<store::RobotCatalogue>(impl->database);
   impl->robots = std::make_unique<robots::RobotRegistry>(*impl->robot_catalogue, *impl->blobs,
                                                          options.limits.max_upload_bytes);
   impl->workers = std::make_unique<jobs::WorkerPool>(std::max<uint32_t>(1, options.worker_threads));
@@ -135,7 +161,7 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const ServerOptions& options) {
   impl->scene_service = std::make_unique<SceneService>(*impl->context);
   impl->scan_service = std::make_unique<ScanService>(*impl->context);
   impl->robot_service = std::make_unique<RobotService>(*impl->context);
-  ASSIGN_OR_RETURN(impl->job_catalogue, store::JobCatalogue::Open(data_dir / "catalogue.sqlite"));
+  impl->job_catalogue = std::make_unique<store::JobCatalogue>(impl->database);
   ASSIGN_OR_RETURN(const int interrupted, impl->job_catalogue->InterruptUnfinished("server stopped while the job ran"));
   if (interrupted > 0) spdlog::warn("{} jobs were left unfinished by the last run; marked INTERRUPTED", interrupted);
   // Scans being encoded when the last run stopped (campaigns' scratch files).
@@ -143,6 +169,12 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const ServerOptions& options) {
   impl->job_tracker = std::make_unique<JobTracker>(*impl->job_catalogue, *impl->blobs);
   impl->job_runner = std::make_unique<jobs::JobRunner>(std::max<uint32_t>(1, options.max_concurrent_jobs));
   impl->job_service = std::make_unique<JobService>(*impl->context, *impl->job_tracker, *impl->job_runner);
+  if (options.job_retention_hours > 0) {
+    ApplyRetention(*impl->job_tracker, options.job_retention_hours);
+    impl->retention = std::make_unique<jobs::PeriodicTask>(
+        std::chrono::seconds(std::max<uint32_t>(1, options.job_retention_check_s)),
+        [tracker = impl->job_tracker.get(), hours = options.job_retention_hours] { ApplyRetention(*tracker, hours); });
+  }
 
   ASSIGN_OR_RETURN(auto credentials, Credentials(options));
   grpc::EnableDefaultHealthCheckService(true);
@@ -176,6 +208,7 @@ void Server::Shutdown(double grace_seconds) {
                         std::chrono::milliseconds(static_cast<int64_t>(grace_seconds * 1000));
   // Jobs end first (INTERRUPTED, recorded), so that their watch streams end and the drain is quick.
   impl_->job_runner->Stop();
+  if (impl_->retention) impl_->retention->Stop();
   // Past the deadline gRPC cancels the calls still running (their OnCancel) and waits for them to end.
   impl_->server->Shutdown(deadline);
   if (std::chrono::system_clock::now() >= deadline) spdlog::info("grace period over: running calls were cancelled");

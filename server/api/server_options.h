@@ -36,6 +36,10 @@ struct ServerOptions {
   uint64_t mesh_import_memory_mib = 8192;
   // A Scan stream whose client has not read for this long is cancelled and its slot freed.
   double stalled_reader_seconds = 10;
+  // Ended jobs are deleted (with their artifacts) this long after their last change; 0 keeps them.
+  double job_retention_hours = 0;
+  // How often retention is applied (besides once at start).
+  uint32_t job_retention_check_s = 300;
   Limits limits;
 };
 

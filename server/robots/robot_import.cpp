@@ -9,15 +9,14 @@
 namespace vscan::robots {
 namespace {
 
-// v1::JointType values, kept here so that this library needs no protobuf.
-int JointTypeValue(robot::JointType type) {
+store::JointKind KindOf(robot::JointType type) {
   switch (type) {
-    case robot::JointType::kRevolute: return 1;
-    case robot::JointType::kContinuous: return 2;
-    case robot::JointType::kPrismatic: return 3;
-    case robot::JointType::kFixed: return 4;
+    case robot::JointType::kRevolute: return store::JointKind::kRevolute;
+    case robot::JointType::kContinuous: return store::JointKind::kContinuous;
+    case robot::JointType::kPrismatic: return store::JointKind::kPrismatic;
+    case robot::JointType::kFixed: return store::JointKind::kFixed;
   }
-  return 0;
+  return store::JointKind::kFixed;
 }
 
 // The engine names header values by their bare names; the request carries them in its header.
@@ -35,7 +34,7 @@ Status InHeader(const Status& status) {
 std::vector<store::JointRecord> JointRecords(const robot::KinematicChain& chain, const urdf::ModelInterface& model) {
   std::vector<store::JointRecord> joints;
   for (const robot::ChainJoint& j : chain.joints()) {
-    store::JointRecord record{j.name, JointTypeValue(j.type), j.lower, j.upper, 0.0};
+    store::JointRecord record{j.name, KindOf(j.type), j.lower, j.upper, 0.0};
     if (const auto joint = model.getJoint(j.name); joint != nullptr && joint->limits != nullptr) {
       record.max_velocity = joint->limits->velocity;
     }

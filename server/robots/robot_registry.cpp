@@ -4,6 +4,7 @@
 
 #include "robots/bundle_codec.h"
 #include "robots/link_collision.h"
+#include "store/blob_gc.h"
 
 namespace vscan::robots {
 namespace {
@@ -27,7 +28,8 @@ StatusOr<store::RobotRecord> RobotRegistry::AddRobot(RobotUpload upload) {
   store::RobotRecord record;
   {
     std::lock_guard lock(store_mutex_);
-    ASSIGN_OR_RETURN(imported.record.bundle_sha256, blobs_.Put(imported.bundle_blob));
+    ASSIGN_OR_RETURN(const store::BlobPin pin, blobs_.PutPinned(imported.bundle_blob));
+    imported.record.bundle_sha256 = pin.sha256();
     ASSIGN_OR_RETURN(record, catalogue_.InsertRobot(std::move(imported.record)));
   }
   std::lock_guard lock(cache_mutex_);
@@ -40,10 +42,10 @@ Status RobotRegistry::DeleteRobot(const std::string& robot_id) {
   {
     std::lock_guard lock(store_mutex_);
     ASSIGN_OR_RETURN(auto deleted, catalogue_.DeleteRobot(robot_id));
-    if (deleted.second) {
-      // The robot is gone either way; a blob left behind only costs disk space.
-      const Status removed = blobs_.Remove(deleted.first);
-      if (!removed.ok()) spdlog::warn("robot {}: bundle blob not removed: {}", robot_id, removed.ToString());
+    // The robot is gone either way; a blob left behind only costs disk space.
+    const auto collected = store::CollectBlobs(catalogue_.database(), blobs_, {deleted.first});
+    if (!collected.ok()) {
+      spdlog::warn("robot {}: bundle blob not removed: {}", robot_id, collected.status().ToString());
     }
   }
   std::lock_guard lock(cache_mutex_);

@@ -7,6 +7,8 @@
 
 #include <spdlog/spdlog.h>
 
+#include "store/blob_gc.h"
+
 namespace vscan::scenes {
 namespace {
 
@@ -31,7 +33,9 @@ StatusOr<store::MeshRecord> SceneRegistry::AddMesh(std::string_view file_bytes, 
                        ? geometry::ImportMeshIsolated(file_bytes, upload.format, metres_per_unit, *import_sandbox_)
                        : geometry::ImportMesh(file_bytes, upload.format, metres_per_unit));
   const std::string encoded = geometry::EncodeMesh(mesh);
-  ASSIGN_OR_RETURN(std::string sha, blobs_.Put(encoded));
+  // Pinned until its row is stored, so that a concurrent delete cannot collect it meanwhile.
+  ASSIGN_OR_RETURN(const store::BlobPin pin, blobs_.PutPinned(encoded));
+  const std::string& sha = pin.sha256();
 
   store::MeshRecord record;
   record.name = upload.name;
@@ -56,10 +60,10 @@ Status SceneRegistry::DeleteMesh(const std::string& mesh_id) {
   if (unshared) {
     std::lock_guard lock(mutex_);
     meshes_.erase(sha);
-    // The catalogue no longer names the blob; a failure here only leaves an orphan file.
-    Status removed = blobs_.Remove(sha);
-    if (!removed.ok()) spdlog::warn("mesh {}: blob not removed: {}", mesh_id, removed.ToString());
   }
+  // The blob goes when no row of any table names it; a failure here only leaves an orphan file.
+  const auto collected = store::CollectBlobs(catalogue_.database(), blobs_, {sha});
+  if (!collected.ok()) spdlog::warn("mesh {}: blob not removed: {}", mesh_id, collected.status().ToString());
   return Status::Ok();
 }
 

@@ -37,7 +37,7 @@ struct ScanTarget {
 struct MeshUpload {
   std::string name;
   geometry::MeshFileFormat format = geometry::MeshFileFormat::kAuto;
-  int unit = 0;            // v1::LengthUnit value, recorded for the user
+  store::LengthUnit unit = store::LengthUnit::kUnspecified;  // recorded for the user
   double metres_per_unit = 1.0;
   double scale = 1.0;
 };

@@ -38,13 +38,7 @@ Status OsError(const std::string& what, const std::filesystem::path& path, int e
   }
 }
 
-bool IsValidId(const std::string& id) {
-  if (id.size() != 64) return false;
-  for (char c : id) {
-    if (!((c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'))) return false;
-  }
-  return true;
-}
+bool IsValidId(std::string_view id) { return IsBlobName(id); }
 
 Status CheckId(const std::string& id) {
   if (IsValidId(id)) return Status::Ok();
@@ -147,13 +141,28 @@ Status BlobStore::Open() {
   return Status::Ok();
 }
 
+BlobPin::~BlobPin() {
+  if (store_ != nullptr) store_->Unpin(sha256_);
+}
+
 StatusOr<std::string> BlobStore::Put(std::string_view bytes) {
+  ASSIGN_OR_RETURN(BlobPin pin, PutPinned(bytes));
+  return pin.sha256();
+}
+
+StatusOr<BlobPin> BlobStore::PutPinned(std::string_view bytes) {
   std::string id = Sha256Hex(bytes);
   if (id.empty()) return Internal("blob store: SHA-256 computation failed");
+  {
+    // Pinned before the existence check below, so a collection cannot unlink the file after it.
+    std::lock_guard lock(pins_mutex_);
+    ++pins_[id];
+  }
+  BlobPin pin(this, id);
   std::filesystem::path path = PathOf(id);
 
   // Content addressing makes a second Put a no-op, unless the stored copy went bad.
-  if (auto existing = ReadAll(path); existing.ok() && Sha256Hex(*existing) == id) return id;
+  if (auto existing = ReadAll(path); existing.ok() && Sha256Hex(*existing) == id) return pin;
 
   RETURN_IF_ERROR(EnsureDirectory(path.parent_path()));
   ASSIGN_OR_RETURN(std::filesystem::path tmp, WriteTempFile(path.parent_path(), id, bytes));
@@ -163,7 +172,31 @@ StatusOr<std::string> BlobStore::Put(std::string_view bytes) {
     return OsError("rename into", path, err);
   }
   RETURN_IF_ERROR(SyncDirectory(path.parent_path()));
-  return id;
+  return pin;
+}
+
+void BlobStore::Unpin(const std::string& sha256) {
+  std::lock_guard lock(pins_mutex_);
+  if (auto it = pins_.find(sha256); it != pins_.end() && --it->second == 0) pins_.erase(it);
+}
+
+bool BlobStore::Pinned(const std::string& sha256) const {
+  std::lock_guard lock(pins_mutex_);
+  return pins_.contains(sha256);
+}
+
+StatusOr<uint64_t> BlobStore::RemoveUnpinned(const std::string& sha256) {
+  RETURN_IF_ERROR(CheckId(sha256));
+  std::lock_guard lock(pins_mutex_);
+  if (pins_.contains(sha256)) return 0;
+  std::filesystem::path path = PathOf(sha256);
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) {
+    if (errno == ENOENT) return 0;
+    return OsError("stat", path, errno);
+  }
+  RETURN_IF_ERROR(Remove(sha256));
+  return static_cast<uint64_t>(st.st_size);
 }
 
 StatusOr<std::string> BlobStore::Get(const std::string& sha256) const {
@@ -202,6 +235,14 @@ Status BlobStore::Remove(const std::string& sha256) {
 
 std::filesystem::path BlobStore::PathOf(const std::string& sha256) const {
   return root_ / sha256.substr(0, 2) / sha256;
+}
+
+bool IsBlobName(std::string_view name) {
+  if (name.size() != 64) return false;
+  for (char c : name) {
+    if (!((c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'))) return false;
+  }
+  return true;
 }
 
 std::string Sha256Hex(std::string_view bytes) {

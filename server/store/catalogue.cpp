@@ -5,9 +5,8 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
-#include <system_error>
+#include <utility>
 
-#include "store/catalogue_schema.h"
 #include "store/sqlite_statement.h"
 #include "vscan/common/physical_limits.h"
 
@@ -17,7 +16,6 @@ namespace {
 using sqlite::Statement;
 
 constexpr int kMaxListLimit = 1000;
-constexpr int kBusyTimeoutMs = 5000;
 
 constexpr std::string_view kMeshColumns =
     "mesh_id, name, sha256, vertex_count, triangle_count, min_x, min_y, min_z, max_x, max_y, max_z, "
@@ -56,7 +54,7 @@ StatusOr<Eigen::Matrix4d> DecodePose(std::string_view bytes) {
   return pose;
 }
 
-MeshRecord ReadMesh(const Statement& s) {
+StatusOr<MeshRecord> ReadMesh(const Statement& s) {
   MeshRecord m;
   m.mesh_id = s.Text(0);
   m.name = s.Text(1);
@@ -65,7 +63,7 @@ MeshRecord ReadMesh(const Statement& s) {
   m.triangle_count = static_cast<uint64_t>(s.Int(4));
   m.bounds_min = {s.Double(5), s.Double(6), s.Double(7)};
   m.bounds_max = {s.Double(8), s.Double(9), s.Double(10)};
-  m.source_unit = static_cast<int>(s.Int(11));
+  ASSIGN_OR_RETURN(m.source_unit, FromStoredCode(kLengthUnitCodes, s.Int(11), "meshes.source_unit of '" + m.mesh_id + "'"));
   m.source_scale = s.Double(12);
   m.create_time_ms = s.Int(13);
   return m;
@@ -115,16 +113,6 @@ Status CheckTable(const TableRecord& table) {
   }
   if (!std::isfinite(table.angle_deg)) return InvalidArgument("table.angle_deg: must be finite");
   return Status::Ok();
-}
-
-Status Configure(sqlite3* db) {
-  int rc = sqlite3_busy_timeout(db, kBusyTimeoutMs);
-  if (rc != SQLITE_OK) return sqlite::Error(db, rc, "busy_timeout");
-  ASSIGN_OR_RETURN(Statement wal, Statement::Prepare(db, "PRAGMA journal_mode = WAL"));
-  ASSIGN_OR_RETURN(bool row, wal.Step());
-  if (!row || wal.Text(0) != "wal") return Unavailable("catalogue: the database cannot use WAL journaling");
-  RETURN_IF_ERROR(sqlite::Exec(db, "PRAGMA synchronous = FULL"));
-  return sqlite::Exec(db, "PRAGMA foreign_keys = ON");
 }
 
 Status SceneNotFound(const std::string& scene_id) { return NotFound("scene_id: no scene '" + scene_id + "'"); }
@@ -198,25 +186,12 @@ Status LoadObjects(sqlite3* db, SceneRecord& scene) {
 
 }  // namespace
 
-Catalogue::Catalogue(sqlite3* db) : db_(db) {}
-
-Catalogue::~Catalogue() { sqlite3_close_v2(db_); }
+Catalogue::Catalogue(std::shared_ptr<Database> database)
+    : database_(std::move(database)), mutex_(database_->mutex()), db_(database_->handle()) {}
 
 StatusOr<std::unique_ptr<Catalogue>> Catalogue::Open(const std::filesystem::path& db_path) {
-  if (db_path.has_parent_path()) {
-    std::error_code ec;
-    std::filesystem::create_directories(db_path.parent_path(), ec);
-    if (ec) return Unavailable("catalogue: cannot create '" + db_path.parent_path().string() + "': " + ec.message());
-  }
-  sqlite3* db = nullptr;
-  int rc = sqlite3_open_v2(db_path.c_str(), &db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX,
-                           nullptr);
-  // The object owns the handle from here on, so every early return closes it.
-  std::unique_ptr<Catalogue> catalogue(new Catalogue(db));
-  if (rc != SQLITE_OK) return sqlite::Error(db, rc, "open '" + db_path.string() + "'");
-  RETURN_IF_ERROR(Configure(db));
-  RETURN_IF_ERROR(MigrateSchema(db));
-  return catalogue;
+  ASSIGN_OR_RETURN(std::shared_ptr<Database> database, Database::Open(db_path));
+  return std::make_unique<Catalogue>(std::move(database));
 }
 
 StatusOr<MeshRecord> Catalogue::InsertMesh(MeshRecord mesh) {
@@ -232,7 +207,7 @@ StatusOr<MeshRecord> Catalogue::InsertMesh(MeshRecord mesh) {
     for (int i = 0; i < 3; ++i) {
       s.Bind(6 + i, mesh.bounds_min[i]).Bind(9 + i, mesh.bounds_max[i]);
     }
-    s.Bind(12, int64_t{mesh.source_unit}).Bind(13, mesh.source_scale).Bind(14, mesh.create_time_ms);
+    s.Bind(12, StoredCode(kLengthUnitCodes, mesh.source_unit)).Bind(13, mesh.source_scale).Bind(14, mesh.create_time_ms);
     return s.Run();
   }));
   return mesh;
@@ -257,7 +232,8 @@ StatusOr<std::vector<MeshRecord>> Catalogue::ListMeshes(const std::string& after
   for (;;) {
     ASSIGN_OR_RETURN(bool row, s.Step());
     if (!row) return meshes;
-    meshes.push_back(ReadMesh(s));
+    ASSIGN_OR_RETURN(MeshRecord mesh, ReadMesh(s));
+    meshes.push_back(std::move(mesh));
   }
 }
 

@@ -1,7 +1,7 @@
 #pragma once
 // The durable catalogue of meshes, scenes and objects: SQLite in WAL mode, synchronous=FULL.
 // Every mutation is one transaction; scene mutations bump the scene's revision.
-// Thread-safe (one connection behind a mutex).
+// Thread-safe: shares the Database's one connection and its lock.
 
 #include <cstdint>
 #include <filesystem>
@@ -13,6 +13,8 @@
 
 #include <Eigen/Core>
 
+#include "store/database.h"
+#include "store/stored_enums.h"
 #include "vscan/common/status.h"
 
 struct sqlite3;
@@ -27,7 +29,7 @@ struct MeshRecord {
   uint64_t triangle_count = 0;
   Eigen::Vector3d bounds_min = Eigen::Vector3d::Zero();
   Eigen::Vector3d bounds_max = Eigen::Vector3d::Zero();
-  int source_unit = 0;  // v1::LengthUnit value
+  LengthUnit source_unit = LengthUnit::kUnspecified;
   double source_scale = 1.0;
   int64_t create_time_ms = 0;
 };
@@ -62,9 +64,10 @@ struct SceneRecord {
 
 class Catalogue {
  public:
-  ~Catalogue();
-  // Opens or creates the database file and its schema.
+  explicit Catalogue(std::shared_ptr<Database> database);
+  // Opens or creates the database file with its own Database (tests and tools).
   static StatusOr<std::unique_ptr<Catalogue>> Open(const std::filesystem::path& db_path);
+  Database& database() { return *database_; }
 
   // Meshes. ids are generated ("msh_" + 16 hex digits).
   StatusOr<MeshRecord> InsertMesh(MeshRecord mesh);
@@ -92,8 +95,8 @@ class Catalogue {
   StatusOr<uint64_t> SetTable(const std::string& scene_id, const TableRecord& table);
 
  private:
-  explicit Catalogue(sqlite3* db);
-  std::mutex mutex_;
+  std::shared_ptr<Database> database_;
+  std::mutex& mutex_;
   sqlite3* db_;
 };
 

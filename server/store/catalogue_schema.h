@@ -3,6 +3,7 @@
 // is at; opening it runs the missing migrations in one transaction.
 
 #include <array>
+#include <iterator>
 #include <string>
 #include <string_view>
 
@@ -10,11 +11,15 @@
 
 namespace vscan::store {
 
-constexpr int kSchemaVersion = 1;
+// One step of the schema's history: it takes a database from version - 1 to version.
+struct Migration {
+  int version;
+  std::string_view sql;
+};
 
-// kMigrations[i] upgrades a database from schema version i to i + 1.
-constexpr std::array<std::string_view, kSchemaVersion> kMigrations = {
-    R"sql(
+// Append only: a released step never changes, since databases out there have run it.
+constexpr Migration kMigrations[] = {
+    {1, R"sql(
 CREATE TABLE meshes (
   mesh_id TEXT PRIMARY KEY NOT NULL,
   name TEXT NOT NULL,
@@ -52,8 +57,88 @@ CREATE TABLE objects (
   UNIQUE (scene_id, instance_id)
 );
 CREATE INDEX objects_by_mesh ON objects(mesh_id);
-)sql",
+)sql"},
+    // Robots, mounts and jobs join the versioned schema. Version 1 servers created these tables
+    // unversioned on every start, hence IF NOT EXISTS.
+    {2, R"sql(
+CREATE TABLE IF NOT EXISTS robots (
+  robot_id TEXT PRIMARY KEY NOT NULL,
+  name TEXT NOT NULL,
+  urdf_path TEXT NOT NULL,
+  base_link TEXT NOT NULL,
+  tip_link TEXT NOT NULL,
+  tool_offset BLOB NOT NULL CHECK (length(tool_offset) = 128),
+  bundle_sha256 TEXT NOT NULL,
+  bundle_bytes INTEGER NOT NULL,
+  file_count INTEGER NOT NULL,
+  dof INTEGER NOT NULL,
+  joints BLOB NOT NULL,
+  reach REAL NOT NULL,
+  warnings BLOB NOT NULL,
+  create_time_ms INTEGER NOT NULL
+);
+CREATE INDEX IF NOT EXISTS robots_by_sha256 ON robots(bundle_sha256);
+CREATE TABLE IF NOT EXISTS mounts (
+  mount_id TEXT PRIMARY KEY NOT NULL,
+  scene_id TEXT NOT NULL REFERENCES scenes(scene_id) ON DELETE CASCADE,
+  robot_id TEXT NOT NULL REFERENCES robots(robot_id),
+  base_pose BLOB NOT NULL CHECK (length(base_pose) = 128),
+  tool_offset BLOB CHECK (tool_offset IS NULL OR length(tool_offset) = 128),
+  links_visible INTEGER NOT NULL,
+  encoder_sigma BLOB NOT NULL,
+  create_time_ms INTEGER NOT NULL
+);
+CREATE INDEX IF NOT EXISTS mounts_by_scene ON mounts(scene_id);
+CREATE INDEX IF NOT EXISTS mounts_by_robot ON mounts(robot_id);
+CREATE TABLE IF NOT EXISTS jobs (
+  job_id TEXT PRIMARY KEY NOT NULL,
+  kind TEXT NOT NULL,
+  state INTEGER NOT NULL,
+  name TEXT NOT NULL,
+  spec BLOB NOT NULL,
+  message TEXT NOT NULL,
+  steps_done INTEGER NOT NULL,
+  steps_total INTEGER NOT NULL,
+  last_sequence INTEGER NOT NULL,
+  create_time_ms INTEGER NOT NULL,
+  update_time_ms INTEGER NOT NULL
+);
+CREATE INDEX IF NOT EXISTS jobs_by_state ON jobs(state);
+CREATE TABLE IF NOT EXISTS job_artifacts (
+  artifact_id TEXT PRIMARY KEY NOT NULL,
+  job_id TEXT NOT NULL REFERENCES jobs(job_id) ON DELETE CASCADE,
+  ordinal INTEGER NOT NULL,
+  name TEXT NOT NULL,
+  media_type TEXT NOT NULL,
+  sha256 TEXT NOT NULL,
+  size_bytes INTEGER NOT NULL,
+  info BLOB NOT NULL,
+  create_time_ms INTEGER NOT NULL,
+  UNIQUE (job_id, ordinal)
+);
+CREATE INDEX IF NOT EXISTS job_artifacts_by_sha256 ON job_artifacts(sha256);
+)sql"},
+    // Retention finds ended jobs by the time of their last change.
+    {3, "CREATE INDEX jobs_by_state_and_update_time ON jobs(state, update_time_ms);"},
 };
+
+constexpr int kSchemaVersion = static_cast<int>(std::size(kMigrations));
+
+constexpr bool MigrationsAreNumberedInOrder() {
+  for (size_t i = 0; i < std::size(kMigrations); ++i) {
+    if (kMigrations[i].version != static_cast<int>(i) + 1) return false;
+  }
+  return true;
+}
+static_assert(MigrationsAreNumberedInOrder(), "kMigrations must be numbered 1, 2, 3, ... in order");
+
+// Every column that names a blob by its SHA-256: a blob file may go only when none of them does.
+struct BlobColumn {
+  std::string_view table;
+  std::string_view column;
+};
+constexpr BlobColumn kBlobColumns[] = {
+    {"meshes", "sha256"}, {"robots", "bundle_sha256"}, {"job_artifacts", "sha256"}};
 
 // Brings the database up to kSchemaVersion; FAILED_PRECONDITION when it is newer than this code.
 inline Status MigrateSchema(sqlite3* db) {
@@ -65,8 +150,9 @@ inline Status MigrateSchema(sqlite3* db) {
       return FailedPrecondition("catalogue: database schema version " + std::to_string(version) +
                                 " is newer than this server supports (" + std::to_string(kSchemaVersion) + ")");
     }
-    for (int v = version; v < kSchemaVersion; ++v) {
-      std::string_view script = kMigrations[static_cast<size_t>(v)];
+    for (const Migration& migration : kMigrations) {
+      if (migration.version <= version) continue;
+      std::string_view script = migration.sql;
       while (!script.empty()) {
         sqlite3_stmt* stmt = nullptr;
         const char* tail = nullptr;

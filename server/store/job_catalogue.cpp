@@ -1,6 +1,7 @@
 #include "store/job_catalogue.h"
 
 #include <algorithm>
+#include <utility>
 
 #include "store/ids.h"
 #include "store/sqlite_statement.h"
@@ -10,39 +11,7 @@ namespace {
 
 using sqlite::Statement;
 
-constexpr int kBusyTimeoutMs = 5000;
 constexpr int kMaxListLimit = 1000;
-
-// Each statement is idempotent, so opening an existing database changes nothing.
-constexpr std::string_view kSchema[] = {
-    R"sql(CREATE TABLE IF NOT EXISTS jobs (
-  job_id TEXT PRIMARY KEY NOT NULL,
-  kind TEXT NOT NULL,
-  state INTEGER NOT NULL,
-  name TEXT NOT NULL,
-  spec BLOB NOT NULL,
-  message TEXT NOT NULL,
-  steps_done INTEGER NOT NULL,
-  steps_total INTEGER NOT NULL,
-  last_sequence INTEGER NOT NULL,
-  create_time_ms INTEGER NOT NULL,
-  update_time_ms INTEGER NOT NULL
-))sql",
-    "CREATE INDEX IF NOT EXISTS jobs_by_state ON jobs(state)",
-    R"sql(CREATE TABLE IF NOT EXISTS job_artifacts (
-  artifact_id TEXT PRIMARY KEY NOT NULL,
-  job_id TEXT NOT NULL REFERENCES jobs(job_id) ON DELETE CASCADE,
-  ordinal INTEGER NOT NULL,
-  name TEXT NOT NULL,
-  media_type TEXT NOT NULL,
-  sha256 TEXT NOT NULL,
-  size_bytes INTEGER NOT NULL,
-  info BLOB NOT NULL,
-  create_time_ms INTEGER NOT NULL,
-  UNIQUE (job_id, ordinal)
-))sql",
-    "CREATE INDEX IF NOT EXISTS job_artifacts_by_sha256 ON job_artifacts(sha256)",
-};
 
 constexpr std::string_view kJobColumns =
     "job_id, kind, state, name, spec, message, steps_done, steps_total, last_sequence, create_time_ms, update_time_ms";
@@ -55,18 +24,17 @@ std::string Select(std::string_view columns, std::string_view table, std::string
   return sql;
 }
 
-StatusOr<JobState> StateFromInt(int64_t value, const std::string& job_id) {
-  if (value < static_cast<int>(JobState::kQueued) || value > static_cast<int>(JobState::kInterrupted)) {
-    return DataLoss("job catalogue: job '" + job_id + "' has unknown state " + std::to_string(value));
-  }
-  return static_cast<JobState>(value);
+StatusOr<JobState> StateFromCode(int64_t code, const std::string& job_id) {
+  return FromStoredCode(kJobStateCodes, code, "jobs.state of '" + job_id + "'");
 }
+
+int64_t Code(JobState state) { return StoredCode(kJobStateCodes, state); }
 
 StatusOr<JobRecord> ReadJob(const Statement& s) {
   JobRecord j;
   j.job_id = s.Text(0);
   j.kind = s.Text(1);
-  ASSIGN_OR_RETURN(j.state, StateFromInt(s.Int(2), j.job_id));
+  ASSIGN_OR_RETURN(j.state, StateFromCode(s.Int(2), j.job_id));
   j.name = s.Text(3);
   j.spec = std::string(s.Blob(4));
   j.message = s.Text(5);
@@ -105,40 +73,16 @@ Status ReadArtifacts(sqlite3* db, JobRecord& job) {
   }
 }
 
-Status Configure(sqlite3* db) {
-  int rc = sqlite3_busy_timeout(db, kBusyTimeoutMs);
-  if (rc != SQLITE_OK) return sqlite::Error(db, rc, "busy_timeout");
-  {
-    // Finalized before the transaction below: a live statement would block its COMMIT.
-    ASSIGN_OR_RETURN(Statement wal, Statement::Prepare(db, "PRAGMA journal_mode = WAL"));
-    ASSIGN_OR_RETURN(bool row, wal.Step());
-    if (!row || wal.Text(0) != "wal") return Unavailable("job catalogue: the database cannot use WAL journaling");
-  }
-  RETURN_IF_ERROR(sqlite::Exec(db, "PRAGMA synchronous = FULL"));
-  RETURN_IF_ERROR(sqlite::Exec(db, "PRAGMA foreign_keys = ON"));
-  return sqlite::InTransaction(db, true, [&]() -> Status {
-    for (std::string_view sql : kSchema) RETURN_IF_ERROR(sqlite::Exec(db, sql));
-    return Status::Ok();
-  });
-}
-
 }  // namespace
 
 bool IsFinal(JobState state) { return state != JobState::kQueued && state != JobState::kRunning; }
 
-JobCatalogue::JobCatalogue(sqlite3* db) : db_(db) {}
-
-JobCatalogue::~JobCatalogue() { sqlite3_close_v2(db_); }
+JobCatalogue::JobCatalogue(std::shared_ptr<Database> database)
+    : database_(std::move(database)), mutex_(database_->mutex()), db_(database_->handle()) {}
 
 StatusOr<std::unique_ptr<JobCatalogue>> JobCatalogue::Open(const std::filesystem::path& db_path) {
-  sqlite3* db = nullptr;
-  const int rc = sqlite3_open_v2(db_path.c_str(), &db,
-                                 SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX, nullptr);
-  // The object owns the handle from here on, so every early return closes it.
-  std::unique_ptr<JobCatalogue> catalogue(new JobCatalogue(db));
-  if (rc != SQLITE_OK) return sqlite::Error(db, rc, "open '" + db_path.string() + "'");
-  RETURN_IF_ERROR(Configure(db));
-  return catalogue;
+  ASSIGN_OR_RETURN(std::shared_ptr<Database> database, Database::Open(db_path));
+  return std::make_unique<JobCatalogue>(std::move(database));
 }
 
 StatusOr<int> JobCatalogue::InterruptUnfinished(const std::string& message) {
@@ -148,8 +92,8 @@ StatusOr<int> JobCatalogue::InterruptUnfinished(const std::string& message) {
     ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_,
                                                      "UPDATE jobs SET state = ?1, message = ?2, update_time_ms = ?3 "
                                                      "WHERE state IN (?4, ?5)"));
-    s.Bind(1, int64_t{static_cast<int>(JobState::kInterrupted)}).Bind(2, message).Bind(3, NowMs());
-    s.Bind(4, int64_t{static_cast<int>(JobState::kQueued)}).Bind(5, int64_t{static_cast<int>(JobState::kRunning)});
+    s.Bind(1, Code(JobState::kInterrupted)).Bind(2, message).Bind(3, NowMs());
+    s.Bind(4, Code(JobState::kQueued)).Bind(5, Code(JobState::kRunning));
     RETURN_IF_ERROR(s.Run());
     changed = sqlite3_changes(db_);
     return Status::Ok();
@@ -168,7 +112,7 @@ StatusOr<JobRecord> JobCatalogue::InsertJob(JobRecord job) {
     std::string sql = "INSERT INTO jobs (";
     sql.append(kJobColumns).append(") VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11)");
     ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_, sql));
-    s.Bind(1, job.job_id).Bind(2, job.kind).Bind(3, int64_t{static_cast<int>(job.state)}).Bind(4, job.name);
+    s.Bind(1, job.job_id).Bind(2, job.kind).Bind(3, Code(job.state)).Bind(4, job.name);
     s.BindBlob(5, job.spec).Bind(6, job.message).Bind(7, int64_t{job.steps_done}).Bind(8, int64_t{job.steps_total});
     s.Bind(9, static_cast<int64_t>(job.last_sequence)).Bind(10, job.create_time_ms).Bind(11, job.update_time_ms);
     return s.Run();
@@ -215,12 +159,12 @@ Status JobCatalogue::UpdateProgressLocked(const std::string& job_id, const JobPr
   find.Bind(1, job_id);
   ASSIGN_OR_RETURN(bool found, find.Step());
   if (!found) return JobNotFound(job_id);
-  ASSIGN_OR_RETURN(const JobState current, StateFromInt(find.Int(0), job_id));
+  ASSIGN_OR_RETURN(const JobState current, StateFromCode(find.Int(0), job_id));
   if (IsFinal(current)) return FailedPrecondition("job_id: job '" + job_id + "' has already ended");
   ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_,
                                                    "UPDATE jobs SET state = ?2, message = ?3, steps_done = ?4, "
                                                    "last_sequence = ?5, update_time_ms = ?6 WHERE job_id = ?1"));
-  s.Bind(1, job_id).Bind(2, int64_t{static_cast<int>(progress.state)}).Bind(3, progress.message);
+  s.Bind(1, job_id).Bind(2, Code(progress.state)).Bind(3, progress.message);
   s.Bind(4, int64_t{progress.steps_done}).Bind(5, static_cast<int64_t>(progress.sequence)).Bind(6, now_ms);
   return s.Run();
 }
@@ -269,6 +213,51 @@ StatusOr<ArtifactRecord> JobCatalogue::GetArtifact(const std::string& job_id, co
   ASSIGN_OR_RETURN(bool row, s.Step());
   if (!row) return NotFound("artifact_id: job '" + job_id + "' has no artifact '" + artifact_id + "'");
   return ReadArtifact(s);
+}
+
+StatusOr<std::vector<std::string>> JobCatalogue::DeleteJob(const std::string& job_id) {
+  std::lock_guard lock(mutex_);
+  std::vector<std::string> blobs;
+  RETURN_IF_ERROR(sqlite::InTransaction(db_, true, [&]() -> Status {
+    ASSIGN_OR_RETURN(Statement find, Statement::Prepare(db_, "SELECT state FROM jobs WHERE job_id = ?1"));
+    find.Bind(1, job_id);
+    ASSIGN_OR_RETURN(bool found, find.Step());
+    if (!found) return JobNotFound(job_id);
+    ASSIGN_OR_RETURN(const JobState state, StateFromCode(find.Int(0), job_id));
+    if (!IsFinal(state)) {
+      return FailedPrecondition("job_id: job '" + job_id + "' is still " +
+                                (state == JobState::kQueued ? "queued" : "running") + "; cancel it first");
+    }
+    ASSIGN_OR_RETURN(Statement names, Statement::Prepare(db_, "SELECT DISTINCT sha256 FROM job_artifacts "
+                                                              "WHERE job_id = ?1"));
+    names.Bind(1, job_id);
+    for (;;) {
+      ASSIGN_OR_RETURN(bool row, names.Step());
+      if (!row) break;
+      blobs.push_back(names.Text(0));
+    }
+    // Its artifact rows go with it (ON DELETE CASCADE).
+    ASSIGN_OR_RETURN(Statement del, Statement::Prepare(db_, "DELETE FROM jobs WHERE job_id = ?1"));
+    del.Bind(1, job_id);
+    return del.Run();
+  }));
+  return blobs;
+}
+
+StatusOr<std::vector<std::string>> JobCatalogue::ListEndedBefore(int64_t cutoff_ms, int limit) {
+  if (limit <= 0) return InvalidArgument("limit: must be positive, got " + std::to_string(limit));
+  std::lock_guard lock(mutex_);
+  ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_,
+                                                   "SELECT job_id FROM jobs WHERE state NOT IN (?1, ?2) AND "
+                                                   "update_time_ms < ?3 ORDER BY update_time_ms LIMIT ?4"));
+  s.Bind(1, Code(JobState::kQueued)).Bind(2, Code(JobState::kRunning)).Bind(3, cutoff_ms);
+  s.Bind(4, int64_t{std::min(limit, kMaxListLimit)});
+  std::vector<std::string> ids;
+  for (;;) {
+    ASSIGN_OR_RETURN(bool row, s.Step());
+    if (!row) return ids;
+    ids.push_back(s.Text(0));
+  }
 }
 
 }  // namespace vscan::store

@@ -1,9 +1,8 @@
 #pragma once
 // The durable record of long-running jobs and the files they produced. Lives in the catalogue's
-// SQLite file (its own connection: WAL, synchronous=FULL, foreign keys on). Every mutation is one
-// transaction. A job's request and an artifact's description are stored as opaque bytes (the
-// serialized wire messages), so this layer needs no protobuf. Thread-safe (one connection behind a
-// mutex).
+// SQLite file (shared through Database). Every mutation is one transaction. A job's request and an
+// artifact's description are stored as opaque bytes (the serialized wire messages), so this layer
+// needs no protobuf. Thread-safe: shares the Database's one connection and its lock.
 
 #include <cstdint>
 #include <filesystem>
@@ -12,14 +11,13 @@
 #include <string>
 #include <vector>
 
+#include "store/database.h"
+#include "store/stored_enums.h"
 #include "vscan/common/status.h"
 
 struct sqlite3;
 
 namespace vscan::store {
-
-// Job states, numbered as v1::JobState.
-enum class JobState : int { kQueued = 1, kRunning = 2, kSucceeded = 3, kFailed = 4, kCancelled = 5, kInterrupted = 6 };
 
 bool IsFinal(JobState state);
 
@@ -61,9 +59,10 @@ struct JobProgress {
 
 class JobCatalogue {
  public:
-  ~JobCatalogue();
-  // Opens the database file, creating the job tables when missing.
+  explicit JobCatalogue(std::shared_ptr<Database> database);
+  // Opens or creates the database file with its own Database (tests and tools).
   static StatusOr<std::unique_ptr<JobCatalogue>> Open(const std::filesystem::path& db_path);
+  Database& database() { return *database_; }
 
   // Jobs still QUEUED or RUNNING (left by a server that stopped) become INTERRUPTED with message.
   // Returns how many changed.
@@ -81,11 +80,16 @@ class JobCatalogue {
   // The blob it names must already be durable.
   StatusOr<ArtifactRecord> AddArtifact(ArtifactRecord artifact, const JobProgress& progress);
   StatusOr<ArtifactRecord> GetArtifact(const std::string& job_id, const std::string& artifact_id);
+  // Deletes an ended job and its artifact rows; returns the blobs they named (for CollectBlobs).
+  // NOT_FOUND for an unknown job, FAILED_PRECONDITION while it is queued or running.
+  StatusOr<std::vector<std::string>> DeleteJob(const std::string& job_id);
+  // Ids of ended jobs last changed before cutoff_ms, oldest first, at most limit.
+  StatusOr<std::vector<std::string>> ListEndedBefore(int64_t cutoff_ms, int limit);
 
  private:
-  explicit JobCatalogue(sqlite3* db);
   Status UpdateProgressLocked(const std::string& job_id, const JobProgress& progress, int64_t now_ms);
-  std::mutex mutex_;
+  std::shared_ptr<Database> database_;
+  std::mutex& mutex_;
   sqlite3* db_;
 };
 

@@ -1,6 +1,7 @@
 #include "store/robot_catalogue.h"
 
 #include <algorithm>
+#include <utility>
 
 #include "store/robot_records.h"
 #include "store/sqlite_statement.h"
@@ -10,41 +11,6 @@ namespace {
 
 using sqlite::Statement;
 namespace rows = robot_rows;
-
-constexpr int kBusyTimeoutMs = 5000;
-
-// Each statement is idempotent, so opening an existing database changes nothing.
-constexpr std::string_view kSchema[] = {
-    R"sql(CREATE TABLE IF NOT EXISTS robots (
-  robot_id TEXT PRIMARY KEY NOT NULL,
-  name TEXT NOT NULL,
-  urdf_path TEXT NOT NULL,
-  base_link TEXT NOT NULL,
-  tip_link TEXT NOT NULL,
-  tool_offset BLOB NOT NULL CHECK (length(tool_offset) = 128),
-  bundle_sha256 TEXT NOT NULL,
-  bundle_bytes INTEGER NOT NULL,
-  file_count INTEGER NOT NULL,
-  dof INTEGER NOT NULL,
-  joints BLOB NOT NULL,
-  reach REAL NOT NULL,
-  warnings BLOB NOT NULL,
-  create_time_ms INTEGER NOT NULL
-))sql",
-    "CREATE INDEX IF NOT EXISTS robots_by_sha256 ON robots(bundle_sha256)",
-    R"sql(CREATE TABLE IF NOT EXISTS mounts (
-  mount_id TEXT PRIMARY KEY NOT NULL,
-  scene_id TEXT NOT NULL REFERENCES scenes(scene_id) ON DELETE CASCADE,
-  robot_id TEXT NOT NULL REFERENCES robots(robot_id),
-  base_pose BLOB NOT NULL CHECK (length(base_pose) = 128),
-  tool_offset BLOB CHECK (tool_offset IS NULL OR length(tool_offset) = 128),
-  links_visible INTEGER NOT NULL,
-  encoder_sigma BLOB NOT NULL,
-  create_time_ms INTEGER NOT NULL
-))sql",
-    "CREATE INDEX IF NOT EXISTS mounts_by_scene ON mounts(scene_id)",
-    "CREATE INDEX IF NOT EXISTS mounts_by_robot ON mounts(robot_id)",
-};
 
 constexpr std::string_view kRobotColumns =
     "robot_id, name, urdf_path, base_link, tip_link, tool_offset, bundle_sha256, bundle_bytes, file_count, dof, "
@@ -78,23 +44,6 @@ StatusOr<RobotRecord> ReadRobot(const Statement& s) {
   return r;
 }
 
-Status Configure(sqlite3* db) {
-  int rc = sqlite3_busy_timeout(db, kBusyTimeoutMs);
-  if (rc != SQLITE_OK) return sqlite::Error(db, rc, "busy_timeout");
-  {
-    // Finalized before the transaction below: a live statement would block its COMMIT.
-    ASSIGN_OR_RETURN(Statement wal, Statement::Prepare(db, "PRAGMA journal_mode = WAL"));
-    ASSIGN_OR_RETURN(bool row, wal.Step());
-    if (!row || wal.Text(0) != "wal") return Unavailable("robot catalogue: the database cannot use WAL journaling");
-  }
-  RETURN_IF_ERROR(sqlite::Exec(db, "PRAGMA synchronous = FULL"));
-  RETURN_IF_ERROR(sqlite::Exec(db, "PRAGMA foreign_keys = ON"));
-  return sqlite::InTransaction(db, true, [&]() -> Status {
-    for (std::string_view sql : kSchema) RETURN_IF_ERROR(sqlite::Exec(db, sql));
-    return Status::Ok();
-  });
-}
-
 Status CheckRobot(const RobotRecord& r) {
   if (!r.tool_offset.allFinite()) return InvalidArgument("tool_offset: every element must be finite");
   if (r.joints.empty()) return InvalidArgument("joints: a robot needs at least one movable joint");
@@ -104,19 +53,12 @@ Status CheckRobot(const RobotRecord& r) {
 
 }  // namespace
 
-RobotCatalogue::RobotCatalogue(sqlite3* db) : db_(db) {}
-
-RobotCatalogue::~RobotCatalogue() { sqlite3_close_v2(db_); }
+RobotCatalogue::RobotCatalogue(std::shared_ptr<Database> database)
+    : database_(std::move(database)), mutex_(database_->mutex()), db_(database_->handle()) {}
 
 StatusOr<std::unique_ptr<RobotCatalogue>> RobotCatalogue::Open(const std::filesystem::path& db_path) {
-  sqlite3* db = nullptr;
-  const int rc = sqlite3_open_v2(db_path.c_str(), &db,
-                                 SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX, nullptr);
-  // The object owns the handle from here on, so every early return closes it.
-  std::unique_ptr<RobotCatalogue> catalogue(new RobotCatalogue(db));
-  if (rc != SQLITE_OK) return sqlite::Error(db, rc, "open '" + db_path.string() + "'");
-  RETURN_IF_ERROR(Configure(db));
-  return catalogue;
+  ASSIGN_OR_RETURN(std::shared_ptr<Database> database, Database::Open(db_path));
+  return std::make_unique<RobotCatalogue>(std::move(database));
 }
 
 StatusOr<RobotRecord> RobotCatalogue::InsertRobot(RobotRecord robot) {

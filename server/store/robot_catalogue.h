@@ -1,8 +1,8 @@
 #pragma once
 // The durable record of robots and of their mounts in scenes. Lives in the catalogue's SQLite file
-// (its own connection: WAL, synchronous=FULL, foreign keys on); a mount goes when its scene goes.
+// (shared through Database); a mount goes when its scene goes.
 // Every mutation is one transaction; mounting and unmounting bump the scene's revision.
-// Thread-safe (one connection behind a mutex).
+// Thread-safe: shares the Database's one connection and its lock.
 
 #include <cstdint>
 #include <filesystem>
@@ -15,6 +15,8 @@
 
 #include <Eigen/Core>
 
+#include "store/database.h"
+#include "store/stored_enums.h"
 #include "vscan/common/status.h"
 
 struct sqlite3;
@@ -23,7 +25,7 @@ namespace vscan::store {
 
 struct JointRecord {
   std::string name;
-  int type = 0;  // v1::JointType value
+  JointKind type = JointKind::kRevolute;
   double lower = 0.0;
   double upper = 0.0;
   double max_velocity = 0.0;
@@ -58,9 +60,10 @@ struct MountRecord {
 
 class RobotCatalogue {
  public:
-  ~RobotCatalogue();
-  // Opens the database file (creating it and the robot tables when missing).
+  explicit RobotCatalogue(std::shared_ptr<Database> database);
+  // Opens or creates the database file with its own Database (tests and tools).
   static StatusOr<std::unique_ptr<RobotCatalogue>> Open(const std::filesystem::path& db_path);
+  Database& database() { return *database_; }
 
   // ids are generated ("rbt_" + 16 hex digits).
   StatusOr<RobotRecord> InsertRobot(RobotRecord robot);
@@ -80,8 +83,8 @@ class RobotCatalogue {
   StatusOr<uint64_t> DeleteMount(const std::string& mount_id);
 
  private:
-  explicit RobotCatalogue(sqlite3* db);
-  std::mutex mutex_;
+  std::shared_ptr<Database> database_;
+  std::mutex& mutex_;
   sqlite3* db_;
 };
 

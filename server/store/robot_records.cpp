@@ -37,7 +37,7 @@ std::string EncodeJoints(const std::vector<JointRecord>& joints) {
   out.U32(static_cast<uint32_t>(joints.size()));
   for (const JointRecord& j : joints) {
     out.Bytes(j.name);
-    out.U32(static_cast<uint32_t>(j.type));
+    out.U32(static_cast<uint32_t>(StoredCode(kJointKindCodes, j.type)));
     out.F64(j.lower);
     out.F64(j.upper);
     out.F64(j.max_velocity);
@@ -54,7 +54,7 @@ StatusOr<std::vector<JointRecord>> DecodeJoints(std::string_view bytes) {
     ASSIGN_OR_RETURN(std::string_view name, in.Bytes());
     j.name = name;
     ASSIGN_OR_RETURN(uint32_t type, in.U32());
-    j.type = static_cast<int>(type);
+    ASSIGN_OR_RETURN(j.type, FromStoredCode(kJointKindCodes, type, "robots.joints type of '" + j.name + "'"));
     ASSIGN_OR_RETURN(j.lower, in.F64());
     ASSIGN_OR_RETURN(j.upper, in.F64());
     ASSIGN_OR_RETURN(j.max_velocity, in.F64());

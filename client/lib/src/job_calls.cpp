@@ -56,6 +56,13 @@ StatusOr<v1::Job> Client::CancelJob(const std::string& job_id) {
   return response.job();
 }
 
+StatusOr<v1::DeleteJobResponse> Client::DeleteJob(const std::string& job_id) {
+  auto stub = JobStub(*this);
+  v1::DeleteJobRequest request;
+  request.set_job_id(job_id);
+  return UnaryCall(*this, *stub, &Stub::DeleteJob, request);
+}
+
 Status Client::WatchJob(const std::string& job_id, const JobEventFn& on_event) {
   auto stub = JobStub(*this);
   grpc::ClientContext context;

@@ -75,6 +75,13 @@ class JobCalls:
         """Asks the job to stop; a running one ends CANCELLED after its current scan."""
         return self._call(self._jobs.CancelJob, job_pb2.CancelJobRequest(job_id=job_id)).job
 
+    def delete_job(self, job_id):
+        """Deletes an ended job and its artifacts; returns DeleteJobResponse (files and bytes freed).
+
+        Raises VscanError with FAILED_PRECONDITION while the job is queued or running (cancel it
+        first), NOT_FOUND for an unknown id."""
+        return self._call(self._jobs.DeleteJob, job_pb2.DeleteJobRequest(job_id=job_id))
+
     def watch_job(self, job_id, timeout=None):
         """Yields WatchJobResponse messages: the job as it is, then one per event until it ends."""
         stream = self._jobs.WatchJob(job_pb2.WatchJobRequest(job_id=job_id), timeout=timeout or self._stream_timeout,

@@ -13,6 +13,7 @@
 #include <google/protobuf/util/time_util.h>
 
 #include "../store/temp_dir.h"
+#include "store/ids.h"
 
 namespace vscan::api {
 namespace {
@@ -275,6 +276,64 @@ TEST_F(JobTrackerTest, WatchersThatComeAndGoSeeConsecutiveEventsWhileTheJobRuns)
   EXPECT_EQ(stored->state, store::JobState::kSucceeded);
   EXPECT_EQ(stored->last_sequence, last);
   EXPECT_EQ(stored->artifacts.size(), kSteps / 10);
+}
+
+}  // namespace
+}  // namespace vscan::api
+
+namespace vscan::api {
+namespace {
+
+JobEventUpdate Ended(store::JobState state) {
+  JobEventUpdate update;
+  update.state = state;
+  update.message = "ended";
+  return update;
+}
+
+TEST_F(JobTrackerTest, DeletesAnEndedJobWithItsFilesButNotALiveOne) {
+  const std::string id = Create(1);
+  auto artifact = tracker_->RecordArtifact(id, "scan-r00-v00.ply", "model/ply", std::string(4096, 's'), nullptr,
+                                           Running(1));
+  ASSERT_TRUE(artifact.ok()) << artifact.status().ToString();
+  const std::string sha = store::Sha256Hex(std::string(4096, 's'));
+  ASSERT_TRUE(blobs_.Contains(sha));
+
+  const auto refused = tracker_->Delete(id);
+  EXPECT_EQ(refused.status().code(), StatusCode::kFailedPrecondition) << refused.status().ToString();
+  EXPECT_TRUE(blobs_.Contains(sha));
+
+  ASSERT_TRUE(tracker_->End(id, Ended(store::JobState::kSucceeded)).ok());
+  const auto deleted = tracker_->Delete(id);
+  ASSERT_TRUE(deleted.ok()) << deleted.status().ToString();
+  EXPECT_EQ(deleted->files, 1u);
+  EXPECT_EQ(deleted->bytes, 4096u);
+  EXPECT_FALSE(blobs_.Contains(sha));
+  EXPECT_EQ(tracker_->Get(id).status().code(), StatusCode::kNotFound);
+  EXPECT_EQ(tracker_->Delete(id).status().code(), StatusCode::kNotFound);
+}
+
+TEST_F(JobTrackerTest, RetentionDeletesOnlyJobsThatEndedBeforeTheCutoff) {
+  const std::string old_job = Create(1);
+  const std::string running = Create(1);
+  ASSERT_TRUE(tracker_->RecordArtifact(old_job, "a.ply", "model/ply", "old bytes", nullptr, Running(1)).ok());
+  ASSERT_TRUE(tracker_->End(old_job, Ended(store::JobState::kFailed)).ok());
+  ASSERT_TRUE(tracker_->Record(running, Running(0)).ok());
+  std::this_thread::sleep_for(20ms);
+  const int64_t cutoff = store::NowMs();
+  std::this_thread::sleep_for(20ms);
+  const std::string recent = Create(1);
+  ASSERT_TRUE(tracker_->End(recent, Ended(store::JobState::kCancelled)).ok());
+
+  const auto deleted = tracker_->DeleteEndedBefore(cutoff);
+  ASSERT_TRUE(deleted.ok()) << deleted.status().ToString();
+  EXPECT_EQ(*deleted, 1);
+  EXPECT_EQ(tracker_->Get(old_job).status().code(), StatusCode::kNotFound);
+  EXPECT_FALSE(blobs_.Contains(store::Sha256Hex("old bytes")));
+  EXPECT_TRUE(tracker_->Get(running).ok());
+  EXPECT_TRUE(tracker_->Get(recent).ok());
+  // Nothing older remains: a second pass deletes nothing.
+  EXPECT_EQ(*tracker_->DeleteEndedBefore(cutoff), 0);
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <set>
 #include <thread>
 
+#include "store/catalogue_schema.h"
 #include "temp_dir.h"
 
 namespace vscan::store {
@@ -22,7 +23,7 @@ MeshRecord SampleMesh(const std::string& name, const std::string& sha256) {
   mesh.triangle_count = 16301;
   mesh.bounds_min = {-0.0945716, 0.0333891, -0.0618736};
   mesh.bounds_max = {0.0609346, 0.186643, 0.0586895};
-  mesh.source_unit = 2;
+  mesh.source_unit = LengthUnit::kCentimetre;
   mesh.source_scale = 0.0254;
   return mesh;
 }
@@ -119,7 +120,7 @@ class CatalogueTest : public ::testing::Test {
 };
 
 TEST_F(CatalogueTest, UsesWalAndRecordsTheSchemaVersion) {
-  EXPECT_EQ(QueryInt(db_path(), "PRAGMA user_version"), 1);
+  EXPECT_EQ(QueryInt(db_path(), "PRAGMA user_version"), kSchemaVersion);
   sqlite3* db = nullptr;
   ASSERT_EQ(sqlite3_open(db_path().c_str(), &db), SQLITE_OK);
   sqlite3_stmt* stmt = nullptr;

@@ -21,9 +21,9 @@ RobotRecord SampleRobot(const std::string& sha256) {
   r.bundle_sha256 = sha256;
   r.bundle_bytes = 1234;
   r.file_count = 3;
-  r.joints = {{"j1", 1, -2.5, 2.5, 3.1},
-              {"j2", 2, -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), 0.0},
-              {"slide", 3, 0.0, 0.2, 0.5}};
+  r.joints = {{"j1", JointKind::kRevolute, -2.5, 2.5, 3.1},
+              {"j2", JointKind::kContinuous, -std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity(), 0.0},
+              {"slide", JointKind::kPrismatic, 0.0, 0.2, 0.5}};
   r.reach = 0.85;
   r.warnings = {"links['a'].visual[0].mesh: missing", "second\nline"};
   return r;
@@ -60,7 +60,7 @@ TEST_F(RobotCatalogueTest, RobotsRoundTrip) {
   ASSERT_EQ(got->joints.size(), 3u);
   EXPECT_EQ(got->joints[1].name, "j2");
   EXPECT_TRUE(std::isinf(got->joints[1].upper));
-  EXPECT_EQ(got->joints[2].type, 3);
+  EXPECT_EQ(got->joints[2].type, JointKind::kPrismatic);
   EXPECT_EQ(got->warnings, inserted->warnings);
   EXPECT_EQ(got->create_time_ms, inserted->create_time_ms);
   EXPECT_EQ(robots_->GetRobot("rbt_missing").status().code(), StatusCode::kNotFound);

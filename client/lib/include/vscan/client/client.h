@@ -102,6 +102,8 @@ class Client {
   // Every job, following page tokens.
   StatusOr<std::vector<v1::Job>> ListJobs();
   StatusOr<v1::Job> CancelJob(const std::string& job_id);
+  // Deletes an ended job and its artifacts (FAILED_PRECONDITION while it runs: cancel it first).
+  StatusOr<v1::DeleteJobResponse> DeleteJob(const std::string& job_id);
   // Calls on_event for each message until the server ends the stream (the job finished) or
   // on_event returns false.
   Status WatchJob(const std::string& job_id, const JobEventFn& on_event);
