@@ -35,8 +35,8 @@ int UploadRobot(Context& ctx, const std::string& path, const client::RobotUpload
     // Problems reading the bundle locally are I/O errors; a missing URDF choice is a usage error;
     // the rest came from the server.
     const Status& status = uploaded.status();
-    if (status.code() == StatusCode::kInvalidArgument && status.message().starts_with("urdf_path:")) {
-      return ctx.UsageError(urdf_option + status.message().substr(9));
+    if (status.code() == StatusCode::kInvalidArgument && status.field() == "urdf_path") {
+      return ctx.UsageError(urdf_option + ": " + std::string(status.text()));
     }
     const bool local = (status.code() == StatusCode::kNotFound || status.code() == StatusCode::kDataLoss) &&
                        status.message().starts_with(path);

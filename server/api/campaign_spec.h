@@ -45,7 +45,7 @@ v1::ScanRequest StepScanRequest(const v1::CampaignSpec& spec, const Eigen::Vecto
 // Checks the spec against the server's limits, the scene and the mount.
 StatusOr<CampaignPlan> ValidateCampaign(const v1::CampaignSpec& spec, ServiceContext& context);
 
-// Prefixes a status message with the request field that holds the spec ("spec.").
+// Puts a field-naming error under the request field that holds the spec ("spec").
 Status InSpec(const Status& status);
 
 }  // namespace vscan::api

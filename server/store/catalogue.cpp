@@ -98,28 +98,28 @@ StatusOr<ObjectRecord> ReadObject(const Statement& s) {
 }
 
 Status CheckLimit(int limit) {
-  if (limit <= 0) return InvalidArgument("limit: must be positive, got " + std::to_string(limit));
+  if (limit <= 0) return InvalidArgument("limit", "must be positive, got " + std::to_string(limit));
   return Status::Ok();
 }
 
 Status CheckPose(const Eigen::Matrix4d& pose) {
-  if (!pose.allFinite()) return InvalidArgument("pose: every element must be finite");
+  if (!pose.allFinite()) return InvalidArgument("pose", "every element must be finite");
   return Status::Ok();
 }
 
 Status CheckScale(double scale) {
   if (!std::isfinite(scale) || scale <= 0) {
-    return InvalidArgument("scale: must be finite and positive, got " + std::to_string(scale));
+    return InvalidArgument("scale", "must be finite and positive, got " + std::to_string(scale));
   }
   return Status::Ok();
 }
 
 Status CheckTable(const TableRecord& table) {
-  if (!table.centre.allFinite()) return InvalidArgument("table.centre: every element must be finite");
+  if (!table.centre.allFinite()) return InvalidArgument("table.centre", "every element must be finite");
   if (!table.axis.allFinite() || table.axis.norm() == 0) {
-    return InvalidArgument("table.axis: must be finite and non-zero");
+    return InvalidArgument("table.axis", "must be finite and non-zero");
   }
-  if (!std::isfinite(table.angle_deg)) return InvalidArgument("table.angle_deg: must be finite");
+  if (!std::isfinite(table.angle_deg)) return InvalidArgument("table.angle_deg", "must be finite");
   return Status::Ok();
 }
 
@@ -133,10 +133,10 @@ Status Configure(sqlite3* db) {
   return sqlite::Exec(db, "PRAGMA foreign_keys = ON");
 }
 
-Status SceneNotFound(const std::string& scene_id) { return NotFound("scene_id: no scene '" + scene_id + "'"); }
-Status MeshNotFound(const std::string& mesh_id) { return NotFound("mesh_id: no mesh '" + mesh_id + "'"); }
+Status SceneNotFound(const std::string& scene_id) { return NotFound("scene_id", "no scene '" + scene_id + "'"); }
+Status MeshNotFound(const std::string& mesh_id) { return NotFound("mesh_id", "no mesh '" + mesh_id + "'"); }
 Status ObjectNotFound(const std::string& scene_id, const std::string& object_id) {
-  return NotFound("object_id: no object '" + object_id + "' in scene '" + scene_id + "'");
+  return NotFound("object_id", "no object '" + object_id + "' in scene '" + scene_id + "'");
 }
 
 // Bumps the scene's revision and update time; NOT_FOUND when the scene does not exist.
@@ -251,7 +251,7 @@ StatusOr<std::pair<std::string, bool>> Catalogue::DeleteMesh(const std::string& 
     users.Bind(1, mesh_id);
     ASSIGN_OR_RETURN(bool counted, users.Step());
     if (int64_t count = counted ? users.Int(0) : 0; count > 0) {
-      return FailedPrecondition("mesh_id: mesh '" + mesh_id + "' is used by " + std::to_string(count) +
+      return FailedPrecondition("mesh_id", "mesh '" + mesh_id + "' is used by " + std::to_string(count) +
                                 (count == 1 ? " object" : " objects"));
     }
 

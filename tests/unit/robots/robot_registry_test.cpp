@@ -115,8 +115,8 @@ TEST_F(RobotRegistryTest, MountedKinematicsWorkInTheWorld) {
   ASSERT_TRUE(miss.ok());
   EXPECT_FALSE(miss->reached);
   EXPECT_GT(miss->miss_distance, 1.5);
-  EXPECT_NE(miss->failure.find("misses by"), std::string::npos);
-  EXPECT_NE(miss->failure.find("nearest reachable tool pose"), std::string::npos);
+  EXPECT_NE(miss->failure.message().find("misses by"), std::string::npos);
+  EXPECT_NE(miss->failure.message().find("nearest reachable tool pose"), std::string::npos);
 }
 
 TEST_F(RobotRegistryTest, BadUploadsChangeNothing) {
