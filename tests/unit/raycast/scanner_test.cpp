@@ -11,7 +11,9 @@
 
 #include <gtest/gtest.h>
 
-#include "test_meshes.h"
+#include "vscan_test/ascii_ply.h"
+#include "vscan_test/mesh_distance.h"
+#include "vscan_test/meshes.h"
 
 namespace vscan::raycast {
 namespace {

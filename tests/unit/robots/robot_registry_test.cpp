@@ -4,7 +4,7 @@
 
 #include <random>
 
-#include "../store/temp_dir.h"
+#include "vscan_test/temp_dir.h"
 #include "robot/forward_kinematics.h"
 #include "robot_fixtures.h"
 #include "store/catalogue.h"
@@ -47,7 +47,7 @@ class RobotRegistryTest : public ::testing::Test {
     registry_ = std::make_unique<RobotRegistry>(*catalogue_, *blobs_, 64u << 20);
   }
 
-  store::TempDir dir_;
+  test::TempDir dir_;
   std::unique_ptr<store::Catalogue> scenes_;
   std::unique_ptr<store::RobotCatalogue> catalogue_;
   std::unique_ptr<store::BlobStore> blobs_;

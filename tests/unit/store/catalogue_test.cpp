@@ -9,7 +9,7 @@
 #include <set>
 #include <thread>
 
-#include "temp_dir.h"
+#include "vscan_test/temp_dir.h"
 
 namespace vscan::store {
 namespace {
@@ -114,7 +114,7 @@ class CatalogueTest : public ::testing::Test {
     return scene.ok() ? scene->revision : 0;
   }
 
-  TempDir dir_;
+  test::TempDir dir_;
   std::unique_ptr<Catalogue> catalogue_;
 };
 
