@@ -46,14 +46,14 @@ constexpr double kDegToRad = std::numbers::pi / 180.0;
 StatusOr<std::vector<double>> ParseNumbers(const std::string& text, size_t count, const std::string& option) {
   const auto parts = Split(text);
   if (parts.size() != count) {
-    return InvalidArgument(option + ": expected " + std::to_string(count) + " comma-separated numbers, got " +
+    return InvalidArgument(option, "expected " + std::to_string(count) + " comma-separated numbers, got " +
                            std::to_string(parts.size()) + " in '" + text + "'");
   }
   std::vector<double> out;
   for (const auto& p : parts) {
     const auto v = ToDouble(p);
-    if (!v) return InvalidArgument(option + ": '" + p + "' is not a number");
-    if (!std::isfinite(*v)) return InvalidArgument(option + ": '" + p + "' is not finite");
+    if (!v) return InvalidArgument(option, "'" + p + "' is not a number");
+    if (!std::isfinite(*v)) return InvalidArgument(option, "'" + p + "' is not finite");
     out.push_back(*v);
   }
   return out;
@@ -71,7 +71,7 @@ StatusOr<v1::LengthUnit> ParseUnit(const std::string& text) {
   if (t == "mm" || t == "millimetre" || t == "millimeter") return v1::LENGTH_UNIT_MILLIMETRE;
   if (t == "in" || t == "inch") return v1::LENGTH_UNIT_INCH;
   if (t == "ft" || t == "foot" || t == "feet") return v1::LENGTH_UNIT_FOOT;
-  return InvalidArgument("--unit: unknown unit '" + text + "' (m, cm, mm, in, ft)");
+  return InvalidArgument("--unit", "unknown unit '" + text + "' (m, cm, mm, in, ft)");
 }
 
 StatusOr<v1::MeshFormat> ParseMeshFormat(const std::string& text) {
@@ -79,7 +79,7 @@ StatusOr<v1::MeshFormat> ParseMeshFormat(const std::string& text) {
   if (t == "ply") return v1::MESH_FORMAT_PLY;
   if (t == "obj") return v1::MESH_FORMAT_OBJ;
   if (t == "stl") return v1::MESH_FORMAT_STL;
-  return InvalidArgument("--format: unknown mesh format '" + text + "' (ply, obj, stl)");
+  return InvalidArgument("--format", "unknown mesh format '" + text + "' (ply, obj, stl)");
 }
 
 StatusOr<std::vector<v1::PointField>> ParseFields(const std::string& text) {
@@ -116,7 +116,7 @@ StatusOr<std::vector<v1::PointField>> ParseFields(const std::string& text) {
     } else if (f == "all") {
       for (int v = v1::POINT_FIELD_POSITION; v <= v1::POINT_FIELD_PIXEL; ++v) add(static_cast<v1::PointField>(v));
     } else {
-      return InvalidArgument("--fields: unknown field '" + raw +
+      return InvalidArgument("--fields", "unknown field '" + raw +
                              "' (position, normal, range, intensity, instance, pixel, all, clean, incidence, "
                              "status, truth, estimated-normal)");
     }
@@ -132,7 +132,7 @@ StatusOr<v1::Frame> ParseFrame(const std::string& text) {
   const std::string t = Lower(text);
   if (t == "world") return v1::FRAME_WORLD;
   if (t == "sensor") return v1::FRAME_SENSOR;
-  return InvalidArgument("--frame: unknown frame '" + text + "' (world, sensor)");
+  return InvalidArgument("--frame", "unknown frame '" + text + "' (world, sensor)");
 }
 
 StatusOr<v1::ScanBackend> ParseBackend(const std::string& text) {
@@ -140,7 +140,7 @@ StatusOr<v1::ScanBackend> ParseBackend(const std::string& text) {
   if (t == "raycast") return v1::SCAN_BACKEND_RAYCAST;
   if (t == "depth" || t == "raster-depth") return v1::SCAN_BACKEND_RASTER_DEPTH;
   if (t == "colour" || t == "color" || t == "raster-colour") return v1::SCAN_BACKEND_RASTER_COLOUR;
-  return InvalidArgument("--backend: unknown backend '" + text + "' (raycast, depth, colour)");
+  return InvalidArgument("--backend", "unknown backend '" + text + "' (raycast, depth, colour)");
 }
 
 Eigen::Matrix3d RotationFromRpyDegrees(double roll, double pitch, double yaw) {

@@ -43,20 +43,20 @@ int DownloadArtifacts(Context& ctx, const v1::Job& job, const std::string& dir, 
     const std::filesystem::path path = std::filesystem::path(dir) / SafeName(artifact);
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     if (!out) return ctx.LocalError(DataLoss(path.string() + ": cannot open for writing"));
+    bool write_failed = false;
     const auto read = client->ReadArtifact(
         job.job_id(), artifact.artifact_id(),
         [&](std::string_view bytes) -> Status {
           out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
-          if (!out) return DataLoss(path.string() + ": write failed");
+          write_failed = !out;
+          if (write_failed) return DataLoss(path.string() + ": write failed");
           return Status::Ok();
         },
         [&](uint64_t done, uint64_t) { bar.Update(before + done, total); });
     out.close();
     if (!read.ok()) {
       bar.Finish();
-      const bool local =
-          read.status().code() == StatusCode::kDataLoss && read.status().message().starts_with(path.string());
-      return local ? ctx.LocalError(read.status()) : ctx.ServerError(read.status());
+      return write_failed ? ctx.LocalError(read.status()) : ctx.ServerError(read.status());
     }
     if (!out) return ctx.LocalError(DataLoss(path.string() + ": write failed"));
     before += artifact.size_bytes();

@@ -10,11 +10,9 @@
 namespace vscan::cli {
 namespace {
 
-// Drops the "--option: " prefix of an args.h message, so that the plan's key path can stand there.
+// Drops the "--option" an args.h message names, so that the plan's key path can stand there.
 std::string Reason(const Status& status) {
-  const std::string& m = status.message();
-  const size_t colon = m.find(": ");
-  return m.starts_with("--") && colon != std::string::npos ? m.substr(colon + 2) : m;
+  return status.field().starts_with("--") ? std::string(status.text()) : status.message();
 }
 
 class PlanParser {

@@ -5,6 +5,7 @@
 #include "args.h"
 #include "commands.h"
 #include "progress.h"
+#include "vscan/common/chunk_limits.h"
 #include "vscan/common/cloud_io.h"
 
 namespace vscan::cli {
@@ -144,7 +145,10 @@ void AddScanCommand(CLI::App& app, Context& ctx) {
                   "estimated-normal");
   cmd->add_option("--backend", s.backend, "raycast, depth or colour")->capture_default_str();
   cmd->add_option("--table-angle", s.table_angle_deg, "Rotary table angle for this scan only, degrees");
-  cmd->add_option("--chunk-kib", s.chunk_kib, "Size of one streamed chunk in KiB (64..16384, default 1024)");
+  cmd->add_option("--chunk-kib", s.chunk_kib,
+                  "Size of one streamed chunk in KiB (" + std::to_string(kMinChunkBytes / 1024) + ".." +
+                      std::to_string(kMaxChunkBytes / 1024) + ", default " +
+                      std::to_string(kDefaultChunkBytes / 1024) + ")");
   cmd->add_option("--seed", s.seed, "Seed for noise")->capture_default_str();
   AddMeasurementOptions(cmd, s);
   OnRun(cmd, ctx, [&ctx, args] { return RunScan(ctx, *args); });

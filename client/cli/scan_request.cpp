@@ -3,6 +3,7 @@
 
 #include "args.h"
 #include "robot_args.h"
+#include "vscan/common/chunk_limits.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::cli {
@@ -152,8 +153,9 @@ StatusOr<v1::ScanRequest> BuildScanRequest(const ScanArgs& args) {
     request.set_table_angle_deg(*args.table_angle_deg);
   }
   if (args.chunk_kib) {
-    if (*args.chunk_kib < 64 || *args.chunk_kib > 16384) {
-      return InvalidArgument("--chunk-kib: must be between 64 and 16384");
+    if (*args.chunk_kib < kMinChunkBytes / 1024 || *args.chunk_kib > kMaxChunkBytes / 1024) {
+      return InvalidArgument("--chunk-kib", "must be between " + std::to_string(kMinChunkBytes / 1024) + " and " +
+                                                std::to_string(kMaxChunkBytes / 1024));
     }
     request.set_chunk_bytes(*args.chunk_kib * 1024u);
   }

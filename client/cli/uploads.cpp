@@ -53,8 +53,8 @@ int UploadRobot(Context& ctx, const std::string& path, const client::RobotUpload
     // Problems reading the bundle locally (links out of it too) are local errors; a missing URDF
     // choice is a usage error; the rest came from the server.
     const Status& status = uploaded.status();
-    if (status.code() == StatusCode::kInvalidArgument && status.message().starts_with("urdf_path:")) {
-      return ctx.UsageError(urdf_option + status.message().substr(9));
+    if (status.code() == StatusCode::kInvalidArgument && status.field() == "urdf_path") {
+      return ctx.UsageError(urdf_option + ": " + std::string(status.text()));
     }
     return NamesLocalPath(status, path) ? ctx.LocalError(status) : ctx.ServerError(status);
   }

@@ -1,5 +1,8 @@
 #include "vscan/common/status.h"
 
+#include <cstdio>
+#include <cstdlib>
+
 namespace vscan {
 
 const char* StatusCodeName(StatusCode code) {
@@ -35,9 +38,47 @@ bool NamesAField(StatusCode code) {
   }
 }
 
+Status::Status(StatusCode code, std::string field, std::string_view text) : code_(code), field_(std::move(field)) {
+  if (field_.empty()) {
+    message_ = text;
+    return;
+  }
+  message_.reserve(field_.size() + 2 + text.size());
+  message_ += field_;
+  message_ += ": ";
+  message_ += text;
+}
+
+std::string_view Status::text() const {
+  std::string_view m = message_;
+  return field_.empty() ? m : m.substr(field_.size() + 2);
+}
+
+Status Status::WithFieldPrefix(std::string_view parent) const {
+  if (ok()) return *this;
+  if (field_.empty()) return Status(code_, std::string(parent), message_);
+  return Status(code_, FieldPath(parent, field_), text());
+}
+
+Status Status::WithCode(StatusCode code) const {
+  Status out = *this;
+  out.code_ = code;
+  return out;
+}
+
 std::string Status::ToString() const {
   if (ok()) return "OK";
   return std::string(StatusCodeName(code_)) + ": " + message_;
 }
+
+namespace internal {
+
+void DieOnValueOfError(const Status& status) {
+  std::fprintf(stderr, "vscan: value() of an error StatusOr: %s\n", status.ToString().c_str());
+  std::fflush(stderr);
+  std::abort();
+}
+
+}  // namespace internal
 
 }  // namespace vscan

@@ -17,16 +17,16 @@ constexpr double kMaxAbsAngleDeg = 1e6;
 std::string Index(const char* field, int i) { return std::string(field) + "[" + std::to_string(i) + "]"; }
 
 StatusOr<Eigen::Vector3d> Point(bool has, const v1::Vector3& p, const std::string& field) {
-  if (!has) return InvalidArgument(field + ": required");
+  if (!has) return InvalidArgument(field, "required");
   const Eigen::Vector3d point = FromProto(p);
   RETURN_IF_ERROR(CheckPosition(point, field));
   return point;
 }
 
 StatusOr<std::vector<CampaignViewpoint>> Viewpoints(const v1::CampaignSpec& spec) {
-  if (spec.viewpoints().empty()) return InvalidArgument("viewpoints: at least one viewpoint required");
+  if (spec.viewpoints().empty()) return InvalidArgument("viewpoints", "at least one viewpoint required");
   if (spec.viewpoints_size() > kMaxCampaignViewpoints) {
-    return InvalidArgument("viewpoints: at most " + std::to_string(kMaxCampaignViewpoints) + " viewpoints");
+    return InvalidArgument("viewpoints", "at most " + std::to_string(kMaxCampaignViewpoints) + " viewpoints");
   }
   std::vector<CampaignViewpoint> out;
   for (int i = 0; i < spec.viewpoints_size(); ++i) {
@@ -36,14 +36,14 @@ StatusOr<std::vector<CampaignViewpoint>> Viewpoints(const v1::CampaignSpec& spec
     ASSIGN_OR_RETURN(vp.position, Point(v.has_position(), v.position(), field + ".position"));
     ASSIGN_OR_RETURN(vp.target, Point(v.has_target(), v.target(), field + ".target"));
     if ((vp.target - vp.position).norm() < 1e-6) {
-      return InvalidArgument(field + ".target: coincides with position; the sensor must look somewhere");
+      return InvalidArgument(FieldPath(field, "target"), "coincides with position; the sensor must look somewhere");
     }
     if (v.has_up()) {
       // The whole sensor pose, as a look_at Pose gives it: the IK then also matches the image's up.
       ASSIGN_OR_RETURN(const Eigen::Vector3d up, Point(true, v.up(), field + ".up"));
       const Eigen::Vector3d view = (vp.target - vp.position).normalized();
       if (up.norm() < 1e-9 || up.normalized().cross(view).norm() < 1e-6) {
-        return InvalidArgument(field + ".up: must not be zero or parallel to the view direction");
+        return InvalidArgument(FieldPath(field, "up"), "must not be zero or parallel to the view direction");
       }
       ASSIGN_OR_RETURN(const Pose3 world_from_sensor, PoseFromLookAt(vp.position, vp.target, up, field));
       vp.goal = robot::PoseGoal(world_from_sensor);
@@ -57,13 +57,13 @@ StatusOr<std::vector<CampaignViewpoint>> Viewpoints(const v1::CampaignSpec& spec
 
 Status CheckAngles(const v1::CampaignSpec& spec, uint32_t rotations) {
   if (!std::isfinite(spec.start_angle_deg()) || std::abs(spec.start_angle_deg()) > kMaxAbsAngleDeg) {
-    return InvalidArgument("start_angle_deg: must be finite and within +-1e6");
+    return InvalidArgument("start_angle_deg", "must be finite and within +-1e6");
   }
   if (!std::isfinite(spec.rotation_step_deg()) || std::abs(spec.rotation_step_deg()) > 360.0) {
-    return InvalidArgument("rotation_step_deg: must be finite and within +-360");
+    return InvalidArgument("rotation_step_deg", "must be finite and within +-360");
   }
   if (rotations > 1 && spec.rotation_step_deg() == 0.0) {
-    return InvalidArgument("rotation_step_deg: must not be 0 when rotations is " + std::to_string(rotations));
+    return InvalidArgument("rotation_step_deg", "must not be 0 when rotations is " + std::to_string(rotations));
   }
   return Status::Ok();
 }
@@ -79,14 +79,14 @@ StatusOr<Home> CheckSceneAndMount(const v1::CampaignSpec& spec, uint32_t rotatio
   RETURN_IF_ERROR(RequireId(spec.scene_id(), "scene_id"));
   ASSIGN_OR_RETURN(const store::SceneRecord scene, context.registry.catalogue().GetScene(spec.scene_id()));
   if (rotations > 1 && !scene.table.enabled) {
-    return FailedPrecondition("rotations: scene '" + spec.scene_id() + "' has no rotary table enabled to turn (" +
+    return FailedPrecondition("rotations", "scene '" + spec.scene_id() + "' has no rotary table enabled to turn (" +
                               std::to_string(rotations) + " rotations asked)");
   }
   if (dry_run && spec.mount_id().empty()) return Home();
   RETURN_IF_ERROR(RequireId(spec.mount_id(), "mount_id"));
   ASSIGN_OR_RETURN(const robots::MountedRobot mounted, context.robots.Mount(spec.mount_id()));
   if (mounted.mount.scene_id != spec.scene_id()) {
-    return FailedPrecondition("mount_id: mount '" + spec.mount_id() + "' is in scene '" + mounted.mount.scene_id +
+    return FailedPrecondition("mount_id", "mount '" + spec.mount_id() + "' is in scene '" + mounted.mount.scene_id +
                               "', not in scene_id '" + spec.scene_id() + "'");
   }
   if (spec.reject_collisions()) {
@@ -94,7 +94,7 @@ StatusOr<Home> CheckSceneAndMount(const v1::CampaignSpec& spec, uint32_t rotatio
     auto probe = FindRobotCollision(context, spec.mount_id(), mounted.chain->MidLimits(), spec.start_angle_deg());
     if (!probe.ok()) {
       const Status& s = probe.status();
-      return s.message().starts_with("reject_collisions") ? s : Status(s.code(), "reject_collisions: " + s.message());
+      return s.field() == "reject_collisions" ? s : Status(s.code(), "reject_collisions", s.message());
     }
   }
   return Home(mounted.chain->MidLimits());
@@ -114,19 +114,22 @@ StatusOr<CampaignPlan> Validate(const v1::CampaignSpec& spec, bool dry_run, Serv
   CampaignPlan plan;
   plan.spec = spec;
   RETURN_IF_ERROR(CheckText(spec.name(), "name"));
-  if (spec.align()) return Unimplemented("align: campaign alignment is not supported by this server version");
+  if (spec.align()) {
+    return Status(StatusCode::kUnimplemented, "align", "campaign alignment is not supported by this server version");
+  }
   if (spec.reconstruct()) {
-    return Unimplemented("reconstruct: campaign reconstruction is not supported by this server version");
+    return Status(StatusCode::kUnimplemented, "reconstruct",
+                  "campaign reconstruction is not supported by this server version");
   }
   ASSIGN_OR_RETURN(plan.viewpoints, Viewpoints(spec));
 
   plan.rotations = spec.rotations() == 0 ? 1 : spec.rotations();
   if (plan.rotations > kMaxCampaignRotations) {
-    return InvalidArgument("rotations: at most " + std::to_string(kMaxCampaignRotations));
+    return InvalidArgument("rotations", "at most " + std::to_string(kMaxCampaignRotations));
   }
   const uint64_t steps = uint64_t{plan.rotations} * plan.viewpoints.size();
   if (steps > kMaxCampaignSteps) {
-    return InvalidArgument("rotations: " + std::to_string(plan.rotations) + " rotations x " +
+    return InvalidArgument("rotations", std::to_string(plan.rotations) + " rotations x " +
                            std::to_string(plan.viewpoints.size()) + " viewpoints = " + std::to_string(steps) +
                            " scans, more than the " + std::to_string(kMaxCampaignSteps) + " a campaign may hold");
   }
@@ -159,6 +162,8 @@ v1::ScanRequest StepScanRequest(const v1::CampaignSpec& spec, const Eigen::Vecto
 
 Status InSpec(const Status& status) {
   if (status.ok() || !NamesAField(status.code())) return status;
+  if (!status.field().empty()) return status.WithFieldPrefix("spec");
+  // Errors not (yet) built with a field still lead with their path as text.
   return Status(status.code(), "spec." + status.message());
 }
 

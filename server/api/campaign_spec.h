@@ -47,7 +47,7 @@ v1::ScanRequest StepScanRequest(const v1::CampaignSpec& spec, const Eigen::Vecto
 StatusOr<CampaignPlan> ValidateCampaign(const v1::CampaignSpec& spec, ServiceContext& context,
                                         bool validate_only = false);
 
-// Prefixes a status message with the request field that holds the spec ("spec.").
+// Puts a field-naming error under the request field that holds the spec ("spec").
 Status InSpec(const Status& status);
 
 }  // namespace vscan::api

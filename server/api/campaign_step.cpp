@@ -4,6 +4,7 @@
 #include "api/scan_backends.h"
 #include "api/scan_request.h"
 #include "api/scan_target.h"
+#include "random/seeded_draws.h"
 
 namespace vscan::api {
 namespace {
@@ -11,16 +12,11 @@ namespace {
 constexpr double kIkTolerance = 1e-5;
 constexpr std::chrono::milliseconds kIkBudget{200};
 
-uint64_t SplitMix64(uint64_t x) {
-  x += 0x9e3779b97f4a7c15ull;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-  return x ^ (x >> 31);
-}
-
 }  // namespace
 
-uint64_t StepSeed(uint64_t campaign_seed, uint32_t step) { return SplitMix64(campaign_seed ^ SplitMix64(step)); }
+uint64_t StepSeed(uint64_t campaign_seed, uint32_t step) {
+  return random::SplitMix64(campaign_seed ^ random::SplitMix64(step));
+}
 
 StatusOr<ViewpointSolution> SolveViewpoint(const robots::MountedRobot& mounted, const CampaignViewpoint& viewpoint) {
   robots::IkSettings settings;

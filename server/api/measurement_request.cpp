@@ -12,11 +12,11 @@ StatusOr<capture::MeasurementSpec> MeasurementFromProto(const v1::ScanRequest& r
   spec.include_rejected = request.include_rejected();
   if (request.has_normal_estimation()) {
     if (!(fields & kFieldEstimatedNormal)) {
-      return InvalidArgument("normal_estimation: set, but fields has no POINT_FIELD_ESTIMATED_NORMAL");
+      return InvalidArgument("normal_estimation", "set, but fields has no POINT_FIELD_ESTIMATED_NORMAL");
     }
     const v1::NormalEstimation& e = request.normal_estimation();
     if (e.k() != 0) {
-      if (e.k() < 3 || e.k() > 128) return InvalidArgument("normal_estimation.k: must be in [3, 128] (0: 16)");
+      if (e.k() < 3 || e.k() > 128) return InvalidArgument("normal_estimation.k", "must be in [3, 128] (0: 16)");
       spec.normal_estimation.k = static_cast<int>(e.k());
     }
     spec.normal_estimation.max_distance = e.max_distance();

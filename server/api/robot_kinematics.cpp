@@ -123,11 +123,15 @@ StatusOr<robots::IkSettings> SettingsFromRequest(const v1::InverseKinematicsRequ
 }
 
 // The solver names the goal "goal"; the request names it by the field that carried it.
-std::string RenameGoal(const std::string& message, const v1::InverseKinematicsRequest& request) {
+Status RenameGoal(const Status& failure, const v1::InverseKinematicsRequest& request) {
   std::string field = "tool_pose";
   if (request.goal_case() == v1::InverseKinematicsRequest::kLookFrom) field = "look_from";
   if (request.goal_case() == v1::InverseKinematicsRequest::kToolPosition) field = "tool_position";
-  return message.starts_with("goal") ? field + message.substr(4) : field + ": " + message;
+  const std::string& named = failure.field();
+  if (named == "goal" || named.starts_with("goal.")) {
+    return Status(failure.code(), field + named.substr(4), failure.text());
+  }
+  return Status(failure.code(), field, failure.message());
 }
 
 // A solution and, with avoid_collisions, what it touches.
@@ -209,7 +213,9 @@ grpc::ServerUnaryReactor* RobotService::InverseKinematics(grpc::CallbackServerCo
                      SolveAvoidingCollisions(context_, target, goal, ToVector(request->seed()), settings,
                                              request->avoid_collisions()));
     const robots::IkAnswer& answer = checked.answer;
-    if (!answer.reached && !request->allow_partial()) return OutOfRange(RenameGoal(answer.failure, *request));
+    if (!answer.reached && !request->allow_partial()) {
+      return RenameGoal(answer.failure, *request).WithCode(StatusCode::kOutOfRange);
+    }
     if (checked.collision && !request->allow_partial()) {
       return FailedPrecondition("avoid_collisions: every solution found in " + std::to_string(checked.checks) +
                                 " tries collides; the last: " + *checked.collision);

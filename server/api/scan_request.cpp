@@ -5,14 +5,12 @@
 #include "api/measurement_request.h"
 #include "api/sensor_request.h"
 #include "api/validate.h"
+#include "vscan/common/chunk_limits.h"
 #include "vscan/common/physical_limits.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::api {
 namespace {
-
-constexpr size_t kMinChunkBytes = 16u << 10;
-constexpr size_t kMaxChunkBytes = 3u << 20;  // stays under gRPC's default 4 MiB receive limit
 
 // The sensor pose of a robot-held scan, from the mount and the commanded joints.
 StatusOr<RobotPlacement> PlaceRobotSensor(const v1::ScanRequest& request, robots::RobotRegistry& robots,
@@ -22,10 +20,10 @@ StatusOr<RobotPlacement> PlaceRobotSensor(const v1::ScanRequest& request, robots
   auto mounted = robots.Mount(pose.mount_id());
   if (!mounted.ok()) {
     const Status& s = mounted.status();
-    return s.message().starts_with("mount_id:") ? Status(s.code(), "robot." + s.message()) : s;
+    return s.field() == "mount_id" ? s.WithFieldPrefix("robot") : s;
   }
   if (mounted->mount.scene_id != request.scene_id()) {
-    return FailedPrecondition("robot.mount_id: mount '" + pose.mount_id() + "' is in scene '" +
+    return FailedPrecondition("robot.mount_id", "mount '" + pose.mount_id() + "' is in scene '" +
                               mounted->mount.scene_id + "', not in scene_id '" + request.scene_id() + "'");
   }
   const Eigen::VectorXd q = Eigen::Map<const Eigen::VectorXd>(pose.joint_positions().data(),
@@ -48,7 +46,7 @@ StatusOr<ScanBackend> BackendFromProto(int backend) {
     case v1::SCAN_BACKEND_RAYCAST: return ScanBackend::kRaycast;
     case v1::SCAN_BACKEND_RASTER_DEPTH: return ScanBackend::kRasterDepth;
     case v1::SCAN_BACKEND_RASTER_COLOUR: return ScanBackend::kRasterColour;
-    default: return InvalidArgument("backend: unknown value " + std::to_string(backend));
+    default: return InvalidArgument("backend", "unknown value " + std::to_string(backend));
   }
 }
 
@@ -57,7 +55,7 @@ StatusOr<raycast::ScanFrame> FrameFromProto(int frame) {
     case v1::FRAME_UNSPECIFIED:
     case v1::FRAME_WORLD: return raycast::ScanFrame::kWorld;
     case v1::FRAME_SENSOR: return raycast::ScanFrame::kSensor;
-    default: return InvalidArgument("frame: unknown value " + std::to_string(frame));
+    default: return InvalidArgument("frame", "unknown value " + std::to_string(frame));
   }
 }
 
@@ -80,7 +78,7 @@ StatusOr<ScanPlan> ParseScanRequest(const v1::ScanRequest& request, const Limits
       break;
     }
     case v1::ScanRequest::PLACEMENT_NOT_SET:
-      return InvalidArgument("pose: required");
+      return InvalidArgument("pose", "required");
   }
 
   ASSIGN_OR_RETURN(plan.backend, BackendFromProto(request.backend()));
@@ -97,14 +95,14 @@ StatusOr<ScanPlan> ParseScanRequest(const v1::ScanRequest& request, const Limits
 
   if (request.chunk_bytes() != 0) {
     if (request.chunk_bytes() < kMinChunkBytes || request.chunk_bytes() > kMaxChunkBytes) {
-      return InvalidArgument("chunk_bytes: must be between " + std::to_string(kMinChunkBytes) + " and " +
+      return InvalidArgument("chunk_bytes", "must be between " + std::to_string(kMinChunkBytes) + " and " +
                              std::to_string(kMaxChunkBytes));
     }
     plan.chunk_bytes = request.chunk_bytes();
   }
 
   if (request.has_table_angle_deg()) {
-    if (!std::isfinite(request.table_angle_deg())) return InvalidArgument("table_angle_deg: NaN or infinite");
+    if (!std::isfinite(request.table_angle_deg())) return InvalidArgument("table_angle_deg", "NaN or infinite");
     plan.table_angle_deg = request.table_angle_deg();
   }
   return plan;

@@ -13,6 +13,7 @@
 #include "robots/robot_registry.h"
 #include "sensor/camera.h"
 #include "sensor/measurement.h"
+#include "vscan/common/chunk_limits.h"
 #include "vscan/common/pose.h"
 #include "vscan/v1/scan.pb.h"
 
@@ -34,7 +35,7 @@ struct ScanPlan {
   Pose3 world_from_sensor = Pose3::Identity();
   raycast::ScanFrame frame = raycast::ScanFrame::kWorld;
   uint32_t fields = kFieldsDefault;
-  size_t chunk_bytes = 1u << 20;
+  size_t chunk_bytes = kDefaultChunkBytes;
   std::optional<double> table_angle_deg;
   // Distortion, noise, artefacts, rejected rays and normal estimation on top of the clean scan
   // (its fields equal the plan's).

@@ -22,8 +22,8 @@ StatusOr<sensor::PinholeCamera> CameraFromProto(const v1::PinholeCamera& p, cons
                                                 const Limits& limits) {
   const double near = p.near() == 0 ? kDefaultNear : p.near();
   const double far = p.far() == 0 ? kDefaultFar : p.far();
-  if (p.width() == 0) return InvalidArgument(field + ".width: must be positive");
-  if (p.height() == 0) return InvalidArgument(field + ".height: must be positive");
+  if (p.width() == 0) return InvalidArgument(FieldPath(field, "width"), "must be positive");
+  if (p.height() == 0) return InvalidArgument(FieldPath(field, "height"), "must be positive");
   sensor::PinholeCamera camera;
   switch (p.projection_case()) {
     case v1::PinholeCamera::kIntrinsics: {
@@ -43,13 +43,13 @@ StatusOr<sensor::PinholeCamera> CameraFromProto(const v1::PinholeCamera& p, cons
     case v1::PinholeCamera::kHorizontalFovDeg: {
       const double fov = p.horizontal_fov_deg();
       if (!std::isfinite(fov) || fov <= 0 || fov >= 180) {
-        return InvalidArgument(field + ".horizontal_fov_deg: must be in (0, 180)");
+        return InvalidArgument(FieldPath(field, "horizontal_fov_deg"), "must be in (0, 180)");
       }
       camera = sensor::CameraFromFov(p.width(), p.height(), fov, near, far);
       break;
     }
     case v1::PinholeCamera::PROJECTION_NOT_SET:
-      return InvalidArgument(field + ": intrinsics or horizontal_fov_deg required");
+      return InvalidArgument(field, "intrinsics or horizontal_fov_deg required");
   }
   if (p.has_lighting()) {
     const auto& l = p.lighting();
@@ -84,7 +84,7 @@ StatusOr<SensorSettings> SensorFromProto(const v1::SensorSpec& spec, const Limit
     case v1::SensorSpec::kStructuredLight: {
       const std::string field = "sensor.structured_light.camera";
       const v1::StructuredLightScanner& sl = spec.structured_light();
-      if (!sl.has_camera()) return InvalidArgument(field + ": required");
+      if (!sl.has_camera()) return InvalidArgument(field, "required");
       ASSIGN_OR_RETURN(settings.camera, CameraFromProto(sl.camera(), field, limits));
       ASSIGN_OR_RETURN(settings.distortion, DistortionFromProto(sl.camera().distortion(), field));
       ASSIGN_OR_RETURN(settings.structured_light, StructuredLightFromProto(sl, settings.camera, limits));
@@ -93,7 +93,7 @@ StatusOr<SensorSettings> SensorFromProto(const v1::SensorSpec& spec, const Limit
     case v1::SensorSpec::kPreset: {
       const sensor::SensorPreset* preset = sensor::FindSensorPreset(spec.preset());
       if (!preset) {
-        return NotFound("sensor.preset: no preset '" + spec.preset() + "' (ListSensorPresets lists them)");
+        return NotFound("sensor.preset", "no preset '" + spec.preset() + "' (ListSensorPresets lists them)");
       }
       settings.camera = preset->camera;
       RETURN_IF_ERROR(sensor::ValidateCamera(settings.camera, "sensor.preset", limits.max_rays_per_scan));
@@ -103,7 +103,7 @@ StatusOr<SensorSettings> SensorFromProto(const v1::SensorSpec& spec, const Limit
     }
     case v1::SensorSpec::KIND_NOT_SET: break;
   }
-  return InvalidArgument("sensor: required (preset, pinhole or structured_light)");
+  return InvalidArgument("sensor", "required (preset, pinhole or structured_light)");
 }
 
 }  // namespace vscan::api

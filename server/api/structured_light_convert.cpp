@@ -14,9 +14,10 @@ constexpr char kField[] = "sensor.structured_light";
 StatusOr<sensor::StructuredLight> StructuredLightFromProto(const v1::StructuredLightScanner& proto,
                                                            const sensor::PinholeCamera& camera, const Limits& limits) {
   const std::string field = kField;
-  if (!proto.has_camera()) return InvalidArgument(field + ".camera: required");
+  if (!proto.has_camera()) return InvalidArgument(FieldPath(field, "camera"), "required");
   if (!proto.has_projector_offset()) {
-    return InvalidArgument(field + ".projector_offset: required (the projector's position in the camera frame)");
+    return InvalidArgument(FieldPath(field, "projector_offset"),
+                           "required (the projector's position in the camera frame)");
   }
   sensor::StructuredLight sl;
   sl.camera = camera;

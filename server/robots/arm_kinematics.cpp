@@ -96,7 +96,9 @@ StatusOr<IkAnswer> SolveInPlacement(const robot::KinematicChain& chain, const Pl
   }
   answer.frame_from_tool = placement.frame_from_base * answer.result.base_from_tool;
   if (!answer.reached) {
-    answer.failure = solved.status().message() + DescribeNearest(chain, goal, answer.result, answer.frame_from_tool);
+    const Status& s = solved.status();
+    const std::string nearest_pose = DescribeNearest(chain, goal, answer.result, answer.frame_from_tool);
+    answer.failure = Status(s.code(), s.field(), std::string(s.text()) + nearest_pose);
   }
   return answer;
 }

@@ -51,7 +51,7 @@ struct IkAnswer {
   Pose3 frame_from_tool = Pose3::Identity();
   bool reached = false;
   double miss_distance = 0.0;  // metres; 0 when reached
-  std::string failure;         // when not reached: what the OUT_OF_RANGE status would say
+  Status failure;              // when not reached: the OUT_OF_RANGE status, naming the goal
 };
 
 // Solves for a goal given in the placement frame. Unreachable goals are not errors here: the

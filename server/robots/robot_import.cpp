@@ -22,10 +22,10 @@ store::JointKind KindOf(robot::JointType type) {
 // The engine names header values by their bare names; the request carries them in its header.
 Status InHeader(const Status& status) {
   for (const char* field : {"urdf_path", "base_link", "tip_link"}) {
-    if (status.message().starts_with(std::string(field) + ":")) {
+    if (status.field() == field) {
       // An unknown link is a bad argument of this request, not a missing resource.
       const StatusCode code = status.code() == StatusCode::kNotFound ? StatusCode::kInvalidArgument : status.code();
-      return Status(code, "header." + status.message());
+      return status.WithFieldPrefix("header").WithCode(code);
     }
   }
   return status;

@@ -97,7 +97,7 @@ StatusOr<ObjectRecord> ReadObject(const Statement& s) {
 }
 
 Status CheckLimit(int limit) {
-  if (limit <= 0) return InvalidArgument("limit: must be positive, got " + std::to_string(limit));
+  if (limit <= 0) return InvalidArgument("limit", "must be positive, got " + std::to_string(limit));
   return Status::Ok();
 }
 
@@ -141,13 +141,13 @@ Status CheckPlacement(sqlite3* db, const std::string& mesh_id, const Eigen::Matr
 
 Status CheckScale(double scale) {
   if (!std::isfinite(scale) || scale <= 0) {
-    return InvalidArgument("scale: must be finite and positive, got " + std::to_string(scale));
+    return InvalidArgument("scale", "must be finite and positive, got " + std::to_string(scale));
   }
   return Status::Ok();
 }
 
 Status ObjectNotFound(const std::string& scene_id, const std::string& object_id) {
-  return NotFound("object_id: no object '" + object_id + "' in scene '" + scene_id + "'");
+  return NotFound("object_id", "no object '" + object_id + "' in scene '" + scene_id + "'");
 }
 
 // Bumps the scene's revision and update time; NOT_FOUND when the scene does not exist.
@@ -250,7 +250,7 @@ StatusOr<std::pair<std::string, bool>> Catalogue::DeleteMesh(const std::string& 
     users.Bind(1, mesh_id);
     ASSIGN_OR_RETURN(bool counted, users.Step());
     if (int64_t count = counted ? users.Int(0) : 0; count > 0) {
-      return FailedPrecondition("mesh_id: mesh '" + mesh_id + "' is used by " + std::to_string(count) +
+      return FailedPrecondition("mesh_id", "mesh '" + mesh_id + "' is used by " + std::to_string(count) +
                                 (count == 1 ? " object" : " objects"));
     }
 

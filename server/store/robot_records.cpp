@@ -102,9 +102,9 @@ StatusOr<std::vector<double>> DecodeDoubles(std::string_view bytes, std::string_
   return values;
 }
 
-Status SceneNotFound(const std::string& scene_id) { return NotFound("scene_id: no scene '" + scene_id + "'"); }
-Status RobotNotFound(const std::string& robot_id) { return NotFound("robot_id: no robot '" + robot_id + "'"); }
-Status MountNotFound(const std::string& mount_id) { return NotFound("mount_id: no mount '" + mount_id + "'"); }
+Status SceneNotFound(const std::string& scene_id) { return NotFound("scene_id", "no scene '" + scene_id + "'"); }
+Status RobotNotFound(const std::string& robot_id) { return NotFound("robot_id", "no robot '" + robot_id + "'"); }
+Status MountNotFound(const std::string& mount_id) { return NotFound("mount_id", "no mount '" + mount_id + "'"); }
 
 StatusOr<uint64_t> BumpSceneRevision(sqlite3* db, const std::string& scene_id) {
   ASSIGN_OR_RETURN(sqlite::Statement s,

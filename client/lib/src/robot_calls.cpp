@@ -72,7 +72,7 @@ StatusOr<std::string> FindUrdf(const std::filesystem::path& dir, const std::vect
     if (IsUrdf(file.path)) urdfs.push_back(file.path);
   }
   if (urdfs.size() == 1) return urdfs.front();
-  return InvalidArgument("urdf_path: required, " + dir.string() + " holds " + std::to_string(urdfs.size()) +
+  return InvalidArgument("urdf_path", "required, " + dir.string() + " holds " + std::to_string(urdfs.size()) +
                          " .urdf files");
 }
 

@@ -102,6 +102,18 @@ const PcdField* Find(const PcdHeader& h, const char* name) {
   return nullptr;
 }
 
+// The three fields of a vector column; present only when all three are.
+struct Vec3Fields {
+  const PcdField* x = nullptr;
+  const PcdField* y = nullptr;
+  const PcdField* z = nullptr;
+  explicit operator bool() const { return x && y && z; }
+};
+
+Vec3Fields FindVec3(const PcdHeader& h, const char* x, const char* y, const char* z) {
+  return {Find(h, x), Find(h, y), Find(h, z)};
+}
+
 }  // namespace
 
 StatusOr<PointCloud> ReadPcd(const std::string& path) {
@@ -112,13 +124,15 @@ StatusOr<PointCloud> ReadPcd(const std::string& path) {
   const PcdField* y = Find(h, "y");
   const PcdField* z = Find(h, "z");
   if (!x || !y || !z) return InvalidArgument(path + ": PCD needs x, y and z fields");
-  const PcdField* nx = Find(h, "normal_x");
-  const PcdField* ny = Find(h, "normal_y");
-  const PcdField* nz = Find(h, "normal_z");
+  const Vec3Fields normal = FindVec3(h, "normal_x", "normal_y", "normal_z");
+  const Vec3Fields clean = FindVec3(h, "clean_x", "clean_y", "clean_z");
+  const Vec3Fields estimated = FindVec3(h, "est_normal_x", "est_normal_y", "est_normal_z");
   const PcdField* range = Find(h, "range");
   const PcdField* intensity = Find(h, "intensity");
   const PcdField* instance = Find(h, "instance");
   const PcdField* pixel = Find(h, "pixel");
+  const PcdField* incidence = Find(h, "incidence");
+  const PcdField* status = Find(h, "status");
 
   const std::streamoff body = in.tellg();
   in.seekg(0, std::ios::end);
@@ -133,22 +147,31 @@ StatusOr<PointCloud> ReadPcd(const std::string& path) {
 
   PointCloud cloud;
   cloud.fields = kFieldPosition;
-  if (nx && ny && nz) cloud.fields |= kFieldNormal;
+  if (normal) cloud.fields |= kFieldNormal;
   if (range) cloud.fields |= kFieldRange;
   if (intensity) cloud.fields |= kFieldIntensity;
   if (instance) cloud.fields |= kFieldInstanceId;
   if (pixel) cloud.fields |= kFieldPixel;
+  if (clean) cloud.fields |= kFieldCleanPosition;
+  if (incidence) cloud.fields |= kFieldIncidence;
+  if (status) cloud.fields |= kFieldStatus;
+  if (estimated) cloud.fields |= kFieldEstimatedNormal;
   cloud.Resize(h.points);
   for (size_t i = 0; i < h.points; ++i) {
     const char* rec = data.data() + i * h.stride;
-    const auto f = [&](const PcdField* field) { return static_cast<float>(ReadScalar(rec + field->offset, *field)); };
-    const auto u = [&](const PcdField* field) { return static_cast<uint32_t>(ReadScalar(rec + field->offset, *field)); };
+    const auto f = [&](const PcdField* p) { return static_cast<float>(ReadScalar(rec + p->offset, *p)); };
+    const auto u = [&](const PcdField* p) { return static_cast<uint32_t>(ReadScalar(rec + p->offset, *p)); };
+    const auto v = [&](const Vec3Fields& v3) { return Eigen::Vector3f(f(v3.x), f(v3.y), f(v3.z)); };
     cloud.positions[i] = {f(x), f(y), f(z)};
-    if (cloud.Has(kFieldNormal)) cloud.normals[i] = {f(nx), f(ny), f(nz)};
+    if (normal) cloud.normals[i] = v(normal);
     if (range) cloud.ranges[i] = f(range);
     if (intensity) cloud.intensities[i] = f(intensity);
     if (instance) cloud.instance_ids[i] = u(instance);
     if (pixel) cloud.pixels[i] = u(pixel);
+    if (clean) cloud.clean_positions[i] = v(clean);
+    if (incidence) cloud.incidence_angles[i] = f(incidence);
+    if (status) cloud.statuses[i] = static_cast<uint8_t>(u(status));
+    if (estimated) cloud.estimated_normals[i] = v(estimated);
   }
   return cloud;
 }

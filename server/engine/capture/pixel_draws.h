@@ -4,28 +4,17 @@
 
 #include <cstdint>
 
+#include "random/seeded_draws.h"
+
 namespace vscan::capture {
 
 enum class DrawStream : uint64_t { kOutlierPick = 1, kOutlierRay = 2, kFlyingPixel = 3 };
 
-class PixelDraws {
+class PixelDraws : public random::KeyedDraws {
  public:
   PixelDraws(uint64_t seed, DrawStream stream, uint64_t pixel)
-      : base_(Mix(Mix(seed ^ (static_cast<uint64_t>(stream) * 0xd1b54a32d192ed03ull)) ^ pixel)) {}
-
-  // In [0, 1).
-  double Uniform() { return static_cast<double>(Mix(base_ + counter_++) >> 11) * 0x1.0p-53; }
-
- private:
-  static uint64_t Mix(uint64_t x) {
-    x += 0x9e3779b97f4a7c15ull;
-    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-    return x ^ (x >> 31);
-  }
-
-  uint64_t base_;
-  uint64_t counter_ = 0;
+      : KeyedDraws(random::SplitMix64(
+            random::SplitMix64(seed ^ (static_cast<uint64_t>(stream) * 0xd1b54a32d192ed03ull)) ^ pixel)) {}
 };
 
 }  // namespace vscan::capture

@@ -34,38 +34,47 @@ std::string Join(const std::vector<std::string_view>& parts, size_t first) {
   return out;
 }
 
-// Normalises a mesh path; an escape names the filename as the user wrote it.
-StatusOr<std::string> NormalizeMeshPath(std::string_view path, std::string_view filename,
-                                        std::string_view field) {
-  StatusOr<std::string> normalized = NormalizeBundlePath(path, field);
-  if (normalized.ok()) return normalized;
-  const bool escapes = normalized.status().message().find("escapes") != std::string::npos;
-  return InvalidArgument(std::string(field) + ": mesh " + Quoted(filename) +
-                         (escapes ? " escapes the bundle" : " is not a valid bundle path"));
-}
-
-}  // namespace
-
-StatusOr<std::string> NormalizeBundlePath(std::string_view path, std::string_view field) {
+// Sets *escapes when the path climbs above the bundle root, so callers need not read the message.
+StatusOr<std::string> Normalize(std::string_view path, std::string_view field, bool* escapes) {
   const std::string f(field);
-  if (path.empty()) return InvalidArgument(f + ": empty path");
-  if (path.find('\0') != std::string_view::npos) return InvalidArgument(f + ": path contains a NUL byte");
+  if (path.empty()) return InvalidArgument(f, "empty path");
+  if (path.find('\0') != std::string_view::npos) return InvalidArgument(f, "path contains a NUL byte");
   if (path.find('\\') != std::string_view::npos) {
-    return InvalidArgument(f + ": " + Quoted(path) + " contains a backslash; use '/' separators");
+    return InvalidArgument(f, Quoted(path) + " contains a backslash; use '/' separators");
   }
-  if (path.front() == '/') return InvalidArgument(f + ": " + Quoted(path) + " is absolute; paths are relative to the bundle root");
+  if (path.front() == '/') return InvalidArgument(f, Quoted(path) + " is absolute; paths are relative to the bundle root");
   std::vector<std::string_view> kept;
   for (std::string_view part : SplitComponents(path)) {
     if (part.empty() || part == ".") continue;
     if (part == "..") {
-      if (kept.empty()) return InvalidArgument(f + ": " + Quoted(path) + " escapes the bundle root");
+      if (kept.empty()) {
+        *escapes = true;
+        return InvalidArgument(f, Quoted(path) + " escapes the bundle root");
+      }
       kept.pop_back();
       continue;
     }
     kept.push_back(part);
   }
-  if (kept.empty()) return InvalidArgument(f + ": " + Quoted(path) + " names the bundle root, not a file");
+  if (kept.empty()) return InvalidArgument(f, Quoted(path) + " names the bundle root, not a file");
   return Join(kept, 0);
+}
+
+// Normalises a mesh path; an escape names the filename as the user wrote it.
+StatusOr<std::string> NormalizeMeshPath(std::string_view path, std::string_view filename,
+                                        std::string_view field) {
+  bool escapes = false;
+  StatusOr<std::string> normalized = Normalize(path, field, &escapes);
+  if (normalized.ok()) return normalized;
+  return InvalidArgument(std::string(field), "mesh " + Quoted(filename) +
+                                                 (escapes ? " escapes the bundle" : " is not a valid bundle path"));
+}
+
+}  // namespace
+
+StatusOr<std::string> NormalizeBundlePath(std::string_view path, std::string_view field) {
+  bool escapes = false;
+  return Normalize(path, field, &escapes);
 }
 
 std::string ParentDirectory(std::string_view normalized_path) {
@@ -76,7 +85,7 @@ std::string ParentDirectory(std::string_view normalized_path) {
 StatusOr<MeshLocation> ResolveMeshReference(std::string_view filename, std::string_view urdf_dir,
                                             const BundleFiles& files, std::string_view field) {
   const std::string f(field);
-  if (filename.empty()) return InvalidArgument(f + ": empty mesh filename");
+  if (filename.empty()) return InvalidArgument(f, "empty mesh filename");
   MeshLocation location;
   if (filename.substr(0, kPackageScheme.size()) == kPackageScheme) {
     ASSIGN_OR_RETURN(std::string full, NormalizeMeshPath(filename.substr(kPackageScheme.size()), filename, field));
@@ -89,14 +98,14 @@ StatusOr<MeshLocation> ResolveMeshReference(std::string_view filename, std::stri
     return location;
   }
   if (filename.substr(0, 7) == "file://") {
-    return InvalidArgument(f + ": mesh " + Quoted(filename) +
+    return InvalidArgument(f, "mesh " + Quoted(filename) +
                            " is a file:// URI; bundle meshes must be relative paths or package:// URIs");
   }
   if (filename.find("://") != std::string_view::npos) {
-    return InvalidArgument(f + ": mesh " + Quoted(filename) + " has an unsupported URI scheme");
+    return InvalidArgument(f, "mesh " + Quoted(filename) + " has an unsupported URI scheme");
   }
   if (filename.front() == '/') {
-    return InvalidArgument(f + ": mesh " + Quoted(filename) + " is an absolute path and escapes the bundle");
+    return InvalidArgument(f, "mesh " + Quoted(filename) + " is an absolute path and escapes the bundle");
   }
   const std::string joined = urdf_dir.empty() ? std::string(filename) : std::string(urdf_dir) + "/" + std::string(filename);
   ASSIGN_OR_RETURN(location.bundle_path, NormalizeMeshPath(joined, filename, field));

@@ -8,13 +8,13 @@ namespace vscan::robot {
 
 StatusOr<Eigen::VectorXd> AddEncoderNoise(const Eigen::VectorXd& q, const Eigen::VectorXd& sigma, uint64_t seed) {
   if (sigma.size() != q.size()) {
-    return InvalidArgument("encoder_sigma: expected " + std::to_string(q.size()) + " values (one per joint), got " +
+    return InvalidArgument("encoder_sigma", "expected " + std::to_string(q.size()) + " values (one per joint), got " +
                            std::to_string(sigma.size()));
   }
-  if (!q.allFinite()) return InvalidArgument("joint_positions: NaN or infinite value");
+  if (!q.allFinite()) return InvalidArgument("joint_positions", "NaN or infinite value");
   for (int i = 0; i < sigma.size(); ++i) {
     if (!std::isfinite(sigma[i]) || sigma[i] < 0) {
-      return InvalidArgument("encoder_sigma[" + std::to_string(i) + "]: must be finite and >= 0");
+      return InvalidArgument("encoder_sigma[" + std::to_string(i) + "]", "must be finite and >= 0");
     }
   }
   std::mt19937_64 rng(seed);

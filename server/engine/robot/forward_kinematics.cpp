@@ -20,15 +20,15 @@ std::string FormatDouble(double v) {
 Status ValidateJointPositions(const KinematicChain& chain, const Eigen::VectorXd& q, std::string_view field) {
   const std::string f(field);
   if (q.size() != chain.dof()) {
-    return InvalidArgument(f + ": expected " + std::to_string(chain.dof()) + " values (one per joint of " +
+    return InvalidArgument(f, "expected " + std::to_string(chain.dof()) + " values (one per joint of " +
                            chain.base_link() + " -> " + chain.tip_link() + "), got " + std::to_string(q.size()));
   }
   for (int i = 0; i < q.size(); ++i) {
     const std::string fi = f + "[" + std::to_string(i) + "]";
-    if (!std::isfinite(q[i])) return InvalidArgument(fi + ": NaN or infinite value");
+    if (!std::isfinite(q[i])) return InvalidArgument(fi, "NaN or infinite value");
     const ChainJoint& j = chain.joints()[i];
     if (q[i] < j.lower || q[i] > j.upper) {
-      return OutOfRange(fi + ": " + FormatDouble(q[i]) + " outside [" + FormatDouble(j.lower) + ", " +
+      return OutOfRange(fi, FormatDouble(q[i]) + " outside [" + FormatDouble(j.lower) + ", " +
                         FormatDouble(j.upper) + "] of joint '" + j.name + "'");
     }
   }

@@ -57,11 +57,11 @@ bool WithinTolerance(const IkResult& result, double position_tolerance, double o
 
 Status NotReached(const IkResult& best, const char* solver, IkResult* nearest) {
   std::ostringstream out;
-  out << "goal: " << solver << " did not reach the goal within tolerance (" << best.iterations << " iterations, "
+  out << solver << " did not reach the goal within tolerance (" << best.iterations << " iterations, "
       << best.restarts << " restarts, " << best.elapsed_seconds * 1e3 << " ms); the nearest pose misses by "
       << best.position_error << " m and " << best.orientation_error << " rad";
   if (nearest != nullptr) *nearest = best;
-  return OutOfRange(out.str());
+  return OutOfRange("goal", out.str());
 }
 
 }  // namespace vscan::robot

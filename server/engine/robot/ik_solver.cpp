@@ -10,6 +10,7 @@
 
 #include "robot/ik_common.h"
 #include "robot/kinematics_kernel.h"
+#include "random/seeded_draws.h"
 
 namespace vscan::robot {
 namespace {
@@ -26,21 +27,6 @@ constexpr double kProgress = 0.99;
 constexpr int kStallIterations = 5;
 constexpr int kAttemptIterations = 100;
 constexpr int kClockStride = 4;
-
-// Deterministic and cheap; restarts need no statistical quality.
-class SplitMix64 {
- public:
-  explicit SplitMix64(uint64_t seed) : state_(seed) {}
-  double Uniform01() {
-    uint64_t z = (state_ += 0x9e3779b97f4a7c15ull);
-    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
-    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
-    return static_cast<double>((z ^ (z >> 31)) >> 11) * 0x1.0p-53;
-  }
-
- private:
-  uint64_t state_;
-};
 
 class LevenbergMarquardt {
  public:
@@ -168,14 +154,14 @@ class LevenbergMarquardt {
   void Randomize(JointBuffer& q) {
     for (int i = 0; i < q.size(); ++i) {
       const ChainJoint& j = chain_.joints()[i];
-      q[i] = j.sample_lower + (j.sample_upper - j.sample_lower) * rng_.Uniform01();
+      q[i] = j.sample_lower + (j.sample_upper - j.sample_lower) * rng_.Uniform();
     }
   }
 
   const KinematicChain& chain_;
   const IkGoal& goal_;
   const IkOptions& options_;
-  SplitMix64 rng_;
+  random::SplitMix64Stream rng_;  // deterministic and cheap; restarts need no more
   JacobianBuffer J_;
   int iterations_ = 0;
   int restarts_ = 0;

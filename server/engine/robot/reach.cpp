@@ -42,9 +42,9 @@ Status CheckWithinReach(const KinematicChain& chain, const Eigen::Vector3d& base
   if (miss_distance != nullptr) *miss_distance = miss;
   if (miss <= 0.0) return Status::Ok();
   std::ostringstream out;
-  out << field << ": unreachable, " << distance << " m from the first joint of " << chain.base_link() << " -> "
+  out << "unreachable, " << distance << " m from the first joint of " << chain.base_link() << " -> "
       << chain.tip_link() << " whose reach is at most " << bound << " m; misses by " << miss << " m";
-  return OutOfRange(out.str());
+  return OutOfRange(std::string(field), out.str());
 }
 
 }  // namespace vscan::robot

@@ -13,13 +13,13 @@ std::string FileField(size_t i) { return "files[" + std::to_string(i) + "].path"
 
 Status CheckLimits(const std::vector<BundleFile>& files, const BundleLimits& limits) {
   if (files.size() > limits.max_files) {
-    return ResourceExhausted("files: " + std::to_string(files.size()) + " files exceed the limit of " +
+    return ResourceExhausted("files", std::to_string(files.size()) + " files exceed the limit of " +
                              std::to_string(limits.max_files));
   }
   uint64_t total = 0;
   for (const BundleFile& file : files) total += file.bytes.size() + file.path.size();
   if (total > limits.max_total_bytes) {
-    return ResourceExhausted("files: bundle of " + std::to_string(total) + " bytes exceeds the limit of " +
+    return ResourceExhausted("files", "bundle of " + std::to_string(total) + " bytes exceeds the limit of " +
                              std::to_string(limits.max_total_bytes));
   }
   return Status::Ok();
@@ -83,7 +83,7 @@ StatusOr<UrdfBundle> LoadUrdfBundle(std::string_view urdf_path, std::vector<Bund
   ASSIGN_OR_RETURN(bundle.files, NormalizeFiles(std::move(files)));
   const auto urdf_file = bundle.files.find(bundle.urdf_path);
   if (urdf_file == bundle.files.end()) {
-    return InvalidArgument("urdf_path: '" + bundle.urdf_path + "' is not among the bundle's files");
+    return InvalidArgument("urdf_path", "'" + bundle.urdf_path + "' is not among the bundle's files");
   }
   ASSIGN_OR_RETURN(bundle.model, ParseUrdfXml(urdf_file->second));
   RETURN_IF_ERROR(CheckUrdfTree(*bundle.model));

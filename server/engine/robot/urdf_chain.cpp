@@ -13,7 +13,7 @@ using LinkPtr = urdf::LinkConstSharedPtr;
 
 StatusOr<LinkPtr> FindLink(const urdf::ModelInterface& model, const std::string& name, const char* field) {
   LinkPtr link = model.getLink(name);
-  if (link == nullptr) return NotFound(std::string(field) + ": no link '" + name + "'");
+  if (link == nullptr) return NotFound(std::string(field), "no link '" + name + "'");
   return link;
 }
 
@@ -49,7 +49,7 @@ StatusOr<LinkPtr> DefaultTip(const LinkPtr& base) {
   std::sort(deepest.begin(), deepest.end(), [](const LinkPtr& a, const LinkPtr& b) { return a->name < b->name; });
   std::string names;
   for (const LinkPtr& link : deepest) names += (names.empty() ? "'" : ", '") + link->name + "'";
-  return InvalidArgument("tip_link: ambiguous, the deepest links below '" + base->name + "' are " + names +
+  return InvalidArgument("tip_link", "ambiguous, the deepest links below '" + base->name + "' are " + names +
                          "; name one as tip_link");
 }
 
@@ -71,7 +71,7 @@ StatusOr<ChainSegment> ToSegment(const urdf::Joint& joint) {
   s.axis = Eigen::Vector3d(joint.axis.x, joint.axis.y, joint.axis.z);
   const std::string field = "joints['" + joint.name + "']";
   if (joint.mimic != nullptr && joint.type != urdf::Joint::FIXED) {
-    return InvalidArgument(field + ": mimic joints inside the chain are not supported");
+    return InvalidArgument(field, "mimic joints inside the chain are not supported");
   }
   switch (joint.type) {
     case urdf::Joint::FIXED: s.type = JointType::kFixed; return s;
@@ -82,9 +82,9 @@ StatusOr<ChainSegment> ToSegment(const urdf::Joint& joint) {
       return s;
     case urdf::Joint::REVOLUTE: s.type = JointType::kRevolute; break;
     case urdf::Joint::PRISMATIC: s.type = JointType::kPrismatic; break;
-    default: return InvalidArgument(field + ": floating, planar and unknown joints are not supported in a chain");
+    default: return InvalidArgument(field, "floating, planar and unknown joints are not supported in a chain");
   }
-  if (joint.limits == nullptr) return InvalidArgument(field + ": a " + JointTypeName(s.type) + " joint needs limits");
+  if (joint.limits == nullptr) return InvalidArgument(field, std::string("a ") + JointTypeName(s.type) + " joint needs limits");
   s.lower = joint.limits->lower;
   s.upper = joint.limits->upper;
   return s;
@@ -94,7 +94,7 @@ StatusOr<ChainSegment> ToSegment(const urdf::Joint& joint) {
 
 StatusOr<KinematicChain> BuildChain(const urdf::ModelInterface& model, const ChainSpec& spec) {
   LinkPtr root = model.getRoot();
-  if (root == nullptr) return InvalidArgument("urdf: model has no root link");
+  if (root == nullptr) return InvalidArgument("urdf", "model has no root link");
   LinkPtr base = root;
   if (!spec.base_link.empty()) {
     ASSIGN_OR_RETURN(base, FindLink(model, spec.base_link, "base_link"));
@@ -109,7 +109,7 @@ StatusOr<KinematicChain> BuildChain(const urdf::ModelInterface& model, const Cha
   std::set<const urdf::Link*> seen;
   for (LinkPtr link = tip; link != base; link = link->getParent()) {
     if (link->parent_joint == nullptr || link->getParent() == nullptr) {
-      return InvalidArgument("tip_link: '" + tip->name + "' is not below base_link '" + base->name + "'");
+      return InvalidArgument("tip_link", "'" + tip->name + "' is not below base_link '" + base->name + "'");
     }
     // urdfdom's parent pointers can loop when the joints do.
     if (!seen.insert(link.get()).second) {

@@ -18,13 +18,13 @@ Status ValidateLighting(const Lighting& l, std::string_view field) {
   const std::string path = FieldPath(field, "lighting");
   if (!std::isfinite(l.power) || !std::isfinite(l.constant) || !std::isfinite(l.linear) ||
       !std::isfinite(l.quadratic)) {
-    return InvalidArgument(path + ": NaN or infinite value");
+    return InvalidArgument(path, "NaN or infinite value");
   }
   if (l.power < 0 || l.constant < 0 || l.linear < 0 || l.quadratic < 0) {
-    return InvalidArgument(path + ": power and attenuation terms must be non-negative");
+    return InvalidArgument(path, "power and attenuation terms must be non-negative");
   }
   if (l.constant + l.linear + l.quadratic <= 0) {
-    return InvalidArgument(path + ": constant + linear + quadratic attenuation must be positive");
+    return InvalidArgument(path, "constant + linear + quadratic attenuation must be positive");
   }
   // Intensities are single precision: bounded terms keep power / attenuation finite at any range.
   const auto in_range = [](double term) { return term == 0 || (term >= kMinLightingTerm && term <= kMaxLightingTerm); };
@@ -73,13 +73,13 @@ Status ValidateIntrinsics(const PinholeCamera& camera, std::string_view field) {
 }
 
 Status ValidateCamera(const PinholeCamera& camera, std::string_view field, uint64_t max_rays) {
-  if (camera.width == 0) return InvalidArgument(FieldPath(field, "width") + ": must be positive");
-  if (camera.height == 0) return InvalidArgument(FieldPath(field, "height") + ": must be positive");
+  if (camera.width == 0) return InvalidArgument(FieldPath(field, "width"), "must be positive");
+  if (camera.height == 0) return InvalidArgument(FieldPath(field, "height"), "must be positive");
   if (camera.width > kMaxSide) {
-    return ResourceExhausted(FieldPath(field, "width") + ": at most " + std::to_string(kMaxSide) + " pixels");
+    return ResourceExhausted(FieldPath(field, "width"), "at most " + std::to_string(kMaxSide) + " pixels");
   }
   if (camera.height > kMaxSide) {
-    return ResourceExhausted(FieldPath(field, "height") + ": at most " + std::to_string(kMaxSide) + " pixels");
+    return ResourceExhausted(FieldPath(field, "height"), "at most " + std::to_string(kMaxSide) + " pixels");
   }
   if (camera.pixel_count() > max_rays) {
     return ResourceExhausted(FieldPath(field, "width") + " x " + FieldPath(field, "height") + ": " +

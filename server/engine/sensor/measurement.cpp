@@ -6,38 +6,34 @@
 #include <string>
 #include <vector>
 
+#include "random/seeded_draws.h"
+
 namespace vscan::sensor {
 namespace {
 
 Status CheckFinite(double value, std::string_view field, std::string_view member) {
-  if (!std::isfinite(value)) return InvalidArgument(FieldPath(field, member) + ": NaN or infinite value");
+  if (!std::isfinite(value)) return InvalidArgument(FieldPath(field, member), "NaN or infinite value");
   return Status::Ok();
 }
 
 Status CheckNonNegative(double value, std::string_view field, std::string_view member) {
   RETURN_IF_ERROR(CheckFinite(value, field, member));
-  if (value < 0) return InvalidArgument(FieldPath(field, member) + ": must be >= 0");
+  if (value < 0) return InvalidArgument(FieldPath(field, member), "must be >= 0");
   return Status::Ok();
-}
-
-uint64_t SplitMix64(uint64_t x) {
-  x += 0x9e3779b97f4a7c15ull;
-  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-  return x ^ (x >> 31);
 }
 
 // Counter-based normal deviates for one point: draw k depends only on (seed, key, k).
 class PointNormals {
  public:
-  PointNormals(uint64_t seed, uint64_t key) : base_(SplitMix64(SplitMix64(seed) ^ key)) {}
+  PointNormals(uint64_t seed, uint64_t key) : draws_(random::SplitMix64(random::SplitMix64(seed) ^ key)) {}
 
   double Next() {
     if (has_spare_) {
       has_spare_ = false;
       return radius_ * std::sin(angle_);  // the pair's second deviate, only paid for when asked for
     }
-    const double u1 = Uniform(), u2 = Uniform();
+    // In (0, 1], so log() stays finite.
+    const double u1 = draws_.UniformAboveZero(), u2 = draws_.UniformAboveZero();
     radius_ = std::sqrt(-2.0 * std::log(u1));
     angle_ = 2.0 * std::numbers::pi * u2;
     has_spare_ = true;
@@ -45,11 +41,7 @@ class PointNormals {
   }
 
  private:
-  // In (0, 1], so log() stays finite.
-  double Uniform() { return static_cast<double>((SplitMix64(base_ + counter_++) >> 11) + 1) * 0x1.0p-53; }
-
-  uint64_t base_;
-  uint64_t counter_ = 0;
+  random::KeyedDraws draws_;
   double radius_ = 0, angle_ = 0;
   bool has_spare_ = false;
 };

@@ -17,7 +17,7 @@ constexpr double kMaxDisparityStep = 1e3;  // pixels
 
 Status ValidateFov(double fov, std::string_view field, std::string_view member) {
   if (!std::isfinite(fov) || fov < 0 || fov >= 180) {
-    return InvalidArgument(FieldPath(field, member) + ": must be 0 (the camera's) or in (0, 180) degrees");
+    return InvalidArgument(FieldPath(field, member), "must be 0 (the camera's) or in (0, 180) degrees");
   }
   return Status::Ok();
 }
@@ -38,15 +38,15 @@ Status ValidateStructuredLight(const StructuredLight& sl, std::string_view field
   RETURN_IF_ERROR(ValidateCamera(sl.camera, FieldPath(field, "camera"), std::numeric_limits<uint64_t>::max()));
   const Eigen::Vector3d& o = sl.projector_offset;
   const std::string offset = FieldPath(field, "projector_offset");
-  if (!AllFinite(o)) return InvalidArgument(offset + ": NaN or infinite value");
-  if (o.norm() > kMaxOffset) return InvalidArgument(offset + ": at most 10 m from the camera");
+  if (!AllFinite(o)) return InvalidArgument(offset, "NaN or infinite value");
+  if (o.norm() > kMaxOffset) return InvalidArgument(offset, "at most 10 m from the camera");
   if (!(o.head<2>().norm() > 0)) {
-    return InvalidArgument(offset + ": must have a component across the camera axis (x or y); the baseline is zero");
+    return InvalidArgument(offset, "must have a component across the camera axis (x or y); the baseline is zero");
   }
   RETURN_IF_ERROR(ValidateFov(sl.projector_hfov_deg, field, "projector_horizontal_fov_deg"));
   RETURN_IF_ERROR(ValidateFov(sl.projector_vfov_deg, field, "projector_vertical_fov_deg"));
   if (!std::isfinite(sl.disparity_step_px) || sl.disparity_step_px < 0 || sl.disparity_step_px > kMaxDisparityStep) {
-    return InvalidArgument(FieldPath(field, "disparity_step_px") + ": must be in [0, 1000] pixels");
+    return InvalidArgument(FieldPath(field, "disparity_step_px"), "must be in [0, 1000] pixels");
   }
   const double zc = sl.convergence_distance;
   if (!std::isfinite(zc) || zc < 0 || zc > kMaxFarM) {

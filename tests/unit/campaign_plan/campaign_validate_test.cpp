@@ -7,7 +7,7 @@
 #include <memory>
 #include <string>
 
-#include "../store/temp_dir.h"
+#include "vscan_test/temp_dir.h"
 #include "api/campaign_spec.h"
 #include "robot_fixtures.h"
 #include "vscan/common/proto_convert.h"
@@ -82,7 +82,7 @@ class CampaignValidateTest : public ::testing::Test {
 
   StatusOr<CampaignPlan> DryRun(const v1::CampaignSpec& spec) { return ValidateCampaign(spec, *context_, true); }
 
-  store::TempDir dir_;
+  test::TempDir dir_;
   std::unique_ptr<store::Catalogue> catalogue_;
   std::unique_ptr<store::RobotCatalogue> robot_catalogue_;
   std::unique_ptr<store::BlobStore> blobs_;

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "../raycast/test_meshes.h"
+#include "vscan_test/meshes.h"
 
 namespace vscan::capture::test {
 namespace {
@@ -25,18 +25,7 @@ raycast::SceneInstance Sphere(const Eigen::Vector3d& centre, double radius) {
 }
 
 raycast::SceneInstance Box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
-  TriangleMesh mesh;
-  for (int i = 0; i < 8; ++i) {
-    mesh.vertices.emplace_back(static_cast<float>(i & 1 ? hi.x() : lo.x()), static_cast<float>(i & 2 ? hi.y() : lo.y()),
-                               static_cast<float>(i & 4 ? hi.z() : lo.z()));
-  }
-  // Two triangles per face (winding does not matter to the scanner).
-  const uint32_t faces[6][4] = {{0, 1, 3, 2}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 3, 7, 6}, {0, 2, 6, 4}, {1, 3, 7, 5}};
-  for (const auto& f : faces) {
-    mesh.triangles.push_back({f[0], f[1], f[2]});
-    mesh.triangles.push_back({f[0], f[2], f[3]});
-  }
-  return Instance(std::move(mesh), kBoxId);
+  return Instance(vscan::test::MakeBox(lo, hi), kBoxId);
 }
 
 std::shared_ptr<const raycast::RaycastScene> Build(std::vector<raycast::SceneInstance> instances) {

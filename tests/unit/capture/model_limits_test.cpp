@@ -9,9 +9,9 @@
 
 #include <Eigen/Geometry>
 
-#include "../raycast/test_meshes.h"
 #include "capture/measure_scan.h"
 #include "capture_scenes.h"
+#include "vscan_test/meshes.h"
 
 namespace vscan::capture {
 namespace {

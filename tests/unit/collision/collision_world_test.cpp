@@ -2,19 +2,15 @@
 
 #include <gtest/gtest.h>
 
+#include "vscan_test/meshes.h"
+
 namespace vscan::collision {
 namespace {
 
-// An axis-aligned box centred on the origin, 12 outward triangles.
+// An axis-aligned box centred on the origin.
 std::shared_ptr<const TriangleMesh> Box(double sx, double sy, double sz) {
-  auto mesh = std::make_shared<TriangleMesh>();
-  for (int i = 0; i < 8; ++i) {
-    mesh->vertices.emplace_back(float((i & 1 ? 0.5 : -0.5) * sx), float((i & 2 ? 0.5 : -0.5) * sy),
-                                float((i & 4 ? 0.5 : -0.5) * sz));
-  }
-  mesh->triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
-                     {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
-  return mesh;
+  const Eigen::Vector3d half(0.5 * sx, 0.5 * sy, 0.5 * sz);
+  return vscan::test::Share(vscan::test::MakeBox(-half, half));
 }
 
 Pose3 At(double x, double y, double z) {

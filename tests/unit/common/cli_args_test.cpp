@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "vscan/common/chunk_limits.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::cli {
@@ -204,6 +205,26 @@ TEST(CliArgs, ScanRequestRejections) {
   ScanArgs hfov = base;
   hfov.hfov_deg = 180;
   ExpectInvalidNaming(BuildScanRequest(hfov).status(), "--hfov");
+}
+
+// --chunk-kib accepts exactly the chunk sizes the server accepts.
+TEST(CliArgs, ChunkKibMatchesTheServerLimits) {
+  ScanArgs args;
+  args.scene_id = "s";
+  args.eye = "1,0,0";
+  args.target = "0,0,0";
+  for (const size_t bytes : {kMinChunkBytes, kDefaultChunkBytes, kMaxChunkBytes}) {
+    args.chunk_kib = static_cast<uint32_t>(bytes / 1024);
+    const auto request = BuildScanRequest(args);
+    ASSERT_TRUE(request.ok()) << request.status().ToString();
+    EXPECT_EQ(request->chunk_bytes(), bytes);
+  }
+  for (const size_t bytes : {kMinChunkBytes - 1024, kMaxChunkBytes + 1024}) {
+    args.chunk_kib = static_cast<uint32_t>(bytes / 1024);
+    const Status s = BuildScanRequest(args).status();
+    ExpectInvalidNaming(s, "--chunk-kib");
+    EXPECT_EQ(s.field(), "--chunk-kib");
+  }
 }
 
 }  // namespace

@@ -9,8 +9,13 @@
 
 #include <unistd.h>
 
+#include "vscan_test/clouds.h"
+
 namespace vscan {
 namespace {
+
+using test::ExpectSameCloud;
+using test::MakeCloud;
 
 namespace fs = std::filesystem;
 
@@ -27,38 +32,11 @@ class CloudIoTest : public ::testing::Test {
   fs::path dir_;
 };
 
-PointCloud MakeCloud(uint32_t fields, size_t n) {
-  PointCloud c;
-  c.fields = fields;
-  c.Resize(n);
-  for (size_t i = 0; i < n; ++i) {
-    const float f = static_cast<float>(i);
-    c.positions[i] = {f * 0.5f, -f, 1e-3f * f + 0.125f};
-    if (c.Has(kFieldNormal)) c.normals[i] = Eigen::Vector3f(1, f, -2).normalized();
-    if (c.Has(kFieldRange)) c.ranges[i] = 1.0f / (f + 1);
-    if (c.Has(kFieldIntensity)) c.intensities[i] = 0.25f * f;
-    if (c.Has(kFieldInstanceId)) c.instance_ids[i] = static_cast<uint32_t>(i % 7);
-    if (c.Has(kFieldPixel)) c.pixels[i] = 0xFFFFFF00u + static_cast<uint32_t>(i % 256);
-  }
-  return c;
-}
-
 std::string ReadAll(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   std::ostringstream s;
   s << in.rdbuf();
   return s.str();
-}
-
-void ExpectSame(const PointCloud& a, const PointCloud& b) {
-  EXPECT_EQ(a.fields, b.fields);
-  ASSERT_EQ(a.size(), b.size());
-  EXPECT_EQ(a.positions, b.positions);
-  EXPECT_EQ(a.normals, b.normals);
-  EXPECT_EQ(a.ranges, b.ranges);
-  EXPECT_EQ(a.intensities, b.intensities);
-  EXPECT_EQ(a.instance_ids, b.instance_ids);
-  EXPECT_EQ(a.pixels, b.pixels);
 }
 
 TEST_F(CloudIoTest, PlyRoundTripAllFields) {
@@ -67,7 +45,7 @@ TEST_F(CloudIoTest, PlyRoundTripAllFields) {
   ASSERT_TRUE(WritePly(cloud, Path("all.ply")).ok());
   const auto back = ReadPly(Path("all.ply"));
   ASSERT_TRUE(back.ok()) << back.status().ToString();
-  ExpectSame(cloud, *back);
+  ExpectSameCloud(cloud, *back);
 }
 
 TEST_F(CloudIoTest, PlyRoundTripPositionsOnlyAndEmpty) {
@@ -76,7 +54,7 @@ TEST_F(CloudIoTest, PlyRoundTripPositionsOnlyAndEmpty) {
     ASSERT_TRUE(WritePly(cloud, Path("p.ply")).ok());
     const auto back = ReadPly(Path("p.ply"));
     ASSERT_TRUE(back.ok()) << back.status().ToString();
-    ExpectSame(cloud, *back);
+    ExpectSameCloud(cloud, *back);
   }
 }
 

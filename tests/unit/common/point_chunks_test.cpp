@@ -4,24 +4,12 @@
 
 #include <cstring>
 
+#include "vscan_test/clouds.h"
+
 namespace vscan {
 namespace {
 
-PointCloud MakeCloud(uint32_t fields, size_t n) {
-  PointCloud c;
-  c.fields = fields;
-  c.Resize(n);
-  for (size_t i = 0; i < n; ++i) {
-    const float f = static_cast<float>(i);
-    c.positions[i] = {f, 2 * f, 3 * f};
-    if (c.Has(kFieldNormal)) c.normals[i] = {0, 0, f};
-    if (c.Has(kFieldRange)) c.ranges[i] = f + 0.5f;
-    if (c.Has(kFieldIntensity)) c.intensities[i] = f * 0.25f;
-    if (c.Has(kFieldInstanceId)) c.instance_ids[i] = static_cast<uint32_t>(i % 3);
-    if (c.Has(kFieldPixel)) c.pixels[i] = static_cast<uint32_t>(i * 11);
-  }
-  return c;
-}
+using test::MakeCloud;
 
 TEST(PointChunks, PointsPerChunkUsesFieldSizes) {
   EXPECT_EQ(PointsPerChunk(kFieldPosition, 1200), 100u);
@@ -59,14 +47,15 @@ TEST(PointChunks, RoundTripOverManyChunks) {
 
 TEST(PointChunks, AbsentFieldsAreNotPacked) {
   v1::PointChunk chunk;
-  PackChunk(MakeCloud(kFieldPosition | kFieldRange, 4), 1, 2, 7, &chunk);
+  const PointCloud cloud = MakeCloud(kFieldPosition | kFieldRange, 4);
+  PackChunk(cloud, 1, 2, 7, &chunk);
   EXPECT_EQ(chunk.index(), 7u);
   EXPECT_EQ(chunk.ranges().size(), 8u);
   EXPECT_TRUE(chunk.normals().empty());
   EXPECT_TRUE(chunk.pixels().empty());
   float r;
   std::memcpy(&r, chunk.ranges().data(), 4);
-  EXPECT_EQ(r, 1.5f);
+  EXPECT_EQ(r, cloud.ranges[1]);
 }
 
 TEST(PointChunks, LengthMismatchIsRejectedNamingTheArray) {

@@ -2,7 +2,7 @@
 
 #include <gtest/gtest.h>
 
-#include "../store/temp_dir.h"
+#include "vscan_test/temp_dir.h"
 
 namespace vscan::store {
 namespace {
@@ -38,7 +38,7 @@ class JobCatalogueTest : public ::testing::Test {
     jobs_ = std::move(opened).value();
   }
 
-  TempDir dir_;
+  test::TempDir dir_;
   std::unique_ptr<JobCatalogue> jobs_;
 };
 

@@ -12,7 +12,7 @@
 
 #include <google/protobuf/util/time_util.h>
 
-#include "../store/temp_dir.h"
+#include "vscan_test/temp_dir.h"
 #include "store/ids.h"
 
 namespace vscan::api {
@@ -104,7 +104,7 @@ class JobTrackerTest : public ::testing::Test {
     return job.ok() ? job->job_id() : "";
   }
 
-  store::TempDir dir_;
+  test::TempDir dir_;
   std::unique_ptr<store::JobCatalogue> catalogue_;
   store::BlobStore blobs_{dir_.path() / "blobs"};
   std::unique_ptr<JobTracker> tracker_;

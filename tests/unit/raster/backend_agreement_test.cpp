@@ -10,6 +10,7 @@
 #include "raster/raster_scanner.h"
 #include "raster/view_planes.h"
 #include "raster_test_scenes.h"
+#include "vscan_test/meshes.h"
 #include "raycast/scanner.h"
 
 namespace vscan::raster {
@@ -41,7 +42,7 @@ Scene MakeScene() {
   bunny.instance_id = kBunnyId;
   bunny.world_from_object = Pose3(Eigen::Translation3d(-(0.5f * (lo + hi)).cast<double>()));
   raycast::SceneInstance sphere;
-  sphere.mesh = testing::MakeSphere(0.05, 48, 96);
+  sphere.mesh = vscan::test::Share(vscan::test::MakeUvSphere(0.05, 48, 96));
   sphere.instance_id = kSphereId;
   sphere.world_from_object = Pose3(Eigen::Translation3d(0.06, -0.02, 0.12));
   s.instances = {bunny, sphere};

@@ -9,6 +9,7 @@
 
 #include "raster/raster_scanner.h"
 #include "raster_test_scenes.h"
+#include "vscan_test/meshes.h"
 
 namespace vscan::raster {
 namespace {
@@ -33,7 +34,7 @@ Errors Measure(RasterRenderer& renderer, RasterMethod method, DepthFormat format
   sensor::PinholeCamera camera = sensor::CameraFromFov(640, 480, 40.0, kFar / ratio, kFar);
   const Eigen::Quaterniond tilt(Eigen::AngleAxisd(20 * std::numbers::pi / 180, Eigen::Vector3d::UnitX()));
   raycast::SceneInstance plane;
-  plane.mesh = testing::MakeGrid(1.2, 20);
+  plane.mesh = vscan::test::Share(vscan::test::MakeGrid(1.2, 20));
   plane.world_from_object = Eigen::Translation3d(0, 0, kDistance) * tilt;
   const std::vector<raycast::SceneInstance> instances = {plane};
   const Eigen::Vector3d normal = tilt * Eigen::Vector3d::UnitZ();

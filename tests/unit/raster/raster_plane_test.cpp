@@ -10,6 +10,7 @@
 #include "raster/raster_scanner.h"
 #include "raster/view_planes.h"
 #include "raster_test_scenes.h"
+#include "vscan_test/meshes.h"
 
 namespace vscan::raster {
 namespace {
@@ -43,7 +44,7 @@ PlaneScene MakePlaneScene() {
                                   Eigen::AngleAxisd(20 * std::numbers::pi / 180, Eigen::Vector3d::UnitY());
   const Eigen::Vector3d centre(0, 0, 2);
   raycast::SceneInstance plane;
-  plane.mesh = testing::MakeGrid(1.5, 20);
+  plane.mesh = vscan::test::Share(vscan::test::MakeGrid(1.5, 20));
   plane.world_from_object = s.world_from_sensor * Eigen::Translation3d(centre) * tilt;
   plane.instance_id = kInstanceId;
   s.instances.push_back(plane);

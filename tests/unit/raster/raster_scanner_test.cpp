@@ -9,13 +9,14 @@
 
 #include "raster/raster_scanner.h"
 #include "raster_test_scenes.h"
+#include "vscan_test/meshes.h"
 
 namespace vscan::raster {
 namespace {
 
 raycast::SceneInstance PlaneAt(double z, double half_side, uint32_t id) {
   raycast::SceneInstance plane;
-  plane.mesh = testing::MakeGrid(half_side, 4);
+  plane.mesh = vscan::test::Share(vscan::test::MakeGrid(half_side, 4));
   plane.world_from_object = Eigen::Translation3d(0, 0, z) * Pose3::Identity();
   plane.instance_id = id;
   return plane;
@@ -152,7 +153,7 @@ TEST(RasterScan, NamesTheBadField) {
   EXPECT_EQ(no_mesh.status().code(), StatusCode::kInvalidArgument);
   EXPECT_EQ(no_mesh.status().message(), "instances[1].mesh: missing");
 
-  auto broken = std::make_shared<TriangleMesh>(*testing::MakeSquare(1.0));
+  auto broken = std::make_shared<TriangleMesh>(vscan::test::MakeGrid(1.0, 1));
   broken->triangles[1][2] = 9;
   f.instances[1].mesh = broken;
   auto bad_index = RasterScan(*renderer, "bad", f.instances, f.camera, f.world_from_sensor, RasterMethod::kDepthBuffer, {});

@@ -17,18 +17,6 @@ namespace vscan::raster::testing {
 // One renderer per test process; fails the calling test (and returns nullptr) without EGL/GL.
 RasterRenderer* SharedRenderer();
 
-// A square of side 2 * half_side in the object's xy plane, normal +z, as two triangles.
-std::shared_ptr<const TriangleMesh> MakeSquare(double half_side);
-
-// The same square split into cells x cells pairs of triangles.
-std::shared_ptr<const TriangleMesh> MakeGrid(double half_side, int cells);
-
-// A UV sphere of the given radius centred on the origin.
-std::shared_ptr<const TriangleMesh> MakeSphere(double radius, int rings, int segments);
-
-// Vertices and faces of an ASCII PLY file (extra vertex properties ignored); empty on failure.
-TriangleMesh ReadAsciiPly(const std::string& path);
-
 // The bunny of data/meshes/bunny, in metres.
 std::shared_ptr<const TriangleMesh> Bunny();
 

@@ -7,7 +7,7 @@
 
 #include <gtest/gtest.h>
 
-#include "test_meshes.h"
+#include "vscan_test/meshes.h"
 
 namespace vscan::raycast {
 namespace {

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include "render_test_scenes.h"
+#include "vscan_test/temp_dir.h"
 #include "vscan/render/cloud_colours.h"
 #include "vscan/render/colour_map.h"
 #include "vscan/render/png_io.h"
@@ -76,8 +77,8 @@ TEST(RenderCloudTest, SquarePlaneCoversThePredictedRectangleAndNothingElse) {
   EXPECT_EQ(wrong, 0);
 
   // The file holds exactly the rendered pixels.
-  test::TempDir dir;
-  const std::string path = (dir.path / "plane.png").string();
+  vscan::test::TempDir dir;
+  const std::string path = (dir.path() / "plane.png").string();
   ASSERT_TRUE(WritePng(*image, path).ok());
   const auto back = ReadPng(path);
   ASSERT_TRUE(back.ok()) << back.status().message();

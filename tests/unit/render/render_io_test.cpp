@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "render_test_scenes.h"
+#include "vscan_test/temp_dir.h"
 #include "vscan/common/cloud_io.h"
 #include "vscan/render/png_io.h"
 #include "vscan/render/render_input.h"
@@ -11,10 +12,10 @@ namespace vscan::render {
 namespace {
 
 TEST(PngIoTest, WritesAndReadsBackEveryByte) {
-  test::TempDir dir;
+  vscan::test::TempDir dir;
   Image image(37, 21);
   for (size_t i = 0; i < image.rgb.size(); ++i) image.rgb[i] = static_cast<uint8_t>((i * 7919) % 256);
-  const std::string path = (dir.path / "pattern.png").string();
+  const std::string path = (dir.path() / "pattern.png").string();
   ASSERT_TRUE(WritePng(image, path).ok());
   const auto back = ReadPng(path);
   ASSERT_TRUE(back.ok()) << back.status().message();
@@ -25,17 +26,17 @@ TEST(PngIoTest, WritesAndReadsBackEveryByte) {
 }
 
 TEST(PngIoTest, ReportsMissingAndMalformedFiles) {
-  test::TempDir dir;
-  EXPECT_EQ(ReadPng((dir.path / "none.png").string()).status().code(), StatusCode::kNotFound);
-  const std::string text = (dir.path / "text.png").string();
+  vscan::test::TempDir dir;
+  EXPECT_EQ(ReadPng((dir.path() / "none.png").string()).status().code(), StatusCode::kNotFound);
+  const std::string text = (dir.path() / "text.png").string();
   std::ofstream(text) << "not an image at all";
   EXPECT_EQ(ReadPng(text).status().code(), StatusCode::kInvalidArgument);
   // A valid signature followed by garbage fails inside libpng and comes back as an error.
-  const std::string cut = (dir.path / "cut.png").string();
+  const std::string cut = (dir.path() / "cut.png").string();
   std::ofstream(cut, std::ios::binary) << "\x89PNG\r\n\x1a\n garbage";
   EXPECT_EQ(ReadPng(cut).status().code(), StatusCode::kDataLoss);
-  EXPECT_EQ(WritePng(Image(4, 4), (dir.path / "no" / "dir.png").string()).code(), StatusCode::kNotFound);
-  EXPECT_FALSE(std::filesystem::exists(dir.path / "no"));
+  EXPECT_EQ(WritePng(Image(4, 4), (dir.path() / "no" / "dir.png").string()).code(), StatusCode::kNotFound);
+  EXPECT_FALSE(std::filesystem::exists(dir.path() / "no"));
 }
 
 PointCloud SampleCloud() {
@@ -51,10 +52,10 @@ PointCloud SampleCloud() {
 }
 
 TEST(RenderInputTest, ReadsCloudsWrittenAsPlyAndPcd) {
-  test::TempDir dir;
+  vscan::test::TempDir dir;
   const PointCloud cloud = SampleCloud();
   for (const char* name : {"cloud.ply", "cloud.pcd"}) {
-    const std::string path = (dir.path / name).string();
+    const std::string path = (dir.path() / name).string();
     ASSERT_TRUE(WriteCloud(cloud, path).ok());
     const auto input = LoadRenderInput(path);
     ASSERT_TRUE(input.ok()) << input.status().message();
@@ -71,8 +72,8 @@ TEST(RenderInputTest, ReadsCloudsWrittenAsPlyAndPcd) {
 }
 
 TEST(RenderInputTest, PlyWithFacesIsAMesh) {
-  test::TempDir dir;
-  const std::string path = (dir.path / "quad.ply").string();
+  vscan::test::TempDir dir;
+  const std::string path = (dir.path() / "quad.ply").string();
   std::ofstream(path) << "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
                          "property float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n"
                          "0 0 0\n2 0 0\n2 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n";
@@ -84,15 +85,15 @@ TEST(RenderInputTest, PlyWithFacesIsAMesh) {
 }
 
 TEST(RenderInputTest, RejectsUnknownMissingAndEmptyInputs) {
-  test::TempDir dir;
-  const auto unknown = LoadRenderInput((dir.path / "cloud.xyz").string());
+  vscan::test::TempDir dir;
+  const auto unknown = LoadRenderInput((dir.path() / "cloud.xyz").string());
   EXPECT_EQ(unknown.status().code(), StatusCode::kInvalidArgument);
   EXPECT_EQ(unknown.status().message().rfind("INPUT", 0), 0u);
-  EXPECT_EQ(LoadRenderInput((dir.path / "none.pcd").string()).status().code(), StatusCode::kNotFound);
-  const std::string empty = (dir.path / "empty.ply").string();
+  EXPECT_EQ(LoadRenderInput((dir.path() / "none.pcd").string()).status().code(), StatusCode::kNotFound);
+  const std::string empty = (dir.path() / "empty.ply").string();
   ASSERT_TRUE(WritePly(PointCloud{}, empty).ok());
   EXPECT_EQ(LoadRenderInput(empty).status().code(), StatusCode::kInvalidArgument);
-  const std::string truncated = (dir.path / "short.pcd").string();
+  const std::string truncated = (dir.path() / "short.pcd").string();
   ASSERT_TRUE(WritePcd(SampleCloud(), truncated).ok());
   std::filesystem::resize_file(truncated, std::filesystem::file_size(truncated) - 5);
   EXPECT_EQ(LoadRenderInput(truncated).status().code(), StatusCode::kDataLoss);

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "render_test_scenes.h"
+#include "vscan_test/meshes.h"
 #include "vscan/render/renderer.h"
 
 namespace vscan::render {
@@ -14,7 +15,7 @@ constexpr uint32_t kSide = 256;
 
 TEST(RenderMeshTest, HeadlitSphereIsBrightestAtTheCentreAndDarkensOutwards) {
   const float radius = 0.5f, distance = 3;
-  const TriangleMesh sphere = test::Icosphere(radius, Eigen::Vector3f::Zero(), 4);
+  const TriangleMesh sphere = vscan::test::MakeIcosphere(Eigen::Vector3d::Zero(), radius, 4);
   View view;
   view.eye = {0, 0, distance};
   view.up = {0, 1, 0};

@@ -1,10 +1,7 @@
 #include "render_test_scenes.h"
 
 #include <limits>
-#include <map>
-#include <random>
 #include <string>
-#include <utility>
 
 #include "vscan/render/colour_map.h"
 
@@ -21,42 +18,6 @@ PointCloud GridCloud(float half, int samples, const std::function<Eigen::Vector3
     }
   }
   return cloud;
-}
-
-TriangleMesh Icosphere(float radius, const Eigen::Vector3f& centre, int subdivisions) {
-  const float t = (1 + std::sqrt(5.0f)) / 2;
-  std::vector<Eigen::Vector3f> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                                    {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
-  for (auto& p : v) p.normalize();
-  std::vector<std::array<uint32_t, 3>> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
-                                            {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
-                                            {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
-                                            {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
-  for (int s = 0; s < subdivisions; ++s) {
-    std::map<std::pair<uint32_t, uint32_t>, uint32_t> mids;
-    const auto mid = [&](uint32_t a, uint32_t b) {
-      const auto key = std::minmax(a, b);
-      const auto found = mids.find(key);
-      if (found != mids.end()) return found->second;
-      v.push_back((v[a] + v[b]).normalized());
-      const auto index = static_cast<uint32_t>(v.size() - 1);
-      mids.emplace(key, index);
-      return index;
-    };
-    std::vector<std::array<uint32_t, 3>> next;
-    for (const auto& [a, b, c] : f) {
-      const uint32_t ab = mid(a, b), bc = mid(b, c), ca = mid(c, a);
-      next.push_back({a, ab, ca});
-      next.push_back({b, bc, ab});
-      next.push_back({c, ca, bc});
-      next.push_back({ab, bc, ca});
-    }
-    f = std::move(next);
-  }
-  TriangleMesh mesh;
-  for (const auto& p : v) mesh.vertices.push_back(centre + radius * p);
-  mesh.triangles = std::move(f);
-  return mesh;
 }
 
 Bounds BoundsOf(const std::vector<Eigen::Vector3f>& points) {
@@ -83,17 +44,6 @@ float InverseTurbo(const std::array<uint8_t, 3>& rgb) {
     }
   }
   return best_t;
-}
-
-TempDir::TempDir() {
-  std::random_device seed;
-  path = std::filesystem::temp_directory_path() / ("vscan-render-test-" + std::to_string(seed()));
-  std::filesystem::create_directories(path);
-}
-
-TempDir::~TempDir() {
-  std::error_code ec;
-  std::filesystem::remove_all(path, ec);
 }
 
 }  // namespace vscan::render::test

@@ -3,7 +3,6 @@
 
 #include <array>
 #include <cstdint>
-#include <filesystem>
 #include <functional>
 
 #include <Eigen/Core>
@@ -18,19 +17,9 @@ namespace vscan::render::test {
 // Points on a regular grid of samples x samples over [-half, half]^2, mapped to 3D by place(u, v).
 PointCloud GridCloud(float half, int samples, const std::function<Eigen::Vector3f(float, float)>& place);
 
-// A sphere of the given radius and centre, from an icosahedron subdivided `subdivisions` times.
-TriangleMesh Icosphere(float radius, const Eigen::Vector3f& centre, int subdivisions);
-
 Bounds BoundsOf(const std::vector<Eigen::Vector3f>& points);
 
 // The index t/(n-1) of the Turbo sample nearest in RGB to the pixel.
 float InverseTurbo(const std::array<uint8_t, 3>& rgb);
-
-// A fresh empty directory under the system temporary directory, removed by the destructor.
-struct TempDir {
-  std::filesystem::path path;
-  TempDir();
-  ~TempDir();
-};
 
 }  // namespace vscan::render::test

@@ -4,7 +4,7 @@
 
 #include <random>
 
-#include "../store/temp_dir.h"
+#include "vscan_test/temp_dir.h"
 #include "robot/forward_kinematics.h"
 #include "robot_fixtures.h"
 #include "store/catalogue.h"
@@ -47,7 +47,7 @@ class RobotRegistryTest : public ::testing::Test {
     registry_ = std::make_unique<RobotRegistry>(*catalogue_, *blobs_, 64u << 20);
   }
 
-  store::TempDir dir_;
+  test::TempDir dir_;
   std::unique_ptr<store::Catalogue> scenes_;
   std::unique_ptr<store::RobotCatalogue> catalogue_;
   std::unique_ptr<store::BlobStore> blobs_;
@@ -115,8 +115,8 @@ TEST_F(RobotRegistryTest, MountedKinematicsWorkInTheWorld) {
   ASSERT_TRUE(miss.ok());
   EXPECT_FALSE(miss->reached);
   EXPECT_GT(miss->miss_distance, 1.5);
-  EXPECT_NE(miss->failure.find("misses by"), std::string::npos);
-  EXPECT_NE(miss->failure.find("nearest reachable tool pose"), std::string::npos);
+  EXPECT_NE(miss->failure.message().find("misses by"), std::string::npos);
+  EXPECT_NE(miss->failure.message().find("nearest reachable tool pose"), std::string::npos);
 }
 
 TEST_F(RobotRegistryTest, BadUploadsChangeNothing) {

@@ -5,7 +5,7 @@
 #include <fstream>
 #include <random>
 
-#include "temp_dir.h"
+#include "vscan_test/temp_dir.h"
 
 namespace vscan::store {
 namespace {
@@ -48,7 +48,7 @@ class BlobStoreTest : public ::testing::Test {
   }
   fs::path root() const { return dir_.path() / "blobs"; }
 
-  TempDir dir_;
+  test::TempDir dir_;
   BlobStore store_{dir_.path() / "blobs"};
 };
 
@@ -178,7 +178,7 @@ TEST_F(BlobStoreTest, ShardPathBlockedByFileIsAnError) {
 }
 
 TEST(BlobStoreOpenTest, RootThatIsAFileIsUnavailable) {
-  TempDir dir;
+  test::TempDir dir;
   Overwrite(dir.path() / "file", "x");
   BlobStore store(dir.path() / "file");
   EXPECT_EQ(store.Open().code(), StatusCode::kUnavailable);

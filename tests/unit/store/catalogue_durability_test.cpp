@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "store/catalogue.h"
-#include "temp_dir.h"
+#include "vscan_test/temp_dir.h"
 
 namespace vscan::store {
 namespace {
@@ -71,7 +71,7 @@ std::string ReadLine(int fd, std::string& buffer) {
 }
 
 TEST(CatalogueDurabilityTest, AcknowledgedWritesSurviveSigkill) {
-  TempDir dir;
+  test::TempDir dir;
   ASSERT_FALSE(dir.path().empty());
   const auto db_path = dir.path() / "catalogue.db";
   int fds[2];
@@ -117,7 +117,7 @@ TEST(CatalogueDurabilityTest, AcknowledgedWritesSurviveSigkill) {
 
 // Ids come from a per-thread generator; a forked child must not repeat its parent's sequence.
 TEST(CatalogueDurabilityTest, ForkedProcessesDrawDifferentIds) {
-  TempDir dir;
+  test::TempDir dir;
   ASSERT_FALSE(dir.path().empty());
   auto opened = Catalogue::Open(dir.path() / "catalogue.db");
   ASSERT_TRUE(opened.ok()) << opened.status().ToString();

@@ -10,7 +10,7 @@
 #include <thread>
 
 #include "store/catalogue_schema.h"
-#include "temp_dir.h"
+#include "vscan_test/temp_dir.h"
 
 namespace vscan::store {
 namespace {
@@ -115,7 +115,7 @@ class CatalogueTest : public ::testing::Test {
     return scene.ok() ? scene->revision : 0;
   }
 
-  TempDir dir_;
+  test::TempDir dir_;
   std::unique_ptr<Catalogue> catalogue_;
 };
 

@@ -11,7 +11,7 @@
 #include "store/catalogue.h"
 #include "store/database.h"
 #include "store/job_catalogue.h"
-#include "temp_dir.h"
+#include "vscan_test/temp_dir.h"
 
 namespace vscan::store {
 namespace {
@@ -62,7 +62,7 @@ class JobDeletionTest : public ::testing::Test {
     return CollectBlobs(*database_, blobs_, names);
   }
 
-  TempDir dir_;
+  test::TempDir dir_;
   std::shared_ptr<Database> database_;
   std::unique_ptr<JobCatalogue> jobs_;
   std::unique_ptr<Catalogue> meshes_;

@@ -6,7 +6,7 @@
 #include <limits>
 
 #include "store/catalogue.h"
-#include "temp_dir.h"
+#include "vscan_test/temp_dir.h"
 
 namespace vscan::store {
 namespace {
@@ -44,7 +44,7 @@ class RobotCatalogueTest : public ::testing::Test {
 
   uint64_t Revision(const std::string& scene_id) { return scenes_->GetScene(scene_id)->revision; }
 
-  TempDir dir_;
+  test::TempDir dir_;
   std::unique_ptr<Catalogue> scenes_;
   std::unique_ptr<RobotCatalogue> robots_;
 };

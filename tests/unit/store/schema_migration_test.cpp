@@ -11,7 +11,7 @@
 #include "store/job_catalogue.h"
 #include "store/robot_catalogue.h"
 #include "store/stored_enums.h"
-#include "temp_dir.h"
+#include "vscan_test/temp_dir.h"
 
 namespace vscan::store {
 namespace {
@@ -41,7 +41,7 @@ class SchemaMigrationTest : public ::testing::Test {
   }
   std::filesystem::path path() const { return dir_.path() / "catalogue.sqlite"; }
 
-  TempDir dir_;
+  test::TempDir dir_;
 };
 
 TEST_F(SchemaMigrationTest, AVersionOneDatabaseUpgradesWithEveryRow) {
@@ -178,7 +178,7 @@ TEST(StoredEnumsTest, CodesRoundTripAndAreTheVersionOneNumbers) {
 }
 
 TEST(SchemaTest, AFreshDatabaseHasEveryTableAtTheCurrentVersion) {
-  TempDir dir;
+  test::TempDir dir;
   const auto path = dir.path() / "catalogue.sqlite";
   ASSERT_TRUE(Database::Open(path).ok());
   EXPECT_EQ(QueryInt(path, "PRAGMA user_version"), kSchemaVersion);

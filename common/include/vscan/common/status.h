@@ -1,5 +1,5 @@
 #pragma once
-// Errors as values: a Status with a code and a message that names the offending field.
+// Errors as values: a Status with a code, a message, and the path of the offending field.
 
 #include <cassert>
 #include <optional>
@@ -29,26 +29,45 @@ enum class StatusCode {
   kUnauthenticated = 16,
 };
 
-class Status {
+class [[nodiscard]] Status {
  public:
   Status() = default;
   Status(StatusCode code, std::string message) : code_(code), message_(std::move(message)) {}
+  // An error about one request field: field() is its path, message() reads "<field>: <text>"
+  // (just the text when field is empty).
+  Status(StatusCode code, std::string field, std::string_view text);
 
   static Status Ok() { return {}; }
   bool ok() const { return code_ == StatusCode::kOk; }
   StatusCode code() const { return code_; }
+  // The full human text, "<field>: <text>" when a field is named.
   const std::string& message() const { return message_; }
+  // The path of the offending field ("robot.mount_id"); empty when the error names none.
+  const std::string& field() const { return field_; }
+  // The message without its "<field>: " lead.
+  std::string_view text() const;
+  // The same error with `parent` prepended to its field path ("robot" + "mount_id"), or naming
+  // `parent` itself when it named no field.
+  Status WithFieldPrefix(std::string_view parent) const;
+  // The same error (field included) under another code.
+  Status WithCode(StatusCode code) const;
   std::string ToString() const;
 
  private:
   StatusCode code_ = StatusCode::kOk;
   std::string message_;
+  std::string field_;
 };
 
 const char* StatusCodeName(StatusCode code);
 // The codes that judge a request's own values, whose messages start with the field they name;
 // false for trouble of the server itself (UNAVAILABLE, INTERNAL, ...).
 bool NamesAField(StatusCode code);
+
+namespace internal {
+// Prints the status to stderr and aborts: reading the value of an error is a bug, not UB.
+[[noreturn]] void DieOnValueOfError(const Status& status);
+}  // namespace internal
 
 inline Status InvalidArgument(std::string m) { return {StatusCode::kInvalidArgument, std::move(m)}; }
 inline Status NotFound(std::string m) { return {StatusCode::kNotFound, std::move(m)}; }
@@ -61,6 +80,23 @@ inline Status Cancelled(std::string m) { return {StatusCode::kCancelled, std::mo
 inline Status Unavailable(std::string m) { return {StatusCode::kUnavailable, std::move(m)}; }
 inline Status DataLoss(std::string m) { return {StatusCode::kDataLoss, std::move(m)}; }
 
+// Errors about one field, which they carry as data (Status::field()).
+inline Status InvalidArgument(std::string field, std::string_view text) {
+  return {StatusCode::kInvalidArgument, std::move(field), text};
+}
+inline Status NotFound(std::string field, std::string_view text) {
+  return {StatusCode::kNotFound, std::move(field), text};
+}
+inline Status FailedPrecondition(std::string field, std::string_view text) {
+  return {StatusCode::kFailedPrecondition, std::move(field), text};
+}
+inline Status ResourceExhausted(std::string field, std::string_view text) {
+  return {StatusCode::kResourceExhausted, std::move(field), text};
+}
+inline Status OutOfRange(std::string field, std::string_view text) {
+  return {StatusCode::kOutOfRange, std::move(field), text};
+}
+
 // "parent.member", the path error messages use to name a nested request field.
 inline std::string FieldPath(std::string_view parent, std::string_view member) {
   std::string path(parent);
@@ -70,23 +106,36 @@ inline std::string FieldPath(std::string_view parent, std::string_view member) {
 }
 
 // A value or the Status that explains why there is none.
+// Reading the value of an error aborts with the status on stderr, in every build type.
 template <typename T>
-class StatusOr {
+class [[nodiscard]] StatusOr {
  public:
   StatusOr(T value) : value_(std::move(value)) {}  // NOLINT: implicit by design
-  StatusOr(Status status) : status_(std::move(status)) { assert(!status_.ok()); }  // NOLINT
+  StatusOr(Status status) : status_(std::move(status)) {  // NOLINT: implicit by design
+    assert(!status_.ok());
+    if (status_.ok()) status_ = Status(StatusCode::kInternal, "StatusOr made from an OK Status");
+  }
 
   bool ok() const { return value_.has_value(); }
   const Status& status() const { return status_; }
-  T& value() & { return *value_; }
-  const T& value() const& { return *value_; }
-  T&& value() && { return std::move(*value_); }
-  T* operator->() { return &*value_; }
-  const T* operator->() const { return &*value_; }
-  T& operator*() & { return *value_; }
-  const T& operator*() const& { return *value_; }
+  T& value() & { return Checked(); }
+  const T& value() const& { return Checked(); }
+  T&& value() && { return std::move(Checked()); }
+  T* operator->() { return &Checked(); }
+  const T* operator->() const { return &Checked(); }
+  T& operator*() & { return Checked(); }
+  const T& operator*() const& { return Checked(); }
 
  private:
+  T& Checked() {
+    if (!value_) internal::DieOnValueOfError(status_);
+    return *value_;
+  }
+  const T& Checked() const {
+    if (!value_) internal::DieOnValueOfError(status_);
+    return *value_;
+  }
+
   Status status_;
   std::optional<T> value_;
 };

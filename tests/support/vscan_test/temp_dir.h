@@ -6,12 +6,12 @@
 #include <filesystem>
 #include <string>
 
-namespace vscan::store {
+namespace vscan::test {
 
 class TempDir {
  public:
   TempDir() {
-    std::string pattern = (std::filesystem::temp_directory_path() / "vscan-store-test-XXXXXX").string();
+    std::string pattern = (std::filesystem::temp_directory_path() / "vscan-test-XXXXXX").string();
     if (::mkdtemp(pattern.data()) != nullptr) path_ = pattern;
   }
   ~TempDir() {
@@ -27,4 +27,4 @@ class TempDir {
   std::filesystem::path path_;
 };
 
-}  // namespace vscan::store
+}  // namespace vscan::test

@@ -1,0 +1,12 @@
+#pragma once
+// The size of one streamed scan chunk: the server enforces it, clients check it before asking.
+
+#include <cstddef>
+
+namespace vscan {
+
+inline constexpr size_t kDefaultChunkBytes = size_t{1} << 20;
+inline constexpr size_t kMinChunkBytes = size_t{16} << 10;
+inline constexpr size_t kMaxChunkBytes = size_t{3} << 20;  // stays under gRPC's default 4 MiB receive limit
+
+}  // namespace vscan
