@@ -36,6 +36,9 @@ struct ServerOptions {
   uint64_t mesh_import_memory_mib = 8192;
   // A Scan stream whose client has not read for this long is cancelled and its slot freed.
   double stalled_reader_seconds = 10;
+  // Ray-cast scans finish the whole cloud before sending it, as the measured and raster scans
+  // do, instead of streaming rows as they are cast (for comparisons).
+  bool whole_cloud_scans = false;
   Limits limits;
 };
 
