@@ -18,6 +18,7 @@
 #include <tbb/parallel_reduce.h>
 
 #include "bench_meshes.h"
+#include "packet_loop.h"
 #include "raycast/embree_scene.h"
 #include "raycast/scanner.h"
 
@@ -37,7 +38,7 @@ struct Fixture {
   uint64_t triangles = 0;
   Eigen::Matrix3f rotation;
   std::vector<float> column_x, row_y;
-  std::vector<float> packet_x;  // per packet of 4 columns, the x of its 16 lanes
+  std::unique_ptr<PacketLoop> packets;
 
   Fixture() {
     const TriangleMesh bunny = ReadAsciiPly(std::string(VSCAN_DATA_DIR) + "/meshes/bunny/bunny_zipper_res2.ply");
@@ -53,9 +54,7 @@ struct Fixture {
     rotation = grid.world_from_sensor.linear().cast<float>();
     for (uint32_t u = 0; u < kWidth; ++u) column_x.push_back(grid.camera.RayThroughPixel(u, 0).x());
     for (uint32_t v = 0; v < kHeight; ++v) row_y.push_back(grid.camera.RayThroughPixel(0, v).y());
-    for (uint32_t u0 = 0; u0 < kWidth; u0 += 4) {
-      for (uint32_t i = 0; i < 16; ++i) packet_x.push_back(column_x[u0 + i % 4]);
-    }
+    packets = std::make_unique<PacketLoop>(embree, grid.camera, grid.world_from_sensor);
   }
 };
 
@@ -73,53 +72,7 @@ void WorldRay(const Fixture& f, uint32_t u, uint32_t v, float& dx, float& dy, fl
   dz = r(2, 0) * x + r(2, 1) * y + r(2, 2);
 }
 
-uint64_t PlainPacketFrame(const Fixture& f) {
-  const auto& cam = f.grid.camera;
-  const Eigen::Vector3f o = f.grid.world_from_sensor.translation().cast<float>();
-  const Eigen::Matrix3f& r = f.rotation;
-  const uint32_t strips = (cam.height + 3) / 4;
-  return tbb::parallel_reduce(
-      tbb::blocked_range<uint32_t>(0, strips), uint64_t{0},
-      [&](const tbb::blocked_range<uint32_t>& range, uint64_t hits) {
-        RTCIntersectContext context;
-        rtcInitIntersectContext(&context);
-        context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
-        RTCRayHit16 packet;
-        for (uint32_t i = 0; i < 16; ++i) {
-          packet.ray.org_x[i] = o.x();
-          packet.ray.org_y[i] = o.y();
-          packet.ray.org_z[i] = o.z();
-          packet.ray.tnear[i] = static_cast<float>(cam.near);
-          packet.ray.time[i] = 0;
-          packet.ray.mask[i] = 0xFFFFFFFFu;
-          packet.ray.id[i] = i;
-          packet.ray.flags[i] = 0;
-        }
-        alignas(64) int valid[16];
-        alignas(64) float x[16], y[16];
-        for (uint32_t s = range.begin(); s != range.end(); ++s) {
-          for (uint32_t i = 0; i < 16; ++i) {
-            y[i] = f.row_y[std::min(4 * s + i / 4, cam.height - 1)];
-            valid[i] = 4 * s + i / 4 < cam.height ? -1 : 0;
-          }
-          for (uint32_t u0 = 0; u0 < cam.width; u0 += 4) {
-            // Packets never straddle the right border: the width is a multiple of 4.
-            std::memcpy(x, f.packet_x.data() + 4 * u0, sizeof x);
-            for (uint32_t i = 0; i < 16; ++i) {
-              packet.ray.dir_x[i] = r(0, 0) * x[i] + r(0, 1) * y[i] + r(0, 2);
-              packet.ray.dir_y[i] = r(1, 0) * x[i] + r(1, 1) * y[i] + r(1, 2);
-              packet.ray.dir_z[i] = r(2, 0) * x[i] + r(2, 1) * y[i] + r(2, 2);
-              packet.ray.tfar[i] = static_cast<float>(cam.far);
-              packet.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
-            }
-            rtcIntersect16(valid, f.embree, &context, &packet);
-            for (uint32_t i = 0; i < 16; ++i) hits += packet.hit.geomID[i] != RTC_INVALID_GEOMETRY_ID;
-          }
-        }
-        return hits;
-      },
-      std::plus<>());
-}
+uint64_t PlainPacketFrame(const Fixture& f) { return f.packets->Frame(); }
 
 uint64_t PlainSingleFrame(const Fixture& f) {
   const auto& cam = f.grid.camera;

@@ -100,6 +100,8 @@ int main(int argc, char** argv) {
   app.add_option("--stalled-reader-seconds", options.stalled_reader_seconds,
                  "A scan stream whose client has not read for this long is cancelled and its slot freed")
       ->capture_default_str()->check(CLI::Range(0.1, 86400.0));
+  app.add_flag("--whole-cloud-scans", options.whole_cloud_scans,
+               "Finish each ray-cast cloud before sending it instead of streaming rows as they are cast");
   app.add_option("--port-file", options.port_file, "Write the bound port to this file once listening");
   app.add_option("--mesh-importer", options.mesh_importer_path,
                  "The vscan-mesh-import helper that parses uploads (default: the one next to vscand)");

@@ -2,53 +2,50 @@
 
 #include <atomic>
 #include <chrono>
+#include <memory>
 #include <string>
 
 #include <spdlog/spdlog.h>
 
 #include "api/auth.h"
+#include "api/chunk_packer.h"
 #include "api/scan_backends.h"
+#include "api/scan_messages.h"
+#include "api/scan_outbox.h"
 #include "api/scan_request.h"
 #include "api/scan_target.h"
 #include "api/write_watch.h"
 #include "vscan/common/grpc_status.h"
 #include "vscan/common/point_chunks.h"
-#include "vscan/common/proto_convert.h"
 
 namespace vscan::api {
 namespace {
 
 using Clock = std::chrono::steady_clock;
 
-v1::ScanBackend BackendToProto(ScanBackend backend) {
-  switch (backend) {
-    case ScanBackend::kRasterDepth: return v1::SCAN_BACKEND_RASTER_DEPTH;
-    case ScanBackend::kRasterColour: return v1::SCAN_BACKEND_RASTER_COLOUR;
-    case ScanBackend::kRaycast: break;
-  }
-  return v1::SCAN_BACKEND_RAYCAST;
-}
-
-void SetMeasureStatistics(const capture::MeasureStats& m, v1::ScanStatistics& s) {
-  s.set_outliers(m.outliers);
-  s.set_flying_pixels(m.flying_pixels);
-  s.set_rejected_out_of_range(m.rejected_out_of_range);
-  s.set_rejected_shadowed(m.rejected_shadowed);
-  s.set_rejected_grazing(m.rejected_grazing);
-  s.set_rejected_dim(m.rejected_dim);
-  s.set_rejected_unlit(m.rejected_unlit);
-  s.set_measurement_ms(m.elapsed_ms);
-}
-
 double MillisSince(Clock::time_point start) {
   return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
 }
 
-// One reactor per Scan call. The worker fills the cloud, then writes proceed one at a time.
+// Packed chunks that may wait for the client, about 8 MiB of them.
+size_t ChunkWindow(size_t chunk_bytes) { return std::max<size_t>(2, (8u << 20) / std::max<size_t>(1, chunk_bytes)); }
+
+std::unique_ptr<v1::ScanResponse> Message() { return std::make_unique<v1::ScanResponse>(); }
+
+// One reactor per Scan call. A worker thread produces the messages (the ray caster packs chunks as
+// rows finish; other backends pack their finished cloud) into a bounded outbox that gRPC drains.
 class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
  public:
   ScanReactor(const v1::ScanRequest& request, grpc::CallbackServerContext* ctx, ServiceContext& context)
-      : context_(context), write_watch_(context.stalled_readers, ctx) {
+      : context_(context),
+        write_watch_(context.stalled_readers, ctx),
+        outbox_(
+            ChunkWindow(request.chunk_bytes() ? request.chunk_bytes() : 1u << 20),
+            [this](const v1::ScanResponse* message) {
+              write_watch_.Started("scan of " + plan_.scene_id);
+              StartWrite(message);
+            },
+            [this](const grpc::Status& status) { Finish(status); }) {
     Status status = CheckToken(*ctx, context.options.token);
     if (!status.ok()) {
       Fail(status);
@@ -71,17 +68,14 @@ class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
   }
 
   void OnCancel() override {
-    cancel_.store(true);
+    StopProducing();
     spdlog::info("scan of {}: call cancelled", plan_.scene_id);
   }
 
   void OnWriteDone(bool ok) override {
     write_watch_.Done();
-    if (!ok) {
-      Finish(grpc::Status(grpc::StatusCode::CANCELLED, "client went away"));
-      return;
-    }
-    WriteNext();
+    if (!ok) StopProducing();
+    outbox_.WriteDone(ok);
   }
 
   void OnDone() override {
@@ -91,6 +85,14 @@ class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
   }
 
  private:
+  void StopProducing() {
+    int64_t none = 0;
+    cancelled_at_.compare_exchange_strong(none, Clock::now().time_since_epoch().count());
+    cancel_.store(true);
+    outbox_.Cancel();
+  }
+
+  // On a worker thread; its last act is closing the outbox.
   void Run() {
     // Queued behind other work while the call was cancelled (server shutdown, client gone).
     if (cancel_.load()) {
@@ -102,87 +104,81 @@ class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
       Fail(target.status());
       return;
     }
+    const bool streamed = plan_.backend == ScanBackend::kRaycast && !plan_.measurement.any() &&
+                          !context_.options.whole_cloud_scans;
+    const Status status = streamed ? Stream(*target) : SendWholeCloud(*target);
+    if (!status.ok()) {
+      Fail(status);
+      return;
+    }
+    outbox_.Close(grpc::Status::OK);
+  }
+
+  // Rows are packed into chunks as the cast finishes them; the header goes first.
+  Status Stream(const scenes::ScanTarget& target) {
+    auto header = Message();
+    FillScanHeader(plan_, target.scene.revision, header->mutable_header());
+    outbox_.Push(std::move(header));
+    ChunkPacker packer(plan_.fields, PointsPerChunk(plan_.fields, plan_.chunk_bytes), outbox_);
+    raycast::ScanOptions options;
+    options.fields = plan_.fields;
+    options.frame = plan_.frame;
+    options.cancel = &cancel_;
+    raycast::ScanStats stats;
+    const Status cast = raycast::ScanRows(*target.raycast, plan_.camera, plan_.world_from_sensor, options, packer, &stats);
+    if (cast.code() == StatusCode::kCancelled) {
+      const auto since = Clock::now() - Clock::time_point(Clock::duration(cancelled_at_.load()));
+      spdlog::info("scan of {}: cancelled after {} of {} rows; the cast stopped {:.1f} ms after the cancel",
+                   plan_.scene_id, stats.rows, plan_.camera.height,
+                   std::chrono::duration<double, std::milli>(since).count());
+    }
+    RETURN_IF_ERROR(cast);
+    packer.Flush();
+    SendStatistics(target, stats, capture::MeasureStats{}, packer.points(), packer.chunks());
+    return Status::Ok();
+  }
+
+  // Stages that need neighbours (the measurement model) and the raster backends finish the cloud,
+  // then it is packed here, a window of chunks at a time.
+  Status SendWholeCloud(const scenes::ScanTarget& target) {
     raycast::ScanStats stats;
     capture::MeasureStats measure;
-    auto cloud = RunScanBackend(plan_, *target, context_.raster, &cancel_, &stats, &measure);
-    if (!cloud.ok()) {
-      Fail(cloud.status());
-      return;
+    ASSIGN_OR_RETURN(PointCloud cloud, RunScanBackend(plan_, target, context_.raster, &cancel_, &stats, &measure));
+    const size_t per_chunk = PointsPerChunk(plan_.fields, plan_.chunk_bytes);
+    const auto chunks = static_cast<uint32_t>((cloud.size() + per_chunk - 1) / per_chunk);
+    auto header = Message();
+    FillScanHeader(plan_, target.scene.revision, header->mutable_header());
+    header->mutable_header()->set_points(cloud.size());
+    header->mutable_header()->set_chunk_count(chunks);
+    outbox_.Push(std::move(header));
+    for (uint32_t i = 0; i < chunks; ++i) {
+      if (!outbox_.HasRoom()) outbox_.WaitForRoom();
+      if (cancel_.load()) return Cancelled("scan cancelled");
+      const size_t begin = size_t{i} * per_chunk;
+      auto message = Message();
+      PackChunk(cloud, begin, std::min(per_chunk, cloud.size() - begin), i, message->mutable_chunk());
+      outbox_.Push(std::move(message));
     }
-    cloud_ = std::move(cloud).value();
-    points_per_chunk_ = PointsPerChunk(plan_.fields, plan_.chunk_bytes);
-    chunk_count_ = static_cast<uint32_t>((cloud_.size() + points_per_chunk_ - 1) / points_per_chunk_);
+    SendStatistics(target, stats, measure, cloud.size(), chunks);
+    return Status::Ok();
+  }
 
-    auto* header = response_.mutable_header();
-    header->set_scene_id(plan_.scene_id);
-    header->set_scene_revision(target->scene.revision);
-    ToProto(plan_.world_from_sensor, header->mutable_sensor_pose());
-    if (plan_.robot) {
-      ToProto(plan_.robot->commanded_world_from_sensor, header->mutable_commanded_sensor_pose());
-      const Eigen::VectorXd& q = plan_.robot->achieved_joint_positions;
-      header->mutable_achieved_joint_positions()->Assign(q.data(), q.data() + q.size());
-    }
-    header->set_width(plan_.camera.width);
-    header->set_height(plan_.camera.height);
-    auto* k = header->mutable_intrinsics();
-    k->set_fx(plan_.camera.fx);
-    k->set_fy(plan_.camera.fy);
-    k->set_cx(plan_.camera.cx);
-    k->set_cy(plan_.camera.cy);
-    header->set_near(plan_.camera.near);
-    header->set_far(plan_.camera.far);
-    FieldsToProto(plan_.fields, header->mutable_fields());
-    header->set_frame(plan_.frame == raycast::ScanFrame::kSensor ? v1::FRAME_SENSOR : v1::FRAME_WORLD);
-    header->set_backend(BackendToProto(plan_.backend));
-    header->set_rays(stats.rays);
-    header->set_points(cloud_.size());
-    header->set_chunk_count(chunk_count_);
-
-    auto& s = statistics_;
-    s.set_rays(stats.rays);
-    s.set_points(stats.points);
-    s.set_hit_ratio(stats.rays ? static_cast<double>(stats.points) / static_cast<double>(stats.rays) : 0.0);
-    s.set_min_range(stats.min_range);
-    s.set_max_range(stats.max_range);
-    s.set_scan_ms(stats.elapsed_ms);
-    SetMeasureStatistics(measure, s);
-    spdlog::info("scan of {} r{}: {} rays, {} points in {:.1f} ms", plan_.scene_id, target->scene.revision,
+  void SendStatistics(const scenes::ScanTarget& target, const raycast::ScanStats& stats,
+                      const capture::MeasureStats& measure, uint64_t streamed_points, uint32_t chunks) {
+    auto message = Message();
+    v1::ScanStatistics* s = message->mutable_statistics();
+    FillScanStatistics(stats, measure, s);
+    s->set_streamed_points(streamed_points);
+    s->set_chunk_count(chunks);
+    s->set_total_ms(MillisSince(start_));
+    spdlog::info("scan of {} r{}: {} rays, {} points in {:.1f} ms", plan_.scene_id, target.scene.revision,
                  stats.rays, stats.points, stats.elapsed_ms);
-    Write();
-  }
-
-  void Write() {
-    write_watch_.Started("scan of " + plan_.scene_id);
-    StartWrite(&response_);
-  }
-
-  void WriteNext() {
-    if (cancel_.load()) {
-      Finish(grpc::Status(grpc::StatusCode::CANCELLED, "scan cancelled"));
-      return;
-    }
-    response_.Clear();
-    if (next_chunk_ < chunk_count_) {
-      const size_t begin = size_t{next_chunk_} * points_per_chunk_;
-      const size_t count = std::min(points_per_chunk_, cloud_.size() - begin);
-      PackChunk(cloud_, begin, count, next_chunk_, response_.mutable_chunk());
-      ++next_chunk_;
-      Write();
-      return;
-    }
-    if (!statistics_sent_) {
-      statistics_sent_ = true;
-      statistics_.set_total_ms(MillisSince(start_));
-      *response_.mutable_statistics() = statistics_;
-      Write();
-      return;
-    }
-    Finish(grpc::Status::OK);
+    outbox_.Push(std::move(message));
   }
 
   void Fail(const Status& status) {
     spdlog::info("Scan -> {}", status.ToString());
-    Finish(ToGrpc(status));
+    outbox_.Close(ToGrpc(status));
   }
 
   ServiceContext& context_;
@@ -191,13 +187,9 @@ class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
   ScanPlan plan_;
   bool holds_slot_ = false;
   std::atomic<bool> cancel_{false};
-  PointCloud cloud_;
-  size_t points_per_chunk_ = 1;
-  uint32_t chunk_count_ = 0;
-  uint32_t next_chunk_ = 0;
-  bool statistics_sent_ = false;
-  v1::ScanStatistics statistics_;
-  v1::ScanResponse response_;
+  // When the call was cancelled (steady clock ticks; 0: not cancelled).
+  std::atomic<int64_t> cancelled_at_{0};
+  ScanOutbox outbox_;
 };
 
 }  // namespace

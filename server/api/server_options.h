@@ -40,6 +40,9 @@ struct ServerOptions {
   double job_retention_hours = 0;
   // How often retention is applied (besides once at start).
   uint32_t job_retention_check_s = 300;
+  // Ray-cast scans finish the whole cloud before sending it, as the measured and raster scans
+  // do, instead of streaming rows as they are cast (for comparisons).
+  bool whole_cloud_scans = false;
   Limits limits;
 };
 

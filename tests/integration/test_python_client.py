@@ -39,8 +39,13 @@ class PythonClientTest(unittest.TestCase):
                                   fields=["position", "normal", "range", "intensity", "instance", "pixel"])
         self.assertEqual(result.positions.dtype, np.float32)
         self.assertEqual(result.positions.shape, (len(result), 3))
-        self.assertEqual(len(result), result.header.points)
+        self.assertEqual(len(result), result.stats.streamed_points)
         self.assertGreater(len(result), 1000)
+        # Chunks were written into one array per field, allocated for every ray: no join copy.
+        self.assertEqual(result.header.points, 0)
+        for array in (result.positions, result.normals, result.pixels):
+            self.assertIsNotNone(array.base)
+            self.assertGreaterEqual(array.base.size, result.header.rays * (array.size // len(result)))
         r = np.linalg.norm(result.positions - centre, axis=1)
         self.assertLess(np.max(np.abs(r - radius)), 0.003 * radius)
         np.testing.assert_allclose(result.ranges, np.linalg.norm(result.positions - eye, axis=1), rtol=1e-5)

@@ -35,6 +35,7 @@ class ScanAssembler {
       case v1::ScanResponse::kChunk: return OnChunk(message.chunk());
       case v1::ScanResponse::kStatistics:
         if (!have_header_) return DataLoss("scan stream: statistics before the header");
+        if (have_stats_) return DataLoss("scan stream: second statistics");
         result_.stats = message.statistics();
         have_stats_ = true;
         return Status::Ok();
@@ -45,11 +46,13 @@ class ScanAssembler {
 
   StatusOr<ScanResult> Finish() && {
     if (!have_header_) return DataLoss("scan stream: ended without a header");
-    if (result_.cloud.size() != result_.header.points()) {
-      return DataLoss("scan stream: received " + std::to_string(result_.cloud.size()) + " of " +
-                      std::to_string(result_.header.points()) + " points");
-    }
     if (!have_stats_) return DataLoss("scan stream: ended without statistics");
+    // A streamed scan's header announces no count (0); its statistics carry the total.
+    const uint64_t expected = result_.header.points() != 0 ? result_.header.points() : result_.stats.streamed_points();
+    if (result_.cloud.size() != expected) {
+      return DataLoss("scan stream: received " + std::to_string(result_.cloud.size()) + " of " +
+                      std::to_string(expected) + " points");
+    }
     return std::move(result_);
   }
 
@@ -59,7 +62,10 @@ class ScanAssembler {
     ASSIGN_OR_RETURN(const uint32_t fields, FieldsFromProto(header.fields(), "header.fields"));
     result_.header = header;
     result_.cloud.fields = fields;
-    Reserve(&result_.cloud, static_cast<size_t>(std::min(header.points(), kMaxReservedPoints)));
+    // Room for a point per ray when the count is not announced: chunks land in the final arrays,
+    // and pages no point reaches are never touched.
+    const uint64_t room = header.points() != 0 ? header.points() : header.rays();
+    Reserve(&result_.cloud, static_cast<size_t>(std::min(room, kMaxReservedPoints)));
     have_header_ = true;
     if (callbacks_.on_header) callbacks_.on_header(result_.header);
     return Status::Ok();
@@ -67,7 +73,7 @@ class ScanAssembler {
 
   Status OnChunk(const v1::PointChunk& chunk) {
     if (!have_header_) return DataLoss("scan stream: chunk before the header");
-    if (result_.cloud.size() + chunk.count() > result_.header.points()) {
+    if (result_.header.points() != 0 && result_.cloud.size() + chunk.count() > result_.header.points()) {
       return DataLoss("scan stream: more points than the header announced (" +
                       std::to_string(result_.header.points()) + ")");
     }

@@ -206,7 +206,8 @@ class Client(RobotCalls, JobCalls):
         "estimated_normal" (None: the server default). include_rejected also returns rejected rays
         at their clean positions; normal_estimation is (k, max_distance) for "estimated_normal".
         sensor, a sensor_pb2.SensorSpec (e.g. a structured-light scanner), replaces preset and the
-        camera arguments. progress(points, total) is called after each chunk.
+        camera arguments. progress(points, total) is called after each chunk (total 0: not known
+        until the scan ends, as for streamed ray-cast scans).
         """
         request = scan_pb2.ScanRequest(scene_id=scene_id, seed=int(seed), frame=convert.frame(frame),
                                        backend=convert.backend(backend))

@@ -57,13 +57,22 @@ _DEFAULT_FIELDS = {
 }
 
 
+# Upper bound on points allocated up front, so a bogus header cannot exhaust memory by itself.
+_MAX_RESERVED_POINTS = 1 << 26
+
+
 class ScanAssembler:
-    """Feed it ScanResponse messages in order; result() checks counts and builds the arrays."""
+    """Feed it ScanResponse messages in order; result() checks counts and returns the arrays.
+
+    Each field's chunks are copied once, straight into one array allocated when the header
+    arrives (for the announced points or, when a streamed scan announces none, one per ray:
+    pages no point reaches are never touched); the result holds views of those arrays.
+    """
 
     def __init__(self, on_progress=None):
         self._header = None
         self._stats = None
-        self._parts = {}
+        self._arrays = {}
         self._points = 0
         self._on_progress = on_progress
 
@@ -75,13 +84,18 @@ class ScanAssembler:
             self._header = message.header
             present = set(self._header.fields) or set(_DEFAULT_FIELDS)
             present.add(scan_pb2.POINT_FIELD_POSITION)
-            self._parts = {name: [] for name, field, _, _ in _LAYOUT if field in present}
+            room = min(self._header.points or self._header.rays, _MAX_RESERVED_POINTS)
+            self._arrays = {name: np.empty(room * width, dtype=dtype)
+                            for name, field, dtype, width in _LAYOUT if field in present}
         elif part == "chunk":
             if self._header is None:
                 raise ValueError("scan stream: chunk before the header")
             chunk = message.chunk
+            end = self._points + chunk.count
+            if self._header.points and end > self._header.points:
+                raise ValueError(f"scan stream: more points than the header announced ({self._header.points})")
             for name, _, dtype, width in _LAYOUT:
-                if name not in self._parts:
+                if name not in self._arrays:
                     continue
                 data = getattr(chunk, name)
                 if len(data) != chunk.count * dtype.itemsize * width:
@@ -89,26 +103,37 @@ class ScanAssembler:
                         f"chunk {chunk.index}.{name}: expected {chunk.count * dtype.itemsize * width} bytes, "
                         f"got {len(data)}"
                     )
-                self._parts[name].append(data)
-            self._points += chunk.count
-            if self._points > self._header.points:
-                raise ValueError(f"scan stream: more points than the header announced ({self._header.points})")
+                array = self._arrays[name]
+                if end * width > array.shape[0]:
+                    array = self._arrays[name] = _grown(array, end * width)
+                array[self._points * width:end * width] = np.frombuffer(data, dtype=dtype)
+            self._points = end
             if self._on_progress:
                 self._on_progress(self._points, self._header.points)
         elif part == "statistics":
+            if self._stats is not None:
+                raise ValueError("scan stream: second statistics")
             self._stats = message.statistics
 
     def result(self):
         if self._header is None:
             raise ValueError("scan stream: ended without a header")
-        if self._points != self._header.points:
-            raise ValueError(f"scan stream: received {self._points} of {self._header.points} points")
         if self._stats is None:
             raise ValueError("scan stream: ended without statistics")
+        # A streamed scan's header announces no count (0); its statistics carry the total.
+        expected = self._header.points or self._stats.streamed_points
+        if self._points != expected:
+            raise ValueError(f"scan stream: received {self._points} of {expected} points")
         arrays = {}
-        for name, _, dtype, width in _LAYOUT:
-            if name in self._parts:
-                # bytearray keeps the arrays writable.
-                array = np.frombuffer(bytearray().join(self._parts[name]), dtype=dtype)
+        for name, _, _, width in _LAYOUT:
+            if name in self._arrays:
+                array = self._arrays[name][:self._points * width]
                 arrays[name] = array.reshape(-1, 3) if width == 3 else array
         return ScanResult(header=self._header, stats=self._stats, **arrays)
+
+
+def _grown(array, needed):
+    """Only when a header announced less room than the chunks need."""
+    bigger = np.empty(max(needed, 2 * array.shape[0]), dtype=array.dtype)
+    bigger[:array.shape[0]] = array
+    return bigger

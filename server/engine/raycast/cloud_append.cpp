@@ -7,8 +7,8 @@ namespace {
 
 // Copies a strip's values row by row to the end of out, which is reserved and never reallocates.
 template <typename T>
-void AppendRows(const T* values, const StripHits& hits, std::vector<T>& out) {
-  for (uint32_t r = 0; r < kPacketSide; ++r) {
+void AppendField(const T* values, const RowBlock& hits, std::vector<T>& out) {
+  for (uint32_t r = 0; r < hits.rows; ++r) {
     const T* row = values + size_t{r} * hits.stride;
     out.insert(out.end(), row, row + hits.count[r]);
   }
@@ -16,10 +16,10 @@ void AppendRows(const T* values, const StripHits& hits, std::vector<T>& out) {
 
 // Eigen vectors are not trivially copyable, so insert would copy them one by one; resizing
 // leaves them uninitialised and one streaming copy per row fills them.
-void AppendRows(const float* values, const StripHits& hits, std::vector<Eigen::Vector3f>& out) {
+void AppendField(const float* values, const RowBlock& hits, std::vector<Eigen::Vector3f>& out) {
   size_t at = out.size();
   out.resize(at + hits.total());
-  for (uint32_t r = 0; r < kPacketSide; ++r) {
+  for (uint32_t r = 0; r < hits.rows; ++r) {
     StreamCopy(out.data() + at, values + size_t{3} * r * hits.stride, sizeof(Eigen::Vector3f) * hits.count[r]);
     at += hits.count[r];
   }
@@ -27,14 +27,14 @@ void AppendRows(const float* values, const StripHits& hits, std::vector<Eigen::V
 
 }  // namespace
 
-void AppendStrip(const StripHits& hits, PointCloud& cloud) {
+void AppendRows(const RowBlock& hits, PointCloud& cloud) {
   if (hits.total() == 0) return;
-  AppendRows(hits.positions, hits, cloud.positions);
-  if (cloud.Has(kFieldNormal)) AppendRows(hits.normals, hits, cloud.normals);
-  if (cloud.Has(kFieldRange)) AppendRows(hits.ranges, hits, cloud.ranges);
-  if (cloud.Has(kFieldIntensity)) AppendRows(hits.intensities, hits, cloud.intensities);
-  if (cloud.Has(kFieldInstanceId)) AppendRows(hits.instance_ids, hits, cloud.instance_ids);
-  if (cloud.Has(kFieldPixel)) AppendRows(hits.pixels, hits, cloud.pixels);
+  AppendField(hits.positions, hits, cloud.positions);
+  if (cloud.Has(kFieldNormal)) AppendField(hits.normals, hits, cloud.normals);
+  if (cloud.Has(kFieldRange)) AppendField(hits.ranges, hits, cloud.ranges);
+  if (cloud.Has(kFieldIntensity)) AppendField(hits.intensities, hits, cloud.intensities);
+  if (cloud.Has(kFieldInstanceId)) AppendField(hits.instance_ids, hits, cloud.instance_ids);
+  if (cloud.Has(kFieldPixel)) AppendField(hits.pixels, hits, cloud.pixels);
   StreamFence();
 }
 

@@ -3,7 +3,7 @@
 
 #include <cstddef>
 
-#include "raycast/strip_tracer.h"
+#include "raycast/row_sink.h"
 #include "vscan/common/point_cloud.h"
 
 namespace vscan::raycast {
@@ -12,8 +12,8 @@ namespace vscan::raycast {
 // pages never written cost nothing.
 void ReserveForEveryPixel(PointCloud& cloud, size_t n);
 
-// Appends the strip's points (the cloud must have room for them).
-void AppendStrip(const StripHits& hits, PointCloud& cloud);
+// Appends the block's points (the cloud must have room for them).
+void AppendRows(const RowBlock& block, PointCloud& cloud);
 
 // Gives back the reserved room when most of it went unused.
 void TrimExcess(PointCloud& cloud);

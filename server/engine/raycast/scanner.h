@@ -8,6 +8,7 @@
 #include "vscan/common/pose.h"
 #include "vscan/common/status.h"
 #include "raycast/raycast_scene.h"
+#include "raycast/row_sink.h"
 #include "sensor/camera.h"
 
 namespace vscan::raycast {
@@ -27,10 +28,18 @@ struct ScanStats {
   double min_range = 0;
   double max_range = 0;
   double elapsed_ms = 0;
+  // Image rows cast and delivered; fewer than the camera's height when the scan was cancelled.
+  uint32_t rows = 0;
 };
 
 // Points in row-major pixel order; normals are unit and face the sensor.
 StatusOr<PointCloud> Scan(const RaycastScene& scene, const sensor::PinholeCamera& camera,
                           const Pose3& world_from_sensor, const ScanOptions& options, ScanStats* stats = nullptr);
+
+// The same scan, streamed: the sink gets the points row block by row block, in row-major pixel
+// order, while later rows are cast (the blocks joined are Scan's cloud, bit for bit). When the sink
+// has no room the cast pauses. stats, when given, is filled also when the scan is cancelled.
+Status ScanRows(const RaycastScene& scene, const sensor::PinholeCamera& camera, const Pose3& world_from_sensor,
+                const ScanOptions& options, RowSink& sink, ScanStats* stats = nullptr);
 
 }  // namespace vscan::raycast

@@ -89,6 +89,10 @@ StripHits::StripHits(uint32_t row_stride) : stride(row_stride) {
   pixels = reinterpret_cast<uint32_t*>(base + offsets[5]);
 }
 
+RowBlock StripHits::Block() const {
+  return RowBlock{first_row, rows, stride, count, positions, normals, ranges, intensities, instance_ids, pixels};
+}
+
 void StripHits::Free::operator()(void* p) const { scalable_aligned_free(p); }
 
 // Built for three instruction sets; the loader picks the best the CPU runs.
@@ -97,6 +101,8 @@ void TraceStrip(const ScanSetup& setup, uint32_t strip, StripHits& hits) {
   const uint32_t v0 = strip * kPacketSide;
   const uint32_t rows = std::min(kPacketSide, setup.height - v0);
   hits.count = {};
+  hits.first_row = v0;
+  hits.rows = rows;
   int32_t min_bits = std::bit_cast<int32_t>(std::numeric_limits<float>::infinity());
   int32_t max_bits = 0;
 

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <memory>
 
+#include "raycast/row_sink.h"
 #include "raycast/scan_setup.h"
 
 namespace vscan::raycast {
@@ -24,10 +25,14 @@ class StripHits {
   uint32_t* pixels = nullptr;
   std::array<uint32_t, kPacketSide> count{};
   uint32_t stride = 0;
+  // The image rows this strip holds.
+  uint32_t first_row = 0;
+  uint32_t rows = 0;
   float min_range = 0;
   float max_range = 0;
 
   uint32_t total() const { return count[0] + count[1] + count[2] + count[3]; }
+  RowBlock Block() const;
 
  private:
   struct Free {

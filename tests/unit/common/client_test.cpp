@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include <grpcpp/create_channel.h>
@@ -110,6 +111,8 @@ class FakeScans final : public v1::ScanService::Service {
  public:
   PointCloud cloud = MakeCloud(10000);
   uint64_t announced_points = 10000;
+  // Set: the statistics carry it (streamed scans announce 0 points in the header).
+  std::optional<uint64_t> streamed_points;
   bool send_statistics = true;
 
   grpc::Status Scan(grpc::ServerContext*, const v1::ScanRequest* req,
@@ -135,6 +138,7 @@ class FakeScans final : public v1::ScanService::Service {
       msg.Clear();
       msg.mutable_statistics()->set_points(cloud.size());
       msg.mutable_statistics()->set_hit_ratio(0.5);
+      if (streamed_points) msg.mutable_statistics()->set_streamed_points(*streamed_points);
       writer->Write(msg);
     }
     return grpc::Status::OK;
@@ -285,6 +289,39 @@ TEST_F(ClientTest, ScanAssemblesChunks) {
   EXPECT_EQ(result->cloud.pixels, scans_.cloud.pixels);
   EXPECT_EQ(result->cloud.ranges, scans_.cloud.ranges);
   EXPECT_EQ(result->stats.hit_ratio(), 0.5);
+}
+
+TEST_F(ClientTest, StreamedScanWithoutCountsLandsInArraysReservedForEveryRay) {
+  scans_.announced_points = 0;
+  scans_.streamed_points = 10000;
+  Client client = Connect();
+  v1::ScanRequest request;
+  request.set_scene_id("scene-1");
+  uint64_t last = 0;
+  ScanCallbacks callbacks;
+  callbacks.on_progress = [&](uint64_t done, uint64_t total) {
+    EXPECT_EQ(total, 0u);
+    last = done;
+  };
+  const auto result = client.Scan(request, callbacks);
+  ASSERT_TRUE(result.ok()) << result.status().ToString();
+  EXPECT_EQ(last, 10000u);
+  EXPECT_EQ(result->cloud.positions, scans_.cloud.positions);
+  EXPECT_EQ(result->cloud.instance_ids, scans_.cloud.instance_ids);
+  // The header's 20000 rays: no array grew (and copied itself) along the way.
+  EXPECT_GE(result->cloud.positions.capacity(), 20000u);
+  EXPECT_GE(result->cloud.pixels.capacity(), 20000u);
+}
+
+TEST_F(ClientTest, StreamedScanShortOfItsStatisticsIsDataLoss) {
+  scans_.announced_points = 0;
+  scans_.streamed_points = 10001;
+  Client client = Connect();
+  v1::ScanRequest request;
+  request.set_scene_id("scene-1");
+  const auto result = client.Scan(request);
+  EXPECT_EQ(result.status().code(), StatusCode::kDataLoss);
+  EXPECT_NE(result.status().message().find("received 10000 of 10001 points"), std::string::npos);
 }
 
 TEST_F(ClientTest, ScanWithFewerPointsThanAnnouncedIsDataLoss) {

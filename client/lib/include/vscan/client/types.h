@@ -60,7 +60,7 @@ struct ObjectPlacement {
 struct ScanCallbacks {
   // Once, when the header arrives.
   std::function<void(const v1::ScanHeader&)> on_header;
-  // After each chunk: (points received, points the header announced).
+  // After each chunk: (points received, points the header announced, 0 when streamed).
   ProgressFn on_progress;
 };
 
