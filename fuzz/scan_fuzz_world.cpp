@@ -61,9 +61,11 @@ Eigen::Matrix4d Translation(double x, double y, double z) {
 }
 
 void AddObjects(ScanFuzzWorld& w) {
-  const auto cube = Must(w.scenes->AddMesh(kCubeObj, {"cube", geometry::MeshFileFormat::kObj, 1, 1.0, 1.0}), "cube");
+  const auto cube = Must(
+      w.scenes->AddMesh(kCubeObj, {"cube", geometry::MeshFileFormat::kObj, store::LengthUnit::kMetre, 1.0, 1.0}),
+      "cube");
   const auto bunny = Must(w.scenes->AddMesh(ReadFile(kData / "meshes/bunny/bunny_zipper_res2.ply"),
-                                            {"bunny", geometry::MeshFileFormat::kPly, 1, 1.0, 1.0}),
+                                            {"bunny", geometry::MeshFileFormat::kPly, store::LengthUnit::kMetre, 1.0, 1.0}),
                           "bunny");
   store::ObjectRecord object;
   object.scene_id = w.scene_id;
