@@ -17,6 +17,7 @@
 #include "api/server.h"
 #include "bench_meshes.h"
 #include "packet_loop.h"
+#include "ratio_reporter.h"
 #include "raycast/embree_scene.h"
 #include "raycast/raycast_scene.h"
 #include "vscan/client/client.h"
@@ -160,38 +161,6 @@ BENCHMARK_CAPTURE(ScanOverGrpc, streamed_all_fields, false, true)->Unit(benchmar
 BENCHMARK_CAPTURE(ScanOverGrpc, whole_cloud_positions, true, false)->Unit(benchmark::kMillisecond)->UseRealTime();
 BENCHMARK_CAPTURE(ScanOverGrpc, whole_cloud_all_fields, true, true)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-// Console output, then each case's time over the packet loop's, from medians when repeated.
-class RatioReporter : public benchmark::ConsoleReporter {
- public:
-  void ReportRuns(const std::vector<Run>& runs) override {
-    for (const Run& run : runs) {
-      const bool median = run.run_type == Run::RT_Aggregate && run.aggregate_name == "median";
-      if (median || run.run_type == Run::RT_Iteration) times_[run.run_name.str()][median] = run.GetAdjustedRealTime();
-    }
-    ConsoleReporter::ReportRuns(runs);
-  }
-  void PrintRatios() const {
-    const double plain = Time("BM_PlainEmbreePackets16");
-    if (plain <= 0) return;
-    for (const auto& [name, times] : times_) {
-      if (name.find("ScanOverGrpc") == std::string::npos) continue;
-      const double t = Time(name);
-      if (t > 0) std::printf("%s / BM_PlainEmbreePackets16 time ratio: %.2f\n", name.c_str(), t / plain);
-    }
-  }
-
- private:
-  double Time(const std::string& name) const {
-    for (const std::string& key : {name, name + "/real_time"}) {
-      const auto it = times_.find(key);
-      if (it == times_.end()) continue;
-      const auto median = it->second.find(true);
-      return median != it->second.end() ? median->second : it->second.at(false);
-    }
-    return 0;
-  }
-  std::map<std::string, std::map<bool, double>> times_;
-};
 
 }  // namespace
 }  // namespace vscan::bench
@@ -200,11 +169,6 @@ int main(int argc, char** argv) {
   // As vscand does: keep freed memory instead of faulting big clouds in again on every scan.
   mallopt(M_MMAP_THRESHOLD, 32 << 20);
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  vscan::bench::RatioReporter reporter;
-  benchmark::RunSpecifiedBenchmarks(&reporter);
-  reporter.PrintRatios();
-  benchmark::Shutdown();
-  return 0;
+  vscan::bench::RatioReporter reporter("BM_PlainEmbreePackets16", {"ScanOverGrpc"});
+  return vscan::bench::RunWithRatios(argc, argv, reporter);
 }

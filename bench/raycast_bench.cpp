@@ -19,6 +19,7 @@
 
 #include "bench_meshes.h"
 #include "packet_loop.h"
+#include "ratio_reporter.h"
 #include "raycast/embree_scene.h"
 #include "raycast/scanner.h"
 
@@ -163,35 +164,6 @@ BENCHMARK(BM_PlainEmbreeSingleRays)->UseRealTime()->Unit(benchmark::kMillisecond
 BENCHMARK(BM_ScanAllFields)->UseRealTime()->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_ScanPositionOnly)->UseRealTime()->Unit(benchmark::kMillisecond);
 
-// Console output plus the scanner-to-plain time ratios, from medians when repeated.
-class RatioReporter : public benchmark::ConsoleReporter {
- public:
-  void ReportRuns(const std::vector<Run>& runs) override {
-    for (const Run& run : runs) {
-      const bool median = run.run_type == Run::RT_Aggregate && run.aggregate_name == "median";
-      if (median || run.run_type == Run::RT_Iteration) times_[run.run_name.function_name][median] = run.GetAdjustedRealTime();
-    }
-    ConsoleReporter::ReportRuns(runs);
-  }
-  void PrintRatios() const {
-    const double plain = Time("BM_PlainEmbreePackets16");
-    if (plain <= 0) return;
-    for (const char* name : {"BM_ScanAllFields", "BM_ScanPositionOnly", "BM_PlainEmbreeSingleRays"}) {
-      const double t = Time(name);
-      if (t > 0) std::printf("%s / BM_PlainEmbreePackets16 time ratio: %.3f\n", name, t / plain);
-    }
-  }
-
- private:
-  double Time(const std::string& name) const {
-    const auto it = times_.find(name);
-    if (it == times_.end()) return 0;
-    const auto median = it->second.find(true);
-    return median != it->second.end() ? median->second : it->second.at(false);
-  }
-  std::map<std::string, std::map<bool, double>> times_;
-};
-
 // Scan returns a fresh cloud each call. glibc hands big blocks back to the kernel when they are
 // freed, so every scan would fault its ~50 MB in again; a server keeps its heap instead (vscand
 // should set the same). --vscan_default_malloc measures glibc's defaults.
@@ -219,11 +191,6 @@ void KeepFreedMemory(int& argc, char** argv) {
 
 int main(int argc, char** argv) {
   vscan::bench::KeepFreedMemory(argc, argv);
-  benchmark::Initialize(&argc, argv);
-  if (benchmark::ReportUnrecognizedArguments(argc, argv)) return 1;
-  vscan::bench::RatioReporter reporter;
-  benchmark::RunSpecifiedBenchmarks(&reporter);
-  reporter.PrintRatios();
-  benchmark::Shutdown();
-  return 0;
+  vscan::bench::RatioReporter reporter("BM_PlainEmbreePackets16", {"BM_Scan", "BM_PlainEmbreeSingleRays"});
+  return vscan::bench::RunWithRatios(argc, argv, reporter);
 }
