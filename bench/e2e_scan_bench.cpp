@@ -43,7 +43,7 @@ std::unique_ptr<ServedScene> Serve(const BunnyGrid& grid, bool whole_cloud) {
   auto s = std::make_unique<ServedScene>();
   s->data_dir = std::filesystem::temp_directory_path() /
                 ("vscan-e2e-bench-" + std::to_string(getpid()) + (whole_cloud ? "-whole" : "-stream"));
-  api::ServerOptions options;
+  service::ServerOptions options;
   options.listen_address = "127.0.0.1:0";
   options.data_dir = s->data_dir.string();
   options.mesh_importer_path = VSCAN_MESH_IMPORTER;

@@ -8,9 +8,9 @@
 #include <memory>
 #include <string>
 
-#include "api/raster_provider.h"
-#include "api/server_options.h"
-#include "api/service_context.h"
+#include "service/raster_provider.h"
+#include "service/server_options.h"
+#include "service/service_context.h"
 #include "jobs/worker_pool.h"
 #include "robots/robot_registry.h"
 #include "scenes/scene_registry.h"
@@ -25,15 +25,15 @@ inline constexpr uint64_t kMaxRaysPerScan = 96 * 96;
 
 struct ScanFuzzWorld {
   std::filesystem::path data_dir;
-  api::ServerOptions options;
+  service::ServerOptions options;
   std::unique_ptr<store::Catalogue> catalogue;
   std::unique_ptr<store::BlobStore> blobs;
   std::unique_ptr<scenes::SceneRegistry> scenes;
   std::unique_ptr<store::RobotCatalogue> robot_catalogue;
   std::unique_ptr<robots::RobotRegistry> robots;
   std::unique_ptr<jobs::WorkerPool> workers;
-  api::RasterProvider raster;
-  std::unique_ptr<api::ServiceContext> context;
+  service::RasterProvider raster;
+  std::unique_ptr<service::ServiceContext> context;
 
   std::string scene_id;
   // Mount ids by the names seeds use for them in robot.mount_id; other names get the Panda's.

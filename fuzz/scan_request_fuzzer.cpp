@@ -15,9 +15,9 @@
 #include <google/protobuf/io/tokenizer.h>
 #include <google/protobuf/text_format.h>
 
-#include "api/scan_backends.h"
+#include "service/scan_backends.h"
 #include "api/scan_request.h"
-#include "api/scan_target.h"
+#include "service/scan_target.h"
 #include "scan_fuzz_world.h"
 
 namespace {
@@ -87,7 +87,7 @@ bool Sized(const PointCloud& cloud, vscan::PointFields field, const std::vector<
   return values.size() == (cloud.Has(field) ? cloud.size() : 0);
 }
 
-void CheckCloud(const PointCloud& cloud, const vscan::api::ScanPlan& plan) {
+void CheckCloud(const PointCloud& cloud, const vscan::service::ScanPlan& plan) {
   using namespace vscan;
   Check(Sized(cloud, kFieldNormal, cloud.normals) && Sized(cloud, kFieldRange, cloud.ranges) &&
             Sized(cloud, kFieldIntensity, cloud.intensities) && Sized(cloud, kFieldInstanceId, cloud.instance_ids) &&
@@ -126,8 +126,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
     return 0;
   }
   // No EGL here: the raster backends scan by ray casting instead.
-  plan->backend = vscan::api::ScanBackend::kRaycast;
-  auto target = vscan::api::PrepareScanTarget(*world.context, *plan);
+  plan->backend = vscan::service::ScanBackend::kRaycast;
+  auto target = vscan::service::PrepareScanTarget(*world.context, *plan);
   if (!target.ok()) {
     Report("PrepareScanTarget", target.status());
     CheckProperError(target.status(), "PrepareScanTarget");
@@ -135,7 +135,7 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   }
   vscan::raycast::ScanStats stats;
   vscan::capture::MeasureStats measure;
-  auto cloud = vscan::api::RunScanBackend(*plan, *target, world.raster, nullptr, &stats, &measure);
+  auto cloud = vscan::service::RunScanBackend(*plan, *target, world.raster, nullptr, &stats, &measure);
   if (!cloud.ok()) {
     Report("RunScanBackend", cloud.status());
     CheckProperError(cloud.status(), "RunScanBackend");

@@ -66,7 +66,7 @@ class StopDeadline {
 }  // namespace
 
 int main(int argc, char** argv) {
-  vscan::api::ServerOptions options;
+  vscan::service::ServerOptions options;
   std::string log_level = "info";
   std::string token_file;
   double grace_seconds = 10;
@@ -81,7 +81,10 @@ int main(int argc, char** argv) {
   app.add_option("--tls-cert", options.tls_cert_file, "PEM certificate chain; enables TLS with --tls-key");
   app.add_option("--tls-key", options.tls_key_file, "PEM private key");
   app.add_option("--tls-client-ca", options.tls_client_ca_file, "PEM CA bundle; requires client certificates (mTLS)");
-  app.add_option("--worker-threads", options.worker_threads, "Threads for heavy work off the gRPC threads")
+  app.add_option("--worker-threads", options.worker_threads, "Threads for scans and uploads off the gRPC threads")
+      ->capture_default_str()->check(CLI::Range(1, 256));
+  app.add_option("--call-threads", options.call_threads,
+                 "Threads for blocking calls (inverse kinematics, catalogue writes) off the gRPC threads")
       ->capture_default_str()->check(CLI::Range(1, 256));
   app.add_option("--max-upload-mib", max_upload_mib, "Largest mesh upload")->capture_default_str()
       ->check(CLI::Range(1, 65536));

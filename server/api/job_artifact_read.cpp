@@ -19,7 +19,7 @@ constexpr size_t kChunkBytes = 1u << 20;
 class ReadArtifactReactor final : public grpc::ServerWriteReactor<v1::ReadArtifactResponse> {
  public:
   ReadArtifactReactor(grpc::CallbackServerContext* ctx, const v1::ReadArtifactRequest& request,
-                      ServiceContext& context, JobTracker& tracker)
+                      service::ServiceContext& context, JobTracker& tracker)
       : request_(request), tracker_(tracker) {
     Status status = CheckToken(*ctx, context.options.token);
     if (status.ok()) status = RequireId(request.job_id(), "job_id");

@@ -5,9 +5,10 @@
 
 #include <spdlog/spdlog.h>
 
-#include "api/campaign_run.h"
 #include "api/campaign_spec.h"
 #include "api/job_convert.h"
+#include "api/job_recorder.h"
+#include "service/campaign_run.h"
 #include "api/unary.h"
 #include "api/validate.h"
 
@@ -28,9 +29,9 @@ constexpr int kListBatch = 16;
 grpc::ServerUnaryReactor* JobService::StartCampaign(grpc::CallbackServerContext* ctx,
                                                     const v1::StartCampaignRequest* request,
                                                     v1::StartCampaignResponse* response) {
-  return RunUnary(ctx, context_.options.token, "StartCampaign", [&]() -> Status {
+  return RunBlockingUnary(ctx, context_.options.token, "StartCampaign", context_.call_workers, [=, this]() -> Status {
     if (!request->has_spec()) return InvalidArgument("spec: required");
-    ASSIGN_OR_RETURN(CampaignPlan validated, ValidateCampaign(request->spec(), context_, request->validate_only()));
+    ASSIGN_OR_RETURN(service::CampaignPlan validated, ValidateCampaign(request->spec(), context_, request->validate_only()));
     if (request->validate_only()) return Status::Ok();
     const uint32_t max_queued = context_.options.limits.max_queued_jobs;
     std::lock_guard admit(admit_mutex_);
@@ -39,10 +40,11 @@ grpc::ServerUnaryReactor* JobService::StartCampaign(grpc::CallbackServerContext*
     }
     ASSIGN_OR_RETURN(v1::Job job, tracker_.CreateCampaign(request->spec(), validated.steps_total()));
     const std::string job_id = job.job_id();
-    auto plan = std::make_shared<const CampaignPlan>(std::move(validated));
+    auto plan = std::make_shared<const service::CampaignPlan>(std::move(validated));
     auto work = [this, job_id, plan](jobs::JobControl& control) {
       try {
-        RunCampaign(context_, tracker_, job_id, *plan, control);
+        TrackedJobRecorder recorder(tracker_, job_id);
+        service::RunCampaign(context_, recorder, job_id, *plan, control);
       } catch (const std::exception& e) {
         JobEventUpdate update;
         update.state = store::JobState::kFailed;
@@ -53,7 +55,7 @@ grpc::ServerUnaryReactor* JobService::StartCampaign(grpc::CallbackServerContext*
     };
     auto dropped = [this, job_id](jobs::StopReason reason) {
       JobEventUpdate update;
-      update.state = StoppedState(reason);
+      update.state = service::StoppedState(reason);
       update.message = reason == jobs::StopReason::kCancelled ? "cancelled before it started"
                                                               : "server stopped while the job ran";
       const Status ended = tracker_.End(job_id, update);
@@ -120,7 +122,7 @@ grpc::ServerUnaryReactor* JobService::ListJobs(grpc::CallbackServerContext* ctx,
 
 grpc::ServerUnaryReactor* JobService::CancelJob(grpc::CallbackServerContext* ctx, const v1::CancelJobRequest* request,
                                                 v1::CancelJobResponse* response) {
-  return RunUnary(ctx, context_.options.token, "CancelJob", [&]() -> Status {
+  return RunBlockingUnary(ctx, context_.options.token, "CancelJob", context_.call_workers, [=, this]() -> Status {
     RETURN_IF_ERROR(RequireId(request->job_id(), "job_id"));
     ASSIGN_OR_RETURN(const v1::Job before, tracker_.Get(request->job_id()));
     if (Ended(before.state())) {
@@ -139,7 +141,7 @@ grpc::ServerUnaryReactor* JobService::CancelJob(grpc::CallbackServerContext* ctx
 
 grpc::ServerUnaryReactor* JobService::DeleteJob(grpc::CallbackServerContext* ctx, const v1::DeleteJobRequest* request,
                                                 v1::DeleteJobResponse* response) {
-  return RunUnary(ctx, context_.options.token, "DeleteJob", [&]() -> Status {
+  return RunBlockingUnary(ctx, context_.options.token, "DeleteJob", context_.call_workers, [=, this]() -> Status {
     RETURN_IF_ERROR(RequireId(request->job_id(), "job_id"));
     ASSIGN_OR_RETURN(const store::CollectedBlobs removed, tracker_.Delete(request->job_id()));
     spdlog::info("job {}: deleted ({} files, {} bytes freed)", request->job_id(), removed.files, removed.bytes);

@@ -5,7 +5,7 @@
 #include <mutex>
 
 #include "api/job_tracker.h"
-#include "api/service_context.h"
+#include "service/service_context.h"
 #include "jobs/job_runner.h"
 #include "vscan/v1/job.grpc.pb.h"
 
@@ -13,7 +13,7 @@ namespace vscan::api {
 
 class JobService final : public v1::JobService::CallbackService {
  public:
-  JobService(ServiceContext& context, JobTracker& tracker, jobs::JobRunner& runner)
+  JobService(service::ServiceContext& context, JobTracker& tracker, jobs::JobRunner& runner)
       : context_(context), tracker_(tracker), runner_(runner) {}
 
   grpc::ServerUnaryReactor* StartCampaign(grpc::CallbackServerContext* ctx, const v1::StartCampaignRequest* request,
@@ -34,7 +34,7 @@ class JobService final : public v1::JobService::CallbackService {
                                                                    const v1::ReadArtifactRequest* request) override;
 
  private:
-  ServiceContext& context_;
+  service::ServiceContext& context_;
   JobTracker& tracker_;
   jobs::JobRunner& runner_;
   // Makes the queue check, the job's creation and its submission one step, so that the queue

@@ -15,6 +15,7 @@
 
 #include "store/blob_gc.h"
 #include "store/blob_store.h"
+#include "service/job_events.h"
 #include "store/job_catalogue.h"
 #include "vscan/v1/job.pb.h"
 
@@ -75,14 +76,7 @@ class LiveJob {
   std::map<JobWatcher*, uint64_t> watchers_;
 };
 
-// What one event changes.
-struct JobEventUpdate {
-  store::JobState state = store::JobState::kRunning;
-  std::string message;
-  uint32_t steps_done = 0;
-  uint32_t step = 0;
-  bool pose_reached = false;
-};
+using service::JobEventUpdate;
 
 class JobTracker {
  public:

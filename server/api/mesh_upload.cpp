@@ -34,7 +34,7 @@ geometry::MeshFileFormat FormatOf(const v1::MeshHeader& header) {
 
 class UploadMeshReactor final : public UploadReactor<v1::UploadMeshRequest> {
  public:
-  UploadMeshReactor(grpc::CallbackServerContext* ctx, v1::UploadMeshResponse* response, ServiceContext& context)
+  UploadMeshReactor(grpc::CallbackServerContext* ctx, v1::UploadMeshResponse* response, service::ServiceContext& context)
       : UploadReactor(ctx, context, "UploadMesh"), response_(response) {
     Start();
   }

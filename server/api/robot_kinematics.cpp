@@ -4,13 +4,12 @@
 #include <cstdio>
 #include <numbers>
 #include <optional>
-#include <random>
 
-#include "api/robot_collision.h"
 #include "api/robot_convert.h"
 #include "api/robot_service.h"
 #include "api/unary.h"
 #include "api/validate.h"
+#include "service/inverse_kinematics.h"
 #include "robot/forward_kinematics.h"
 #include "vscan/common/physical_limits.h"
 #include "vscan/common/proto_convert.h"
@@ -22,39 +21,17 @@ constexpr double kDefaultTolerance = 1e-5;
 constexpr double kDefaultTimeoutMs = 50.0;
 constexpr double kMaxTimeoutMs = 5000.0;
 
-// The chain and where it stands: the robot's base frame, or the world of a mount.
-struct Target {
-  std::shared_ptr<const robot::KinematicChain> chain;
-  robots::Placement placement;
-  bool mounted = false;
-  std::string mount_id;
-  std::string scene_id;
-};
+using service::ArmTarget;
 
-StatusOr<Target> ResolveTarget(robots::RobotRegistry& robots, const std::string& robot_id,
-                               const std::string& mount_id) {
-  Target target;
-  if (mount_id.empty()) {
-    if (robot_id.empty()) return InvalidArgument("robot_id: required (or mount_id for world coordinates)");
-    RETURN_IF_ERROR(RequireId(robot_id, "robot_id"));
-    ASSIGN_OR_RETURN(target.chain, robots.Chain(robot_id));
-    return target;
-  }
-  RETURN_IF_ERROR(RequireId(mount_id, "mount_id"));
-  ASSIGN_OR_RETURN(robots::MountedRobot mounted, robots.Mount(mount_id));
-  if (!robot_id.empty() && robot_id != mounted.mount.robot_id) {
-    return InvalidArgument("robot_id: mount '" + mount_id + "' holds robot '" + mounted.mount.robot_id + "', not '" +
-                           robot_id + "'");
-  }
-  target.chain = std::move(mounted.chain);
-  target.placement = std::move(mounted.placement);
-  target.mounted = true;
-  target.mount_id = mount_id;
-  target.scene_id = mounted.mount.scene_id;
-  return target;
+// The arm the request names: ids checked here, looked up by the service layer.
+StatusOr<ArmTarget> ResolveTarget(robots::RobotRegistry& robots, const std::string& robot_id,
+                                  const std::string& mount_id) {
+  if (!robot_id.empty()) RETURN_IF_ERROR(RequireId(robot_id, "robot_id"));
+  if (!mount_id.empty()) RETURN_IF_ERROR(RequireId(mount_id, "mount_id"));
+  return service::ResolveArm(robots, robot_id, mount_id);
 }
 
-StatusOr<std::optional<uint64_t>> NoiseSeed(const Target& target, bool apply, uint64_t seed) {
+StatusOr<std::optional<uint64_t>> NoiseSeed(const ArmTarget& target, bool apply, uint64_t seed) {
   if (!apply) return std::optional<uint64_t>();
   if (!target.mounted) {
     return InvalidArgument("apply_encoder_noise: needs mount_id (encoder sigma belongs to a mount)");
@@ -134,51 +111,13 @@ Status RenameGoal(const Status& failure, const v1::InverseKinematicsRequest& req
   return Status(failure.code(), field, failure.message());
 }
 
-// A solution and, with avoid_collisions, what it touches.
-struct CheckedAnswer {
-  robots::IkAnswer answer;
-  std::optional<std::string> collision;
-  uint32_t checks = 0;
-};
-
-// Solves; with avoid_collisions, retries from random seeds within the one time budget until a
-// reached solution touches nothing. Keeps the first unreached answer when nothing was reached.
-StatusOr<CheckedAnswer> SolveAvoidingCollisions(ServiceContext& context, const Target& target,
-                                                const robot::IkGoal& goal, const Eigen::VectorXd& seed,
-                                                const robots::IkSettings& settings, bool avoid_collisions) {
-  CheckedAnswer out;
-  ASSIGN_OR_RETURN(out.answer, robots::SolveInPlacement(*target.chain, target.placement, goal, seed, settings));
-  if (!avoid_collisions || !out.answer.reached) return out;
-  using Clock = std::chrono::steady_clock;
-  const auto deadline = Clock::now() + settings.time_budget;
-  ASSIGN_OR_RETURN(const store::SceneRecord scene, context.registry.catalogue().GetScene(target.scene_id));
-  std::mt19937_64 rng(0x5eed);
-  robots::IkSettings retry = settings;
-  for (robots::IkAnswer attempt = out.answer;;) {
-    ASSIGN_OR_RETURN(auto collision, FindRobotCollision(context, target.mount_id, attempt.result.joint_positions,
-                                                        scene.table.angle_deg));
-    ++out.checks;
-    if (attempt.reached) {
-      out.answer = std::move(attempt);
-      out.collision = std::move(collision);
-      if (!out.collision) return out;
-    }
-    const auto left = std::chrono::duration_cast<std::chrono::microseconds>(deadline - Clock::now());
-    if (left.count() <= 0) return out;
-    retry.time_budget = left;
-    ASSIGN_OR_RETURN(attempt, robots::SolveInPlacement(*target.chain, target.placement, goal,
-                                                       robot::RandomJointPositions(*target.chain, rng), retry));
-    if (!attempt.reached) return out;
-  }
-}
-
 }  // namespace
 
 grpc::ServerUnaryReactor* RobotService::ForwardKinematics(grpc::CallbackServerContext* ctx,
                                                           const v1::ForwardKinematicsRequest* request,
                                                           v1::ForwardKinematicsResponse* response) {
   return RunUnary(ctx, context_.options.token, "ForwardKinematics", [&]() -> Status {
-    ASSIGN_OR_RETURN(const Target target, ResolveTarget(context_.robots, request->robot_id(), request->mount_id()));
+    ASSIGN_OR_RETURN(const ArmTarget target, ResolveTarget(context_.robots, request->robot_id(), request->mount_id()));
     ASSIGN_OR_RETURN(const auto noise_seed,
                      NoiseSeed(target, request->apply_encoder_noise(), request->encoder_noise_seed()));
     const Eigen::VectorXd q = ToVector(request->joint_positions());
@@ -200,18 +139,15 @@ grpc::ServerUnaryReactor* RobotService::ForwardKinematics(grpc::CallbackServerCo
 grpc::ServerUnaryReactor* RobotService::InverseKinematics(grpc::CallbackServerContext* ctx,
                                                           const v1::InverseKinematicsRequest* request,
                                                           v1::InverseKinematicsResponse* response) {
-  return RunUnary(ctx, context_.options.token, "InverseKinematics", [&]() -> Status {
-    ASSIGN_OR_RETURN(const Target target, ResolveTarget(context_.robots, request->robot_id(), request->mount_id()));
+  return RunBlockingUnary(ctx, context_.options.token, "InverseKinematics", context_.call_workers, [=, this]() -> Status {
+    ASSIGN_OR_RETURN(const ArmTarget target, ResolveTarget(context_.robots, request->robot_id(), request->mount_id()));
     ASSIGN_OR_RETURN(const robot::IkGoal goal, GoalFromRequest(*request));
     ASSIGN_OR_RETURN(const robots::IkSettings settings, SettingsFromRequest(*request));
     ASSIGN_OR_RETURN(const auto noise_seed,
                      NoiseSeed(target, request->apply_encoder_noise(), request->encoder_noise_seed()));
-    if (request->avoid_collisions() && !target.mounted) {
-      return InvalidArgument("avoid_collisions: needs mount_id (collisions are with the mount's scene)");
-    }
-    ASSIGN_OR_RETURN(const CheckedAnswer checked,
-                     SolveAvoidingCollisions(context_, target, goal, ToVector(request->seed()), settings,
-                                             request->avoid_collisions()));
+    ASSIGN_OR_RETURN(const service::CheckedIkAnswer checked,
+                     service::SolveIkAvoidingCollisions(context_, target, goal, ToVector(request->seed()), settings,
+                                                        request->avoid_collisions()));
     const robots::IkAnswer& answer = checked.answer;
     if (!answer.reached && !request->allow_partial()) {
       return RenameGoal(answer.failure, *request).WithCode(StatusCode::kOutOfRange);

@@ -77,7 +77,7 @@ grpc::ServerUnaryReactor* RobotService::ListRobots(grpc::CallbackServerContext* 
 
 grpc::ServerUnaryReactor* RobotService::DeleteRobot(grpc::CallbackServerContext* ctx,
                                                     const v1::DeleteRobotRequest* request, v1::DeleteRobotResponse*) {
-  return RunUnary(ctx, context_.options.token, "DeleteRobot", [&]() -> Status {
+  return RunBlockingUnary(ctx, context_.options.token, "DeleteRobot", context_.call_workers, [=, this]() -> Status {
     RETURN_IF_ERROR(RequireId(request->robot_id(), "robot_id"));
     return context_.robots.DeleteRobot(request->robot_id());
   });
@@ -86,7 +86,7 @@ grpc::ServerUnaryReactor* RobotService::DeleteRobot(grpc::CallbackServerContext*
 grpc::ServerUnaryReactor* RobotService::MountRobot(grpc::CallbackServerContext* ctx,
                                                    const v1::MountRobotRequest* request,
                                                    v1::MountRobotResponse* response) {
-  return RunUnary(ctx, context_.options.token, "MountRobot", [&]() -> Status {
+  return RunBlockingUnary(ctx, context_.options.token, "MountRobot", context_.call_workers, [=, this]() -> Status {
     ASSIGN_OR_RETURN(store::MountRecord mount, MountFromRequest(*request));
     ASSIGN_OR_RETURN(const auto added, context_.robots.AddMount(std::move(mount)));
     response->set_mount_id(added.first.mount_id);
@@ -124,7 +124,7 @@ grpc::ServerUnaryReactor* RobotService::ListMounts(grpc::CallbackServerContext* 
 grpc::ServerUnaryReactor* RobotService::UnmountRobot(grpc::CallbackServerContext* ctx,
                                                      const v1::UnmountRobotRequest* request,
                                                      v1::UnmountRobotResponse* response) {
-  return RunUnary(ctx, context_.options.token, "UnmountRobot", [&]() -> Status {
+  return RunBlockingUnary(ctx, context_.options.token, "UnmountRobot", context_.call_workers, [=, this]() -> Status {
     RETURN_IF_ERROR(RequireId(request->mount_id(), "mount_id"));
     ASSIGN_OR_RETURN(const uint64_t revision, context_.robots.catalogue().DeleteMount(request->mount_id()));
     response->set_revision(revision);

@@ -1,14 +1,14 @@
 #pragma once
 // RobotService: robot bundles, kinematics, and mounts of robots in scenes.
 
-#include "api/service_context.h"
+#include "service/service_context.h"
 #include "vscan/v1/robot.grpc.pb.h"
 
 namespace vscan::api {
 
 class RobotService final : public v1::RobotService::CallbackService {
  public:
-  explicit RobotService(ServiceContext& context) : context_(context) {}
+  explicit RobotService(service::ServiceContext& context) : context_(context) {}
 
   grpc::ServerReadReactor<v1::UploadRobotRequest>* UploadRobot(grpc::CallbackServerContext* ctx,
                                                                v1::UploadRobotResponse* response) override;
@@ -34,7 +34,7 @@ class RobotService final : public v1::RobotService::CallbackService {
                                          v1::UnmountRobotResponse* response) override;
 
  private:
-  ServiceContext& context_;
+  service::ServiceContext& context_;
 };
 
 }  // namespace vscan::api

@@ -21,7 +21,7 @@ std::string FileField(size_t i) { return "files[" + std::to_string(i) + "].path"
 
 class UploadRobotReactor final : public UploadReactor<v1::UploadRobotRequest> {
  public:
-  UploadRobotReactor(grpc::CallbackServerContext* ctx, v1::UploadRobotResponse* response, ServiceContext& context)
+  UploadRobotReactor(grpc::CallbackServerContext* ctx, v1::UploadRobotResponse* response, service::ServiceContext& context)
       : UploadReactor(ctx, context, "UploadRobot"), response_(response) {
     Start();
   }

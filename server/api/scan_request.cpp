@@ -5,6 +5,7 @@
 #include "api/measurement_request.h"
 #include "api/sensor_request.h"
 #include "api/validate.h"
+#include "service/robot_placement.h"
 #include "vscan/common/chunk_limits.h"
 #include "vscan/common/physical_limits.h"
 #include "vscan/common/proto_convert.h"
@@ -13,29 +14,17 @@ namespace vscan::api {
 namespace {
 
 // The sensor pose of a robot-held scan, from the mount and the commanded joints.
-StatusOr<RobotPlacement> PlaceRobotSensor(const v1::ScanRequest& request, robots::RobotRegistry& robots,
-                                          Pose3* world_from_sensor) {
+StatusOr<service::RobotPlacement> PlaceRobotSensor(const v1::ScanRequest& request, robots::RobotRegistry& robots,
+                                                   Pose3* world_from_sensor) {
   const v1::RobotPose& pose = request.robot();
   RETURN_IF_ERROR(RequireId(pose.mount_id(), "robot.mount_id"));
-  auto mounted = robots.Mount(pose.mount_id());
-  if (!mounted.ok()) {
-    const Status& s = mounted.status();
-    return s.field() == "mount_id" ? s.WithFieldPrefix("robot") : s;
-  }
-  if (mounted->mount.scene_id != request.scene_id()) {
-    return FailedPrecondition("robot.mount_id", "mount '" + pose.mount_id() + "' is in scene '" +
-                              mounted->mount.scene_id + "', not in scene_id '" + request.scene_id() + "'");
-  }
   const Eigen::VectorXd q = Eigen::Map<const Eigen::VectorXd>(pose.joint_positions().data(),
                                                               pose.joint_positions().size());
   const std::optional<uint64_t> noise_seed =
       pose.apply_encoder_noise() ? std::optional<uint64_t>(request.seed()) : std::nullopt;
-  ASSIGN_OR_RETURN(const robots::ArmState state, robots::CommandJoints(*mounted->chain, mounted->placement, q,
-                                                                       "robot.joint_positions", noise_seed));
-  // Each part is bounded where it entered; their composition is checked as well.
-  RETURN_IF_ERROR(CheckPosition(state.achieved_pose.translation(), "robot.mount_id (the sensor position it reaches)"));
-  *world_from_sensor = state.achieved_pose;
-  return RobotPlacement{state.commanded_pose, state.achieved, pose.mount_id()};
+  auto placed = service::PlaceRobotSensor(robots, request.scene_id(), pose.mount_id(), q, noise_seed, world_from_sensor);
+  if (!placed.ok() && !placed.status().field().empty()) return placed.status().WithFieldPrefix("robot");
+  return placed;
 }
 
 }  // namespace
@@ -59,7 +48,7 @@ StatusOr<raycast::ScanFrame> FrameFromProto(int frame) {
   }
 }
 
-StatusOr<ScanPlan> ParseScanRequest(const v1::ScanRequest& request, const Limits& limits,
+StatusOr<ScanPlan> ParseScanRequest(const v1::ScanRequest& request, const service::Limits& limits,
                                     robots::RobotRegistry& robots) {
   ScanPlan plan;
   RETURN_IF_ERROR(RequireId(request.scene_id(), "scene_id"));

@@ -1,14 +1,17 @@
 #pragma once
 // ScanService: casts a scan on a worker thread and streams it back in chunks.
 
-#include "api/service_context.h"
+#include "api/stall_watchdog.h"
+#include "service/service_context.h"
 #include "vscan/v1/scan.grpc.pb.h"
 
 namespace vscan::api {
 
 class ScanService final : public v1::ScanService::CallbackService {
  public:
-  explicit ScanService(ServiceContext& context) : context_(context) {}
+  // stalled_readers cancels streams whose client stopped reading; null watches nothing.
+  ScanService(service::ServiceContext& context, StallWatchdog* stalled_readers)
+      : context_(context), stalled_readers_(stalled_readers) {}
 
   grpc::ServerWriteReactor<v1::ScanResponse>* Scan(grpc::CallbackServerContext* ctx,
                                                    const v1::ScanRequest* request) override;
@@ -17,7 +20,8 @@ class ScanService final : public v1::ScanService::CallbackService {
                                               v1::ListSensorPresetsResponse* response) override;
 
  private:
-  ServiceContext& context_;
+  service::ServiceContext& context_;
+  StallWatchdog* stalled_readers_;
 };
 
 }  // namespace vscan::api

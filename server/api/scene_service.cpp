@@ -29,7 +29,7 @@ StatusOr<store::TableRecord> TableFromProto(const v1::RotaryTable& table) {
 grpc::ServerUnaryReactor* SceneService::CreateScene(grpc::CallbackServerContext* ctx,
                                                     const v1::CreateSceneRequest* request,
                                                     v1::CreateSceneResponse* response) {
-  return RunUnary(ctx, context_.options.token, "CreateScene", [&]() -> Status {
+  return RunBlockingUnary(ctx, context_.options.token, "CreateScene", context_.call_workers, [=, this]() -> Status {
     RETURN_IF_ERROR(CheckText(request->name(), "name"));
     ASSIGN_OR_RETURN(auto scene, context_.registry.catalogue().CreateScene(request->name()));
     ToProto(scene, response->mutable_scene());
@@ -65,7 +65,7 @@ grpc::ServerUnaryReactor* SceneService::ListScenes(grpc::CallbackServerContext* 
 grpc::ServerUnaryReactor* SceneService::DeleteScene(grpc::CallbackServerContext* ctx,
                                                     const v1::DeleteSceneRequest* request,
                                                     v1::DeleteSceneResponse*) {
-  return RunUnary(ctx, context_.options.token, "DeleteScene", [&]() -> Status {
+  return RunBlockingUnary(ctx, context_.options.token, "DeleteScene", context_.call_workers, [=, this]() -> Status {
     RETURN_IF_ERROR(RequireId(request->scene_id(), "scene_id"));
     return context_.registry.catalogue().DeleteScene(request->scene_id());
   });
@@ -98,7 +98,7 @@ grpc::ServerUnaryReactor* SceneService::ListMeshes(grpc::CallbackServerContext* 
 
 grpc::ServerUnaryReactor* SceneService::DeleteMesh(grpc::CallbackServerContext* ctx,
                                                    const v1::DeleteMeshRequest* request, v1::DeleteMeshResponse*) {
-  return RunUnary(ctx, context_.options.token, "DeleteMesh", [&]() -> Status {
+  return RunBlockingUnary(ctx, context_.options.token, "DeleteMesh", context_.call_workers, [=, this]() -> Status {
     RETURN_IF_ERROR(RequireId(request->mesh_id(), "mesh_id"));
     return context_.registry.DeleteMesh(request->mesh_id());
   });
@@ -107,7 +107,7 @@ grpc::ServerUnaryReactor* SceneService::DeleteMesh(grpc::CallbackServerContext* 
 grpc::ServerUnaryReactor* SceneService::AddObject(grpc::CallbackServerContext* ctx,
                                                   const v1::AddObjectRequest* request,
                                                   v1::AddObjectResponse* response) {
-  return RunUnary(ctx, context_.options.token, "AddObject", [&]() -> Status {
+  return RunBlockingUnary(ctx, context_.options.token, "AddObject", context_.call_workers, [=, this]() -> Status {
     RETURN_IF_ERROR(RequireId(request->scene_id(), "scene_id"));
     RETURN_IF_ERROR(RequireId(request->mesh_id(), "mesh_id"));
     RETURN_IF_ERROR(CheckText(request->label(), "label"));
@@ -132,7 +132,7 @@ grpc::ServerUnaryReactor* SceneService::AddObject(grpc::CallbackServerContext* c
 grpc::ServerUnaryReactor* SceneService::MoveObject(grpc::CallbackServerContext* ctx,
                                                    const v1::MoveObjectRequest* request,
                                                    v1::MoveObjectResponse* response) {
-  return RunUnary(ctx, context_.options.token, "MoveObject", [&]() -> Status {
+  return RunBlockingUnary(ctx, context_.options.token, "MoveObject", context_.call_workers, [=, this]() -> Status {
     RETURN_IF_ERROR(RequireId(request->scene_id(), "scene_id"));
     RETURN_IF_ERROR(RequireId(request->object_id(), "object_id"));
     ASSIGN_OR_RETURN(Pose3 pose, PoseFromProto(request->pose(), "pose"));
@@ -151,7 +151,7 @@ grpc::ServerUnaryReactor* SceneService::MoveObject(grpc::CallbackServerContext* 
 grpc::ServerUnaryReactor* SceneService::RemoveObject(grpc::CallbackServerContext* ctx,
                                                      const v1::RemoveObjectRequest* request,
                                                      v1::RemoveObjectResponse* response) {
-  return RunUnary(ctx, context_.options.token, "RemoveObject", [&]() -> Status {
+  return RunBlockingUnary(ctx, context_.options.token, "RemoveObject", context_.call_workers, [=, this]() -> Status {
     RETURN_IF_ERROR(RequireId(request->scene_id(), "scene_id"));
     RETURN_IF_ERROR(RequireId(request->object_id(), "object_id"));
     ASSIGN_OR_RETURN(uint64_t revision,
@@ -164,7 +164,7 @@ grpc::ServerUnaryReactor* SceneService::RemoveObject(grpc::CallbackServerContext
 grpc::ServerUnaryReactor* SceneService::SetRotaryTable(grpc::CallbackServerContext* ctx,
                                                        const v1::SetRotaryTableRequest* request,
                                                        v1::SetRotaryTableResponse* response) {
-  return RunUnary(ctx, context_.options.token, "SetRotaryTable", [&]() -> Status {
+  return RunBlockingUnary(ctx, context_.options.token, "SetRotaryTable", context_.call_workers, [=, this]() -> Status {
     RETURN_IF_ERROR(RequireId(request->scene_id(), "scene_id"));
     if (!request->has_table()) return InvalidArgument("table: required");
     ASSIGN_OR_RETURN(store::TableRecord table, TableFromProto(request->table()));

@@ -1,14 +1,14 @@
 #pragma once
 // SceneService: scenes, meshes, objects and the rotary table.
 
-#include "api/service_context.h"
+#include "service/service_context.h"
 #include "vscan/v1/scene.grpc.pb.h"
 
 namespace vscan::api {
 
 class SceneService final : public v1::SceneService::CallbackService {
  public:
-  explicit SceneService(ServiceContext& context) : context_(context) {}
+  explicit SceneService(service::ServiceContext& context) : context_(context) {}
 
   grpc::ServerUnaryReactor* CreateScene(grpc::CallbackServerContext* ctx, const v1::CreateSceneRequest* request,
                                         v1::CreateSceneResponse* response) override;
@@ -37,7 +37,7 @@ class SceneService final : public v1::SceneService::CallbackService {
                                            v1::SetRotaryTableResponse* response) override;
 
  private:
-  ServiceContext& context_;
+  service::ServiceContext& context_;
 };
 
 }  // namespace vscan::api

@@ -19,7 +19,7 @@ StatusOr<sensor::LensDistortion> DistortionFromProto(const v1::Distortion& d, co
 }
 
 StatusOr<sensor::PinholeCamera> CameraFromProto(const v1::PinholeCamera& p, const std::string& field,
-                                                const Limits& limits) {
+                                                const service::Limits& limits) {
   const double near = p.near() == 0 ? kDefaultNear : p.near();
   const double far = p.far() == 0 ? kDefaultFar : p.far();
   if (p.width() == 0) return InvalidArgument(FieldPath(field, "width"), "must be positive");
@@ -73,7 +73,7 @@ StatusOr<sensor::DepthNoise> NoiseFromProto(const v1::NoiseSpec& n) {
   return noise;
 }
 
-StatusOr<SensorSettings> SensorFromProto(const v1::SensorSpec& spec, const Limits& limits) {
+StatusOr<SensorSettings> SensorFromProto(const v1::SensorSpec& spec, const service::Limits& limits) {
   SensorSettings settings;
   switch (spec.kind_case()) {
     case v1::SensorSpec::kPinhole: {

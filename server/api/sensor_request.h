@@ -4,7 +4,7 @@
 
 #include <optional>
 
-#include "api/server_options.h"
+#include "service/server_options.h"
 #include "sensor/camera.h"
 #include "sensor/measurement.h"
 #include "sensor/structured_light.h"
@@ -22,7 +22,7 @@ struct SensorSettings {
   std::optional<sensor::StructuredLight> structured_light;
 };
 
-StatusOr<SensorSettings> SensorFromProto(const v1::SensorSpec& spec, const Limits& limits);
+StatusOr<SensorSettings> SensorFromProto(const v1::SensorSpec& spec, const service::Limits& limits);
 // The depth members of the noise (sigma, quantisation, dim threshold); the artefact members
 // (outliers, grazing, flying pixels) are read by MeasurementFromProto.
 StatusOr<sensor::DepthNoise> NoiseFromProto(const v1::NoiseSpec& n);

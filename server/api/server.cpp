@@ -41,7 +41,7 @@ StatusOr<std::string> ReadFile(const std::string& path, const char* flag) {
   return ss.str();
 }
 
-StatusOr<std::shared_ptr<grpc::ServerCredentials>> Credentials(const ServerOptions& options) {
+StatusOr<std::shared_ptr<grpc::ServerCredentials>> Credentials(const service::ServerOptions& options) {
   if (options.tls_cert_file.empty() && options.tls_key_file.empty()) return grpc::InsecureServerCredentials();
   if (options.tls_cert_file.empty() || options.tls_key_file.empty()) {
     return InvalidArgument("--tls-cert and --tls-key go together");
@@ -58,7 +58,7 @@ StatusOr<std::shared_ptr<grpc::ServerCredentials>> Credentials(const ServerOptio
 }
 
 // The helper named by --mesh-importer, or else the one installed next to this executable.
-StatusOr<geometry::ImportSandbox> MeshImportSandbox(const ServerOptions& options) {
+StatusOr<geometry::ImportSandbox> MeshImportSandbox(const service::ServerOptions& options) {
   geometry::ImportSandbox sandbox;
   sandbox.timeout = std::chrono::seconds(options.mesh_import_timeout_s);
   sandbox.memory_limit_bytes = options.mesh_import_memory_mib << 20;
@@ -95,17 +95,18 @@ void ApplyRetention(JobTracker& tracker, double retention_hours) {
 struct Server::Impl {
   // First member, so that it is released last, after the store has closed.
   std::optional<DataDirLock> data_dir_lock;
-  ServerOptions options;
+  service::ServerOptions options;
   std::shared_ptr<store::Database> database;
   std::unique_ptr<store::Catalogue> catalogue;
   std::unique_ptr<store::BlobStore> blobs;
   std::unique_ptr<scenes::SceneRegistry> registry;
   std::unique_ptr<store::RobotCatalogue> robot_catalogue;
   std::unique_ptr<robots::RobotRegistry> robots;
-  RasterProvider raster;
+  service::RasterProvider raster;
   std::unique_ptr<jobs::WorkerPool> workers;
+  std::unique_ptr<jobs::WorkerPool> call_workers;
   std::unique_ptr<StallWatchdog> stalled_readers;
-  std::unique_ptr<ServiceContext> context;
+  std::unique_ptr<service::ServiceContext> context;
   std::unique_ptr<SceneService> scene_service;
   std::unique_ptr<ScanService> scan_service;
   std::unique_ptr<RobotService> robot_service;
@@ -124,7 +125,7 @@ Server::~Server() { Shutdown(0); }
 
 int Server::port() const { return impl_->port; }
 
-StatusOr<std::unique_ptr<Server>> Server::Start(const ServerOptions& options) {
+StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& options) {
   auto impl = std::make_unique<Impl>();
   impl->options = options;
   std::error_code ec;
@@ -153,13 +154,14 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const ServerOptions& options) {
   impl->robots = std::make_unique<robots::RobotRegistry>(*impl->robot_catalogue, *impl->blobs,
                                                          options.limits.max_upload_bytes);
   impl->workers = std::make_unique<jobs::WorkerPool>(std::max<uint32_t>(1, options.worker_threads));
-  impl->context.reset(new ServiceContext{*impl->registry, *impl->workers, impl->options, *impl->robots, impl->raster});
+  impl->call_workers = std::make_unique<jobs::WorkerPool>(std::max<uint32_t>(1, options.call_threads));
+  impl->context = std::make_unique<service::ServiceContext>(*impl->registry, *impl->workers, *impl->call_workers,
+                                                            impl->options, *impl->robots, impl->raster);
   const std::chrono::duration<double> stall_limit(options.stalled_reader_seconds);
   impl->stalled_readers =
       std::make_unique<StallWatchdog>(std::chrono::duration_cast<StallWatchdog::Clock::duration>(stall_limit));
-  impl->context->stalled_readers = impl->stalled_readers.get();
   impl->scene_service = std::make_unique<SceneService>(*impl->context);
-  impl->scan_service = std::make_unique<ScanService>(*impl->context);
+  impl->scan_service = std::make_unique<ScanService>(*impl->context, impl->stalled_readers.get());
   impl->robot_service = std::make_unique<RobotService>(*impl->context);
   impl->job_catalogue = std::make_unique<store::JobCatalogue>(impl->database);
   ASSIGN_OR_RETURN(const int interrupted, impl->job_catalogue->InterruptUnfinished("server stopped while the job ran"));
@@ -213,6 +215,7 @@ void Server::Shutdown(double grace_seconds) {
   impl_->server->Shutdown(deadline);
   if (std::chrono::system_clock::now() >= deadline) spdlog::info("grace period over: running calls were cancelled");
   impl_->workers->Stop();
+  impl_->call_workers->Stop();
   impl_->server->Wait();
   impl_->server.reset();
   impl_->stalled_readers->Stop();

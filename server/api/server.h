@@ -3,7 +3,7 @@
 
 #include <memory>
 
-#include "api/server_options.h"
+#include "service/server_options.h"
 #include "vscan/common/status.h"
 
 namespace vscan::api {
@@ -12,7 +12,7 @@ class Server {
  public:
   ~Server();
   // Opens the data directory and starts listening; the bound port is in port().
-  static StatusOr<std::unique_ptr<Server>> Start(const ServerOptions& options);
+  static StatusOr<std::unique_ptr<Server>> Start(const service::ServerOptions& options);
   int port() const;
   // Stops accepting calls, cancels running ones after grace_seconds, and waits for them.
   void Shutdown(double grace_seconds);

@@ -12,7 +12,7 @@ constexpr char kField[] = "sensor.structured_light";
 }  // namespace
 
 StatusOr<sensor::StructuredLight> StructuredLightFromProto(const v1::StructuredLightScanner& proto,
-                                                           const sensor::PinholeCamera& camera, const Limits& limits) {
+                                                           const sensor::PinholeCamera& camera, const service::Limits& limits) {
   const std::string field = kField;
   if (!proto.has_camera()) return InvalidArgument(FieldPath(field, "camera"), "required");
   if (!proto.has_projector_offset()) {

@@ -2,7 +2,7 @@
 // StructuredLightScanner <-> engine structured-light model. Error messages name the fields relative
 // to the request ("sensor.structured_light.projector_offset").
 
-#include "api/server_options.h"
+#include "service/server_options.h"
 #include "sensor/structured_light.h"
 #include "vscan/common/status.h"
 #include "vscan/v1/sensor.pb.h"
@@ -13,7 +13,7 @@ namespace vscan::api {
 // naming "sensor.structured_light.camera..."); it is checked again against limits.max_rays_per_scan.
 // Every other field is validated here; an unset projector_offset or camera is INVALID_ARGUMENT.
 StatusOr<sensor::StructuredLight> StructuredLightFromProto(const v1::StructuredLightScanner& proto,
-                                                           const sensor::PinholeCamera& camera, const Limits& limits);
+                                                           const sensor::PinholeCamera& camera, const service::Limits& limits);
 
 // Pinhole camera with explicit intrinsics, near/far and lighting (lens distortion is not part of the model).
 void ToProto(const sensor::PinholeCamera& camera, v1::PinholeCamera* out);

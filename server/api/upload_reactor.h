@@ -6,7 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include "api/auth.h"
-#include "api/service_context.h"
+#include "service/service_context.h"
 #include "vscan/common/grpc_status.h"
 
 namespace vscan::api {
@@ -35,7 +35,7 @@ class UploadReactor : public grpc::ServerReadReactor<Request> {
   void OnDone() final { delete this; }
 
  protected:
-  UploadReactor(grpc::CallbackServerContext* ctx, ServiceContext& context, const char* method)
+  UploadReactor(grpc::CallbackServerContext* ctx, service::ServiceContext& context, const char* method)
       : context_(context), ctx_(ctx), method_(method) {}
   virtual ~UploadReactor() = default;
 
@@ -54,7 +54,7 @@ class UploadReactor : public grpc::ServerReadReactor<Request> {
   // The stream ended cleanly: import what was sent and fill the response (on a worker thread).
   virtual Status Complete() = 0;
 
-  ServiceContext& context_;
+  service::ServiceContext& context_;
 
  private:
   void End(const Status& status) {

@@ -51,7 +51,7 @@ class CampaignValidateTest : public ::testing::Test {
     ASSERT_TRUE(blobs_->Open().ok());
     scenes_ = std::make_unique<scenes::SceneRegistry>(*catalogue_, *blobs_);
     robots_ = std::make_unique<robots::RobotRegistry>(*robot_catalogue_, *blobs_, 64u << 20);
-    context_.reset(new ServiceContext{*scenes_, workers_, options_, *robots_, raster_});
+    context_ = std::make_unique<service::ServiceContext>(*scenes_, workers_, workers_, options_, *robots_, raster_);
   }
 
   std::string Scene(bool table) {
@@ -80,7 +80,7 @@ class CampaignValidateTest : public ::testing::Test {
     return added->first.mount_id;
   }
 
-  StatusOr<CampaignPlan> DryRun(const v1::CampaignSpec& spec) { return ValidateCampaign(spec, *context_, true); }
+  StatusOr<service::CampaignPlan> DryRun(const v1::CampaignSpec& spec) { return ValidateCampaign(spec, *context_, true); }
 
   test::TempDir dir_;
   std::unique_ptr<store::Catalogue> catalogue_;
@@ -89,9 +89,9 @@ class CampaignValidateTest : public ::testing::Test {
   std::unique_ptr<scenes::SceneRegistry> scenes_;
   std::unique_ptr<robots::RobotRegistry> robots_;
   jobs::WorkerPool workers_{1};
-  ServerOptions options_;
-  RasterProvider raster_;
-  std::unique_ptr<ServiceContext> context_;
+  service::ServerOptions options_;
+  service::RasterProvider raster_;
+  std::unique_ptr<service::ServiceContext> context_;
 };
 
 TEST_F(CampaignValidateTest, DryRunAcceptsAGoodSpecWithoutIds) {

@@ -26,14 +26,14 @@ v1::StructuredLightScanner ValidMessage() {
   return m;
 }
 
-void ExpectRejected(const v1::StructuredLightScanner& m, const std::string& field, const Limits& limits = {}) {
+void ExpectRejected(const v1::StructuredLightScanner& m, const std::string& field, const service::Limits& limits = {}) {
   const auto sl = StructuredLightFromProto(m, Camera(), limits);
   ASSERT_FALSE(sl.ok()) << field;
   EXPECT_TRUE(sl.status().message().starts_with(field)) << sl.status().message();
 }
 
 TEST(StructuredLightFromProto, ReadsEveryField) {
-  const auto sl = StructuredLightFromProto(ValidMessage(), Camera(), Limits{});
+  const auto sl = StructuredLightFromProto(ValidMessage(), Camera(), service::Limits{});
   ASSERT_TRUE(sl.ok()) << sl.status().ToString();
   EXPECT_EQ(sl->camera.width, 640u);
   EXPECT_TRUE(sl->projector_offset.isApprox(Eigen::Vector3d(0.12, 0, 0)));
@@ -68,7 +68,7 @@ TEST(StructuredLightFromProto, RejectsBadFieldsByName) {
   m = ValidMessage();
   m.set_convergence_distance(-0.5);
   ExpectRejected(m, "sensor.structured_light.convergence_distance:");
-  Limits small;
+  service::Limits small;
   small.max_rays_per_scan = 1000;
   const auto too_many = StructuredLightFromProto(ValidMessage(), Camera(), small);
   ASSERT_FALSE(too_many.ok());
@@ -87,7 +87,7 @@ TEST(StructuredLightToProto, PresetsRoundTrip) {
     ASSERT_TRUE(m.camera().has_intrinsics());
     EXPECT_EQ(m.camera().intrinsics().fx(), original.camera.fx);
     EXPECT_EQ(m.camera().near(), original.camera.near);
-    const auto back = StructuredLightFromProto(m, original.camera, Limits{});
+    const auto back = StructuredLightFromProto(m, original.camera, service::Limits{});
     ASSERT_TRUE(back.ok()) << preset.name << ": " << back.status().ToString();
     EXPECT_EQ(back->projector_offset, original.projector_offset);
     EXPECT_EQ(back->projector_hfov_deg, original.projector_hfov_deg);

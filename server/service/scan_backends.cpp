@@ -1,8 +1,8 @@
-#include "api/scan_backends.h"
+#include "service/scan_backends.h"
 
 #include "raster/raster_scanner.h"
 
-namespace vscan::api {
+namespace vscan::service {
 namespace {
 
 StatusOr<PointCloud> RunRaster(const ScanPlan& plan, const sensor::PinholeCamera& camera, uint32_t fields,
@@ -74,4 +74,4 @@ StatusOr<PointCloud> RunScanBackend(const ScanPlan& plan, const scenes::ScanTarg
   return cloud;
 }
 
-}  // namespace vscan::api
+}  // namespace vscan::service

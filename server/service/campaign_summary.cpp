@@ -1,9 +1,9 @@
-#include "api/campaign_summary.h"
+#include "service/campaign_summary.h"
 
 #include <cmath>
 #include <cstdio>
 
-namespace vscan::api {
+namespace vscan::service {
 namespace {
 
 // A minimal JSON writer: the caller opens and closes containers, the writer places commas.
@@ -107,13 +107,13 @@ std::string CampaignSummaryJson(const std::string& job_id, const std::string& fi
   json.Open('{');
   json.Key("job_id").Value(job_id);
   json.Key("state").Value(final_state);
-  json.Key("name").Value(plan.spec.name());
-  json.Key("scene_id").Value(plan.spec.scene_id());
-  json.Key("mount_id").Value(plan.spec.mount_id());
-  json.Key("seed").Value(uint64_t{plan.spec.seed()});
+  json.Key("name").Value(plan.name);
+  json.Key("scene_id").Value(plan.scene_id);
+  json.Key("mount_id").Value(plan.mount_id);
+  json.Key("seed").Value(plan.seed);
   json.Key("rotations").Value(uint64_t{plan.rotations});
-  json.Key("rotation_step_deg").Value(plan.spec.rotation_step_deg());
-  json.Key("start_angle_deg").Value(plan.spec.start_angle_deg());
+  json.Key("rotation_step_deg").Value(plan.rotation_step_deg);
+  json.Key("start_angle_deg").Value(plan.start_angle_deg);
   json.Key("steps_total").Value(uint64_t{plan.steps_total()});
   json.Key("viewpoints").Open('[');
   for (const CampaignViewpoint& v : plan.viewpoints) {
@@ -157,4 +157,4 @@ std::string CampaignSummaryJson(const std::string& job_id, const std::string& fi
   return json.str() + "\n";
 }
 
-}  // namespace vscan::api
+}  // namespace vscan::service

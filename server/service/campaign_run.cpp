@@ -1,4 +1,4 @@
-#include "api/campaign_run.h"
+#include "service/campaign_run.h"
 
 #include <cstdio>
 #include <filesystem>
@@ -7,12 +7,11 @@
 
 #include <spdlog/spdlog.h>
 
-#include "api/campaign_step.h"
-#include "api/campaign_summary.h"
+#include "service/campaign_step.h"
+#include "service/campaign_summary.h"
 #include "vscan/common/cloud_io.h"
-#include "vscan/common/proto_convert.h"
 
-namespace vscan::api {
+namespace vscan::service {
 namespace {
 
 constexpr const char* kPlyMediaType = "model/ply";
@@ -58,26 +57,11 @@ StatusOr<std::string> EncodePly(const PointCloud& cloud, const std::filesystem::
   return bytes.str();
 }
 
-v1::ScanArtifactInfo ScanInfo(const CampaignStepRecord& record) {
-  v1::ScanArtifactInfo info;
-  info.set_viewpoint_index(record.viewpoint_index);
-  info.set_rotation_index(record.rotation_index);
-  info.set_table_angle_deg(record.table_angle_deg);
-  ToProto(record.arm.commanded_pose, info.mutable_commanded_sensor_pose());
-  ToProto(record.arm.achieved_pose, info.mutable_sensor_pose());
-  const Eigen::VectorXd& c = record.arm.commanded;
-  const Eigen::VectorXd& a = record.arm.achieved;
-  info.mutable_commanded_joint_positions()->Assign(c.data(), c.data() + c.size());
-  info.mutable_achieved_joint_positions()->Assign(a.data(), a.data() + a.size());
-  info.set_points(record.points);
-  return info;
-}
-
 class CampaignRun {
  public:
-  CampaignRun(ServiceContext& context, JobTracker& tracker, const std::string& job_id, const CampaignPlan& plan,
+  CampaignRun(ServiceContext& context, JobRecorder& recorder, const std::string& job_id, const CampaignPlan& plan,
               jobs::JobControl& control)
-      : context_(context), tracker_(tracker), job_id_(job_id), plan_(plan), control_(control),
+      : context_(context), recorder_(recorder), job_id_(job_id), plan_(plan), control_(control),
         scratch_(std::filesystem::path(context.options.data_dir) / "tmp" / job_id) {}
 
   void Run() {
@@ -101,7 +85,7 @@ class CampaignRun {
                 std::to_string(records_.size() - captured_) + " steps skipped";
     }
     WriteSummary(state);
-    const Status ended = tracker_.End(job_id_, Update(state, message, false));
+    const Status ended = recorder_.End(Update(state, message, false));
     if (!ended.ok()) spdlog::error("job {}: cannot record its end: {}", job_id_, ended.ToString());
     spdlog::info("job {} {}: {}", job_id_, StateName(state), message);
   }
@@ -118,11 +102,11 @@ class CampaignRun {
   }
 
   Status Event(const std::string& message, bool reached = false) {
-    return tracker_.Record(job_id_, Update(store::JobState::kRunning, message, reached));
+    return recorder_.Record(Update(store::JobState::kRunning, message, reached));
   }
 
   Status Steps() {
-    ASSIGN_OR_RETURN(const robots::MountedRobot mounted, context_.robots.Mount(plan_.spec.mount_id()));
+    ASSIGN_OR_RETURN(const robots::MountedRobot mounted, context_.robots.Mount(plan_.mount_id));
     std::vector<std::optional<ViewpointSolution>> solutions(plan_.viewpoints.size());
     const auto viewpoints = static_cast<uint32_t>(plan_.viewpoints.size());
     for (uint32_t r = 0; r < plan_.rotations; ++r) {
@@ -135,7 +119,7 @@ class CampaignRun {
           solutions[v] = std::move(solved).value();
         }
         const uint32_t step = r * viewpoints + v;
-        auto result = RunStep(context_, plan_, *solutions[v], angle, StepSeed(plan_.spec.seed(), step),
+        auto result = RunStep(context_, plan_, *solutions[v], angle, StepSeed(plan_.seed, step),
                               control_.flag());
         if (control_.stop_requested()) return Status::Ok();
         if (!result.ok()) return Status(result.status().code(), Where(v, angle) + ": " + result.status().message());
@@ -181,25 +165,24 @@ class CampaignRun {
                      std::to_string(plan_.steps_total()) + "): " + Where(v, angle) + ", " +
                      std::to_string(record.points) + " points";
     records_.push_back(record);
-    const v1::ScanArtifactInfo info = ScanInfo(record);
-    auto artifact = tracker_.RecordArtifact(job_id_, record.file, kPlyMediaType, ply, &info,
-                                            Update(store::JobState::kRunning, record.message, true));
+    auto artifact = recorder_.RecordArtifact(record.file, kPlyMediaType, ply, &records_.back(),
+                                             Update(store::JobState::kRunning, record.message, true));
     if (!artifact.ok()) {
       return Status(artifact.status().code(), "cannot store " + record.file + ": " + artifact.status().message());
     }
-    records_.back().artifact_id = artifact->artifact_id();
+    records_.back().artifact_id = *artifact;
     return Status::Ok();
   }
 
   void WriteSummary(store::JobState state) {
     const std::string json = CampaignSummaryJson(job_id_, StateName(state), plan_, records_);
-    auto written = tracker_.RecordArtifact(job_id_, "campaign.json", kJsonMediaType, json, nullptr,
-                                           Update(store::JobState::kRunning, "campaign.json written", false));
+    auto written = recorder_.RecordArtifact("campaign.json", kJsonMediaType, json, nullptr,
+                                            Update(store::JobState::kRunning, "campaign.json written", false));
     if (!written.ok()) spdlog::error("job {}: cannot store campaign.json: {}", job_id_, written.status().ToString());
   }
 
   ServiceContext& context_;
-  JobTracker& tracker_;
+  JobRecorder& recorder_;
   const std::string job_id_;
   const CampaignPlan& plan_;
   jobs::JobControl& control_;
@@ -220,9 +203,9 @@ std::string ScanArtifactName(uint32_t rotation, uint32_t viewpoint) {
   return name;
 }
 
-void RunCampaign(ServiceContext& context, JobTracker& tracker, const std::string& job_id, const CampaignPlan& plan,
+void RunCampaign(ServiceContext& context, JobRecorder& recorder, const std::string& job_id, const CampaignPlan& plan,
                  jobs::JobControl& control) {
-  CampaignRun(context, tracker, job_id, plan, control).Run();
+  CampaignRun(context, recorder, job_id, plan, control).Run();
 }
 
-}  // namespace vscan::api
+}  // namespace vscan::service

@@ -10,7 +10,7 @@ namespace vscan::raster {
 class RasterRenderer;
 }
 
-namespace vscan::api {
+namespace vscan::service {
 
 class RasterProvider {
  public:
@@ -25,4 +25,4 @@ class RasterProvider {
   std::unique_ptr<raster::RasterRenderer> renderer_;
 };
 
-}  // namespace vscan::api
+}  // namespace vscan::service

@@ -1,17 +1,11 @@
-#include "api/robot_collision.h"
+#include "service/robot_collision.h"
 
-#include "api/robot_links.h"
+#include "service/robot_links.h"
 #include "robot/forward_kinematics.h"
 #include "robots/link_collision.h"
 
-namespace vscan::api {
+namespace vscan::service {
 namespace {
-
-// Bullet shapes of scene meshes and links, shared by every check in the process.
-const std::shared_ptr<collision::ShapeCache>& SharedShapes() {
-  static const auto shapes = std::make_shared<collision::ShapeCache>(512);
-  return shapes;
-}
 
 Pose3 ToPose(const Eigen::Matrix4d& m) {
   Pose3 pose = Pose3::Identity();
@@ -61,7 +55,7 @@ StatusOr<std::optional<std::string>> FindRobotCollision(ServiceContext& context,
   ASSIGN_OR_RETURN(const auto links, context.robots.Links(mounted.mount.robot_id, LinkMeshImporter(context.registry)));
   ASSIGN_OR_RETURN(const auto obstacles, Obstacles(context, mounted.mount, table_angle_deg));
   return robots::FindLinkContact(*links, links->allowed_contacts, ToPose(mounted.mount.base_pose), joint_positions,
-                                 obstacles, SharedShapes());
+                                 obstacles, context.shapes);
 }
 
-}  // namespace vscan::api
+}  // namespace vscan::service

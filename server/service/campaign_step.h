@@ -1,6 +1,6 @@
 #pragma once
 // One step of a campaign: the arm's pose for a viewpoint, the optional collision check, and the
-// scan from that pose with the table at its angle, run exactly as ScanService runs a scan.
+// scan from that pose with the table at its angle, run as any other scan is.
 
 #include <atomic>
 #include <cstdint>
@@ -8,13 +8,13 @@
 
 #include <Eigen/Core>
 
-#include "api/campaign_spec.h"
-#include "api/service_context.h"
+#include "service/campaign_plan.h"
+#include "service/service_context.h"
 #include "raycast/scanner.h"
 #include "robots/robot_registry.h"
 #include "vscan/common/point_cloud.h"
 
-namespace vscan::api {
+namespace vscan::service {
 
 // The look-at IK answer for a viewpoint. The arm stands beside the table, so one answer serves
 // every table angle.
@@ -39,9 +39,9 @@ uint64_t StepSeed(uint64_t campaign_seed, uint32_t step);
 
 StatusOr<ViewpointSolution> SolveViewpoint(const robots::MountedRobot& mounted, const CampaignViewpoint& viewpoint);
 
-// Runs a step whose viewpoint has been solved: its ScanRequest parsed as ScanService parses one,
-// the collision check when the spec asks, then the scan. Stops early (CANCELLED) when *cancel is set.
+// Runs a step whose viewpoint has been solved: the arm at the solution, the collision check when
+// the plan asks, then the scan. Stops early (CANCELLED) when *cancel is set.
 StatusOr<StepResult> RunStep(ServiceContext& context, const CampaignPlan& plan, const ViewpointSolution& solution,
                              double table_angle_deg, uint64_t seed, const std::atomic<bool>* cancel);
 
-}  // namespace vscan::api
+}  // namespace vscan::service

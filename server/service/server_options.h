@@ -1,10 +1,11 @@
 #pragma once
-// Everything vscand is configured with: where it listens, where it keeps data, its bounds.
+// Everything vscand is configured with: where it listens, where it keeps data, its bounds. Read by
+// the service layer and the gRPC layer alike.
 
 #include <cstdint>
 #include <string>
 
-namespace vscan::api {
+namespace vscan::service {
 
 struct Limits {
   uint64_t max_upload_bytes = 256ull << 20;
@@ -26,7 +27,11 @@ struct ServerOptions {
   std::string tls_client_ca_file;
   // Written with the bound port once listening (useful with port 0).
   std::string port_file;
+  // Scans and uploads.
   uint32_t worker_threads = 2;
+  // Blocking unary calls (inverse kinematics with collision retries, catalogue writes), apart
+  // from scans so that a long scan does not hold them up.
+  uint32_t call_threads = 2;
   // Jobs (campaigns) running at once, each on its own runner thread.
   uint32_t max_concurrent_jobs = 1;
   uint32_t scene_cache_entries = 8;
@@ -46,4 +51,4 @@ struct ServerOptions {
   Limits limits;
 };
 
-}  // namespace vscan::api
+}  // namespace vscan::service

@@ -1,10 +1,10 @@
-#include "api/scan_target.h"
+#include "service/scan_target.h"
 
 #include <cstdio>
 
-#include "api/robot_links.h"
+#include "service/robot_links.h"
 
-namespace vscan::api {
+namespace vscan::service {
 namespace {
 
 // Exact joint values: a target cached for one configuration is never reused for another.
@@ -47,4 +47,4 @@ StatusOr<scenes::ScanTarget> PrepareScanTarget(ServiceContext& context, const Sc
   return context.registry.WithExtraInstances(base, key, std::move(links));
 }
 
-}  // namespace vscan::api
+}  // namespace vscan::service

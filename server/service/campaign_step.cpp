@@ -1,12 +1,11 @@
-#include "api/campaign_step.h"
+#include "service/campaign_step.h"
 
-#include "api/robot_collision.h"
-#include "api/scan_backends.h"
-#include "api/scan_request.h"
-#include "api/scan_target.h"
+#include "service/robot_collision.h"
+#include "service/scan_backends.h"
+#include "service/scan_target.h"
 #include "random/seeded_draws.h"
 
-namespace vscan::api {
+namespace vscan::service {
 namespace {
 
 constexpr double kIkTolerance = 1e-5;
@@ -40,17 +39,15 @@ StatusOr<StepResult> RunStep(ServiceContext& context, const CampaignPlan& plan, 
     result.outcome = StepResult::Outcome::kUnreachable;
     return result;
   }
-  ASSIGN_OR_RETURN(const ScanPlan scan,
-                   ParseScanRequest(StepScanRequest(plan.spec, solution.joints, table_angle_deg, seed),
-                                    context.options.limits, context.robots));
+  ASSIGN_OR_RETURN(const ScanPlan scan, StepScanPlan(context, plan, solution.joints, table_angle_deg, seed));
   if (!scan.robot) return Internal("campaign: the step's scan plan has no robot placement");
   result.arm.commanded = solution.joints;
   result.arm.achieved = scan.robot->achieved_joint_positions;
   result.arm.commanded_pose = scan.robot->commanded_world_from_sensor;
   result.arm.achieved_pose = scan.world_from_sensor;
-  if (plan.spec.reject_collisions()) {
+  if (plan.reject_collisions) {
     ASSIGN_OR_RETURN(const std::optional<std::string> collision,
-                     FindRobotCollision(context, plan.spec.mount_id(), result.arm.achieved, table_angle_deg));
+                     FindRobotCollision(context, plan.mount_id, result.arm.achieved, table_angle_deg));
     if (collision) {
       result.outcome = StepResult::Outcome::kCollision;
       result.collision = *collision;
@@ -63,4 +60,4 @@ StatusOr<StepResult> RunStep(ServiceContext& context, const CampaignPlan& plan, 
   return result;
 }
 
-}  // namespace vscan::api
+}  // namespace vscan::service

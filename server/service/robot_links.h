@@ -11,7 +11,7 @@
 #include "robots/robot_registry.h"
 #include "scenes/scene_registry.h"
 
-namespace vscan::api {
+namespace vscan::service {
 
 // STL, OBJ and PLY files through the registry's import path; other formats (e.g. COLLADA) are
 // refused, so the link falls back to its other geometry.
@@ -23,4 +23,4 @@ StatusOr<std::vector<store::MountRecord>> SceneMounts(robots::RobotRegistry& rob
 // The joint positions of a mount nobody commands: zero, clamped into the limits.
 Eigen::VectorXd HomePositions(const robot::KinematicChain& chain);
 
-}  // namespace vscan::api
+}  // namespace vscan::service

@@ -6,9 +6,9 @@
 
 #include <Eigen/Core>
 
-#include "api/service_context.h"
+#include "service/service_context.h"
 
-namespace vscan::api {
+namespace vscan::service {
 
 // Empty when the arm is clear of the scene (at table_angle_deg) and of itself beyond adjacent
 // links; otherwise a description such as "link 'wrist_3_link' touches object 'bunny'".
@@ -16,4 +16,4 @@ StatusOr<std::optional<std::string>> FindRobotCollision(ServiceContext& context,
                                                         const Eigen::VectorXd& joint_positions,
                                                         double table_angle_deg);
 
-}  // namespace vscan::api
+}  // namespace vscan::service

@@ -4,13 +4,13 @@
 
 #include <atomic>
 
-#include "api/raster_provider.h"
-#include "api/scan_request.h"
+#include "service/raster_provider.h"
+#include "service/scan_plan.h"
 #include "capture/measure_scan.h"
 #include "raycast/scanner.h"
 #include "scenes/scene_registry.h"
 
-namespace vscan::api {
+namespace vscan::service {
 
 // stats->points counts the returned measurements (rejected rays returned with include_rejected are
 // not among them); measure_stats, when given, gets the measurement model's counters (all zero on
@@ -19,4 +19,4 @@ StatusOr<PointCloud> RunScanBackend(const ScanPlan& plan, const scenes::ScanTarg
                                     const std::atomic<bool>* cancel, raycast::ScanStats* stats,
                                     capture::MeasureStats* measure_stats = nullptr);
 
-}  // namespace vscan::api
+}  // namespace vscan::service

@@ -5,14 +5,15 @@
 
 #include <string>
 
-#include "api/campaign_spec.h"
-#include "api/job_tracker.h"
-#include "api/service_context.h"
 #include "jobs/job_runner.h"
+#include "service/campaign_plan.h"
+#include "service/job_events.h"
+#include "service/service_context.h"
 
-namespace vscan::api {
+namespace vscan::service {
 
-void RunCampaign(ServiceContext& context, JobTracker& tracker, const std::string& job_id, const CampaignPlan& plan,
+// Events and artifacts go to recorder; job_id names the job in logs and scratch files.
+void RunCampaign(ServiceContext& context, JobRecorder& recorder, const std::string& job_id, const CampaignPlan& plan,
                  jobs::JobControl& control);
 
 // The state a job ends in when it stops for reason.
@@ -21,4 +22,4 @@ store::JobState StoppedState(jobs::StopReason reason);
 // "scan-r{rotation:02}-v{viewpoint:02}.ply"
 std::string ScanArtifactName(uint32_t rotation, uint32_t viewpoint);
 
-}  // namespace vscan::api
+}  // namespace vscan::service

@@ -1,9 +1,9 @@
-#include "api/robot_links.h"
+#include "service/robot_links.h"
 
 #include <algorithm>
 #include <cctype>
 
-namespace vscan::api {
+namespace vscan::service {
 namespace {
 
 constexpr int kMountPage = 1000;
@@ -51,4 +51,4 @@ Eigen::VectorXd HomePositions(const robot::KinematicChain& chain) {
   return robot::ClampToLimits(chain, Eigen::VectorXd::Zero(chain.dof()));
 }
 
-}  // namespace vscan::api
+}  // namespace vscan::service

@@ -1,10 +1,10 @@
-#include "api/raster_provider.h"
+#include "service/raster_provider.h"
 
 #include <spdlog/spdlog.h>
 
 #include "raster/raster_renderer.h"
 
-namespace vscan::api {
+namespace vscan::service {
 
 RasterProvider::RasterProvider() = default;
 RasterProvider::~RasterProvider() = default;
@@ -27,4 +27,4 @@ StatusOr<raster::RasterRenderer*> RasterProvider::Get() {
   return renderer_.get();
 }
 
-}  // namespace vscan::api
+}  // namespace vscan::service

@@ -6,10 +6,10 @@
 #include <string>
 #include <vector>
 
-#include "api/campaign_spec.h"
+#include "service/campaign_plan.h"
 #include "robots/arm_kinematics.h"
 
-namespace vscan::api {
+namespace vscan::service {
 
 struct CampaignStepRecord {
   uint32_t step = 0;
@@ -30,4 +30,4 @@ struct CampaignStepRecord {
 std::string CampaignSummaryJson(const std::string& job_id, const std::string& final_state, const CampaignPlan& plan,
                                 const std::vector<CampaignStepRecord>& steps);
 
-}  // namespace vscan::api
+}  // namespace vscan::service

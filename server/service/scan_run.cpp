@@ -1,0 +1,31 @@
+#include "service/scan_run.h"
+
+#include "service/scan_backends.h"
+#include "service/scan_target.h"
+
+namespace vscan::service {
+
+bool StreamsRows(const ScanPlan& plan, const ServerOptions& options) {
+  return plan.backend == ScanBackend::kRaycast && !plan.measurement.any() && !options.whole_cloud_scans;
+}
+
+Status RunScan(ServiceContext& context, const ScanPlan& plan, const std::atomic<bool>* cancel, ScanConsumer& out,
+               ScanOutcome* outcome) {
+  *outcome = ScanOutcome{};
+  ASSIGN_OR_RETURN(const scenes::ScanTarget target, PrepareScanTarget(context, plan));
+  outcome->streamed = StreamsRows(plan, context.options);
+  if (outcome->streamed) {
+    out.Begin(target.scene.revision, std::nullopt);
+    raycast::ScanOptions options;
+    options.fields = plan.fields;
+    options.frame = plan.frame;
+    options.cancel = cancel;
+    return raycast::ScanRows(*target.raycast, plan.camera, plan.world_from_sensor, options, out, &outcome->stats);
+  }
+  ASSIGN_OR_RETURN(const PointCloud cloud,
+                   RunScanBackend(plan, target, context.raster, cancel, &outcome->stats, &outcome->measure));
+  out.Begin(target.scene.revision, cloud.size());
+  return out.Cloud(cloud);
+}
+
+}  // namespace vscan::service

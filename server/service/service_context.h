@@ -1,0 +1,36 @@
+#pragma once
+// What every request of the service layer works with: the scene and robot registries, the worker
+// pools, the options, the renderer, scan admission and the Bullet shapes of collision checks.
+
+#include <memory>
+
+#include "jobs/worker_pool.h"
+#include "robots/robot_registry.h"
+#include "scenes/scene_registry.h"
+#include "service/raster_provider.h"
+#include "service/scan_admission.h"
+#include "service/server_options.h"
+
+namespace vscan::collision {
+class ShapeCache;
+}
+
+namespace vscan::service {
+
+struct ServiceContext {
+  ServiceContext(scenes::SceneRegistry& registry, jobs::WorkerPool& workers, jobs::WorkerPool& call_workers,
+                 const ServerOptions& options, robots::RobotRegistry& robots, RasterProvider& raster);
+  ~ServiceContext();
+
+  scenes::SceneRegistry& registry;
+  jobs::WorkerPool& workers;       // scans and uploads
+  jobs::WorkerPool& call_workers;  // blocking unary calls
+  const ServerOptions& options;
+  robots::RobotRegistry& robots;
+  RasterProvider& raster;
+  ScanAdmission scans;
+  // Bullet shapes of scene meshes and links, shared by every collision check of the server.
+  std::shared_ptr<collision::ShapeCache> shapes;
+};
+
+}  // namespace vscan::service
