@@ -7,9 +7,8 @@
 #include <memory>
 #include <string>
 
-#include "vscan_test/temp_dir.h"
 #include "api/campaign_spec.h"
-#include "robot_fixtures.h"
+#include "service_world.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::api {
@@ -44,54 +43,12 @@ void PrintTo(const BadSpec& bad, std::ostream* os) { *os << bad.name; }
 
 class CampaignValidateTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    catalogue_ = std::move(store::Catalogue::Open(dir_.path() / "db.sqlite")).value();
-    robot_catalogue_ = std::move(store::RobotCatalogue::Open(dir_.path() / "db.sqlite")).value();
-    blobs_ = std::make_unique<store::BlobStore>(dir_.path() / "blobs");
-    ASSERT_TRUE(blobs_->Open().ok());
-    scenes_ = std::make_unique<scenes::SceneRegistry>(*catalogue_, *blobs_);
-    robots_ = std::make_unique<robots::RobotRegistry>(*robot_catalogue_, *blobs_, 64u << 20);
-    context_ = std::make_unique<service::ServiceContext>(*scenes_, workers_, workers_, options_, *robots_, raster_);
-  }
+  std::string Scene(bool table) { return world_.EmptyScene(table); }
+  std::string Mount(const std::string& scene_id) { return world_.Mount("panda", scene_id); }
 
-  std::string Scene(bool table) {
-    auto scene = catalogue_->CreateScene("cell");
-    EXPECT_TRUE(scene.ok());
-    store::TableRecord record;
-    record.enabled = table;
-    EXPECT_TRUE(catalogue_->SetTable(scene->scene_id, record).ok());
-    return scene->scene_id;
-  }
+  StatusOr<service::CampaignPlan> DryRun(const v1::CampaignSpec& spec) { return ValidateCampaign(spec, world_.context(), true); }
 
-  std::string Mount(const std::string& scene_id) {
-    const auto& fixture = robot::testing::Fixture("panda");
-    robots::RobotUpload upload;
-    upload.urdf_path = fixture.urdf_path;
-    upload.base_link = fixture.base_link;
-    upload.tip_link = fixture.tip_link;
-    upload.files = robot::testing::FixtureBundleFiles("panda");
-    auto robot = robots_->AddRobot(upload);
-    EXPECT_TRUE(robot.ok()) << robot.status().ToString();
-    store::MountRecord mount;
-    mount.scene_id = scene_id;
-    mount.robot_id = robot->robot_id;
-    auto added = robots_->AddMount(mount);
-    EXPECT_TRUE(added.ok()) << added.status().ToString();
-    return added->first.mount_id;
-  }
-
-  StatusOr<service::CampaignPlan> DryRun(const v1::CampaignSpec& spec) { return ValidateCampaign(spec, *context_, true); }
-
-  test::TempDir dir_;
-  std::unique_ptr<store::Catalogue> catalogue_;
-  std::unique_ptr<store::RobotCatalogue> robot_catalogue_;
-  std::unique_ptr<store::BlobStore> blobs_;
-  std::unique_ptr<scenes::SceneRegistry> scenes_;
-  std::unique_ptr<robots::RobotRegistry> robots_;
-  jobs::WorkerPool workers_{1};
-  service::ServerOptions options_;
-  service::RasterProvider raster_;
-  std::unique_ptr<service::ServiceContext> context_;
+  service::testing::ServiceWorld world_;
 };
 
 TEST_F(CampaignValidateTest, DryRunAcceptsAGoodSpecWithoutIds) {
@@ -101,7 +58,7 @@ TEST_F(CampaignValidateTest, DryRunAcceptsAGoodSpecWithoutIds) {
 }
 
 TEST_F(CampaignValidateTest, RealStartStillNeedsTheScene) {
-  const auto plan = ValidateCampaign(Good(), *context_);
+  const auto plan = ValidateCampaign(Good(), world_.context());
   ASSERT_FALSE(plan.ok());
   EXPECT_EQ(plan.status().code(), StatusCode::kInvalidArgument);
   EXPECT_EQ(plan.status().message(), "spec.scene_id: required");
@@ -147,7 +104,7 @@ TEST_P(BadCampaignSpec, DryRunGivesTheVerdictOfARealStart) {
 
   spec.set_scene_id(Scene(true));
   spec.set_mount_id(Mount(spec.scene_id()));
-  const auto real = ValidateCampaign(spec, *context_);
+  const auto real = ValidateCampaign(spec, world_.context());
   ASSERT_FALSE(real.ok());
   EXPECT_EQ(real.status().code(), dry.status().code());
   EXPECT_EQ(real.status().message(), dry.status().message());

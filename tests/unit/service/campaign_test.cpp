@@ -37,7 +37,7 @@ class CampaignTest : public ::testing::Test {
     base.linear() = Eigen::AngleAxisd(std::numbers::pi, Eigen::Vector3d::UnitZ()).toRotationMatrix();
     base.translation() = Eigen::Vector3d(0.55, 0.0, 0.0);
     plan_.scene_id = scene_;
-    plan_.mount_id = world_.MountUr5(scene_, base);
+    plan_.mount_id = world_.Mount("ur5", scene_, base);
     plan_.name = "square";
     plan_.seed = 7;
     plan_.scan.camera = sensor::CameraFromFov(48, 32, 60.0, 0.05, 3.0);

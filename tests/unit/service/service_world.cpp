@@ -38,34 +38,39 @@ ServiceWorld::ServiceWorld(ServerOptions options) : options_(std::move(options))
   context_ = std::make_unique<ServiceContext>(*scenes_, workers_, workers_, options_, *robots_, raster_);
 }
 
-std::string ServiceWorld::SceneWith(const TriangleMesh& mesh, const Pose3& world_from_object, bool table) {
-  scenes::MeshUpload upload;
-  upload.name = "object";
-  upload.format = geometry::MeshFileFormat::kObj;
-  const store::MeshRecord stored = Must(scenes_->AddMesh(ObjText(mesh), upload));
+std::string ServiceWorld::EmptyScene(bool table) {
   const store::SceneRecord scene = Must(catalogue_->CreateScene("cell"));
   if (table) {
     store::TableRecord record;
     record.enabled = true;
     EXPECT_TRUE(catalogue_->SetTable(scene.scene_id, record).ok());
   }
+  return scene.scene_id;
+}
+
+std::string ServiceWorld::SceneWith(const TriangleMesh& mesh, const Pose3& world_from_object, bool table) {
+  scenes::MeshUpload upload;
+  upload.name = "object";
+  upload.format = geometry::MeshFileFormat::kObj;
+  const store::MeshRecord stored = Must(scenes_->AddMesh(ObjText(mesh), upload));
   store::ObjectRecord object;
-  object.scene_id = scene.scene_id;
+  object.scene_id = EmptyScene(table);
   object.mesh_id = stored.mesh_id;
   object.label = "object";
   object.on_table = table;
   object.pose = world_from_object.matrix();
   EXPECT_TRUE(catalogue_->AddObject(object).ok());
-  return scene.scene_id;
+  return object.scene_id;
 }
 
-std::string ServiceWorld::MountUr5(const std::string& scene_id, const Pose3& world_from_base) {
-  const auto& fixture = robot::testing::Fixture("ur5");
+std::string ServiceWorld::Mount(const std::string& robot_name, const std::string& scene_id,
+                                const Pose3& world_from_base) {
+  const auto& fixture = robot::testing::Fixture(robot_name);
   robots::RobotUpload upload;
   upload.urdf_path = fixture.urdf_path;
   upload.base_link = fixture.base_link;
   upload.tip_link = fixture.tip_link;
-  upload.files = robot::testing::FixtureBundleFiles("ur5");
+  upload.files = robot::testing::FixtureBundleFiles(robot_name);
   const auto robot = Must(robots_->AddRobot(upload));
   store::MountRecord mount;
   mount.scene_id = scene_id;

@@ -24,11 +24,14 @@ class ServiceWorld {
 
   ServiceContext& context() { return *context_; }
 
+  // A scene with nothing in it; with a rotary table at the origin when table is set.
+  std::string EmptyScene(bool table = false);
   // A scene holding mesh (metres) at world_from_object; with a rotary table at the origin when
   // table is set (the object then stands on it).
   std::string SceneWith(const TriangleMesh& mesh, const Pose3& world_from_object, bool table = false);
-  // The UR5 fixture mounted in scene_id at world_from_base.
-  std::string MountUr5(const std::string& scene_id, const Pose3& world_from_base);
+  // A fixture robot ("ur5", "panda") mounted in scene_id at world_from_base.
+  std::string Mount(const std::string& robot, const std::string& scene_id,
+                    const Pose3& world_from_base = Pose3::Identity());
 
  private:
   test::TempDir dir_;
