@@ -32,7 +32,7 @@ size_t ChunkWindow(size_t chunk_bytes) { return std::max<size_t>(2, (8u << 20) /
 class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
  public:
   ScanReactor(const v1::ScanRequest& request, grpc::CallbackServerContext* ctx, service::ServiceContext& context,
-              StallWatchdog* stalled_readers)
+              guards::StallWatchdog* stalled_readers)
       : context_(context),
         write_watch_(stalled_readers, ctx),
         outbox_(

@@ -1,7 +1,7 @@
 #pragma once
 // ScanService: casts a scan on a worker thread and streams it back in chunks.
 
-#include "api/stall_watchdog.h"
+#include "guards/stall_watchdog.h"
 #include "service/service_context.h"
 #include "vscan/v1/scan.grpc.pb.h"
 
@@ -10,7 +10,7 @@ namespace vscan::api {
 class ScanService final : public v1::ScanService::CallbackService {
  public:
   // stalled_readers cancels streams whose client stopped reading; null watches nothing.
-  ScanService(service::ServiceContext& context, StallWatchdog* stalled_readers)
+  ScanService(service::ServiceContext& context, guards::StallWatchdog* stalled_readers)
       : context_(context), stalled_readers_(stalled_readers) {}
 
   grpc::ServerWriteReactor<v1::ScanResponse>* Scan(grpc::CallbackServerContext* ctx,
@@ -21,7 +21,7 @@ class ScanService final : public v1::ScanService::CallbackService {
 
  private:
   service::ServiceContext& context_;
-  StallWatchdog* stalled_readers_;
+  guards::StallWatchdog* stalled_readers_;
 };
 
 }  // namespace vscan::api

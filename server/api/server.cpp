@@ -16,13 +16,13 @@
 #include <grpcpp/server_builder.h>
 #include <spdlog/spdlog.h>
 
-#include "api/data_dir_lock.h"
+#include "guards/data_dir_lock.h"
 #include "api/job_service.h"
 #include "api/job_tracker.h"
 #include "api/robot_service.h"
 #include "api/scan_service.h"
 #include "api/scene_service.h"
-#include "api/stall_watchdog.h"
+#include "guards/stall_watchdog.h"
 #include "jobs/job_runner.h"
 #include "jobs/periodic_task.h"
 #include "store/blob_gc.h"
@@ -94,7 +94,7 @@ void ApplyRetention(JobTracker& tracker, double retention_hours) {
 
 struct Server::Impl {
   // First member, so that it is released last, after the store has closed.
-  std::optional<DataDirLock> data_dir_lock;
+  std::optional<guards::DataDirLock> data_dir_lock;
   service::ServerOptions options;
   std::shared_ptr<store::Database> database;
   std::unique_ptr<store::Catalogue> catalogue;
@@ -105,7 +105,7 @@ struct Server::Impl {
   service::RasterProvider raster;
   std::unique_ptr<jobs::WorkerPool> workers;
   std::unique_ptr<jobs::WorkerPool> call_workers;
-  std::unique_ptr<StallWatchdog> stalled_readers;
+  std::unique_ptr<guards::StallWatchdog> stalled_readers;
   std::unique_ptr<service::ServiceContext> context;
   std::unique_ptr<SceneService> scene_service;
   std::unique_ptr<ScanService> scan_service;
@@ -133,7 +133,7 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& op
   std::filesystem::create_directories(data_dir, ec);
   if (ec) return Unavailable("--data-dir: cannot create '" + options.data_dir + "': " + ec.message());
   // Before anything in the directory is read or written: a second server would interrupt our jobs.
-  ASSIGN_OR_RETURN(impl->data_dir_lock, DataDirLock::Acquire(data_dir));
+  ASSIGN_OR_RETURN(impl->data_dir_lock, guards::DataDirLock::Acquire(data_dir));
 
   ASSIGN_OR_RETURN(impl->database, store::Database::Open(data_dir / "catalogue.sqlite"));
   impl->catalogue = std::make_unique<store::Catalogue>(impl->database);
@@ -159,7 +159,7 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& op
                                                             impl->options, *impl->robots, impl->raster);
   const std::chrono::duration<double> stall_limit(options.stalled_reader_seconds);
   impl->stalled_readers =
-      std::make_unique<StallWatchdog>(std::chrono::duration_cast<StallWatchdog::Clock::duration>(stall_limit));
+      std::make_unique<guards::StallWatchdog>(std::chrono::duration_cast<guards::StallWatchdog::Clock::duration>(stall_limit));
   impl->scene_service = std::make_unique<SceneService>(*impl->context);
   impl->scan_service = std::make_unique<ScanService>(*impl->context, impl->stalled_readers.get());
   impl->robot_service = std::make_unique<RobotService>(*impl->context);

@@ -12,14 +12,14 @@
 #include <grpcpp/server_context.h>
 #include <spdlog/spdlog.h>
 
-#include "api/stall_watchdog.h"
+#include "guards/stall_watchdog.h"
 
 namespace vscan::api {
 
 class WriteWatch {
  public:
   // A null watchdog watches nothing.
-  WriteWatch(StallWatchdog* watchdog, grpc::CallbackServerContext* ctx)
+  WriteWatch(guards::StallWatchdog* watchdog, grpc::CallbackServerContext* ctx)
       : watchdog_(watchdog), call_(std::make_shared<Call>()) {
     call_->ctx = ctx;
   }
@@ -57,7 +57,7 @@ class WriteWatch {
     grpc::CallbackServerContext* ctx = nullptr;
   };
 
-  StallWatchdog* watchdog_;
+  guards::StallWatchdog* watchdog_;
   std::shared_ptr<Call> call_;
   uint64_t armed_ = 0;
 };

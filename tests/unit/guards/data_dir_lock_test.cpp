@@ -1,7 +1,7 @@
 // The data directory lock: one holder at a time, named in the refusal, released when its
 // process dies however it dies, and never inherited by a program the holder runs.
 
-#include "api/data_dir_lock.h"
+#include "guards/data_dir_lock.h"
 
 #include <signal.h>
 #include <spawn.h>
@@ -18,7 +18,7 @@
 
 extern char** environ;
 
-namespace vscan::api {
+namespace vscan::guards {
 namespace {
 
 class DataDirLockTest : public ::testing::Test {
@@ -107,4 +107,4 @@ TEST_F(DataDirLockTest, MissingDirectoryIsUnavailable) {
 }
 
 }  // namespace
-}  // namespace vscan::api
+}  // namespace vscan::guards

@@ -1,4 +1,4 @@
-#include "api/data_dir_lock.h"
+#include "guards/data_dir_lock.h"
 
 #include <fcntl.h>
 #include <sys/file.h>
@@ -10,7 +10,7 @@
 #include <system_error>
 #include <utility>
 
-namespace vscan::api {
+namespace vscan::guards {
 namespace {
 
 std::string ErrorText(int error) { return std::generic_category().message(error); }
@@ -61,4 +61,4 @@ DataDirLock::~DataDirLock() {
   if (fd_ >= 0) ::close(fd_);
 }
 
-}  // namespace vscan::api
+}  // namespace vscan::guards

@@ -1,9 +1,9 @@
-#include "api/stall_watchdog.h"
+#include "guards/stall_watchdog.h"
 
 #include <utility>
 #include <vector>
 
-namespace vscan::api {
+namespace vscan::guards {
 
 StallWatchdog::StallWatchdog(Clock::duration limit) : limit_(limit), thread_([this] { Run(); }) {}
 
@@ -64,4 +64,4 @@ void StallWatchdog::Run() {
   }
 }
 
-}  // namespace vscan::api
+}  // namespace vscan::guards

@@ -11,7 +11,7 @@
 #include <mutex>
 #include <thread>
 
-namespace vscan::api {
+namespace vscan::guards {
 
 class StallWatchdog {
  public:
@@ -47,4 +47,4 @@ class StallWatchdog {
   std::thread thread_;
 };
 
-}  // namespace vscan::api
+}  // namespace vscan::guards

@@ -7,7 +7,7 @@
 
 #include "vscan/common/status.h"
 
-namespace vscan::api {
+namespace vscan::guards {
 
 class DataDirLock {
  public:
@@ -26,4 +26,4 @@ class DataDirLock {
   int fd_ = -1;
 };
 
-}  // namespace vscan::api
+}  // namespace vscan::guards

@@ -1,7 +1,7 @@
 // The stall watchdog: what is not disarmed within the limit fires once, on the watchdog's thread
 // and without its lock (so on_stall may arm and disarm); what is disarmed never fires.
 
-#include "api/stall_watchdog.h"
+#include "guards/stall_watchdog.h"
 
 #include <gtest/gtest.h>
 
@@ -11,7 +11,7 @@
 #include <memory>
 #include <thread>
 
-namespace vscan::api {
+namespace vscan::guards {
 namespace {
 
 using namespace std::chrono_literals;
@@ -85,4 +85,4 @@ TEST(StallWatchdogTest, StopIsPromptAndDropsWhatIsArmed) {
 }
 
 }  // namespace
-}  // namespace vscan::api
+}  // namespace vscan::guards
