@@ -3,14 +3,15 @@
 #include <cmath>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include <Eigen/Geometry>
 
-#include "raster/gl_program.h"
 #include "offscreen_target.h"
-#include "raster/egl_context.h"
-#include "raster/gl_api.h"
-#include "raster/gl_check.h"
+#include "vscan/gl/egl_context.h"
+#include "vscan/gl/gl_api.h"
+#include "vscan/gl/gl_check.h"
+#include "vscan/gl/gl_program.h"
 
 namespace vscan::render {
 namespace {
@@ -70,7 +71,7 @@ void main() {
 
 // Everything one render owns; the context is released last.
 struct Frame {
-  std::unique_ptr<raster::EglContext> context;
+  std::unique_ptr<gl::EglContext> context;
   std::unique_ptr<OffscreenTarget> target;
   GLuint program = 0, vertex_array = 0;
   GLuint buffers[3] = {};
@@ -86,9 +87,11 @@ struct Frame {
 
 Status Begin(Frame& frame, const RenderOptions& options, const char* vertex, const char* fragment,
              const char* name) {
-  ASSIGN_OR_RETURN(frame.context, raster::EglContext::CreateCurrent());
+  auto context = gl::EglContext::CreateCurrent();
+  if (!context.ok()) return Status(context.status().code(), "render: " + context.status().message());
+  frame.context = std::move(*context);
   ASSIGN_OR_RETURN(frame.target, OffscreenTarget::Create(options.width, options.height));
-  ASSIGN_OR_RETURN(frame.program, raster::BuildProgram(vertex, fragment, name));
+  ASSIGN_OR_RETURN(frame.program, gl::BuildProgram(vertex, fragment, name));
   glGenVertexArrays(1, &frame.vertex_array);
   glBindVertexArray(frame.vertex_array);
   glGenBuffers(3, frame.buffers);
@@ -98,7 +101,7 @@ Status Begin(Frame& frame, const RenderOptions& options, const char* vertex, con
   glClearDepth(1.0);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   glUseProgram(frame.program);
-  return raster::CheckGl(name);
+  return gl::CheckGl(std::string("render: ") + name);
 }
 
 void Upload(GLuint buffer, GLuint location, const std::vector<Eigen::Vector3f>& values) {
@@ -152,7 +155,7 @@ StatusOr<Image> RenderCloud(const PointCloud& cloud, const std::vector<Eigen::Ve
   Upload(frame.buffers[0], 0, cloud.positions);
   Upload(frame.buffers[1], 1, colours);
   glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(cloud.size()));
-  RETURN_IF_ERROR(raster::CheckGl("draw points"));
+  RETURN_IF_ERROR(gl::CheckGl("render: draw points"));
   return frame.target->ReadRgb();
 }
 
@@ -170,7 +173,7 @@ StatusOr<Image> RenderMesh(const TriangleMesh& mesh, const Bounds& bounds, const
   glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.triangles.size() * sizeof(mesh.triangles[0])),
                mesh.triangles.data(), GL_STATIC_DRAW);
   glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(mesh.triangles.size() * 3), GL_UNSIGNED_INT, nullptr);
-  RETURN_IF_ERROR(raster::CheckGl("draw mesh"));
+  RETURN_IF_ERROR(gl::CheckGl("render: draw mesh"));
   return frame.target->ReadRgb();
 }
 

@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "raster/gl_check.h"
+#include "vscan/gl/gl_check.h"
 
 namespace vscan::raster {
 namespace {
@@ -57,7 +57,7 @@ StatusOr<std::unique_ptr<GpuScene>> GpuScene::Upload(const SceneGeometry& geomet
 
   scene->bytes_ = geometry.vertices.size() * sizeof(Eigen::Vector3f) + geometry.indices.size() * sizeof(uint32_t) +
                   normals.size() * sizeof(float);
-  RETURN_IF_ERROR(CheckGl("uploading the scene"));
+  RETURN_IF_ERROR(gl::CheckGl("raster: uploading the scene"));
   return scene;
 }
 

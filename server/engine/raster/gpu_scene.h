@@ -5,9 +5,9 @@
 #include <cstdint>
 #include <memory>
 
-#include "raster/gl_api.h"
 #include "raster/scene_geometry.h"
 #include "vscan/common/status.h"
+#include "vscan/gl/gl_api.h"
 
 namespace vscan::raster {
 
