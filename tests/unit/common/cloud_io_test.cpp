@@ -39,9 +39,12 @@ std::string ReadAll(const std::string& path) {
   return s.str();
 }
 
-TEST_F(CloudIoTest, PlyRoundTripAllFields) {
-  // More points than one internal write block.
-  const PointCloud cloud = MakeCloud(kFieldsAll, 40000);
+// Every field a scan can carry, ground truth included.
+constexpr uint32_t kEveryField = kFieldsAll | kFieldsGroundTruth | kFieldEstimatedNormal;
+
+TEST_F(CloudIoTest, PlyRoundTripEveryField) {
+  // More points than one internal write or read block.
+  const PointCloud cloud = MakeCloud(kEveryField, 40000);
   ASSERT_TRUE(WritePly(cloud, Path("all.ply")).ok());
   const auto back = ReadPly(Path("all.ply"));
   ASSERT_TRUE(back.ok()) << back.status().ToString();

@@ -1,5 +1,5 @@
 #pragma once
-// Point cloud and mesh files: binary PLY and PCD writers, a PLY reader for round trips.
+// Point cloud files: binary PLY and PCD, written and read back with every field vscan writes.
 
 #include <string>
 
@@ -16,7 +16,15 @@ Status WritePly(const PointCloud& cloud, const std::string& path);
 Status WritePcd(const PointCloud& cloud, const std::string& path);
 // Picks the writer from the extension (.ply or .pcd).
 Status WriteCloud(const PointCloud& cloud, const std::string& path);
-// Reads a binary little-endian PLY written by WritePly (vertex element only).
+
+// The reader takes back every field the writers write (positions, normals, range, intensity,
+// instance, pixel, and the ground truth: clean position, incidence, status, estimated normal),
+// each under its PLY or its PCD name, in any order and any scalar type; fields it does not know
+// are skipped. NOT_FOUND when the file cannot be opened, INVALID_ARGUMENT when it is malformed or
+// lacks x, y or z, DATA_LOSS when it is truncated.
+
+// Binary little-endian PLY: the vertex element; fixed-size elements before it and any after it
+// (faces) are skipped.
 StatusOr<PointCloud> ReadPly(const std::string& path);
 
 }  // namespace vscan
