@@ -185,4 +185,11 @@ Status WriteCloud(const PointCloud& cloud, const std::string& path) {
   return InvalidArgument(path + ": unknown point cloud extension '" + ext + "' (use .ply or .pcd)");
 }
 
+StatusOr<PointCloud> ReadCloud(const std::string& path) {
+  const std::string ext = LowerExtension(path);
+  if (ext == ".ply") return ReadPly(path);
+  if (ext == ".pcd") return ReadPcd(path);
+  return InvalidArgument(path + ": unknown point cloud extension '" + ext + "' (use .ply or .pcd)");
+}
+
 }  // namespace vscan
