@@ -5,7 +5,7 @@
 #include <string>
 #include <vector>
 
-#include "raster/gl_check.h"
+#include "vscan/gl/gl_check.h"
 
 namespace vscan::render {
 
@@ -43,7 +43,7 @@ StatusOr<std::unique_ptr<OffscreenTarget>> OffscreenTarget::Create(uint32_t widt
   glBindFramebuffer(GL_FRAMEBUFFER, target->framebuffer_);
   glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_RENDERBUFFER, target->colour_);
   glFramebufferRenderbuffer(GL_FRAMEBUFFER, GL_DEPTH_ATTACHMENT, GL_RENDERBUFFER, target->depth_);
-  RETURN_IF_ERROR(raster::CheckGl("render target"));
+  RETURN_IF_ERROR(gl::CheckGl("render: render target"));
   if (glCheckFramebufferStatus(GL_FRAMEBUFFER) != GL_FRAMEBUFFER_COMPLETE) {
     return Internal("render: the framebuffer is incomplete");
   }
@@ -57,7 +57,7 @@ StatusOr<Image> OffscreenTarget::ReadRgb() const {
   glReadBuffer(GL_COLOR_ATTACHMENT0);
   glReadPixels(0, 0, static_cast<GLsizei>(width_), static_cast<GLsizei>(height_), GL_RGBA, GL_UNSIGNED_BYTE,
                rgba.data());
-  RETURN_IF_ERROR(raster::CheckGl("read pixels"));
+  RETURN_IF_ERROR(gl::CheckGl("render: read pixels"));
   Image image(width_, height_);
   for (uint32_t row = 0; row < height_; ++row) {
     const uint8_t* src = rgba.data() + size_t{height_ - 1 - row} * width_ * 4;

@@ -4,7 +4,7 @@
 #include <cstdint>
 #include <memory>
 
-#include "raster/gl_api.h"
+#include "vscan/gl/gl_api.h"
 #include "vscan/common/status.h"
 #include "vscan/render/image.h"
 

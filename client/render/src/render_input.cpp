@@ -12,7 +12,6 @@
 #include <sstream>
 
 #include "geometry/mesh_import.h"
-#include "pcd_read.h"
 #include "vscan/common/cloud_io.h"
 
 namespace vscan::render {
@@ -84,11 +83,7 @@ StatusOr<RenderInput> LoadRenderInput(const std::string& path) {
   ASSIGN_OR_RETURN(input.kind, InputKindOf(path));
   const std::string ext = Extension(path);
   if (input.kind == InputKind::kCloud) {
-    if (ext == ".pcd") {
-      ASSIGN_OR_RETURN(input.cloud, ReadPcd(path));
-    } else {
-      ASSIGN_OR_RETURN(input.cloud, ReadPly(path));
-    }
+    ASSIGN_OR_RETURN(input.cloud, ReadCloud(path));
     ASSIGN_OR_RETURN(input.bounds, BoundsOf(input.cloud.positions, path));
   } else {
     const auto format = ext == ".ply"   ? geometry::MeshFileFormat::kPly

@@ -3,14 +3,16 @@
 #include <cmath>
 #include <memory>
 #include <string>
+#include <utility>
 
 #include <Eigen/Geometry>
 
-#include "raster/gl_program.h"
 #include "offscreen_target.h"
-#include "raster/egl_context.h"
-#include "raster/gl_api.h"
-#include "raster/gl_check.h"
+#include "vscan/gl/egl_context.h"
+#include "vscan/gl/gl_api.h"
+#include "vscan/gl/gl_check.h"
+#include "vscan/gl/gl_program.h"
+#include "vscan/gl/mesh_buffers.h"
 
 namespace vscan::render {
 namespace {
@@ -70,43 +72,34 @@ void main() {
 
 // Everything one render owns; the context is released last.
 struct Frame {
-  std::unique_ptr<raster::EglContext> context;
+  std::unique_ptr<gl::EglContext> context;
   std::unique_ptr<OffscreenTarget> target;
-  GLuint program = 0, vertex_array = 0;
-  GLuint buffers[3] = {};
+  std::unique_ptr<gl::MeshBuffers> buffers;
+  GLuint program = 0;
 
   ~Frame() {
     if (!context) return;
-    glDeleteBuffers(3, buffers);
-    glDeleteVertexArrays(1, &vertex_array);
-    glDeleteProgram(program);
+    buffers.reset();
     target.reset();
+    glDeleteProgram(program);
   }
 };
 
 Status Begin(Frame& frame, const RenderOptions& options, const char* vertex, const char* fragment,
              const char* name) {
-  ASSIGN_OR_RETURN(frame.context, raster::EglContext::CreateCurrent());
+  auto context = gl::EglContext::CreateCurrent();
+  if (!context.ok()) return Status(context.status().code(), "render: " + context.status().message());
+  frame.context = std::move(*context);
   ASSIGN_OR_RETURN(frame.target, OffscreenTarget::Create(options.width, options.height));
-  ASSIGN_OR_RETURN(frame.program, raster::BuildProgram(vertex, fragment, name));
-  glGenVertexArrays(1, &frame.vertex_array);
-  glBindVertexArray(frame.vertex_array);
-  glGenBuffers(3, frame.buffers);
+  ASSIGN_OR_RETURN(frame.program, gl::BuildProgram(vertex, fragment, name));
+  frame.buffers = std::make_unique<gl::MeshBuffers>();
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glClearColor(options.background[0] / 255.0f, options.background[1] / 255.0f, options.background[2] / 255.0f, 1.0f);
   glClearDepth(1.0);
   glClear(GL_COLOR_BUFFER_BIT | GL_DEPTH_BUFFER_BIT);
   glUseProgram(frame.program);
-  return raster::CheckGl(name);
-}
-
-void Upload(GLuint buffer, GLuint location, const std::vector<Eigen::Vector3f>& values) {
-  glBindBuffer(GL_ARRAY_BUFFER, buffer);
-  glBufferData(GL_ARRAY_BUFFER, static_cast<GLsizeiptr>(values.size() * sizeof(Eigen::Vector3f)), values.data(),
-               GL_STATIC_DRAW);
-  glEnableVertexAttribArray(location);
-  glVertexAttribPointer(location, 3, GL_FLOAT, GL_FALSE, sizeof(Eigen::Vector3f), nullptr);
+  return gl::CheckGl(std::string("render: ") + name);
 }
 
 void SetCamera(GLuint program, const View& view, const Bounds& bounds, const RenderOptions& options) {
@@ -137,6 +130,10 @@ StatusOr<Image> RenderCloud(const PointCloud& cloud, const std::vector<Eigen::Ve
     return InvalidArgument("colours: " + std::to_string(colours.size()) + " for " + std::to_string(cloud.size()) +
                            " points");
   }
+  if (cloud.size() > gl::kMaxDrawCount) {
+    return ResourceExhausted("render: " + std::to_string(cloud.size()) + " points exceed one draw call's limit of " +
+                             std::to_string(gl::kMaxDrawCount));
+  }
   Frame frame;
   RETURN_IF_ERROR(Begin(frame, options, kPointVertex, kPointFragment, "points"));
   GLfloat size_range[2] = {1, 1};
@@ -149,28 +146,30 @@ StatusOr<Image> RenderCloud(const PointCloud& cloud, const std::vector<Eigen::Ve
   SetCamera(frame.program, view, bounds, options);
   glUniform1f(glGetUniformLocation(frame.program, "point_size"), options.point_size);
   glUniform1i(glGetUniformLocation(frame.program, "round_splats"), options.point_size >= 3.0f ? 1 : 0);
-  Upload(frame.buffers[0], 0, cloud.positions);
-  Upload(frame.buffers[1], 1, colours);
-  glDrawArrays(GL_POINTS, 0, static_cast<GLsizei>(cloud.size()));
-  RETURN_IF_ERROR(raster::CheckGl("draw points"));
+  frame.buffers->AddAttribute(0, cloud.positions);
+  frame.buffers->AddAttribute(1, colours);
+  frame.buffers->DrawPoints();
+  RETURN_IF_ERROR(gl::CheckGl("render: draw points"));
   return frame.target->ReadRgb();
 }
 
 StatusOr<Image> RenderMesh(const TriangleMesh& mesh, const Bounds& bounds, const View& view,
                            const RenderOptions& options) {
+  if (mesh.triangles.size() > gl::kMaxDrawCount / 3) {
+    return ResourceExhausted("render: " + std::to_string(mesh.triangles.size()) +
+                             " triangles exceed one draw call's limit of " + std::to_string(gl::kMaxDrawCount / 3));
+  }
   Frame frame;
   RETURN_IF_ERROR(Begin(frame, options, kMeshVertex, kMeshFragment, "mesh"));
   SetCamera(frame.program, view, bounds, options);
   glUniform3fv(glGetUniformLocation(frame.program, "eye"), 1, view.eye.data());
   glUniform1f(glGetUniformLocation(frame.program, "grey"), kMeshGrey);
   glUniform1f(glGetUniformLocation(frame.program, "ambient"), kMeshAmbient);
-  Upload(frame.buffers[0], 0, mesh.vertices);
-  Upload(frame.buffers[1], 1, VertexNormals(mesh));
-  glBindBuffer(GL_ELEMENT_ARRAY_BUFFER, frame.buffers[2]);
-  glBufferData(GL_ELEMENT_ARRAY_BUFFER, static_cast<GLsizeiptr>(mesh.triangles.size() * sizeof(mesh.triangles[0])),
-               mesh.triangles.data(), GL_STATIC_DRAW);
-  glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(mesh.triangles.size() * 3), GL_UNSIGNED_INT, nullptr);
-  RETURN_IF_ERROR(raster::CheckGl("draw mesh"));
+  frame.buffers->AddAttribute(0, mesh.vertices);
+  frame.buffers->AddAttribute(1, VertexNormals(mesh));
+  frame.buffers->SetTriangles(mesh.triangles);
+  frame.buffers->DrawTriangles();
+  RETURN_IF_ERROR(gl::CheckGl("render: draw mesh"));
   return frame.target->ReadRgb();
 }
 

@@ -1,6 +1,6 @@
 #include "raster/frame_render.h"
 
-#include "raster/gl_check.h"
+#include "vscan/gl/gl_check.h"
 
 namespace vscan::raster {
 namespace {
@@ -48,7 +48,7 @@ Status ReadBack(const FrameRequest& r, RenderedFrame& out) {
     glReadBuffer(kColourAttachment);
     glReadPixels(0, 0, w, h, GL_RGBA, GL_UNSIGNED_BYTE, out.colour.get());
   }
-  return CheckGl("reading back the frame");
+  return gl::CheckGl("raster: reading back the frame");
 }
 
 }  // namespace
@@ -77,7 +77,7 @@ Status RenderFrame(RenderState& state, const GpuScene& scene, const FrameRequest
     glUniformMatrix4fv(state.programs.depth.clip_from_scene, 1, GL_FALSE, clip_from_scene.data());
   }
   scene.Draw();
-  RETURN_IF_ERROR(CheckGl("drawing the scene"));
+  RETURN_IF_ERROR(gl::CheckGl("raster: drawing the scene"));
   return ReadBack(r, out);
 }
 

@@ -3,7 +3,7 @@
 #include <cstdio>
 #include <string>
 
-#include "raster/gl_check.h"
+#include "vscan/gl/gl_check.h"
 
 namespace vscan::raster {
 namespace {
@@ -48,7 +48,7 @@ Status FrameTarget::Prepare(uint32_t width, uint32_t height, DepthFormat depth, 
   }
   // The colour attachment is attached only while a colour scan needs it.
   glFramebufferRenderbuffer(GL_FRAMEBUFFER, kColourAttachment, GL_RENDERBUFFER, colour ? colour_ : 0);
-  RETURN_IF_ERROR(CheckGl("allocating the framebuffer"));
+  RETURN_IF_ERROR(gl::CheckGl("raster: allocating the framebuffer"));
   width_ = width;
   height_ = height;
 
@@ -60,7 +60,7 @@ Status FrameTarget::Prepare(uint32_t width, uint32_t height, DepthFormat depth, 
     std::snprintf(code, sizeof(code), "0x%04X", status);
     return Internal(std::string("raster: framebuffer incomplete (status ") + code + ")");
   }
-  return CheckGl("binding the framebuffer");
+  return gl::CheckGl("raster: binding the framebuffer");
 }
 
 }  // namespace vscan::raster

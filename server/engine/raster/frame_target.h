@@ -4,9 +4,9 @@
 
 #include <cstdint>
 
-#include "raster/gl_api.h"
 #include "raster/raster_scanner.h"
 #include "vscan/common/status.h"
+#include "vscan/gl/gl_api.h"
 
 namespace vscan::raster {
 

@@ -1,13 +1,15 @@
 #pragma once
-// A scene's triangles in GPU buffers: one vertex array drawn in a single call, and the face
-// normals as a buffer texture for the colour method's shader. Lives on the render thread.
+// A scene's triangles in GPU buffers (the shared vscan_gl mesh upload, drawn in a single call),
+// and the face normals as a buffer texture for the colour method's shader. Lives on the render
+// thread.
 
 #include <cstdint>
 #include <memory>
 
-#include "raster/gl_api.h"
 #include "raster/scene_geometry.h"
 #include "vscan/common/status.h"
+#include "vscan/gl/gl_api.h"
+#include "vscan/gl/mesh_buffers.h"
 
 namespace vscan::raster {
 
@@ -20,16 +22,15 @@ class GpuScene {
   GpuScene& operator=(const GpuScene&) = delete;
 
   // Draws every triangle with the bound program; face i is gl_PrimitiveID i.
-  void Draw() const;
+  void Draw() const { mesh_.DrawTriangles(); }
   GLuint face_normal_texture() const { return normal_texture_; }
-  uint64_t triangle_count() const { return triangles_; }
+  uint64_t triangle_count() const { return mesh_.triangle_count(); }
   uint64_t bytes() const { return bytes_; }
 
  private:
   GpuScene() = default;
-  GLuint vertex_array_ = 0, vertex_buffer_ = 0, index_buffer_ = 0;
+  gl::MeshBuffers mesh_;
   GLuint normal_buffer_ = 0, normal_texture_ = 0;
-  uint64_t triangles_ = 0;
   uint64_t bytes_ = 0;
 };
 

@@ -9,8 +9,8 @@
 #include <thread>
 #include <utility>
 
-#include "raster/egl_context.h"
 #include "raster/render_state.h"
+#include "vscan/gl/egl_context.h"
 
 namespace vscan::raster {
 namespace {
@@ -43,9 +43,9 @@ struct RasterRenderer::Impl {
 
   // The render thread: sets up the context, reports how that went, then serves jobs until told to stop.
   void Serve(const RendererOptions& options, std::promise<Status>& ready) {
-    auto context = EglContext::CreateCurrent();
+    auto context = gl::EglContext::CreateCurrent();
     if (!context.ok()) {
-      ready.set_value(context.status());
+      ready.set_value(Status(context.status().code(), "raster: " + context.status().message()));
       return;
     }
     auto state = RenderState::Create(options);

@@ -4,7 +4,7 @@
 #include <string_view>
 #include <utility>
 
-#include "raster/gl_check.h"
+#include "vscan/gl/gl_check.h"
 
 namespace vscan::raster {
 namespace {
@@ -41,7 +41,7 @@ StatusOr<GlCaps> QueryCaps() {
   GLint texels = 0;
   glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &texels);
   caps.max_buffer_texels = texels;
-  RETURN_IF_ERROR(CheckGl("querying the context"));
+  RETURN_IF_ERROR(gl::CheckGl("raster: querying the context"));
   return caps;
 }
 
@@ -61,7 +61,7 @@ StatusOr<std::unique_ptr<RenderState>> RenderState::Create(const RendererOptions
   glEnable(GL_DEPTH_TEST);
   glPixelStorei(GL_PACK_ALIGNMENT, 1);
   ASSIGN_OR_RETURN(ScanPrograms programs, ScanPrograms::Build());
-  RETURN_IF_ERROR(CheckGl("setting up the context"));
+  RETURN_IF_ERROR(gl::CheckGl("raster: setting up the context"));
   return std::unique_ptr<RenderState>(new RenderState(std::move(caps), std::move(programs), options));
 }
 

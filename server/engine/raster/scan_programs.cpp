@@ -3,8 +3,8 @@
 #include <string>
 #include <utility>
 
-#include "raster/gl_check.h"
-#include "raster/gl_program.h"
+#include "vscan/gl/gl_check.h"
+#include "vscan/gl/gl_program.h"
 
 namespace vscan::raster {
 namespace {
@@ -50,7 +50,7 @@ void main() {
 )";
 
 StatusOr<GLuint> Link(const char* fragment_source, const char* name) {
-  auto program = BuildProgram(kVertexShader, fragment_source, name);
+  auto program = gl::BuildProgram(kVertexShader, fragment_source, name);
   if (!program.ok()) return Internal("raster: " + program.status().message());
   return program;
 }
@@ -68,7 +68,7 @@ StatusOr<ScanPrograms> ScanPrograms::Build() {
   programs.colour.range_code = glGetUniformLocation(c, "range_code");
   programs.colour.light = glGetUniformLocation(c, "light");
   programs.colour.face_normals = glGetUniformLocation(c, "face_normals");
-  RETURN_IF_ERROR(CheckGl("building shader programs"));
+  RETURN_IF_ERROR(gl::CheckGl("raster: building shader programs"));
   return programs;
 }
 

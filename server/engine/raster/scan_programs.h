@@ -1,8 +1,8 @@
 #pragma once
 // The two shader programs of the raster scanner.
 
-#include "raster/gl_api.h"
 #include "vscan/common/status.h"
+#include "vscan/gl/gl_api.h"
 
 namespace vscan::raster {
 

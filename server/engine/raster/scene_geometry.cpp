@@ -70,7 +70,7 @@ StatusOr<SceneGeometry> BuildSceneGeometry(std::span<const raycast::SceneInstanc
 
   SceneGeometry geometry;
   geometry.vertices.reserve(vertex_count);
-  geometry.indices.reserve(3 * face_count);
+  geometry.triangles.reserve(face_count);
   faces->normals.reserve(face_count);
   faces->instance_ids.reserve(face_count);
   for (size_t i = 0; i < instances.size(); ++i) {
@@ -78,7 +78,7 @@ StatusOr<SceneGeometry> BuildSceneGeometry(std::span<const raycast::SceneInstanc
     const auto base = static_cast<uint32_t>(geometry.vertices.size());
     for (const Eigen::Vector3d& w : world[i]) geometry.vertices.push_back((w - faces->centre).cast<float>());
     for (const auto& t : instances[i].mesh->triangles) {
-      for (uint32_t index : t) geometry.indices.push_back(base + index);
+      geometry.triangles.push_back({base + t[0], base + t[1], base + t[2]});
       const Eigen::Vector3d& a = world[i][t[0]];
       const Eigen::Vector3d n = (world[i][t[1]] - a).cross(world[i][t[2]] - a);
       const double length = n.norm();

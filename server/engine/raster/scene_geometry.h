@@ -2,6 +2,7 @@
 // A scene's instances flattened into one world-frame triangle list, ready to upload, with the
 // per-face data that decoding needs.
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <span>
@@ -28,7 +29,7 @@ struct SceneFaces {
 struct SceneGeometry {
   // Relative to faces->centre, so that single precision keeps its resolution far from the origin.
   std::vector<Eigen::Vector3f> vertices;
-  std::vector<uint32_t> indices;
+  std::vector<std::array<uint32_t, 3>> triangles;  // into vertices
   std::shared_ptr<SceneFaces> faces;
 };
 

@@ -39,22 +39,44 @@ std::string ReadAll(const std::string& path) {
   return s.str();
 }
 
-TEST_F(CloudIoTest, PlyRoundTripAllFields) {
-  // More points than one internal write block.
-  const PointCloud cloud = MakeCloud(kFieldsAll, 40000);
-  ASSERT_TRUE(WritePly(cloud, Path("all.ply")).ok());
-  const auto back = ReadPly(Path("all.ply"));
-  ASSERT_TRUE(back.ok()) << back.status().ToString();
-  ExpectSameCloud(cloud, *back);
-}
+// Every field a scan can carry, ground truth included.
+constexpr uint32_t kEveryField = kFieldsAll | kFieldsGroundTruth | kFieldEstimatedNormal;
 
-TEST_F(CloudIoTest, PlyRoundTripPositionsOnlyAndEmpty) {
-  for (size_t n : {0u, 1u, 3u}) {
-    const PointCloud cloud = MakeCloud(kFieldPosition, n);
-    ASSERT_TRUE(WritePly(cloud, Path("p.ply")).ok());
-    const auto back = ReadPly(Path("p.ply"));
+TEST_F(CloudIoTest, PlyAndPcdRoundTripEveryField) {
+  // More points than one internal write or read block.
+  const PointCloud cloud = MakeCloud(kEveryField, 40000);
+  for (const char* name : {"all.ply", "all.pcd"}) {
+    ASSERT_TRUE(WriteCloud(cloud, Path(name)).ok()) << name;
+    const auto back = ReadCloud(Path(name));
     ASSERT_TRUE(back.ok()) << back.status().ToString();
     ExpectSameCloud(cloud, *back);
+  }
+}
+
+TEST_F(CloudIoTest, PlyAndPcdRoundTripEachFieldAlone) {
+  for (uint32_t field = kFieldNormal; field <= kFieldEstimatedNormal; field <<= 1) {
+    const PointCloud cloud = MakeCloud(kFieldPosition | field, 9);
+    ASSERT_TRUE(WritePly(cloud, Path("one.ply")).ok());
+    ASSERT_TRUE(WritePcd(cloud, Path("one.pcd")).ok());
+    const auto ply = ReadPly(Path("one.ply"));
+    const auto pcd = ReadPcd(Path("one.pcd"));
+    ASSERT_TRUE(ply.ok()) << ply.status().ToString();
+    ASSERT_TRUE(pcd.ok()) << pcd.status().ToString();
+    SCOPED_TRACE("field " + std::to_string(field));
+    ExpectSameCloud(cloud, *ply);
+    ExpectSameCloud(cloud, *pcd);
+  }
+}
+
+TEST_F(CloudIoTest, PlyAndPcdRoundTripPositionsOnlyAndEmpty) {
+  for (size_t n : {0u, 1u, 3u}) {
+    const PointCloud cloud = MakeCloud(kFieldPosition, n);
+    for (const char* name : {"p.ply", "p.pcd"}) {
+      ASSERT_TRUE(WriteCloud(cloud, Path(name)).ok());
+      const auto back = ReadCloud(Path(name));
+      ASSERT_TRUE(back.ok()) << back.status().ToString();
+      ExpectSameCloud(cloud, *back);
+    }
   }
 }
 
@@ -140,12 +162,25 @@ TEST_F(CloudIoTest, InconsistentCloudIsRejected) {
 
 TEST_F(CloudIoTest, ReadMissingFileIsNotFound) {
   EXPECT_EQ(ReadPly(Path("nope.ply")).status().code(), StatusCode::kNotFound);
+  EXPECT_EQ(ReadPcd(Path("nope.pcd")).status().code(), StatusCode::kNotFound);
 }
 
 TEST_F(CloudIoTest, ReadTruncatedFileIsDataLoss) {
-  ASSERT_TRUE(WritePly(MakeCloud(kFieldsDefault, 10), Path("t.ply")).ok());
-  fs::resize_file(Path("t.ply"), fs::file_size(Path("t.ply")) - 5);
-  EXPECT_EQ(ReadPly(Path("t.ply")).status().code(), StatusCode::kDataLoss);
+  for (const char* name : {"t.ply", "t.pcd"}) {
+    ASSERT_TRUE(WriteCloud(MakeCloud(kFieldsDefault, 10), Path(name)).ok());
+    fs::resize_file(Path(name), fs::file_size(Path(name)) - 5);
+    EXPECT_EQ(ReadCloud(Path(name)).status().code(), StatusCode::kDataLoss) << name;
+  }
+}
+
+TEST_F(CloudIoTest, ReadCloudPicksReaderByExtension) {
+  const PointCloud cloud = MakeCloud(kFieldsDefault, 4);
+  ASSERT_TRUE(WritePcd(cloud, Path("a.PCD")).ok());
+  const auto back = ReadCloud(Path("a.PCD"));
+  ASSERT_TRUE(back.ok()) << back.status().ToString();
+  ExpectSameCloud(cloud, *back);
+  std::ofstream(Path("a.xyz")) << "1 2 3\n";
+  EXPECT_EQ(ReadCloud(Path("a.xyz")).status().code(), StatusCode::kInvalidArgument);
 }
 
 TEST_F(CloudIoTest, ReadRejectsAsciiPly) {
@@ -183,6 +218,53 @@ TEST_F(CloudIoTest, ReadToleratesOtherOrderTypesAndTrailingFaces) {
   EXPECT_EQ(cloud->normals[0], Eigen::Vector3f(0, 0, 1));
   EXPECT_EQ(cloud->instance_ids[1], 7u);
   EXPECT_EQ(cloud->pixels[1], 11u);
+}
+
+// A PCD written elsewhere: other field order, sizes and signedness, a COUNT 3 field, CRLF lines.
+TEST_F(CloudIoTest, PcdReadToleratesOtherOrderTypesAndCounts) {
+  std::string data =
+      "# .PCD v0.7 - Point Cloud Data file format\r\nVERSION 0.7\r\n"
+      "FIELDS status z x y instance rgb normal_x normal_y normal_z\r\n"
+      "SIZE 2 8 4 4 8 4 4 4 4\r\nTYPE U F F F I U F F F\r\nCOUNT 1 1 1 1 1 3 1 1 1\r\n"
+      "WIDTH 2\r\nHEIGHT 1\r\nVIEWPOINT 0 0 0 1 0 0 0\r\nPOINTS 2\r\nDATA binary\r\n";
+  const auto put = [&](const auto& v) { data.append(reinterpret_cast<const char*>(&v), sizeof(v)); };
+  for (int i = 0; i < 2; ++i) {
+    put(static_cast<uint16_t>(2 + i));
+    put(static_cast<double>(3.5 + i));
+    put(static_cast<float>(1 + i));
+    put(static_cast<float>(2 + i));
+    put(static_cast<int64_t>(7 * i));
+    for (int k = 0; k < 3; ++k) put(static_cast<uint32_t>(0xFFFFFFu));
+    put(0.0f);
+    put(1.0f);
+    put(0.0f);
+  }
+  std::ofstream(Path("o.pcd"), std::ios::binary) << data;
+
+  const auto cloud = ReadPcd(Path("o.pcd"));
+  ASSERT_TRUE(cloud.ok()) << cloud.status().ToString();
+  EXPECT_EQ(cloud->fields, kFieldPosition | kFieldNormal | kFieldInstanceId | kFieldStatus);
+  ASSERT_EQ(cloud->size(), 2u);
+  EXPECT_EQ(cloud->positions[1], Eigen::Vector3f(2, 3, 4.5f));
+  EXPECT_EQ(cloud->normals[0], Eigen::Vector3f(0, 1, 0));
+  EXPECT_EQ(cloud->instance_ids[1], 7u);
+  EXPECT_EQ(cloud->statuses[1], static_cast<uint8_t>(PointStatus::kFlyingPixel));
+}
+
+TEST_F(CloudIoTest, PcdReadRejectsWhatItCannotRead) {
+  const std::string head = "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nPOINTS 1\n";
+  const auto read = [&](const std::string& text) {
+    std::ofstream(Path("r.pcd"), std::ios::binary) << text << std::string(12, '\0');
+    return ReadPcd(Path("r.pcd")).status();
+  };
+  EXPECT_TRUE(read(head + "DATA binary\n").ok());
+  EXPECT_EQ(read(head + "DATA ascii\n").code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(read(head + "DATA binary_compressed\n").code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(read(head).code(), StatusCode::kInvalidArgument);  // no DATA line
+  EXPECT_EQ(read("FIELDS x y\nSIZE 4 4\nTYPE F F\nPOINTS 1\nDATA binary\n").code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(read("FIELDS x y z\nSIZE 4 4 2\nTYPE F F F\nPOINTS 1\nDATA binary\n").code(),
+            StatusCode::kInvalidArgument);  // 2-byte float
+  EXPECT_EQ(read("FIELDS x y z\nSIZE 4 4\n").code(), StatusCode::kInvalidArgument);  // too few sizes
 }
 
 }  // namespace

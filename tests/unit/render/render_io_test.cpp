@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "render_test_scenes.h"
+#include "vscan_test/clouds.h"
 #include "vscan_test/temp_dir.h"
 #include "vscan/common/cloud_io.h"
 #include "vscan/render/png_io.h"
@@ -68,6 +69,19 @@ TEST(RenderInputTest, ReadsCloudsWrittenAsPlyAndPcd) {
     EXPECT_EQ(input->Count(), 3u);
     EXPECT_EQ(input->bounds.min, Eigen::Vector3f(0, -2, -1)) << name;
     EXPECT_EQ(input->bounds.max, Eigen::Vector3f(1, 0.25f, 3)) << name;
+  }
+}
+
+// Every `--color` mode (status included) must work on a .pcd as on a .ply.
+TEST(RenderInputTest, CloudsKeepEveryFieldInEitherFormat) {
+  vscan::test::TempDir dir;
+  const PointCloud cloud = vscan::test::MakeCloud(kFieldsAll | kFieldsGroundTruth | kFieldEstimatedNormal, 50);
+  for (const char* name : {"every.ply", "every.pcd"}) {
+    const std::string path = (dir.path() / name).string();
+    ASSERT_TRUE(WriteCloud(cloud, path).ok());
+    const auto input = LoadRenderInput(path);
+    ASSERT_TRUE(input.ok()) << input.status().message();
+    vscan::test::ExpectSameCloud(input->cloud, cloud);
   }
 }
 

@@ -1,5 +1,5 @@
 #pragma once
-// Point cloud and mesh files: binary PLY and PCD writers, a PLY reader for round trips.
+// Point cloud files: binary PLY and PCD, written and read back with every field vscan writes.
 
 #include <string>
 
@@ -16,7 +16,20 @@ Status WritePly(const PointCloud& cloud, const std::string& path);
 Status WritePcd(const PointCloud& cloud, const std::string& path);
 // Picks the writer from the extension (.ply or .pcd).
 Status WriteCloud(const PointCloud& cloud, const std::string& path);
-// Reads a binary little-endian PLY written by WritePly (vertex element only).
+
+// The readers take back every field the writers write (positions, normals, range, intensity,
+// instance, pixel, and the ground truth: clean position, incidence, status, estimated normal),
+// each under its PLY or its PCD name, in any order and any scalar type; fields they do not know
+// are skipped. NOT_FOUND when the file cannot be opened, INVALID_ARGUMENT when it is malformed or
+// lacks x, y or z, DATA_LOSS when it is truncated.
+
+// Binary little-endian PLY: the vertex element; fixed-size elements before it and any after it
+// (faces) are skipped.
 StatusOr<PointCloud> ReadPly(const std::string& path);
+// Binary PCD v0.7 (DATA binary; 1/2/4/8-byte F, U and I fields; the first value of a COUNT > 1
+// field). WIDTH and HEIGHT are ignored: the cloud is POINTS long.
+StatusOr<PointCloud> ReadPcd(const std::string& path);
+// Picks the reader from the extension (.ply or .pcd).
+StatusOr<PointCloud> ReadCloud(const std::string& path);
 
 }  // namespace vscan

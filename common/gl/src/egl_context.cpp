@@ -1,4 +1,4 @@
-#include "raster/egl_context.h"
+#include "vscan/gl/egl_context.h"
 
 #include <array>
 #include <string_view>
@@ -8,7 +8,7 @@
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 
-namespace vscan::raster {
+namespace vscan::gl {
 
 struct EglContext::Impl {
   EGLDisplay display = EGL_NO_DISPLAY;
@@ -165,8 +165,7 @@ StatusOr<std::unique_ptr<EglContext>> EglContext::CreateCurrent() {
     tried += made.message();
     Destroy(*impl);
   }
-  return Unavailable(std::string(any_display ? "raster: no usable OpenGL context (" : "raster: no EGL display (") +
-                     tried + ")");
+  return Unavailable(std::string(any_display ? "no usable OpenGL context (" : "no EGL display (") + tried + ")");
 }
 
-}  // namespace vscan::raster
+}  // namespace vscan::gl

@@ -1,8 +1,8 @@
-#include "raster/gl_program.h"
+#include "vscan/gl/gl_program.h"
 
 #include <string>
 
-namespace vscan::raster {
+namespace vscan::gl {
 namespace {
 
 StatusOr<GLuint> Compile(GLenum type, const char* source, const std::string& name) {
@@ -42,4 +42,4 @@ StatusOr<GLuint> BuildProgram(const char* vertex_source, const char* fragment_so
   return Internal(std::string(name) + " program does not link: " + log);
 }
 
-}  // namespace vscan::raster
+}  // namespace vscan::gl

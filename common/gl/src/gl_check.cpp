@@ -1,10 +1,10 @@
-#include "raster/gl_check.h"
+#include "vscan/gl/gl_check.h"
 
 #include <string>
 
-#include "raster/gl_api.h"
+#include "vscan/gl/gl_api.h"
 
-namespace vscan::raster {
+namespace vscan::gl {
 namespace {
 
 const char* GlErrorName(GLenum error) {
@@ -28,8 +28,8 @@ Status CheckGl(std::string_view what) {
     out_of_memory |= error == GL_OUT_OF_MEMORY;
   }
   if (first == GL_NO_ERROR) return Status::Ok();
-  if (out_of_memory) return ResourceExhausted("raster: " + std::string(what) + ": out of GPU memory");
-  return Internal("raster: " + std::string(what) + ": " + GlErrorName(first));
+  if (out_of_memory) return ResourceExhausted(std::string(what) + ": out of GPU memory");
+  return Internal(std::string(what) + ": " + GlErrorName(first));
 }
 
-}  // namespace vscan::raster
+}  // namespace vscan::gl

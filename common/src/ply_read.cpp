@@ -1,0 +1,120 @@
+// ReadPly: the header of a binary little-endian PLY; the vertex records are decoded in cloud_records.
+
+#include <cerrno>
+#include <cstring>
+#include <fstream>
+#include <optional>
+#include <sstream>
+#include <vector>
+
+#include "cloud_records.h"
+#include "vscan/common/cloud_io.h"
+
+namespace vscan {
+namespace {
+
+using cloud_records::RecordLayout;
+using cloud_records::ScalarType;
+
+struct PlyElement {
+  std::string name;
+  size_t count = 0;
+  bool has_list = false;
+  RecordLayout layout;
+};
+
+std::optional<ScalarType> PlyScalarType(const std::string& t) {
+  if (t == "char" || t == "int8") return ScalarType::kInt8;
+  if (t == "uchar" || t == "uint8") return ScalarType::kUint8;
+  if (t == "short" || t == "int16") return ScalarType::kInt16;
+  if (t == "ushort" || t == "uint16") return ScalarType::kUint16;
+  if (t == "int" || t == "int32") return ScalarType::kInt32;
+  if (t == "uint" || t == "uint32") return ScalarType::kUint32;
+  if (t == "float" || t == "float32") return ScalarType::kFloat32;
+  if (t == "double" || t == "float64") return ScalarType::kFloat64;
+  return std::nullopt;
+}
+
+StatusOr<std::vector<PlyElement>> ParsePlyHeader(std::istream& in, const std::string& path) {
+  std::string line;
+  if (!std::getline(in, line) || line != "ply") return InvalidArgument(path + ": not a PLY file");
+  std::vector<PlyElement> elements;
+  bool format_ok = false;
+  while (std::getline(in, line)) {
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    std::istringstream ss(line);
+    std::string word;
+    ss >> word;
+    if (word == "end_header") {
+      if (!format_ok) return InvalidArgument(path + ": only binary_little_endian PLY is supported");
+      return elements;
+    }
+    if (word == "format") {
+      std::string fmt;
+      ss >> fmt;
+      format_ok = fmt == "binary_little_endian";
+    } else if (word == "element") {
+      PlyElement e;
+      ss >> e.name >> e.count;
+      if (!ss) return InvalidArgument(path + ": malformed element line: " + line);
+      elements.push_back(std::move(e));
+    } else if (word == "property") {
+      if (elements.empty()) return InvalidArgument(path + ": property before any element");
+      PlyElement& e = elements.back();
+      std::string type, name;
+      ss >> type;
+      if (type == "list") {
+        e.has_list = true;
+        continue;
+      }
+      ss >> name;
+      const std::optional<ScalarType> scalar = PlyScalarType(type);
+      if (!scalar || name.empty()) return InvalidArgument(path + ": unsupported property: " + line);
+      e.layout.Add(std::move(name), *scalar);
+    } else if (word != "comment" && word != "obj_info" && !word.empty()) {
+      return InvalidArgument(path + ": unexpected header line: " + line);
+    }
+  }
+  return InvalidArgument(path + ": header has no end_header");
+}
+
+}  // namespace
+
+StatusOr<PointCloud> ReadPly(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return NotFound(path + ": cannot open: " + std::strerror(errno));
+  ASSIGN_OR_RETURN(const std::vector<PlyElement> elements, ParsePlyHeader(in, path));
+
+  const std::streamoff body = in.tellg();
+  in.seekg(0, std::ios::end);
+  size_t remaining = static_cast<size_t>(in.tellg()) - static_cast<size_t>(body);
+  const auto take = [&](const PlyElement& e) -> Status {
+    const size_t stride = e.layout.stride;
+    if (stride != 0 && e.count > remaining / stride) {
+      return DataLoss(path + ": truncated: element '" + e.name + "' needs " + std::to_string(e.count) + " x " +
+                      std::to_string(stride) + " bytes");
+    }
+    remaining -= e.count * stride;
+    return Status::Ok();
+  };
+
+  // Skip fixed-size elements that precede the vertices.
+  size_t skip = 0;
+  const PlyElement* vertex = nullptr;
+  for (const auto& e : elements) {
+    if (e.name == "vertex") {
+      vertex = &e;
+      break;
+    }
+    if (e.has_list) return InvalidArgument(path + ": list element '" + e.name + "' before the vertices");
+    RETURN_IF_ERROR(take(e));
+    skip += e.count * e.layout.stride;
+  }
+  if (!vertex) return InvalidArgument(path + ": no vertex element");
+  if (vertex->has_list) return InvalidArgument(path + ": vertex element has list properties");
+  RETURN_IF_ERROR(take(*vertex));
+  in.seekg(body + static_cast<std::streamoff>(skip));
+  return cloud_records::ReadRecords(in, vertex->layout, vertex->count, path);
+}
+
+}  // namespace vscan
