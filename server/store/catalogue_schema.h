@@ -120,6 +120,27 @@ CREATE INDEX IF NOT EXISTS job_artifacts_by_sha256 ON job_artifacts(sha256);
 )sql"},
     // Retention finds ended jobs by the time of their last change.
     {3, "CREATE INDEX jobs_by_state_and_update_time ON jobs(state, update_time_ms);"},
+    // Point clouds as resources: uploaded by clients, or the scans of a campaign (which go with
+    // their job).
+    {4, R"sql(
+CREATE TABLE clouds (
+  cloud_id TEXT PRIMARY KEY NOT NULL,
+  name TEXT NOT NULL,
+  sha256 TEXT NOT NULL,
+  size_bytes INTEGER NOT NULL,
+  points INTEGER NOT NULL,
+  fields TEXT NOT NULL,
+  origin INTEGER NOT NULL,
+  job_id TEXT REFERENCES jobs(job_id) ON DELETE CASCADE,
+  scene_id TEXT NOT NULL,
+  sensor_pose BLOB CHECK (sensor_pose IS NULL OR length(sensor_pose) = 128),
+  camera BLOB,
+  table_angle_deg REAL,
+  create_time_ms INTEGER NOT NULL
+);
+CREATE INDEX clouds_by_sha256 ON clouds(sha256);
+CREATE INDEX clouds_by_job ON clouds(job_id);
+)sql"},
 };
 
 constexpr int kSchemaVersion = static_cast<int>(std::size(kMigrations));
@@ -138,7 +159,7 @@ struct BlobColumn {
   std::string_view column;
 };
 constexpr BlobColumn kBlobColumns[] = {
-    {"meshes", "sha256"}, {"robots", "bundle_sha256"}, {"job_artifacts", "sha256"}};
+    {"meshes", "sha256"}, {"robots", "bundle_sha256"}, {"job_artifacts", "sha256"}, {"clouds", "sha256"}};
 
 // Brings the database up to kSchemaVersion; FAILED_PRECONDITION when it is newer than this code.
 inline Status MigrateSchema(sqlite3* db) {

@@ -60,6 +60,7 @@ class Statement {
   Statement& BindBlob(int index, std::string_view bytes) {
     return Check(sqlite3_bind_blob64(stmt_, index, bytes.data(), bytes.size(), SQLITE_TRANSIENT));
   }
+  Statement& BindNull(int index) { return Check(sqlite3_bind_null(stmt_, index)); }
 
   // True when a row is ready, false when the statement has finished.
   StatusOr<bool> Step() {
@@ -77,6 +78,7 @@ class Statement {
     }
   }
 
+  bool IsNull(int column) const { return sqlite3_column_type(stmt_, column) == SQLITE_NULL; }
   int64_t Int(int column) const { return sqlite3_column_int64(stmt_, column); }
   double Double(int column) const { return sqlite3_column_double(stmt_, column); }
   std::string Text(int column) const {

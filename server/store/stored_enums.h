@@ -16,6 +16,7 @@ namespace vscan::store {
 enum class JobState { kQueued, kRunning, kSucceeded, kFailed, kCancelled, kInterrupted, kLast = kInterrupted };
 enum class LengthUnit { kUnspecified, kMetre, kCentimetre, kMillimetre, kInch, kFoot, kLast = kFoot };
 enum class JointKind { kRevolute, kContinuous, kPrismatic, kFixed, kLast = kFixed };
+enum class CloudOrigin { kUploaded, kCampaignScan, kLast = kCampaignScan };
 
 inline constexpr EnumMap<JobState, int64_t, 6> kJobStateCodes({{
     {JobState::kQueued, 1},
@@ -45,6 +46,13 @@ inline constexpr EnumMap<JointKind, int64_t, 4> kJointKindCodes({{
     {JointKind::kFixed, 4},
 }});
 static_assert(kJointKindCodes.CoversFirst(JointKind::kRevolute, JointKind::kLast), "a JointKind has no stored code");
+
+inline constexpr EnumMap<CloudOrigin, int64_t, 2> kCloudOriginCodes({{
+    {CloudOrigin::kUploaded, 1},
+    {CloudOrigin::kCampaignScan, 2},
+}});
+static_assert(kCloudOriginCodes.CoversFirst(CloudOrigin::kUploaded, CloudOrigin::kLast),
+              "a CloudOrigin has no stored code");
 
 // The stored code of a value (every value has one, checked above).
 template <typename E, size_t N>
