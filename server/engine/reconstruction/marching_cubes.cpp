@@ -6,6 +6,7 @@
 #include <tbb/parallel_for.h>
 
 #include "reconstruction/cube_cases.h"
+#include "reconstruction/mesh_cleanup.h"
 
 namespace vscan::reconstruction {
 namespace {
@@ -76,17 +77,26 @@ void FindVertices(const VoxelBlocks& grid, size_t b, const NeighbourIndex& neigh
 void MakeTriangles(const VoxelBlocks& grid, const std::vector<BlockVertices>& vertices,
                    const NeighbourIndex& neighbours, std::vector<std::array<uint32_t, 3>>& out) {
   const Neighbourhood hood(grid, neighbours);
+  std::array<const TsdfVoxel*, 8> corner;
   for (int z = 0; z < kSide; ++z) {
     for (int y = 0; y < kSide; ++y) {
       for (int x = 0; x < kSide; ++x) {
         uint32_t mask = 0;
         bool complete = true;
         for (int c = 0; c < 8 && complete; ++c) {
-          const TsdfVoxel* v = hood.At(x + (c & 1), y + ((c >> 1) & 1), z + ((c >> 2) & 1));
-          complete = Observed(v);
-          if (complete && v->sdf < 0) mask |= 1u << c;
+          corner[c] = hood.At(x + (c & 1), y + ((c >> 1) & 1), z + ((c >> 2) & 1));
+          complete = Observed(corner[c]);
+          if (complete && corner[c]->sdf < 0) mask |= 1u << c;
         }
         if (!complete || mask == 0 || mask == 255) continue;
+        // Only where something was measured: free space carved beside the band behind an edge
+        // would otherwise hang a skirt from every silhouette down to the truncation depth.
+        bool measured_in = false, measured_out = false;
+        for (int c = 0; c < 8; ++c) {
+          if (corner[c]->near_surface == 0) continue;
+          (corner[c]->sdf < 0 ? measured_in : measured_out) = true;
+        }
+        if (!measured_in || !measured_out) continue;
         for (const CubeTriangle& tri : CubeCase(mask)) {
           std::array<uint32_t, 3> ids;
           for (int k = 0; k < 3; ++k) {
@@ -134,6 +144,7 @@ TriangleMesh ExtractMesh(const VoxelBlocks& grid) {
   for (const auto& t : triangles) count += t.size();
   mesh.triangles.reserve(count);
   for (const auto& t : triangles) mesh.triangles.insert(mesh.triangles.end(), t.begin(), t.end());
+  DropUnusedVertices(mesh);
   return mesh;
 }
 

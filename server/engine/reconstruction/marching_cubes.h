@@ -6,7 +6,7 @@
 
 namespace vscan::reconstruction {
 
-// Cubes with an unobserved corner are skipped. Each grid edge the surface crosses gives exactly one
+// Cubes with an unobserved corner, or with no corner near a measured surface, are skipped. Each grid edge the surface crosses gives exactly one
 // vertex, shared by every triangle that uses it (welded by construction); triangles face the side
 // of positive distance (the sensors' side).
 TriangleMesh ExtractMesh(const VoxelBlocks& grid);

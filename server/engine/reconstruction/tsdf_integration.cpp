@@ -23,6 +23,7 @@ struct View {
   Eigen::Vector3f origin;
   float fx, fy, cx, cy;
   int width, height;
+  float near, far;
 
   explicit View(const RangeImage& im)
       : image(&im),
@@ -35,7 +36,9 @@ struct View {
         cx(static_cast<float>(im.camera.cx)),
         cy(static_cast<float>(im.camera.cy)),
         width(static_cast<int>(im.camera.width)),
-        height(static_cast<int>(im.camera.height)) {}
+        height(static_cast<int>(im.camera.height)),
+        near(static_cast<float>(im.camera.near)),
+        far(static_cast<float>(im.camera.far)) {}
 
   float Depth(int u, int v) const { return image->depth[static_cast<size_t>(v) * width + u]; }
   float Weight(int u, int v) const { return weights[static_cast<size_t>(v) * width + u]; }
@@ -155,11 +158,11 @@ std::vector<uint64_t> TouchedBlocks(std::span<const View> views, float voxel, fl
 
 // The depth seen at continuous pixel coordinates (px, py): bilinear between the four nearest pixel
 // centres when all saw the same surface (spread below max_spread), else the nearest pixel's depth;
-// 0 when there is none. weight gets the nearest pixel's weight.
+// 0 when the pixel saw nothing, -1 off the image. weight gets the nearest pixel's weight.
 float SampleDepth(const View& view, float px, float py, float max_spread, float& weight) {
   const int u = static_cast<int>(std::floor(px));
   const int v = static_cast<int>(std::floor(py));
-  if (u < 0 || v < 0 || u >= view.width || v >= view.height) return 0;
+  if (u < 0 || v < 0 || u >= view.width || v >= view.height) return -1;
   weight = view.Weight(u, v);
   const float nearest = view.Depth(u, v);
   const float fu = px - 0.5f, fv = py - 0.5f;
@@ -174,7 +177,7 @@ float SampleDepth(const View& view, float px, float py, float max_spread, float&
   return (1 - b) * ((1 - a) * d00 + a * d10) + b * ((1 - a) * d01 + a * d11);
 }
 
-void IntegrateBlock(VoxelBlocks& grid, size_t b, std::span<const View> views, float truncation) {
+void IntegrateBlock(VoxelBlocks& grid, size_t b, std::span<const View> views, float truncation, bool carve) {
   const float voxel = grid.voxel_size();
   constexpr int kSide = VoxelBlocks::kSide;
   const Eigen::Vector3f origin = (grid.block_coord(b) * kSide).cast<float>() * voxel;
@@ -201,15 +204,24 @@ void IntegrateBlock(VoxelBlocks& grid, size_t b, std::span<const View> views, fl
           if (p.z() <= 0) continue;
           const float inv_z = 1.0f / p.z();
           float weight = 0;
-          const float d = SampleDepth(view, view.fx * p.x() * inv_z + view.cx, view.fy * p.y() * inv_z + view.cy,
-                                      0.5f * truncation, weight);
-          if (!Valid(d)) continue;
-          // Depth difference -> distance along the ray -> distance to the pixel's tangent plane,
+          const float px = view.fx * p.x() * inv_z + view.cx, py = view.fy * p.y() * inv_z + view.cy;
+          const float d = SampleDepth(view, px, py, 0.5f * truncation, weight);
+          float sdf;
+          if (Valid(d)) {
+            // Depth difference -> distance along the ray -> distance to the pixel's tangent plane,
           // trusted only up to a few truncations behind the surface along the ray.
-          const float along_ray = (d - p.z()) * (p.norm() * inv_z);
-          const float sdf = along_ray * weight;
-          if (sdf < -truncation || along_ray < -kBehindLimit * truncation) continue;
+            const float along_ray = (d - p.z()) * (p.norm() * inv_z);
+            sdf = along_ray * weight;
+            if (sdf < -truncation || along_ray < -kBehindLimit * truncation) continue;
+          } else if (d == 0 && carve && p.z() >= view.near && p.z() <= view.far) {
+            // The ray through this pixel met nothing in range: the voxel is in free space.
+            sdf = truncation;
+            weight = kMinWeight;
+          } else {
+            continue;
+          }
           TsdfVoxel& voxel_state = voxels[VoxelBlocks::Local(x, y, z)];
+          if (Valid(d) && std::abs(sdf) <= voxel) voxel_state.near_surface = 1;
           const float w = voxel_state.weight;
           voxel_state.sdf = (voxel_state.sdf * w + weight * std::min(sdf, truncation)) / (w + weight);
           voxel_state.weight = w + weight;
@@ -235,11 +247,13 @@ StatusOr<VoxelBlocks> IntegrateRangeImages(std::span<const RangeImage> images, c
     views.emplace_back(images[i]);
   }
   const float truncation = options.truncation_voxels * options.voxel_size;
-  for (View& view : views) ComputeWeights(view, truncation);
+  for (View& view : views) {
+    ComputeWeights(view, truncation);
+  }
   VoxelBlocks grid(options.voxel_size);
   grid.Allocate(TouchedBlocks(views, options.voxel_size, truncation));
   tbb::parallel_for(tbb::blocked_range<size_t>(0, grid.block_count(), 4), [&](const tbb::blocked_range<size_t>& r) {
-    for (size_t b = r.begin(); b != r.end(); ++b) IntegrateBlock(grid, b, views, truncation);
+    for (size_t b = r.begin(); b != r.end(); ++b) IntegrateBlock(grid, b, views, truncation, options.carve_empty_pixels);
   });
   return grid;
 }

@@ -17,6 +17,11 @@ struct TsdfOptions {
   // Distances are clamped to +-truncation_voxels * voxel_size; voxels farther behind a surface than
   // that are left alone. In [1, 8).
   float truncation_voxels = 4.0f;
+  // A pixel that saw nothing within the camera's range marks the voxels on its ray as free space
+  // (with a small weight), which closes the surface along silhouettes and the edges of what was
+  // seen. Right for ray-cast scans, where no hit means no surface; turn it off for sensors that
+  // drop returns on dark or shiny surfaces.
+  bool carve_empty_pixels = true;
 };
 
 // InvalidArgument names "tsdf.voxel_size", "tsdf.truncation_voxels" or "images[i]...".

@@ -13,6 +13,8 @@ namespace vscan::reconstruction {
 struct TsdfVoxel {
   float sdf = 0;     // metres, clamped to [-truncation, truncation]; > 0 in front of the surface
   float weight = 0;  // observations; 0 means never observed
+  // 1 once a measured depth put the voxel within one voxel of its surface.
+  uint32_t near_surface = 0;
 };
 
 class VoxelBlocks {

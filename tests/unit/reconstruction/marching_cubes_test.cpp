@@ -36,7 +36,7 @@ VoxelBlocks SphereGrid(const Eigen::Vector3f& centre, float radius, float trunca
               (grid.block_coord(b) * VoxelBlocks::kSide + Eigen::Vector3i(x, y, z)).cast<float>() * kVoxel;
           const float sdf = (p - centre).norm() - radius;
           if (sdf < -truncation) continue;  // never observed, as behind a real surface
-          voxels[VoxelBlocks::Local(x, y, z)] = {std::min(sdf, truncation), 1.0f};
+          voxels[VoxelBlocks::Local(x, y, z)] = {std::min(sdf, truncation), 1.0f, std::abs(sdf) <= kVoxel};
         }
       }
     }
@@ -62,8 +62,8 @@ TEST(MarchingCubes, UnobservedCornersLeaveNoTriangles) {
   grid.Allocate({VoxelBlocks::Key({0, 0, 0})});
   EXPECT_TRUE(ExtractMesh(grid).empty());
   // One observed sign change without observed neighbours around it still gives no cube.
-  grid.block(0)[VoxelBlocks::Local(1, 1, 1)] = {-1.0f, 1.0f};
-  grid.block(0)[VoxelBlocks::Local(2, 1, 1)] = {1.0f, 1.0f};
+  grid.block(0)[VoxelBlocks::Local(1, 1, 1)] = {-1.0f, 1.0f, 1};
+  grid.block(0)[VoxelBlocks::Local(2, 1, 1)] = {1.0f, 1.0f, 1};
   EXPECT_TRUE(ExtractMesh(grid).empty());
 }
 
