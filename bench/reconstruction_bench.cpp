@@ -37,7 +37,7 @@ using Clock = std::chrono::steady_clock;
 struct Args {
   int runs = 3;
   int depth = 8;
-  double tsdf_voxel_mm = 1.0;
+  double tsdf_voxel_mm = 0.5;
   double union_voxel_mm = 0.8;
   double truncation_voxels = 4;
   bool peers = true;
@@ -174,8 +174,9 @@ int main(int argc, char** argv) {
   poisson.depth = args.depth;
 
   std::vector<Method> methods;
+  reconstruction::TsdfFusionStats tsdf_stats;
   methods.push_back({"vscan TSDF + marching cubes", [&] {
-                       return OrDie(reconstruction::FuseRangeImages(scanned.images, tsdf), "tsdf");
+                       return OrDie(reconstruction::FuseRangeImages(scanned.images, tsdf, &tsdf_stats), "tsdf");
                      }});
   if (args.peers) {
     methods.push_back({"PCL Poisson", [&] {
@@ -208,6 +209,12 @@ int main(int argc, char** argv) {
     std::printf("| %s | %.3f | %.3f | %.3f | %.3f | %zu |\n", m.name.c_str(), m.timing.Median(), m.timing.Min(),
                 m.timing.Max(), m.timing.Median() / poisson_best, m.mesh.triangles.size());
   }
+
+  std::printf("\nTSDF, last run: %zu blocks (%.0f MB of voxels), integration %.0f ms, marching cubes %.0f ms, "
+              "clean-up %.0f ms\n",
+              tsdf_stats.blocks,
+              tsdf_stats.blocks * reconstruction::VoxelBlocks::kVoxels * sizeof(reconstruction::TsdfVoxel) / 1e6,
+              tsdf_stats.integrate_ms, tsdf_stats.extract_ms, tsdf_stats.cleanup_ms);
 
   const std::vector<double> taus = {0.001, 0.002};
   std::vector<evaluation::GroundTruth> truths;
