@@ -1,19 +1,12 @@
 #include "reconstruction/poisson_pipeline.h"
 
-#include <chrono>
 #include <cmath>
 
 #include "reconstruction/distance_trim.h"
 #include "reconstruction/oriented_normals.h"
+#include "reconstruction/stage_clock.h"
 
 namespace vscan::reconstruction {
-namespace {
-
-using Clock = std::chrono::steady_clock;
-
-double MsSince(Clock::time_point t0) { return std::chrono::duration<double, std::milli>(Clock::now() - t0).count(); }
-
-}  // namespace
 
 StatusOr<TriangleMesh> ReconstructPoisson(std::span<const ScanPoints> scans, const PoissonPipelineOptions& options,
                                           PoissonPipelineStats* stats) {
@@ -24,17 +17,17 @@ StatusOr<TriangleMesh> ReconstructPoisson(std::span<const ScanPoints> scans, con
     return InvalidArgument("poisson.trim_voxels: must be finite and positive");
   }
   PoissonPipelineStats s;
-  auto t0 = Clock::now();
+  auto t0 = StageClock::now();
   const UnionCloud cloud = VoxelDownsample(scans, options.voxel_size);
   s.union_points = cloud.positions.size();
   s.downsample_ms = MsSince(t0);
-  t0 = Clock::now();
+  t0 = StageClock::now();
   ASSIGN_OR_RETURN(OrientedCloud oriented, OrientNormals(cloud.positions, cloud.view_directions, options.normal_k));
   s.normals_ms = MsSince(t0);
-  t0 = Clock::now();
+  t0 = StageClock::now();
   ASSIGN_OR_RETURN(TriangleMesh mesh, PoissonPcl(oriented.positions, oriented.normals, options.poisson));
   s.poisson_ms = MsSince(t0);
-  t0 = Clock::now();
+  t0 = StageClock::now();
   TrimFarFromPoints(mesh, oriented.positions, options.trim_voxels * options.voxel_size);
   s.trim_ms = MsSince(t0);
   if (stats != nullptr) *stats = s;
