@@ -209,7 +209,7 @@ void IntegrateBlock(VoxelBlocks& grid, size_t b, std::span<const View> views, fl
           float sdf;
           if (Valid(d)) {
             // Depth difference -> distance along the ray -> distance to the pixel's tangent plane,
-          // trusted only up to a few truncations behind the surface along the ray.
+            // trusted only up to a few truncations behind the surface along the ray.
             const float along_ray = (d - p.z()) * (p.norm() * inv_z);
             sdf = along_ray * weight;
             if (sdf < -truncation || along_ray < -kBehindLimit * truncation) continue;
