@@ -1,0 +1,93 @@
+#include "raycast/point_queries.h"
+
+#include <cmath>
+#include <limits>
+
+#include <tbb/parallel_for.h>
+
+#include "raycast/embree_scene.h"
+
+namespace vscan::raycast {
+namespace {
+
+constexpr size_t kGrain = 512;
+
+struct QueryState {
+  RTCScene scene;
+  Eigen::Vector3f point;
+  float best_dist_sq;
+  bool found;
+};
+
+Eigen::Vector3f Vertex(const float* vertices, uint32_t index) {
+  return {vertices[3 * index], vertices[3 * index + 1], vertices[3 * index + 2]};
+}
+
+// Embree calls this for each triangle whose bounds meet the query sphere; shrinking the radius
+// prunes the rest of the traversal.
+bool TriangleQuery(RTCPointQueryFunctionArguments* args) {
+  auto* state = static_cast<QueryState*>(args->userPtr);
+  RTCGeometry geometry = rtcGetGeometry(state->scene, args->geomID);
+  const auto* vertices = static_cast<const float*>(rtcGetGeometryBufferData(geometry, RTC_BUFFER_TYPE_VERTEX, 0));
+  const auto* indices = static_cast<const uint32_t*>(rtcGetGeometryBufferData(geometry, RTC_BUFFER_TYPE_INDEX, 0));
+  const uint32_t* tri = indices + 3 * size_t{args->primID};
+  const Eigen::Vector3f closest = ClosestPointOnTriangle(state->point, Vertex(vertices, tri[0]),
+                                                         Vertex(vertices, tri[1]), Vertex(vertices, tri[2]));
+  const float dist_sq = (closest - state->point).squaredNorm();
+  if (dist_sq >= state->best_dist_sq) return false;
+  state->best_dist_sq = dist_sq;
+  state->found = true;
+  args->query->radius = std::sqrt(dist_sq);
+  return true;
+}
+
+}  // namespace
+
+// Region tests on the barycentric parameters (Ericson, Real-Time Collision Detection, 5.1.5).
+Eigen::Vector3f ClosestPointOnTriangle(const Eigen::Vector3f& p, const Eigen::Vector3f& a, const Eigen::Vector3f& b,
+                                       const Eigen::Vector3f& c) {
+  const Eigen::Vector3f ab = b - a, ac = c - a, ap = p - a;
+  const float d1 = ab.dot(ap), d2 = ac.dot(ap);
+  if (d1 <= 0 && d2 <= 0) return a;
+  const Eigen::Vector3f bp = p - b;
+  const float d3 = ab.dot(bp), d4 = ac.dot(bp);
+  if (d3 >= 0 && d4 <= d3) return b;
+  const float vc = d1 * d4 - d3 * d2;
+  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
+  const Eigen::Vector3f cp = p - c;
+  const float d5 = ab.dot(cp), d6 = ac.dot(cp);
+  if (d6 >= 0 && d5 <= d6) return c;
+  const float vb = d5 * d2 - d1 * d6;
+  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
+  const float va = d3 * d6 - d5 * d4;
+  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
+  const float denom = 1.0f / (va + vb + vc);
+  return a + ab * (vb * denom) + ac * (vc * denom);
+}
+
+std::vector<float> DistancesToSurface(const RaycastScene& scene, std::span<const Eigen::Vector3f> points,
+                                      float max_distance) {
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  std::vector<float> distances(points.size(), kInf);
+  const RTCScene rtc = scene.impl().scene;
+  if (scene.triangle_count() == 0) return distances;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), kGrain), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const Eigen::Vector3f& p = points[i];
+      if (!p.allFinite()) continue;
+      RTCPointQuery query{};
+      query.x = p.x();
+      query.y = p.y();
+      query.z = p.z();
+      query.radius = max_distance;
+      RTCPointQueryContext context;
+      rtcInitPointQueryContext(&context);
+      QueryState state{rtc, p, std::isinf(max_distance) ? kInf : max_distance * max_distance, false};
+      rtcPointQuery(rtc, &query, &context, TriangleQuery, &state);
+      if (state.found) distances[i] = std::sqrt(state.best_dist_sq);
+    }
+  });
+  return distances;
+}
+
+}  // namespace vscan::raycast

@@ -1,0 +1,124 @@
+#include "evaluation/ground_truth.h"
+
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "evaluation/surface_sampling.h"
+#include "random/seeded_draws.h"
+#include "vscan_test/meshes.h"
+
+namespace vscan::evaluation {
+namespace {
+
+constexpr double kTau = 0.002;
+constexpr double kRadius = 0.1;
+
+GroundTruth Prepare(const TriangleMesh& mesh, double tau = kTau) {
+  EvaluationOptions options;
+  options.tau = tau;
+  auto truth = GroundTruth::Prepare(mesh, options);
+  EXPECT_TRUE(truth.ok()) << truth.status().ToString();
+  return std::move(truth).value();
+}
+
+// Points on the mesh, each moved by up to `noise` along a random direction.
+std::vector<Eigen::Vector3f> NoisySamples(const TriangleMesh& mesh, size_t n, double noise, uint64_t seed) {
+  std::vector<Eigen::Vector3f> points = SampleSurface(mesh, n, seed);
+  random::SplitMix64Stream draws(seed);
+  for (auto& p : points) {
+    const Eigen::Vector3f dir(draws.Uniform() - 0.5, draws.Uniform() - 0.5, draws.Uniform() - 0.5);
+    p += static_cast<float>(noise) * dir.normalized();
+  }
+  return points;
+}
+
+TEST(GroundTruth, SphereSamplesWithNoiseBelowTauScorePerfectly) {
+  const TriangleMesh sphere = test::MakeIcosphere(Eigen::Vector3d::Zero(), kRadius, 4);
+  const GroundTruth truth = Prepare(sphere);
+  // About one point per (tau / 2.8)^2 of area, each off the surface by a quarter of tau.
+  const auto points = NoisySamples(sphere, 250'000, kTau / 4, 3);
+  const Evaluation e = truth.EvaluatePoints(points);
+  EXPECT_DOUBLE_EQ(e.precision, 1.0);
+  EXPECT_DOUBLE_EQ(e.recall, 1.0);
+  EXPECT_DOUBLE_EQ(e.f_score, 1.0);
+  EXPECT_TRUE(e.uncovered.positions.empty());
+  EXPECT_LE(e.accuracy.mean, kTau / 4 + 1e-6);
+  EXPECT_GT(e.accuracy.mean, kTau / 16);
+  EXPECT_LT(e.chamfer, kTau / 2);
+  EXPECT_EQ(e.reconstruction_points, points.size());
+  // tau / 2 spacing: about area / spacing^2 samples.
+  EXPECT_NEAR(static_cast<double>(e.ground_truth_samples), truth.area() / (kTau * kTau / 4), 1.0);
+}
+
+TEST(GroundTruth, PlaneShiftedByTwiceTauScoresZero) {
+  const TriangleMesh plane = test::MakeGrid(0.05, 4);
+  const GroundTruth truth = Prepare(plane);
+  std::vector<Eigen::Vector3f> points = SampleSurface(plane, 20'000, 5);
+  for (auto& p : points) p.z() += 2 * kTau;
+  const Evaluation e = truth.EvaluatePoints(points);
+  EXPECT_EQ(e.precision, 0.0);
+  EXPECT_EQ(e.recall, 0.0);
+  EXPECT_EQ(e.f_score, 0.0);
+  EXPECT_EQ(e.uncovered.size(), e.ground_truth_samples);
+  EXPECT_NEAR(e.accuracy.mean, 2 * kTau, 1e-6);
+  EXPECT_NEAR(e.accuracy.median, 2 * kTau, 1e-6);
+  EXPECT_GE(e.completeness.median, 2 * kTau - 1e-6);
+}
+
+TEST(GroundTruth, HalfASphereHasHalfTheRecallAndFullPrecision) {
+  const TriangleMesh sphere = test::MakeIcosphere(Eigen::Vector3d::Zero(), kRadius, 4);
+  const GroundTruth truth = Prepare(sphere);
+  std::vector<Eigen::Vector3f> points;
+  for (const auto& p : SampleSurface(sphere, 300'000, 9)) {
+    if (p.z() > 0) points.push_back(p);
+  }
+  const Evaluation e = truth.EvaluatePoints(points);
+  EXPECT_DOUBLE_EQ(e.precision, 1.0);
+  // Samples within tau below the cut are covered too: a band of height tau on the equator.
+  EXPECT_NEAR(e.recall, 0.5 + kTau / (2 * kRadius), 0.01);
+  EXPECT_NEAR(e.f_score, 2 * e.recall / (1 + e.recall), 1e-12);
+  for (const auto& p : e.uncovered.positions) EXPECT_LT(p.z(), 0.0f);
+  EXPECT_NEAR(static_cast<double>(e.uncovered.size()) / e.ground_truth_samples, 1 - e.recall, 1e-12);
+}
+
+TEST(GroundTruth, ChamferOfAnOffsetPlaneMeshIsTheOffset) {
+  const TriangleMesh plane = test::MakeGrid(0.05, 4);
+  const GroundTruth truth = Prepare(plane);
+  constexpr double kOffset = 0.003;
+  TriangleMesh lifted = plane;
+  for (auto& v : lifted.vertices) v.z() += static_cast<float>(kOffset);
+  auto e = truth.EvaluateMesh(lifted);
+  ASSERT_TRUE(e.ok()) << e.status().ToString();
+  EXPECT_NEAR(e->accuracy.mean, kOffset, 1e-6);
+  EXPECT_NEAR(e->completeness.mean, kOffset, 1e-6);
+  EXPECT_NEAR(e->chamfer, kOffset, 1e-6);
+  EXPECT_EQ(e->f_score, 0.0);
+  // With tau above the offset every point is within tau both ways.
+  auto near = Prepare(plane, 2 * kOffset).EvaluateMesh(lifted);
+  ASSERT_TRUE(near.ok());
+  EXPECT_EQ(near->f_score, 1.0);
+}
+
+TEST(GroundTruth, RejectsBadOptionsAndEmptyMeshes) {
+  EvaluationOptions options;
+  options.tau = 0;
+  auto bad_tau = GroundTruth::Prepare(test::MakeGrid(1, 1), options);
+  ASSERT_FALSE(bad_tau.ok());
+  EXPECT_NE(bad_tau.status().message().find("evaluation.tau"), std::string::npos);
+  auto empty = GroundTruth::Prepare(TriangleMesh{}, EvaluationOptions{});
+  ASSERT_FALSE(empty.ok());
+  EXPECT_NE(empty.status().message().find("ground_truth"), std::string::npos);
+}
+
+TEST(GroundTruth, EmptyReconstructionHasNoRecall) {
+  const GroundTruth truth = Prepare(test::MakeGrid(0.05, 2));
+  const Evaluation e = truth.EvaluatePoints({});
+  EXPECT_EQ(e.precision, 0.0);
+  EXPECT_EQ(e.recall, 0.0);
+  EXPECT_EQ(e.uncovered.size(), e.ground_truth_samples);
+}
+
+}  // namespace
+}  // namespace vscan::evaluation
