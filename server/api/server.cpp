@@ -166,7 +166,7 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& op
   impl->job_catalogue = std::make_unique<store::JobCatalogue>(impl->database);
   ASSIGN_OR_RETURN(const int interrupted, impl->job_catalogue->InterruptUnfinished("server stopped while the job ran"));
   if (interrupted > 0) spdlog::warn("{} jobs were left unfinished by the last run; marked INTERRUPTED", interrupted);
-  // Scans being encoded when the last run stopped (campaigns' scratch files).
+  // Scratch files of campaigns that an older vscand left when it stopped (scans are now encoded in memory).
   std::filesystem::remove_all(data_dir / "tmp", ec);
   impl->job_tracker = std::make_unique<JobTracker>(*impl->job_catalogue, *impl->blobs);
   impl->job_runner = std::make_unique<jobs::JobRunner>(std::max<uint32_t>(1, options.max_concurrent_jobs));

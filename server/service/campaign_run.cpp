@@ -1,9 +1,6 @@
 #include "service/campaign_run.h"
 
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include <spdlog/spdlog.h>
 
@@ -39,38 +36,17 @@ const char* StateName(store::JobState state) {
   return "UNKNOWN";
 }
 
-// Binary little-endian PLY bytes of a cloud, through the project's PLY writer.
-StatusOr<std::string> EncodePly(const PointCloud& cloud, const std::filesystem::path& scratch_dir,
-                                const std::string& name) {
-  std::error_code ec;
-  std::filesystem::create_directories(scratch_dir, ec);
-  if (ec) return Unavailable("campaign: cannot create '" + scratch_dir.string() + "': " + ec.message());
-  const std::filesystem::path path = scratch_dir / name;
-  RETURN_IF_ERROR(WritePly(cloud, path.string()));
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  const bool read_ok = static_cast<bool>(in) || in.eof();
-  in.close();
-  std::filesystem::remove(path, ec);
-  if (!read_ok) return Unavailable("campaign: cannot read back '" + path.string() + "'");
-  return bytes.str();
-}
-
 class CampaignRun {
  public:
   CampaignRun(ServiceContext& context, JobRecorder& recorder, const std::string& job_id, const CampaignPlan& plan,
               jobs::JobControl& control)
-      : context_(context), recorder_(recorder), job_id_(job_id), plan_(plan), control_(control),
-        scratch_(std::filesystem::path(context.options.data_dir) / "tmp" / job_id) {}
+      : context_(context), recorder_(recorder), job_id_(job_id), plan_(plan), control_(control) {}
 
   void Run() {
     const uint32_t total = plan_.steps_total();
     Status status = Event(std::to_string(total) + " scans planned (" + std::to_string(plan_.viewpoints.size()) +
                           " viewpoints x " + std::to_string(plan_.rotations) + " rotations)");
     if (status.ok()) status = Steps();
-    std::error_code ec;
-    std::filesystem::remove_all(scratch_, ec);
     store::JobState state = store::JobState::kSucceeded;
     std::string message;
     if (control_.stop_requested()) {
@@ -158,7 +134,7 @@ class CampaignRun {
     record.arm = result.arm;
     record.points = result.cloud.size();
     record.file = ScanArtifactName(r, v);
-    ASSIGN_OR_RETURN(const std::string ply, EncodePly(result.cloud, scratch_, record.file));
+    ASSIGN_OR_RETURN(const std::string ply, EncodePly(result.cloud));
     result.cloud = PointCloud();
     ++captured_;
     record.message = "scan " + std::to_string(captured_) + " captured (step " + std::to_string(step + 1) + " of " +
@@ -186,7 +162,6 @@ class CampaignRun {
   const std::string job_id_;
   const CampaignPlan& plan_;
   jobs::JobControl& control_;
-  const std::filesystem::path scratch_;
   std::vector<CampaignStepRecord> records_;
   uint32_t captured_ = 0;
 };
