@@ -52,6 +52,7 @@ class CloudCatalogue {
   explicit CloudCatalogue(std::shared_ptr<Database> database);
   // Opens or creates the database file with its own Database (tests and tools).
   static StatusOr<std::unique_ptr<CloudCatalogue>> Open(const std::filesystem::path& db_path);
+  Database& database() { return *database_; }
 
   // The id is generated ("cld_" + 16 hex digits); the blob it names must already be durable.
   StatusOr<CloudRecord> Insert(CloudRecord cloud);
