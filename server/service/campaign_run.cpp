@@ -6,6 +6,7 @@
 
 #include "service/campaign_step.h"
 #include "service/campaign_summary.h"
+#include "service/cloud_store.h"
 #include "vscan/common/cloud_io.h"
 
 namespace vscan::service {
@@ -135,13 +136,14 @@ class CampaignRun {
     record.points = result.cloud.size();
     record.file = ScanArtifactName(r, v);
     ASSIGN_OR_RETURN(const std::string ply, EncodePly(result.cloud));
+    const store::CloudRecord cloud = ScanCloud(record, result.cloud.fields);
     result.cloud = PointCloud();
     ++captured_;
     record.message = "scan " + std::to_string(captured_) + " captured (step " + std::to_string(step + 1) + " of " +
                      std::to_string(plan_.steps_total()) + "): " + Where(v, angle) + ", " +
                      std::to_string(record.points) + " points";
     records_.push_back(record);
-    auto artifact = recorder_.RecordArtifact(record.file, kPlyMediaType, ply, &records_.back(),
+    auto artifact = recorder_.RecordArtifact(record.file, kPlyMediaType, ply, &records_.back(), &cloud,
                                              Update(store::JobState::kRunning, record.message, true));
     if (!artifact.ok()) {
       return Status(artifact.status().code(), "cannot store " + record.file + ": " + artifact.status().message());
@@ -150,9 +152,24 @@ class CampaignRun {
     return Status::Ok();
   }
 
+  // The stored cloud a captured scan also is: where the arm put the sensor, the plan's camera.
+  store::CloudRecord ScanCloud(const CampaignStepRecord& record, uint32_t fields) const {
+    store::CloudRecord cloud;
+    cloud.name = record.file;
+    cloud.points = record.points;
+    cloud.fields = fields;
+    cloud.scene_id = plan_.scene_id;
+    const bool sensor_frame = plan_.scan.frame == raycast::ScanFrame::kSensor;
+    cloud.frame = sensor_frame ? store::CloudFrame::kSensor : store::CloudFrame::kWorld;
+    cloud.world_from_sensor = record.arm.achieved_pose.matrix();
+    cloud.camera = ToCloudCamera(plan_.scan.camera);
+    cloud.table_angle_deg = record.table_angle_deg;
+    return cloud;
+  }
+
   void WriteSummary(store::JobState state) {
     const std::string json = CampaignSummaryJson(job_id_, StateName(state), plan_, records_);
-    auto written = recorder_.RecordArtifact("campaign.json", kJsonMediaType, json, nullptr,
+    auto written = recorder_.RecordArtifact("campaign.json", kJsonMediaType, json, nullptr, nullptr,
                                             Update(store::JobState::kRunning, "campaign.json written", false));
     if (!written.ok()) spdlog::error("job {}: cannot store campaign.json: {}", job_id_, written.status().ToString());
   }
