@@ -40,7 +40,8 @@ Status CheckPositions(const std::vector<Eigen::Vector3f>& points, std::string_vi
     const bool finite = std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z());
     if (finite && p.cwiseAbs().maxCoeff() <= kMaxCoordinateM) continue;
     const std::string where = "points[" + std::to_string(i) + "] (" + std::string(names) + "): ";
-    return InvalidArgument(kWhere, where + (finite ? "beyond 10 km (|x|, |y|, |z| <= 1e4 m)" : "NaN or infinite value"));
+    return InvalidArgument(kWhere,
+                           where + (finite ? "beyond 10 km (|x|, |y|, |z| <= 1e4 m)" : "NaN or infinite value"));
   }
   return Status::Ok();
 }
@@ -70,7 +71,9 @@ StatusOr<PointCloud> ParseUploadedCloud(std::string_view bytes, CloudFileFormat 
   if (!cloud.ok()) return AsUploadError(cloud.status());
   if (cloud->size() == 0) return InvalidArgument(kWhere, "the file holds no points");
   RETURN_IF_ERROR(CheckPositions(cloud->positions, "x, y, z"));
-  if (cloud->Has(kFieldCleanPosition)) RETURN_IF_ERROR(CheckPositions(cloud->clean_positions, "clean_x, clean_y, clean_z"));
+  if (cloud->Has(kFieldCleanPosition)) {
+    RETURN_IF_ERROR(CheckPositions(cloud->clean_positions, "clean_x, clean_y, clean_z"));
+  }
   return cloud;
 }
 

@@ -308,7 +308,8 @@ TEST_F(CloudIoTest, BytesInMemoryNameWhereTheyCameFromWhenRefused) {
   EXPECT_EQ(ParsePcd("FIELDS x y\nDATA binary\n", "cloud data", UINT64_MAX).status().code(),
             StatusCode::kInvalidArgument);
   for (const auto& [bytes, parse] : {std::pair{ply, &ParsePly}, std::pair{pcd, &ParsePcd}}) {
-    const Status truncated = parse(std::string_view(bytes).substr(0, bytes.size() - 5), "cloud data", UINT64_MAX).status();
+    const std::string_view cut = std::string_view(bytes).substr(0, bytes.size() - 5);
+    const Status truncated = parse(cut, "cloud data", UINT64_MAX).status();
     EXPECT_EQ(truncated.code(), StatusCode::kDataLoss) << truncated.ToString();
     EXPECT_TRUE(truncated.message().starts_with("cloud data: ")) << truncated.message();
     // Ten points of the default fields take 10 x 36 bytes as arrays.
