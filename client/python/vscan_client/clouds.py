@@ -9,7 +9,7 @@ import numpy as np
 
 from . import convert
 from ._stubs import common_pb2, sensor_pb2
-from .errors import from_rpc_error
+from .errors import VscanError, from_rpc_error
 
 from vscan.v1 import cloud_pb2, cloud_pb2_grpc  # noqa: E402
 
@@ -136,9 +136,7 @@ class CloudCalls:
         """
         if (path is None) == (data is None):
             raise ValueError("upload_cloud: give path or data")
-        if data is None:
-            with open(path, "rb") as f:
-                data = f.read()
+        size = os.path.getsize(path) if data is None else len(data)
         if sensor_pose is not None and not isinstance(sensor_pose, common_pb2.Pose):
             sensor_pose = convert.pose(matrix=sensor_pose)
         header = cloud_pb2.CloudHeader(
@@ -148,13 +146,21 @@ class CloudCalls:
             frame=convert.frame(frame),
             camera=cloud_camera(camera),
             scene_id=scene_id,
-            size_bytes=len(data),
+            size_bytes=size,
         )
 
         def requests():
             yield cloud_pb2.UploadCloudRequest(header=header)
-            for offset in range(0, len(data), chunk_bytes):
-                yield cloud_pb2.UploadCloudRequest(chunk=data[offset:offset + chunk_bytes])
+            if data is not None:
+                for offset in range(0, len(data), chunk_bytes):
+                    yield cloud_pb2.UploadCloudRequest(chunk=data[offset:offset + chunk_bytes])
+                return
+            with open(path, "rb") as f:
+                while True:
+                    chunk = f.read(chunk_bytes)
+                    if not chunk:
+                        return
+                    yield cloud_pb2.UploadCloudRequest(chunk=chunk)
 
         try:
             response = self._clouds.UploadCloud(requests(), timeout=self._stream_timeout, metadata=self._metadata)
@@ -195,8 +201,9 @@ class CloudCalls:
             raise from_rpc_error(err) from None
         data = b"".join(chunks)
         if cloud is None or len(data) != cloud.size_bytes:
-            raise ValueError(f"cloud {cloud_id}: got {len(data)} bytes, expected "
-                             f"{cloud.size_bytes if cloud else 'a first message with the cloud'}")
+            expected = f"{cloud.size_bytes} bytes" if cloud else "a first message with the cloud"
+            raise VscanError(grpc.StatusCode.DATA_LOSS,
+                             f"cloud '{cloud_id}': got {len(data)} bytes, expected {expected}")
         return cloud, data
 
     def read_cloud_points(self, cloud_id):
