@@ -173,7 +173,9 @@ ScanFuzzWorld* Build() {
   w->robots = std::make_unique<robots::RobotRegistry>(*w->robot_catalogue, *w->blobs,
                                                       w->options.limits.max_upload_bytes);
   w->workers = std::make_unique<jobs::WorkerPool>(1);
-  w->context.reset(new service::ServiceContext(*w->scenes, *w->workers, *w->workers, w->options, *w->robots, w->raster));
+  w->clouds = Must(store::CloudCatalogue::Open(w->data_dir / "catalogue.sqlite"), "cloud catalogue");
+  w->context.reset(new service::ServiceContext(*w->scenes, *w->workers, *w->workers, w->options, *w->robots, w->raster,
+                                               *w->clouds, *w->blobs));
 
   w->scene_id = Must(w->catalogue->CreateScene("fuzz"), "scene").scene_id;
   AddObjects(*w);

@@ -16,6 +16,7 @@
 #include "scenes/scene_registry.h"
 #include "store/blob_store.h"
 #include "store/catalogue.h"
+#include "store/cloud_catalogue.h"
 #include "store/robot_catalogue.h"
 
 namespace vscan::fuzz {
@@ -31,6 +32,7 @@ struct ScanFuzzWorld {
   std::unique_ptr<scenes::SceneRegistry> scenes;
   std::unique_ptr<store::RobotCatalogue> robot_catalogue;
   std::unique_ptr<robots::RobotRegistry> robots;
+  std::unique_ptr<store::CloudCatalogue> clouds;
   std::unique_ptr<jobs::WorkerPool> workers;
   service::RasterProvider raster;
   std::unique_ptr<service::ServiceContext> context;

@@ -86,7 +86,8 @@ int main(int argc, char** argv) {
   app.add_option("--call-threads", options.call_threads,
                  "Threads for blocking calls (inverse kinematics, catalogue writes) off the gRPC threads")
       ->capture_default_str()->check(CLI::Range(1, 256));
-  app.add_option("--max-upload-mib", max_upload_mib, "Largest mesh upload")->capture_default_str()
+  app.add_option("--max-upload-mib", max_upload_mib, "Largest upload (mesh, robot bundle, cloud)")
+      ->capture_default_str()
       ->check(CLI::Range(1, 65536));
   app.add_option("--max-rays", options.limits.max_rays_per_scan, "Most rays one scan may cast")
       ->capture_default_str()->check(CLI::Range(1, 1 << 28));

@@ -82,6 +82,33 @@ StatusOr<v1::MeshFormat> ParseMeshFormat(const std::string& text) {
   return InvalidArgument("--format", "unknown mesh format '" + text + "' (ply, obj, stl)");
 }
 
+StatusOr<v1::CloudFormat> ParseCloudFormat(const std::string& text) {
+  const std::string t = Lower(text);
+  if (t == "ply") return v1::CLOUD_FORMAT_PLY;
+  if (t == "pcd") return v1::CLOUD_FORMAT_PCD;
+  return InvalidArgument("--format", "unknown cloud format '" + text + "' (ply, pcd)");
+}
+
+StatusOr<v1::CloudCamera> ParseCloudCamera(const std::string& text) {
+  ASSIGN_OR_RETURN(const std::vector<double> v, ParseNumbers(text, 8, "--camera"));
+  for (int i = 0; i < 2; ++i) {
+    if (v[i] < 1 || v[i] > 1e6 || v[i] != std::floor(v[i])) {
+      return InvalidArgument("--camera", "width and height must be whole numbers of pixels (1 to 1e6)");
+    }
+  }
+  v1::CloudCamera camera;
+  camera.set_width(static_cast<uint32_t>(v[0]));
+  camera.set_height(static_cast<uint32_t>(v[1]));
+  v1::Intrinsics* k = camera.mutable_intrinsics();
+  k->set_fx(v[2]);
+  k->set_fy(v[3]);
+  k->set_cx(v[4]);
+  k->set_cy(v[5]);
+  camera.set_near(v[6]);
+  camera.set_far(v[7]);
+  return camera;
+}
+
 StatusOr<std::vector<v1::PointField>> ParseFields(const std::string& text) {
   std::vector<v1::PointField> out;
   const auto add = [&](v1::PointField f) {

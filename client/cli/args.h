@@ -10,6 +10,7 @@
 
 #include "vscan/common/pose.h"
 #include "vscan/common/status.h"
+#include "vscan/v1/cloud.pb.h"
 #include "vscan/v1/common.pb.h"
 #include "vscan/v1/scan.pb.h"
 #include "vscan/v1/scene.pb.h"
@@ -24,6 +25,10 @@ StatusOr<Eigen::Vector3d> ParseVector3(const std::string& text, const std::strin
 StatusOr<v1::LengthUnit> ParseUnit(const std::string& text);
 // ply, obj, stl.
 StatusOr<v1::MeshFormat> ParseMeshFormat(const std::string& text);
+// ply, pcd.
+StatusOr<v1::CloudFormat> ParseCloudFormat(const std::string& text);
+// width,height,fx,fy,cx,cy,near,far (pixels and metres).
+StatusOr<v1::CloudCamera> ParseCloudCamera(const std::string& text);
 // Comma-separated: position, normal, range, intensity, instance, pixel, or "all" (those six);
 // ground truth: clean, incidence, status, or "truth" (those three); estimated-normal.
 StatusOr<std::vector<v1::PointField>> ParseFields(const std::string& text);

@@ -3,6 +3,7 @@
 #include "args.h"
 #include "commands.h"
 #include "describe.h"
+#include "pose_options.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::cli {
@@ -16,16 +17,6 @@ struct ObjectArgs {
   std::string label;
   bool on_table = false;
 };
-
-void AddPoseOptions(CLI::App* cmd, PoseArgs& pose) {
-  auto* position = cmd->add_option("--position", pose.position, "Translation x,y,z in metres");
-  auto* rpy = cmd->add_option("--rpy", pose.rpy, "Roll,pitch,yaw in degrees, applied as Rz*Ry*Rx");
-  auto* quat = cmd->add_option("--quat", pose.quat, "Unit quaternion w,x,y,z");
-  auto* matrix = cmd->add_option("--matrix", pose.matrix, "Rigid 4x4 matrix, 16 comma-separated values, row-major");
-  rpy->excludes(quat)->excludes(matrix);
-  quat->excludes(matrix);
-  matrix->excludes(position);
-}
 
 int PrintPlaced(Context& ctx, const std::string& verb, const v1::SceneObject& object, uint64_t revision,
                 const google::protobuf::Message& response) {

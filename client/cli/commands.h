@@ -25,5 +25,6 @@ void AddRenderCommand(CLI::App& app, Context& ctx);
 void AddRobotCommands(CLI::App& app, Context& ctx);
 void AddCampaignCommands(CLI::App& app, Context& ctx);
 void AddSensorsCommand(CLI::App& app, Context& ctx);
+void AddCloudCommands(CLI::App& app, Context& ctx);
 
 }  // namespace vscan::cli

@@ -13,6 +13,23 @@ std::string Num(double v) {
   return buf;
 }
 
+// The names `vscan scan --fields` takes.
+const char* FieldName(int field) {
+  switch (field) {
+    case v1::POINT_FIELD_POSITION: return "position";
+    case v1::POINT_FIELD_NORMAL: return "normal";
+    case v1::POINT_FIELD_RANGE: return "range";
+    case v1::POINT_FIELD_INTENSITY: return "intensity";
+    case v1::POINT_FIELD_INSTANCE_ID: return "instance";
+    case v1::POINT_FIELD_PIXEL: return "pixel";
+    case v1::POINT_FIELD_CLEAN_POSITION: return "clean";
+    case v1::POINT_FIELD_INCIDENCE_ANGLE: return "incidence";
+    case v1::POINT_FIELD_STATUS: return "status";
+    case v1::POINT_FIELD_ESTIMATED_NORMAL: return "estimated-normal";
+    default: return "?";
+  }
+}
+
 }  // namespace
 
 std::string Describe(const v1::Vector3& v) {
@@ -50,6 +67,23 @@ std::string Describe(const v1::Mesh& mesh) {
          std::to_string(mesh.triangle_count()) + " triangles, bounds " + Describe(mesh.bounds().min()) + " .. " +
          Describe(mesh.bounds().max()) + " m (source " + UnitName(mesh.source_unit()) + " x" +
          Num(mesh.source_scale()) + ")";
+}
+
+std::string Describe(const v1::Cloud& cloud) {
+  std::string out = cloud.cloud_id() + "  " + cloud.name() + "  " + std::to_string(cloud.points()) + " points (";
+  for (int i = 0; i < cloud.fields_size(); ++i) out.append(i ? "," : "").append(FieldName(cloud.fields(i)));
+  out += ")  ";
+  out += cloud.origin() == v1::CLOUD_ORIGIN_CAMPAIGN_SCAN ? "scan of " + cloud.job_id() : std::string("uploaded");
+  if (!cloud.scene_id().empty()) out += "  scene " + cloud.scene_id();
+  out += cloud.frame() == v1::FRAME_SENSOR ? "  sensor frame" : "  world frame";
+  if (cloud.has_sensor_pose()) {
+    v1::Pose pose;
+    *pose.mutable_matrix() = cloud.sensor_pose();
+    out += "  sensor " + Describe(pose);
+  }
+  if (cloud.has_table_angle_deg()) out += "  table " + Num(cloud.table_angle_deg()) + " deg";
+  out += "  " + std::to_string(cloud.size_bytes()) + " bytes";
+  return out;
 }
 
 std::string UnitName(v1::LengthUnit unit) {

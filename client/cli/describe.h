@@ -3,6 +3,7 @@
 
 #include <string>
 
+#include "vscan/v1/cloud.pb.h"
 #include "vscan/v1/common.pb.h"
 #include "vscan/v1/scene.pb.h"
 
@@ -13,6 +14,7 @@ std::string Describe(const v1::Pose& pose);
 std::string Describe(const v1::RotaryTable& table);
 std::string Describe(const v1::SceneObject& object);
 std::string Describe(const v1::Mesh& mesh);
+std::string Describe(const v1::Cloud& cloud);
 std::string UnitName(v1::LengthUnit unit);
 
 }  // namespace vscan::cli

@@ -93,6 +93,25 @@ Status CheckConsistent(const PointCloud& cloud) {
   return check(kFieldEstimatedNormal, cloud.estimated_normals.size(), "estimated_normals");
 }
 
+// Interleaves points [begin, begin + count) into out, one record after another.
+void PackRecords(const std::vector<Column>& cols, size_t begin, size_t count, char* out) {
+  for (size_t i = begin; i < begin + count; ++i) {
+    for (const Column& c : cols) {
+      std::memcpy(out, c.base + i * c.step, c.size);
+      out += c.size;
+    }
+  }
+}
+
+std::string PlyHeader(const std::vector<Column>& cols, size_t n) {
+  std::string header = "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(n) + "\n";
+  for (const Column& c : cols) {
+    header += std::string("property ") + PlyType(c) + " " + c.ply_name + "\n";
+  }
+  header += "end_header\n";
+  return header;
+}
+
 std::string ErrnoText() { return std::strerror(errno); }
 
 std::string LowerExtension(const std::string& path) {
@@ -125,13 +144,7 @@ Status WriteAtomically(const std::string& path, const std::string& header, const
   std::vector<char> block(std::min(n, kBlockPoints) * record);
   for (size_t begin = 0; begin < n; begin += kBlockPoints) {
     const size_t count = std::min(kBlockPoints, n - begin);
-    char* out = block.data();
-    for (size_t i = begin; i < begin + count; ++i) {
-      for (const Column& c : cols) {
-        std::memcpy(out, c.base + i * c.step, c.size);
-        out += c.size;
-      }
-    }
+    PackRecords(cols, begin, count, block.data());
     if (std::fwrite(block.data(), 1, count * record, f) != count * record) return fail("short write");
   }
   if (std::fflush(f) != 0) return fail("short write");
@@ -153,12 +166,17 @@ Status WriteAtomically(const std::string& path, const std::string& header, const
 Status WritePly(const PointCloud& cloud, const std::string& path) {
   RETURN_IF_ERROR(CheckConsistent(cloud));
   const auto cols = Columns(cloud);
-  std::string header = "ply\nformat binary_little_endian 1.0\nelement vertex " + std::to_string(cloud.size()) + "\n";
-  for (const Column& c : cols) {
-    header += std::string("property ") + PlyType(c) + " " + c.ply_name + "\n";
-  }
-  header += "end_header\n";
-  return WriteAtomically(path, header, cols, cloud.size());
+  return WriteAtomically(path, PlyHeader(cols, cloud.size()), cols, cloud.size());
+}
+
+StatusOr<std::string> EncodePly(const PointCloud& cloud) {
+  RETURN_IF_ERROR(CheckConsistent(cloud));
+  const auto cols = Columns(cloud);
+  std::string bytes = PlyHeader(cols, cloud.size());
+  const size_t header = bytes.size();
+  bytes.resize(header + cloud.size() * RecordBytes(cols));
+  PackRecords(cols, 0, cloud.size(), bytes.data() + header);
+  return bytes;
 }
 
 Status WritePcd(const PointCloud& cloud, const std::string& path) {

@@ -136,11 +136,16 @@ void RecordLayout::Add(std::string name, ScalarType type, size_t count) {
 }
 
 StatusOr<PointCloud> ReadRecords(std::istream& in, const RecordLayout& layout, size_t count,
-                                 const std::string& path) {
+                                 const std::string& path, uint64_t max_bytes) {
   const FieldMap map(layout);
   if (!map.position) return InvalidArgument(path + ": the points need x, y and z");
   PointCloud cloud;
   cloud.fields = map.Fields();
+  const uint64_t per_point = cloud.BytesPerPoint();
+  if (count > max_bytes / per_point) {
+    return ResourceExhausted(path + ": " + std::to_string(count) + " points of " + std::to_string(per_point) +
+                             " bytes take more than the limit of " + std::to_string(max_bytes) + " bytes");
+  }
   cloud.Resize(count);
 
   constexpr size_t kBlockPoints = 16384;

@@ -36,8 +36,10 @@ struct RecordLayout {
 
 // Reads `count` records of `layout` from `in`, positioned at the first, into a cloud with every
 // field the layout carries, each under vscan's PLY or PCD name (see cloud_io.h). INVALID_ARGUMENT
-// naming `path` without x, y and z; DATA_LOSS when the stream ends early.
+// naming `path` without x, y and z; RESOURCE_EXHAUSTED, before anything is allocated, when the
+// cloud would take more than max_bytes (PointCloud::BytesPerPoint() per point); DATA_LOSS when the
+// stream ends early.
 StatusOr<PointCloud> ReadRecords(std::istream& in, const RecordLayout& layout, size_t count,
-                                 const std::string& path);
+                                 const std::string& path, uint64_t max_bytes);
 
 }  // namespace vscan::cloud_records

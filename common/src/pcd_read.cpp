@@ -1,13 +1,16 @@
-// ReadPcd: the header of a binary PCD v0.7; the point records are decoded in cloud_records.
+// ReadPcd and ParsePcd: the header of a binary PCD v0.7; the point records are decoded in
+// cloud_records.
 
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <vector>
 
 #include "cloud_records.h"
+#include "memory_stream.h"
 #include "vscan/common/cloud_io.h"
 
 namespace vscan {
@@ -96,11 +99,7 @@ StatusOr<PcdHeader> ParseHeader(std::istream& in, const std::string& path) {
   return InvalidArgument(path + ": PCD header has no DATA line");
 }
 
-}  // namespace
-
-StatusOr<PointCloud> ReadPcd(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return NotFound(path + ": cannot open: " + std::strerror(errno));
+StatusOr<PointCloud> ReadPcdStream(std::istream& in, const std::string& path, uint64_t max_bytes) {
   ASSIGN_OR_RETURN(const PcdHeader h, ParseHeader(in, path));
 
   const std::streamoff body = in.tellg();
@@ -112,7 +111,20 @@ StatusOr<PointCloud> ReadPcd(const std::string& path) {
                     std::to_string(h.points * stride) + " bytes, the file has " + std::to_string(available));
   }
   in.seekg(body);
-  return cloud_records::ReadRecords(in, h.layout, h.points, path);
+  return cloud_records::ReadRecords(in, h.layout, h.points, path, max_bytes);
+}
+
+}  // namespace
+
+StatusOr<PointCloud> ReadPcd(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return NotFound(path + ": cannot open: " + std::strerror(errno));
+  return ReadPcdStream(in, path, std::numeric_limits<uint64_t>::max());
+}
+
+StatusOr<PointCloud> ParsePcd(std::string_view bytes, const std::string& where, uint64_t max_bytes) {
+  cloud_records::MemoryStream in(bytes);
+  return ReadPcdStream(in, where, max_bytes);
 }
 
 }  // namespace vscan

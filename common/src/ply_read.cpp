@@ -1,13 +1,16 @@
-// ReadPly: the header of a binary little-endian PLY; the vertex records are decoded in cloud_records.
+// ReadPly and ParsePly: the header of a binary little-endian PLY; the vertex records are decoded in
+// cloud_records.
 
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <optional>
 #include <sstream>
 #include <vector>
 
 #include "cloud_records.h"
+#include "memory_stream.h"
 #include "vscan/common/cloud_io.h"
 
 namespace vscan {
@@ -78,11 +81,7 @@ StatusOr<std::vector<PlyElement>> ParsePlyHeader(std::istream& in, const std::st
   return InvalidArgument(path + ": header has no end_header");
 }
 
-}  // namespace
-
-StatusOr<PointCloud> ReadPly(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return NotFound(path + ": cannot open: " + std::strerror(errno));
+StatusOr<PointCloud> ReadPlyStream(std::istream& in, const std::string& path, uint64_t max_bytes) {
   ASSIGN_OR_RETURN(const std::vector<PlyElement> elements, ParsePlyHeader(in, path));
 
   const std::streamoff body = in.tellg();
@@ -114,7 +113,20 @@ StatusOr<PointCloud> ReadPly(const std::string& path) {
   if (vertex->has_list) return InvalidArgument(path + ": vertex element has list properties");
   RETURN_IF_ERROR(take(*vertex));
   in.seekg(body + static_cast<std::streamoff>(skip));
-  return cloud_records::ReadRecords(in, vertex->layout, vertex->count, path);
+  return cloud_records::ReadRecords(in, vertex->layout, vertex->count, path, max_bytes);
+}
+
+}  // namespace
+
+StatusOr<PointCloud> ReadPly(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return NotFound(path + ": cannot open: " + std::strerror(errno));
+  return ReadPlyStream(in, path, std::numeric_limits<uint64_t>::max());
+}
+
+StatusOr<PointCloud> ParsePly(std::string_view bytes, const std::string& where, uint64_t max_bytes) {
+  cloud_records::MemoryStream in(bytes);
+  return ReadPlyStream(in, where, max_bytes);
 }
 
 }  // namespace vscan

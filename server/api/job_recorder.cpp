@@ -28,11 +28,12 @@ Status TrackedJobRecorder::Record(const service::JobEventUpdate& update) { retur
 StatusOr<std::string> TrackedJobRecorder::RecordArtifact(const std::string& name, const std::string& media_type,
                                                          const std::string& bytes,
                                                          const service::CampaignStepRecord* scan,
+                                                         const store::CloudRecord* cloud,
                                                          const service::JobEventUpdate& update) {
   v1::ScanArtifactInfo info;
   if (scan) info = ScanInfo(*scan);
   ASSIGN_OR_RETURN(const v1::Artifact artifact,
-                   tracker_.RecordArtifact(job_id_, name, media_type, bytes, scan ? &info : nullptr, update));
+                   tracker_.RecordArtifact(job_id_, name, media_type, bytes, scan ? &info : nullptr, update, cloud));
   return artifact.artifact_id();
 }
 

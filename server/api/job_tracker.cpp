@@ -170,7 +170,8 @@ Status JobTracker::Record(const std::string& job_id, const JobEventUpdate& updat
 
 StatusOr<v1::Artifact> JobTracker::RecordArtifact(const std::string& job_id, const std::string& name,
                                                   const std::string& media_type, const std::string& bytes,
-                                                  const v1::ScanArtifactInfo* info, const JobEventUpdate& update) {
+                                                  const v1::ScanArtifactInfo* info, const JobEventUpdate& update,
+                                                  const store::CloudRecord* cloud) {
   ASSIGN_OR_RETURN(auto live, RequireLive(job_id));
   // Pinned until its row is stored, so that deleting another job cannot collect it meanwhile.
   ASSIGN_OR_RETURN(const store::BlobPin pin, blobs_.PutPinned(bytes));
@@ -182,8 +183,11 @@ StatusOr<v1::Artifact> JobTracker::RecordArtifact(const std::string& job_id, con
   record.size_bytes = bytes.size();
   if (info) record.info = info->SerializeAsString();
   const uint64_t sequence = live->next_sequence();
+  std::optional<store::CloudRecord> scan_cloud;
+  if (cloud) scan_cloud = *cloud;
   ASSIGN_OR_RETURN(record, catalogue_.AddArtifact(std::move(record),
-                                                  {update.state, update.message, update.steps_done, sequence}));
+                                                  {update.state, update.message, update.steps_done, sequence},
+                                                  scan_cloud ? &*scan_cloud : nullptr));
   v1::Artifact artifact;
   RETURN_IF_ERROR(ToProto(record, &artifact));
   v1::WatchJobResponse response = MakeEvent(live, update, sequence, record.create_time_ms);

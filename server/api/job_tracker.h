@@ -95,9 +95,12 @@ class JobTracker {
   // Persists the event, then publishes it.
   Status Record(const std::string& job_id, const JobEventUpdate& update);
   // Stores bytes as a blob (durable), records the artifact with the event, then publishes it.
+  // With cloud, the bytes are also a stored cloud: a campaign scan of the job, recorded with the
+  // artifact in one transaction.
   StatusOr<v1::Artifact> RecordArtifact(const std::string& job_id, const std::string& name,
                                         const std::string& media_type, const std::string& bytes,
-                                        const v1::ScanArtifactInfo* info, const JobEventUpdate& update);
+                                        const v1::ScanArtifactInfo* info, const JobEventUpdate& update,
+                                        const store::CloudRecord* cloud = nullptr);
   // The final event: update.state must be final. The job stops being live.
   Status End(const std::string& job_id, const JobEventUpdate& update);
 

@@ -17,6 +17,7 @@
 #include <spdlog/spdlog.h>
 
 #include "guards/data_dir_lock.h"
+#include "api/cloud_service.h"
 #include "api/job_service.h"
 #include "api/job_tracker.h"
 #include "api/robot_service.h"
@@ -26,6 +27,7 @@
 #include "jobs/job_runner.h"
 #include "jobs/periodic_task.h"
 #include "store/blob_gc.h"
+#include "store/cloud_catalogue.h"
 #include "store/database.h"
 #include "store/ids.h"
 #include "store/job_catalogue.h"
@@ -102,6 +104,7 @@ struct Server::Impl {
   std::unique_ptr<scenes::SceneRegistry> registry;
   std::unique_ptr<store::RobotCatalogue> robot_catalogue;
   std::unique_ptr<robots::RobotRegistry> robots;
+  std::unique_ptr<store::CloudCatalogue> cloud_catalogue;
   service::RasterProvider raster;
   std::unique_ptr<jobs::WorkerPool> workers;
   std::unique_ptr<jobs::WorkerPool> call_workers;
@@ -110,6 +113,7 @@ struct Server::Impl {
   std::unique_ptr<SceneService> scene_service;
   std::unique_ptr<ScanService> scan_service;
   std::unique_ptr<RobotService> robot_service;
+  std::unique_ptr<CloudService> cloud_service;
   std::unique_ptr<store::JobCatalogue> job_catalogue;
   std::unique_ptr<JobTracker> job_tracker;
   std::unique_ptr<jobs::JobRunner> job_runner;
@@ -155,18 +159,21 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& op
                                                          options.limits.max_upload_bytes);
   impl->workers = std::make_unique<jobs::WorkerPool>(std::max<uint32_t>(1, options.worker_threads));
   impl->call_workers = std::make_unique<jobs::WorkerPool>(std::max<uint32_t>(1, options.call_threads));
+  impl->cloud_catalogue = std::make_unique<store::CloudCatalogue>(impl->database);
   impl->context = std::make_unique<service::ServiceContext>(*impl->registry, *impl->workers, *impl->call_workers,
-                                                            impl->options, *impl->robots, impl->raster);
+                                                            impl->options, *impl->robots, impl->raster,
+                                                            *impl->cloud_catalogue, *impl->blobs);
   const std::chrono::duration<double> stall_limit(options.stalled_reader_seconds);
   impl->stalled_readers =
       std::make_unique<guards::StallWatchdog>(std::chrono::duration_cast<guards::StallWatchdog::Clock::duration>(stall_limit));
   impl->scene_service = std::make_unique<SceneService>(*impl->context);
   impl->scan_service = std::make_unique<ScanService>(*impl->context, impl->stalled_readers.get());
   impl->robot_service = std::make_unique<RobotService>(*impl->context);
+  impl->cloud_service = std::make_unique<CloudService>(*impl->context);
   impl->job_catalogue = std::make_unique<store::JobCatalogue>(impl->database);
   ASSIGN_OR_RETURN(const int interrupted, impl->job_catalogue->InterruptUnfinished("server stopped while the job ran"));
   if (interrupted > 0) spdlog::warn("{} jobs were left unfinished by the last run; marked INTERRUPTED", interrupted);
-  // Scans being encoded when the last run stopped (campaigns' scratch files).
+  // Scratch files of campaigns that an older vscand left when it stopped (scans are now encoded in memory).
   std::filesystem::remove_all(data_dir / "tmp", ec);
   impl->job_tracker = std::make_unique<JobTracker>(*impl->job_catalogue, *impl->blobs);
   impl->job_runner = std::make_unique<jobs::JobRunner>(std::max<uint32_t>(1, options.max_concurrent_jobs));
@@ -187,6 +194,7 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& op
   builder.RegisterService(impl->scan_service.get());
   builder.RegisterService(impl->robot_service.get());
   builder.RegisterService(impl->job_service.get());
+  builder.RegisterService(impl->cloud_service.get());
   builder.SetMaxReceiveMessageSize(4 << 20);
   impl->server = builder.BuildAndStart();
   if (!impl->server || impl->port == 0) {

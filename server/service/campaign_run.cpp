@@ -1,14 +1,12 @@
 #include "service/campaign_run.h"
 
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include <spdlog/spdlog.h>
 
 #include "service/campaign_step.h"
 #include "service/campaign_summary.h"
+#include "service/cloud_store.h"
 #include "vscan/common/cloud_io.h"
 
 namespace vscan::service {
@@ -39,38 +37,17 @@ const char* StateName(store::JobState state) {
   return "UNKNOWN";
 }
 
-// Binary little-endian PLY bytes of a cloud, through the project's PLY writer.
-StatusOr<std::string> EncodePly(const PointCloud& cloud, const std::filesystem::path& scratch_dir,
-                                const std::string& name) {
-  std::error_code ec;
-  std::filesystem::create_directories(scratch_dir, ec);
-  if (ec) return Unavailable("campaign: cannot create '" + scratch_dir.string() + "': " + ec.message());
-  const std::filesystem::path path = scratch_dir / name;
-  RETURN_IF_ERROR(WritePly(cloud, path.string()));
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  const bool read_ok = static_cast<bool>(in) || in.eof();
-  in.close();
-  std::filesystem::remove(path, ec);
-  if (!read_ok) return Unavailable("campaign: cannot read back '" + path.string() + "'");
-  return bytes.str();
-}
-
 class CampaignRun {
  public:
   CampaignRun(ServiceContext& context, JobRecorder& recorder, const std::string& job_id, const CampaignPlan& plan,
               jobs::JobControl& control)
-      : context_(context), recorder_(recorder), job_id_(job_id), plan_(plan), control_(control),
-        scratch_(std::filesystem::path(context.options.data_dir) / "tmp" / job_id) {}
+      : context_(context), recorder_(recorder), job_id_(job_id), plan_(plan), control_(control) {}
 
   void Run() {
     const uint32_t total = plan_.steps_total();
     Status status = Event(std::to_string(total) + " scans planned (" + std::to_string(plan_.viewpoints.size()) +
                           " viewpoints x " + std::to_string(plan_.rotations) + " rotations)");
     if (status.ok()) status = Steps();
-    std::error_code ec;
-    std::filesystem::remove_all(scratch_, ec);
     store::JobState state = store::JobState::kSucceeded;
     std::string message;
     if (control_.stop_requested()) {
@@ -158,14 +135,15 @@ class CampaignRun {
     record.arm = result.arm;
     record.points = result.cloud.size();
     record.file = ScanArtifactName(r, v);
-    ASSIGN_OR_RETURN(const std::string ply, EncodePly(result.cloud, scratch_, record.file));
+    ASSIGN_OR_RETURN(const std::string ply, EncodePly(result.cloud));
+    const store::CloudRecord cloud = ScanCloud(record, result.cloud.fields);
     result.cloud = PointCloud();
     ++captured_;
     record.message = "scan " + std::to_string(captured_) + " captured (step " + std::to_string(step + 1) + " of " +
                      std::to_string(plan_.steps_total()) + "): " + Where(v, angle) + ", " +
                      std::to_string(record.points) + " points";
     records_.push_back(record);
-    auto artifact = recorder_.RecordArtifact(record.file, kPlyMediaType, ply, &records_.back(),
+    auto artifact = recorder_.RecordArtifact(record.file, kPlyMediaType, ply, &records_.back(), &cloud,
                                              Update(store::JobState::kRunning, record.message, true));
     if (!artifact.ok()) {
       return Status(artifact.status().code(), "cannot store " + record.file + ": " + artifact.status().message());
@@ -174,9 +152,24 @@ class CampaignRun {
     return Status::Ok();
   }
 
+  // The stored cloud a captured scan also is: where the arm put the sensor, the plan's camera.
+  store::CloudRecord ScanCloud(const CampaignStepRecord& record, uint32_t fields) const {
+    store::CloudRecord cloud;
+    cloud.name = record.file;
+    cloud.points = record.points;
+    cloud.fields = fields;
+    cloud.scene_id = plan_.scene_id;
+    const bool sensor_frame = plan_.scan.frame == raycast::ScanFrame::kSensor;
+    cloud.frame = sensor_frame ? store::CloudFrame::kSensor : store::CloudFrame::kWorld;
+    cloud.world_from_sensor = record.arm.achieved_pose.matrix();
+    cloud.camera = ToCloudCamera(plan_.scan.camera);
+    cloud.table_angle_deg = record.table_angle_deg;
+    return cloud;
+  }
+
   void WriteSummary(store::JobState state) {
     const std::string json = CampaignSummaryJson(job_id_, StateName(state), plan_, records_);
-    auto written = recorder_.RecordArtifact("campaign.json", kJsonMediaType, json, nullptr,
+    auto written = recorder_.RecordArtifact("campaign.json", kJsonMediaType, json, nullptr, nullptr,
                                             Update(store::JobState::kRunning, "campaign.json written", false));
     if (!written.ok()) spdlog::error("job {}: cannot store campaign.json: {}", job_id_, written.status().ToString());
   }
@@ -186,7 +179,6 @@ class CampaignRun {
   const std::string job_id_;
   const CampaignPlan& plan_;
   jobs::JobControl& control_;
-  const std::filesystem::path scratch_;
   std::vector<CampaignStepRecord> records_;
   uint32_t captured_ = 0;
 };

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <string>
 
+#include "store/cloud_catalogue.h"
 #include "store/job_catalogue.h"
 #include "vscan/common/status.h"
 
@@ -26,10 +27,11 @@ class JobRecorder {
   virtual ~JobRecorder() = default;
   virtual Status Record(const JobEventUpdate& update) = 0;
   // Stores bytes durably and records them with the event; scan, when given, describes the scan
-  // the bytes hold. Returns the artifact's id.
+  // the bytes hold, and cloud the stored cloud they also are (its origin, job, blob and size are
+  // filled in). Returns the artifact's id.
   virtual StatusOr<std::string> RecordArtifact(const std::string& name, const std::string& media_type,
                                                const std::string& bytes, const CampaignStepRecord* scan,
-                                               const JobEventUpdate& update) = 0;
+                                               const store::CloudRecord* cloud, const JobEventUpdate& update) = 0;
   // The final event: update.state must be final.
   virtual Status End(const JobEventUpdate& update) = 0;
 };

@@ -10,9 +10,11 @@ constexpr size_t kCachedShapes = 512;
 
 ServiceContext::ServiceContext(scenes::SceneRegistry& registry, jobs::WorkerPool& workers,
                                jobs::WorkerPool& call_workers, const ServerOptions& options,
-                               robots::RobotRegistry& robots, RasterProvider& raster)
+                               robots::RobotRegistry& robots, RasterProvider& raster, store::CloudCatalogue& clouds,
+                               store::BlobStore& blobs)
     : registry(registry), workers(workers), call_workers(call_workers), options(options), robots(robots), raster(raster),
-      scans(options.limits.max_concurrent_scans), shapes(std::make_shared<collision::ShapeCache>(kCachedShapes)) {}
+      clouds(clouds), blobs(blobs), scans(options.limits.max_concurrent_scans),
+      shapes(std::make_shared<collision::ShapeCache>(kCachedShapes)) {}
 
 ServiceContext::~ServiceContext() = default;
 

@@ -1,6 +1,7 @@
 #pragma once
-// What every request of the service layer works with: the scene and robot registries, the worker
-// pools, the options, the renderer, scan admission and the Bullet shapes of collision checks.
+// What every request of the service layer works with: the scene and robot registries, the stored
+// clouds and the blobs, the worker pools, the options, the renderer, scan admission and the Bullet
+// shapes of collision checks.
 
 #include <memory>
 
@@ -10,6 +11,8 @@
 #include "service/raster_provider.h"
 #include "service/scan_admission.h"
 #include "service/server_options.h"
+#include "store/blob_store.h"
+#include "store/cloud_catalogue.h"
 
 namespace vscan::collision {
 class ShapeCache;
@@ -19,7 +22,8 @@ namespace vscan::service {
 
 struct ServiceContext {
   ServiceContext(scenes::SceneRegistry& registry, jobs::WorkerPool& workers, jobs::WorkerPool& call_workers,
-                 const ServerOptions& options, robots::RobotRegistry& robots, RasterProvider& raster);
+                 const ServerOptions& options, robots::RobotRegistry& robots, RasterProvider& raster,
+                 store::CloudCatalogue& clouds, store::BlobStore& blobs);
   ~ServiceContext();
 
   scenes::SceneRegistry& registry;
@@ -28,6 +32,8 @@ struct ServiceContext {
   const ServerOptions& options;
   robots::RobotRegistry& robots;
   RasterProvider& raster;
+  store::CloudCatalogue& clouds;
+  store::BlobStore& blobs;
   ScanAdmission scans;
   // Bullet shapes of scene meshes and links, shared by every collision check of the server.
   std::shared_ptr<collision::ShapeCache> shapes;

@@ -141,6 +141,9 @@ CREATE TABLE clouds (
 CREATE INDEX clouds_by_sha256 ON clouds(sha256);
 CREATE INDEX clouds_by_job ON clouds(job_id);
 )sql"},
+    // The frame a cloud's points are in (1 world, 2 sensor): a sensor pose alone does not say
+    // whether it still has to be applied.
+    {5, "ALTER TABLE clouds ADD COLUMN frame INTEGER NOT NULL DEFAULT 1;"},
 };
 
 constexpr int kSchemaVersion = static_cast<int>(std::size(kMigrations));

@@ -18,7 +18,7 @@ using sqlite::Statement;
 constexpr int kMaxListLimit = 1000;
 constexpr std::string_view kColumns =
     "cloud_id, name, sha256, size_bytes, points, fields, origin, job_id, scene_id, sensor_pose, camera, "
-    "table_angle_deg, create_time_ms";
+    "table_angle_deg, create_time_ms, frame";
 
 struct FieldName {
   PointFields field;
@@ -76,6 +76,7 @@ StatusOr<CloudRecord> ReadCloud(const Statement& s) {
   }
   if (!s.IsNull(11)) c.table_angle_deg = s.Double(11);
   c.create_time_ms = s.Int(12);
+  ASSIGN_OR_RETURN(c.frame, FromStoredCode(kCloudFrameCodes, s.Int(13), "clouds.frame of '" + c.cloud_id + "'"));
   return c;
 }
 
@@ -116,45 +117,47 @@ StatusOr<std::unique_ptr<CloudCatalogue>> CloudCatalogue::Open(const std::filesy
   return std::make_unique<CloudCatalogue>(std::move(database));
 }
 
-StatusOr<CloudRecord> CloudCatalogue::Insert(CloudRecord cloud) {
+Status InsertCloudRow(sqlite3* db, CloudRecord& cloud) {
   if (cloud.origin == CloudOrigin::kCampaignScan && cloud.job_id.empty()) {
     return InvalidArgument("job_id", "required for a campaign's scan");
   }
   cloud.cloud_id = NewId("cld_");
   cloud.create_time_ms = NowMs();
+  std::string sql = "INSERT INTO clouds (";
+  sql.append(kColumns).append(") VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14)");
+  ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db, sql));
+  s.Bind(1, cloud.cloud_id).Bind(2, cloud.name).Bind(3, cloud.sha256);
+  s.Bind(4, static_cast<int64_t>(cloud.size_bytes)).Bind(5, static_cast<int64_t>(cloud.points));
+  s.Bind(6, FieldNames(cloud.fields)).Bind(7, StoredCode(kCloudOriginCodes, cloud.origin));
+  if (cloud.job_id.empty()) {
+    s.BindNull(8);
+  } else {
+    s.Bind(8, cloud.job_id);
+  }
+  s.Bind(9, cloud.scene_id);
+  if (cloud.world_from_sensor) {
+    s.BindBlob(10, robot_rows::EncodePose(*cloud.world_from_sensor));
+  } else {
+    s.BindNull(10);
+  }
+  if (cloud.camera) {
+    s.BindBlob(11, EncodeCamera(*cloud.camera));
+  } else {
+    s.BindNull(11);
+  }
+  if (cloud.table_angle_deg) {
+    s.Bind(12, *cloud.table_angle_deg);
+  } else {
+    s.BindNull(12);
+  }
+  s.Bind(13, cloud.create_time_ms).Bind(14, StoredCode(kCloudFrameCodes, cloud.frame));
+  return s.Run();
+}
+
+StatusOr<CloudRecord> CloudCatalogue::Insert(CloudRecord cloud) {
   std::lock_guard lock(database_->mutex());
   sqlite3* db = database_->handle();
-  RETURN_IF_ERROR(sqlite::InTransaction(db, true, [&]() -> Status {
-    std::string sql = "INSERT INTO clouds (";
-    sql.append(kColumns).append(") VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13)");
-    ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db, sql));
-    s.Bind(1, cloud.cloud_id).Bind(2, cloud.name).Bind(3, cloud.sha256);
-    s.Bind(4, static_cast<int64_t>(cloud.size_bytes)).Bind(5, static_cast<int64_t>(cloud.points));
-    s.Bind(6, FieldNames(cloud.fields)).Bind(7, StoredCode(kCloudOriginCodes, cloud.origin));
-    if (cloud.job_id.empty()) {
-      s.BindNull(8);
-    } else {
-      s.Bind(8, cloud.job_id);
-    }
-    s.Bind(9, cloud.scene_id);
-    if (cloud.world_from_sensor) {
-      s.BindBlob(10, robot_rows::EncodePose(*cloud.world_from_sensor));
-    } else {
-      s.BindNull(10);
-    }
-    if (cloud.camera) {
-      s.BindBlob(11, EncodeCamera(*cloud.camera));
-    } else {
-      s.BindNull(11);
-    }
-    if (cloud.table_angle_deg) {
-      s.Bind(12, *cloud.table_angle_deg);
-    } else {
-      s.BindNull(12);
-    }
-    s.Bind(13, cloud.create_time_ms);
-    return s.Run();
-  }));
+  RETURN_IF_ERROR(sqlite::InTransaction(db, true, [&] { return InsertCloudRow(db, cloud); }));
   return cloud;
 }
 

@@ -17,6 +17,8 @@
 #include "store/stored_enums.h"
 #include "vscan/common/status.h"
 
+struct sqlite3;
+
 namespace vscan::store {
 
 // The pinhole camera of a scan, for methods that need its image (volumetric fusion).
@@ -37,6 +39,8 @@ struct CloudRecord {
   CloudOrigin origin = CloudOrigin::kUploaded;
   std::string job_id;    // the campaign that captured it; empty for uploads
   std::string scene_id;  // the scene it was scanned in, when known
+  // The frame the points are in; world_from_sensor says where the sensor stood either way.
+  CloudFrame frame = CloudFrame::kWorld;
   std::optional<Eigen::Matrix4d> world_from_sensor;
   std::optional<CloudCamera> camera;
   std::optional<double> table_angle_deg;
@@ -48,6 +52,7 @@ class CloudCatalogue {
   explicit CloudCatalogue(std::shared_ptr<Database> database);
   // Opens or creates the database file with its own Database (tests and tools).
   static StatusOr<std::unique_ptr<CloudCatalogue>> Open(const std::filesystem::path& db_path);
+  Database& database() { return *database_; }
 
   // The id is generated ("cld_" + 16 hex digits); the blob it names must already be durable.
   StatusOr<CloudRecord> Insert(CloudRecord cloud);
@@ -61,6 +66,10 @@ class CloudCatalogue {
  private:
   std::shared_ptr<Database> database_;
 };
+
+// Inserts cloud's row (id and time generated) inside a transaction of the caller, who holds the
+// Database's lock: a campaign's scan is recorded in the transaction that records its artifact.
+Status InsertCloudRow(sqlite3* db, CloudRecord& cloud);
 
 // The stored spelling of fields ("position,normal,range"), and back (DATA_LOSS naming where for a
 // name no field has).

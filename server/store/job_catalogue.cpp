@@ -175,7 +175,8 @@ Status JobCatalogue::UpdateProgress(const std::string& job_id, const JobProgress
   return sqlite::InTransaction(db_, true, [&]() { return UpdateProgressLocked(job_id, progress, time_ms); });
 }
 
-StatusOr<ArtifactRecord> JobCatalogue::AddArtifact(ArtifactRecord artifact, const JobProgress& progress) {
+StatusOr<ArtifactRecord> JobCatalogue::AddArtifact(ArtifactRecord artifact, const JobProgress& progress,
+                                                   CloudRecord* scan_cloud) {
   if (artifact.sha256.size() != 64) return InvalidArgument("sha256: not a SHA-256 hex digest");
   std::lock_guard lock(mutex_);
   artifact.artifact_id = NewId("art_");
@@ -194,7 +195,13 @@ StatusOr<ArtifactRecord> JobCatalogue::AddArtifact(ArtifactRecord artifact, cons
     s.Bind(1, artifact.artifact_id).Bind(2, artifact.job_id).Bind(3, int64_t{artifact.ordinal});
     s.Bind(4, artifact.name).Bind(5, artifact.media_type).Bind(6, artifact.sha256);
     s.Bind(7, static_cast<int64_t>(artifact.size_bytes)).BindBlob(8, artifact.info).Bind(9, artifact.create_time_ms);
-    return s.Run();
+    RETURN_IF_ERROR(s.Run());
+    if (!scan_cloud) return Status::Ok();
+    scan_cloud->origin = CloudOrigin::kCampaignScan;
+    scan_cloud->job_id = artifact.job_id;
+    scan_cloud->sha256 = artifact.sha256;
+    scan_cloud->size_bytes = artifact.size_bytes;
+    return InsertCloudRow(db_, *scan_cloud);
   }));
   return artifact;
 }

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "store/cloud_catalogue.h"
 #include "store/database.h"
 #include "store/stored_enums.h"
 #include "vscan/common/status.h"
@@ -77,8 +78,10 @@ class JobCatalogue {
   // NOT_FOUND for an unknown job; FAILED_PRECONDITION when the job already ended.
   Status UpdateProgress(const std::string& job_id, const JobProgress& progress);
   // Records an artifact (id generated, "art_" + 16 hex) and the job's progress in one transaction.
-  // The blob it names must already be durable.
-  StatusOr<ArtifactRecord> AddArtifact(ArtifactRecord artifact, const JobProgress& progress);
+  // The blob it names must already be durable. With scan_cloud the artifact is also a cloud: its
+  // row (a campaign scan of the job naming the artifact's blob) goes in the same transaction.
+  StatusOr<ArtifactRecord> AddArtifact(ArtifactRecord artifact, const JobProgress& progress,
+                                       CloudRecord* scan_cloud = nullptr);
   StatusOr<ArtifactRecord> GetArtifact(const std::string& job_id, const std::string& artifact_id);
   // Deletes an ended job and its artifact rows; returns the blobs they named (for CollectBlobs).
   // NOT_FOUND for an unknown job, FAILED_PRECONDITION while it is queued or running.

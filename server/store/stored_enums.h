@@ -17,6 +17,7 @@ enum class JobState { kQueued, kRunning, kSucceeded, kFailed, kCancelled, kInter
 enum class LengthUnit { kUnspecified, kMetre, kCentimetre, kMillimetre, kInch, kFoot, kLast = kFoot };
 enum class JointKind { kRevolute, kContinuous, kPrismatic, kFixed, kLast = kFixed };
 enum class CloudOrigin { kUploaded, kCampaignScan, kLast = kCampaignScan };
+enum class CloudFrame { kWorld, kSensor, kLast = kSensor };
 
 inline constexpr EnumMap<JobState, int64_t, 6> kJobStateCodes({{
     {JobState::kQueued, 1},
@@ -53,6 +54,12 @@ inline constexpr EnumMap<CloudOrigin, int64_t, 2> kCloudOriginCodes({{
 }});
 static_assert(kCloudOriginCodes.CoversFirst(CloudOrigin::kUploaded, CloudOrigin::kLast),
               "a CloudOrigin has no stored code");
+
+inline constexpr EnumMap<CloudFrame, int64_t, 2> kCloudFrameCodes({{
+    {CloudFrame::kWorld, 1},
+    {CloudFrame::kSensor, 2},
+}});
+static_assert(kCloudFrameCodes.CoversFirst(CloudFrame::kWorld, CloudFrame::kLast), "a CloudFrame has no stored code");
 
 // The stored code of a value (every value has one, checked above).
 template <typename E, size_t N>

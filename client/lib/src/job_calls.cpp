@@ -1,5 +1,6 @@
 // Client's JobService calls: scan campaigns, their events and their artifacts.
 
+#include "byte_streams.h"
 #include "paging.h"
 #include "unary_call.h"
 #include "vscan/v1/job.grpc.pb.h"
@@ -93,35 +94,9 @@ StatusOr<v1::Artifact> Client::ReadArtifact(const std::string& job_id, const std
   request.set_job_id(job_id);
   request.set_artifact_id(artifact_id);
   auto reader = stub->ReadArtifact(&context, request);
-  v1::ReadArtifactResponse response;
-  v1::Artifact artifact;
-  bool first = true;
-  uint64_t received = 0;
-  Status failed;
-  while (reader->Read(&response)) {
-    if (first) artifact = response.artifact();
-    first = false;
-    received += response.chunk().size();
-    if (received > artifact.size_bytes()) {
-      failed = DataLoss("artifact '" + artifact_id + "': more than its " + std::to_string(artifact.size_bytes()) +
-                        " bytes arrived");
-    } else if (sink) {
-      failed = sink(response.chunk());
-    }
-    if (!failed.ok()) {
-      context.TryCancel();
-      break;
-    }
-    if (progress) progress(received, artifact.size_bytes());
-  }
-  const grpc::Status status = reader->Finish();
-  if (!failed.ok()) return failed;
-  if (!status.ok()) return FromGrpc(status);
-  if (received != artifact.size_bytes()) {
-    return DataLoss("artifact '" + artifact_id + "': got " + std::to_string(received) + " of its " +
-                    std::to_string(artifact.size_bytes()) + " bytes");
-  }
-  return artifact;
+  return ReceiveChunks<v1::ReadArtifactResponse, v1::Artifact>(
+      context, *reader, [](const v1::ReadArtifactResponse& r) { return r.artifact(); },
+      [](const v1::Artifact& a) { return a.size_bytes(); }, sink, progress, "artifact '" + artifact_id + "'");
 }
 
 }  // namespace vscan::client

@@ -1,9 +1,8 @@
-#include <algorithm>
-#include <cerrno>
-#include <cstring>
-#include <filesystem>
-#include <fstream>
+// Client's mesh calls: uploads, get, list, delete.
 
+#include <filesystem>
+
+#include "byte_streams.h"
 #include "paging.h"
 #include "unary_call.h"
 
@@ -32,67 +31,25 @@ StatusOr<v1::Mesh> Client::Upload(const MeshUploadOptions& options, uint64_t siz
   header->set_unit(options.unit);
   header->set_scale(options.scale);
   header->set_size_bytes(size);
-  bool open = writer->Write(message);
-
-  Status local;
-  uint64_t sent = 0;
-  std::string buffer(std::max<size_t>(options.chunk_bytes, 1), '\0');
-  while (open && sent < size) {
-    const size_t want = static_cast<size_t>(std::min<uint64_t>(buffer.size(), size - sent));
-    auto got = read(buffer.data(), want);
-    if (!got.ok() || *got == 0) {
-      local = got.ok() ? DataLoss("mesh source ended after " + std::to_string(sent) + " of " +
-                                  std::to_string(size) + " bytes")
-                       : got.status();
-      context.TryCancel();
-      break;
-    }
-    message.set_chunk(buffer.data(), *got);
-    open = writer->Write(message);
-    sent += *got;
-    if (open && progress) progress(sent, size);
-  }
-  if (open && local.ok()) writer->WritesDone();
-  const grpc::Status status = writer->Finish();
-  if (!local.ok()) return local;
-  if (!status.ok()) return FromGrpc(status);
+  RETURN_IF_ERROR(SendChunks(context, *writer, message, size, options.chunk_bytes, read, progress, "mesh"));
   return std::move(*response.mutable_mesh());
 }
 
 StatusOr<v1::Mesh> Client::UploadMeshFile(const std::string& path, MeshUploadOptions options,
                                           const ProgressFn& progress) {
-  std::error_code ec;
-  const auto size = std::filesystem::file_size(path, ec);
-  if (ec) return NotFound(path + ": " + ec.message());
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return NotFound(path + ": cannot open: " + std::strerror(errno));
+  uint64_t size = 0;
+  ASSIGN_OR_RETURN(const ChunkSource source, FileSource(path, &size));
   if (options.format == v1::MESH_FORMAT_UNSPECIFIED) options.format = MeshFormatFromPath(path);
   if (options.format == v1::MESH_FORMAT_UNSPECIFIED) {
     return InvalidArgument(path + ": cannot tell the mesh format from the extension (use ply, obj or stl)");
   }
   if (options.name.empty()) options.name = std::filesystem::path(path).filename().string();
-  return Upload(
-      options, size,
-      [&](char* buf, size_t n) -> StatusOr<size_t> {
-        in.read(buf, static_cast<std::streamsize>(n));
-        if (in.bad()) return DataLoss(path + ": read failed");
-        return static_cast<size_t>(in.gcount());
-      },
-      progress);
+  return Upload(options, size, source, progress);
 }
 
 StatusOr<v1::Mesh> Client::UploadMeshBytes(std::string_view bytes, const MeshUploadOptions& options,
                                            const ProgressFn& progress) {
-  size_t offset = 0;
-  return Upload(
-      options, bytes.size(),
-      [&](char* buf, size_t n) -> StatusOr<size_t> {
-        const size_t take = std::min(n, bytes.size() - offset);
-        std::memcpy(buf, bytes.data() + offset, take);
-        offset += take;
-        return take;
-      },
-      progress);
+  return Upload(options, bytes.size(), BytesSource(bytes), progress);
 }
 
 StatusOr<v1::Mesh> Client::GetMesh(const std::string& mesh_id) {

@@ -11,7 +11,7 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 from fake_server import N_POINTS, FakeServer  # noqa: E402
-from vscan_client import Client, VscanError  # noqa: E402
+from vscan_client import Client, VscanError, parse_ply  # noqa: E402
 from vscan_client._stubs import common_pb2, scan_pb2, scene_pb2  # noqa: E402
 
 
@@ -106,6 +106,37 @@ class ClientTest(unittest.TestCase):
     def test_scan_needs_a_pose(self):
         with self.assertRaises(ValueError):
             self.client.scan("scene-1")
+
+
+class ParsePlyTest(unittest.TestCase):
+    def test_every_field_vscan_writes_becomes_an_array(self):
+        props = [("x", "float"), ("y", "float"), ("z", "float"), ("nx", "float"), ("ny", "float"), ("nz", "float"),
+                 ("range", "float"), ("intensity", "float"), ("instance", "uint"), ("pixel", "uint"),
+                 ("clean_x", "float"), ("clean_y", "float"), ("clean_z", "float"), ("incidence", "float"),
+                 ("status", "uchar"), ("enx", "float"), ("eny", "float"), ("enz", "float")]
+        dtype = np.dtype([(name, {"float": "<f4", "uint": "<u4", "uchar": "u1"}[kind]) for name, kind in props])
+        rows = np.zeros(3, dtype=dtype)
+        for i, name in enumerate(dtype.names):
+            rows[name] = np.arange(3) + 10 * i
+        head = "ply\nformat binary_little_endian 1.0\nelement vertex 3\n" + \
+            "".join(f"property {kind} {name}\n" for name, kind in props) + "end_header\n"
+        points = parse_ply(head.encode() + rows.tobytes())
+        self.assertEqual(len(points), 3)
+        np.testing.assert_array_equal(points.positions[1], [1, 11, 21])
+        self.assertEqual(points.positions.dtype, np.float32)
+        np.testing.assert_array_equal(points.instance_ids, [80, 81, 82])
+        self.assertEqual(points.instance_ids.dtype, np.uint32)
+        self.assertEqual(points.statuses.dtype, np.uint8)
+        np.testing.assert_array_equal(points.estimated_normals[:, 2], [170, 171, 172])
+
+    def test_only_binary_vertices_are_read(self):
+        with self.assertRaises(ValueError):
+            parse_ply(b"ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nend_header\n1\n")
+        with self.assertRaises(ValueError):
+            parse_ply(b"# .PCD v0.7\n")
+        positions_only = b"ply\nformat binary_little_endian 1.0\nelement vertex 1\nproperty float x\n" \
+            b"property float y\nproperty float z\nend_header\n" + np.float32([1, 2, 3]).tobytes()
+        self.assertIsNone(parse_ply(positions_only).normals)
 
 
 if __name__ == "__main__":

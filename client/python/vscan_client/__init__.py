@@ -7,12 +7,15 @@
         c.add_object(scene.scene_id, mesh.mesh_id)
         result = c.scan(scene.scene_id, eye=(0.4, 0, 0.2), target=(0, 0, 0.05))
         print(result.positions.shape)
+        cloud = c.upload_cloud("scan.pcd", frame="sensor", sensor_pose=world_from_sensor)
+        points = c.read_cloud_points(cloud.cloud_id)
 
 The generated stubs (vscan.v1) must be importable: set VSCAN_PY_STUBS to <build>/python.
 """
 
 from .client import Client
+from .clouds import CloudPoints, parse_ply
 from .errors import VscanError
 from .scan_result import ScanResult
 
-__all__ = ["Client", "ScanResult", "VscanError"]
+__all__ = ["Client", "CloudPoints", "ScanResult", "VscanError", "parse_ply"]

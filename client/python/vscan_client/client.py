@@ -6,6 +6,7 @@ import grpc
 
 from . import convert
 from ._stubs import robot_pb2_grpc, scan_pb2, scan_pb2_grpc, scene_pb2, scene_pb2_grpc, sensor_pb2
+from .clouds import CloudCalls
 from .errors import VscanError, from_rpc_error
 from .jobs import JobCalls
 from .robots import RobotCalls
@@ -38,7 +39,7 @@ def _decode_health_response(data):
     return "UNKNOWN"
 
 
-class Client(RobotCalls, JobCalls):
+class Client(RobotCalls, JobCalls, CloudCalls):
     """Talks to one vscand. Failed calls raise VscanError.
 
     address: "host:port". token: bearer token sent with every call. root_cert: PEM file of the

@@ -5,7 +5,9 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <cstdint>
 #include <cstring>
+#include <utility>
 
 #include <unistd.h>
 
@@ -265,6 +267,66 @@ TEST_F(CloudIoTest, PcdReadRejectsWhatItCannotRead) {
   EXPECT_EQ(read("FIELDS x y z\nSIZE 4 4 2\nTYPE F F F\nPOINTS 1\nDATA binary\n").code(),
             StatusCode::kInvalidArgument);  // 2-byte float
   EXPECT_EQ(read("FIELDS x y z\nSIZE 4 4\n").code(), StatusCode::kInvalidArgument);  // too few sizes
+}
+
+
+TEST_F(CloudIoTest, EncodePlyWritesWhatWritePlyWrites) {
+  for (const size_t n : {size_t{0}, size_t{3}, size_t{40000}}) {
+    const PointCloud cloud = MakeCloud(kEveryField, n);
+    ASSERT_TRUE(WritePly(cloud, Path("w.ply")).ok());
+    const auto bytes = EncodePly(cloud);
+    ASSERT_TRUE(bytes.ok()) << bytes.status().ToString();
+    EXPECT_EQ(*bytes, ReadAll(Path("w.ply"))) << n << " points";
+  }
+  PointCloud inconsistent = MakeCloud(kFieldsDefault, 3);
+  inconsistent.normals.pop_back();
+  EXPECT_EQ(EncodePly(inconsistent).status().code(), StatusCode::kInvalidArgument);
+}
+
+TEST_F(CloudIoTest, BytesInMemoryReadAsTheFilesDo) {
+  const PointCloud cloud = MakeCloud(kEveryField, 40000);
+  ASSERT_TRUE(WritePly(cloud, Path("m.ply")).ok());
+  ASSERT_TRUE(WritePcd(cloud, Path("m.pcd")).ok());
+  const auto ply = ParsePly(ReadAll(Path("m.ply")), "upload", UINT64_MAX);
+  ASSERT_TRUE(ply.ok()) << ply.status().ToString();
+  ExpectSameCloud(cloud, *ply);
+  const auto pcd = ParsePcd(ReadAll(Path("m.pcd")), "upload", UINT64_MAX);
+  ASSERT_TRUE(pcd.ok()) << pcd.status().ToString();
+  ExpectSameCloud(cloud, *pcd);
+}
+
+TEST_F(CloudIoTest, BytesInMemoryNameWhereTheyCameFromWhenRefused) {
+  const PointCloud cloud = MakeCloud(kFieldsDefault, 10);
+  ASSERT_TRUE(WritePly(cloud, Path("b.ply")).ok());
+  ASSERT_TRUE(WritePcd(cloud, Path("b.pcd")).ok());
+  const std::string ply = ReadAll(Path("b.ply"));
+  const std::string pcd = ReadAll(Path("b.pcd"));
+
+  const Status not_ply = ParsePly(pcd, "cloud data", UINT64_MAX).status();
+  EXPECT_EQ(not_ply.code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(not_ply.message(), "cloud data: not a PLY file");
+  EXPECT_EQ(ParsePcd("FIELDS x y\nDATA binary\n", "cloud data", UINT64_MAX).status().code(),
+            StatusCode::kInvalidArgument);
+  for (const auto& [bytes, parse] : {std::pair{ply, &ParsePly}, std::pair{pcd, &ParsePcd}}) {
+    const std::string_view cut = std::string_view(bytes).substr(0, bytes.size() - 5);
+    const Status truncated = parse(cut, "cloud data", UINT64_MAX).status();
+    EXPECT_EQ(truncated.code(), StatusCode::kDataLoss) << truncated.ToString();
+    EXPECT_TRUE(truncated.message().starts_with("cloud data: ")) << truncated.message();
+    // Ten points of the default fields take 10 x 36 bytes as arrays.
+    EXPECT_TRUE(parse(bytes, "cloud data", 360).ok());
+    const Status too_big = parse(bytes, "cloud data", 359).status();
+    EXPECT_EQ(too_big.code(), StatusCode::kResourceExhausted) << too_big.ToString();
+    EXPECT_TRUE(too_big.message().starts_with("cloud data: 10 points of 36 bytes")) << too_big.message();
+  }
+  EXPECT_EQ(ParsePly("", "cloud data", UINT64_MAX).status().code(), StatusCode::kInvalidArgument);
+}
+
+TEST_F(CloudIoTest, AHeaderThatPromisesBillionsOfPointsIsRefusedBeforeAllocating) {
+  const std::string ply = "ply\nformat binary_little_endian 1.0\nelement vertex 4000000000\nproperty char x\n"
+                          "property char y\nproperty char z\nend_header\nabc";
+  EXPECT_EQ(ParsePly(ply, "cloud data", 1 << 20).status().code(), StatusCode::kDataLoss);
+  const std::string pcd = "FIELDS x y z\nSIZE 1 1 1\nTYPE I I I\nCOUNT 1 1 1\nPOINTS 4000000000\nDATA binary\nabc";
+  EXPECT_EQ(ParsePcd(pcd, "cloud data", 1 << 20).status().code(), StatusCode::kDataLoss);
 }
 
 }  // namespace

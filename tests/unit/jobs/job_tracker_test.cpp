@@ -12,8 +12,11 @@
 
 #include <google/protobuf/util/time_util.h>
 
-#include "vscan_test/temp_dir.h"
+#include "store/blob_store.h"
+#include "store/cloud_catalogue.h"
 #include "store/ids.h"
+#include "vscan/common/point_cloud.h"
+#include "vscan_test/temp_dir.h"
 
 namespace vscan::api {
 namespace {
@@ -311,6 +314,36 @@ TEST_F(JobTrackerTest, DeletesAnEndedJobWithItsFilesButNotALiveOne) {
   EXPECT_FALSE(blobs_.Contains(sha));
   EXPECT_EQ(tracker_->Get(id).status().code(), StatusCode::kNotFound);
   EXPECT_EQ(tracker_->Delete(id).status().code(), StatusCode::kNotFound);
+}
+
+TEST_F(JobTrackerTest, AScanRecordedWithItsCloudIsACloudUntilTheJobGoes) {
+  auto clouds = store::CloudCatalogue::Open(dir_.path() / "catalogue.sqlite");
+  ASSERT_TRUE(clouds.ok()) << clouds.status().ToString();
+  const std::string id = Create(1);
+  store::CloudRecord scan;
+  scan.name = "scan-r00-v00.ply";
+  scan.points = 7;
+  scan.fields = kFieldPosition;
+  scan.scene_id = "scn_0123456789abcdef";
+  scan.world_from_sensor = Eigen::Matrix4d::Identity();
+  scan.table_angle_deg = 45.0;
+  const std::string bytes(2048, 'p');
+  ASSERT_TRUE(tracker_->RecordArtifact(id, scan.name, "model/ply", bytes, nullptr, Running(1), &scan).ok());
+  const auto listed = (*clouds)->List("", 10, id);
+  ASSERT_TRUE(listed.ok()) << listed.status().ToString();
+  ASSERT_EQ(listed->size(), 1u);
+  const store::CloudRecord& cloud = listed->front();
+  EXPECT_EQ(cloud.origin, store::CloudOrigin::kCampaignScan);
+  EXPECT_EQ(cloud.sha256, store::Sha256Hex(bytes));
+  EXPECT_EQ(cloud.size_bytes, bytes.size());
+  EXPECT_EQ(cloud.points, 7u);
+  EXPECT_EQ(cloud.table_angle_deg, 45.0);
+
+  ASSERT_TRUE(tracker_->End(id, Ended(store::JobState::kSucceeded)).ok());
+  const auto deleted = tracker_->Delete(id);
+  ASSERT_TRUE(deleted.ok()) << deleted.status().ToString();
+  EXPECT_EQ(deleted->files, 1u);
+  EXPECT_EQ((*clouds)->Get(cloud.cloud_id).status().code(), StatusCode::kNotFound);
 }
 
 TEST_F(JobTrackerTest, RetentionDeletesOnlyJobsThatEndedBeforeTheCutoff) {

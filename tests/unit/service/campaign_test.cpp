@@ -92,10 +92,12 @@ class RecordedJob final : public JobRecorder {
     return Status::Ok();
   }
   StatusOr<std::string> RecordArtifact(const std::string& name, const std::string&, const std::string& bytes,
-                                       const CampaignStepRecord* scan, const JobEventUpdate& update) override {
+                                       const CampaignStepRecord* scan, const store::CloudRecord* cloud,
+                                       const JobEventUpdate& update) override {
     messages.push_back(update.message);
     artifacts.push_back(name);
     if (scan) scan_points.push_back(scan->points);
+    if (cloud) clouds.push_back(*cloud);
     if (name == "campaign.json") summary = bytes;
     return "art_" + std::to_string(artifacts.size());
   }
@@ -108,6 +110,7 @@ class RecordedJob final : public JobRecorder {
   std::vector<std::string> messages;
   std::vector<std::string> artifacts;
   std::vector<uint64_t> scan_points;
+  std::vector<store::CloudRecord> clouds;
   std::string summary;
   store::JobState end_state = store::JobState::kRunning;
   std::string end_message;
@@ -132,6 +135,23 @@ TEST_F(CampaignTest, ACampaignRecordsEveryStepThenItsSummary) {
   for (const std::string& message : job.messages) unreachable += message.find("unreachable") != std::string::npos;
   EXPECT_EQ(unreachable, 2);
   EXPECT_NE(job.summary.find("\"outcome\":\"unreachable\""), std::string::npos) << job.summary;
+
+  // Each captured scan is also a cloud: where the arm put the sensor, the plan's camera, the angle.
+  ASSERT_EQ(job.clouds.size(), 2u);
+  for (size_t i = 0; i < job.clouds.size(); ++i) {
+    const store::CloudRecord& cloud = job.clouds[i];
+    EXPECT_EQ(cloud.name, ScanArtifactName(static_cast<uint32_t>(i), 0));
+    EXPECT_EQ(cloud.points, job.scan_points[i]);
+    EXPECT_EQ(cloud.fields, kFieldPosition);
+    EXPECT_EQ(cloud.scene_id, scene_);
+    EXPECT_EQ(cloud.frame, store::CloudFrame::kWorld);
+    EXPECT_EQ(cloud.table_angle_deg, 90.0 * static_cast<double>(i));
+    ASSERT_TRUE(cloud.world_from_sensor.has_value());
+    EXPECT_LT((cloud.world_from_sensor->block<3, 1>(0, 3) - kReachable).norm(), 1e-4);
+    ASSERT_TRUE(cloud.camera.has_value());
+    EXPECT_EQ(cloud.camera->width, 48u);
+    EXPECT_EQ(cloud.camera->far, 3.0);
+  }
 }
 
 TEST_F(CampaignTest, AStoppedCampaignEndsCancelledAfterTheStepsItRan) {

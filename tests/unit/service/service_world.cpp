@@ -35,7 +35,10 @@ ServiceWorld::ServiceWorld(ServerOptions options) : options_(std::move(options))
   EXPECT_TRUE(blobs_->Open().ok());
   scenes_ = std::make_unique<scenes::SceneRegistry>(*catalogue_, *blobs_);
   robots_ = std::make_unique<robots::RobotRegistry>(*robot_catalogue_, *blobs_, 64u << 20);
-  context_ = std::make_unique<ServiceContext>(*scenes_, workers_, workers_, options_, *robots_, raster_);
+  clouds_ = std::make_unique<store::CloudCatalogue>(database_);
+  jobs_ = std::make_unique<store::JobCatalogue>(database_);
+  context_ = std::make_unique<ServiceContext>(*scenes_, workers_, workers_, options_, *robots_, raster_, *clouds_,
+                                              *blobs_);
 }
 
 std::string ServiceWorld::EmptyScene(bool table) {

@@ -1,7 +1,9 @@
 #pragma once
 // A small vscand world for service-layer tests, without gRPC: the real store in a temporary
-// directory, the registries, worker pools and a ServiceContext over them.
+// directory (scenes, robots, clouds, jobs, blobs), the registries, worker pools and a
+// ServiceContext over them.
 
+#include <filesystem>
 #include <memory>
 #include <string>
 
@@ -11,7 +13,9 @@
 #include "service/service_context.h"
 #include "store/blob_store.h"
 #include "store/catalogue.h"
+#include "store/cloud_catalogue.h"
 #include "store/database.h"
+#include "store/job_catalogue.h"
 #include "store/robot_catalogue.h"
 #include "vscan/common/mesh.h"
 #include "vscan_test/temp_dir.h"
@@ -23,6 +27,10 @@ class ServiceWorld {
   explicit ServiceWorld(ServerOptions options = {});
 
   ServiceContext& context() { return *context_; }
+  store::BlobStore& blobs() { return *blobs_; }
+  store::CloudCatalogue& clouds() { return *clouds_; }
+  store::JobCatalogue& jobs() { return *jobs_; }
+  const std::filesystem::path& data_dir() const { return dir_.path(); }
 
   // A scene with nothing in it; with a rotary table at the origin when table is set.
   std::string EmptyScene(bool table = false);
@@ -40,6 +48,8 @@ class ServiceWorld {
   std::unique_ptr<store::Catalogue> catalogue_;
   std::unique_ptr<store::RobotCatalogue> robot_catalogue_;
   std::unique_ptr<store::BlobStore> blobs_;
+  std::unique_ptr<store::CloudCatalogue> clouds_;
+  std::unique_ptr<store::JobCatalogue> jobs_;
   std::unique_ptr<scenes::SceneRegistry> scenes_;
   std::unique_ptr<robots::RobotRegistry> robots_;
   jobs::WorkerPool workers_{1};

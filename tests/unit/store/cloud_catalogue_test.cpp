@@ -66,7 +66,50 @@ TEST_F(CloudCatalogueTest, AnUploadedCloudRoundTripsWithoutPose) {
   EXPECT_FALSE(got.world_from_sensor.has_value());
   EXPECT_FALSE(got.camera.has_value());
   EXPECT_FALSE(got.table_angle_deg.has_value());
+  EXPECT_EQ(got.frame, CloudFrame::kWorld);
   EXPECT_GT(got.create_time_ms, 0);
+}
+
+TEST_F(CloudCatalogueTest, TheFrameOfThePointsIsKept) {
+  CloudRecord cloud;
+  cloud.sha256 = blobs_.Put("sensor frame").value();
+  cloud.frame = CloudFrame::kSensor;
+  cloud.world_from_sensor = Eigen::Matrix4d::Identity();
+  EXPECT_EQ(clouds_->Get(clouds_->Insert(cloud).value().cloud_id).value().frame, CloudFrame::kSensor);
+}
+
+TEST_F(CloudCatalogueTest, AnArtifactRecordedAsAScanIsACloudOfItsJob) {
+  JobRecord job;
+  job.kind = "campaign";
+  const std::string job_id = jobs_->InsertJob(job).value().job_id;
+  ASSERT_TRUE(jobs_->UpdateProgress(job_id, {JobState::kRunning, "running", 0, 1}).ok());
+  ArtifactRecord artifact;
+  artifact.job_id = job_id;
+  artifact.name = "scan-r00-v00.ply";
+  artifact.media_type = "model/ply";
+  artifact.sha256 = blobs_.Put("scan bytes").value();
+  artifact.size_bytes = 10;
+  CloudRecord scan;
+  scan.name = artifact.name;
+  scan.points = 2;
+  scan.fields = kFieldPosition;
+  scan.scene_id = "scn_0123456789abcdef";
+  scan.table_angle_deg = 90.0;
+  const ArtifactRecord stored =
+      jobs_->AddArtifact(artifact, {JobState::kRunning, "scan 1", 1, 2}, &scan).value();
+  EXPECT_TRUE(scan.cloud_id.starts_with("cld_"));
+  const CloudRecord got = clouds_->Get(scan.cloud_id).value();
+  EXPECT_EQ(got.origin, CloudOrigin::kCampaignScan);
+  EXPECT_EQ(got.job_id, job_id);
+  EXPECT_EQ(got.sha256, stored.sha256);
+  EXPECT_EQ(got.size_bytes, 10u);
+  EXPECT_EQ(got.table_angle_deg, 90.0);
+  EXPECT_EQ(clouds_->List("", 10, job_id).value().size(), 1u);
+
+  ASSERT_TRUE(jobs_->UpdateProgress(job_id, {JobState::kSucceeded, "done", 1, 3}).ok());
+  const std::vector<std::string> named = jobs_->DeleteJob(job_id).value();
+  EXPECT_EQ(named, std::vector<std::string>{stored.sha256});
+  EXPECT_EQ(clouds_->Get(scan.cloud_id).status().code(), StatusCode::kNotFound);
 }
 
 TEST_F(CloudCatalogueTest, ACampaignScanKeepsItsPoseCameraAndAngle) {

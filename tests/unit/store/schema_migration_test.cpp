@@ -184,8 +184,9 @@ TEST(SchemaTest, AFreshDatabaseHasEveryTableAtTheCurrentVersion) {
   EXPECT_EQ(QueryInt(path, "PRAGMA user_version"), kSchemaVersion);
   EXPECT_EQ(QueryInt(path,
                      "SELECT count(*) FROM sqlite_master WHERE type = 'table' AND name IN ('meshes', 'scenes', "
-                     "'objects', 'robots', 'mounts', 'jobs', 'job_artifacts')"),
-            7);
+                     "'objects', 'robots', 'mounts', 'jobs', 'job_artifacts', 'clouds')"),
+            8);
+  EXPECT_EQ(QueryInt(path, "SELECT count(*) FROM pragma_table_info('clouds') WHERE name = 'frame'"), 1);
 }
 
 }  // namespace

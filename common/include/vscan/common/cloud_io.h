@@ -1,7 +1,9 @@
 #pragma once
 // Point cloud files: binary PLY and PCD, written and read back with every field vscan writes.
 
+#include <cstdint>
 #include <string>
+#include <string_view>
 
 #include "vscan/common/point_cloud.h"
 #include "vscan/common/status.h"
@@ -16,6 +18,8 @@ Status WritePly(const PointCloud& cloud, const std::string& path);
 Status WritePcd(const PointCloud& cloud, const std::string& path);
 // Picks the writer from the extension (.ply or .pcd).
 Status WriteCloud(const PointCloud& cloud, const std::string& path);
+// The bytes WritePly writes, in memory.
+StatusOr<std::string> EncodePly(const PointCloud& cloud);
 
 // The readers take back every field the writers write (positions, normals, range, intensity,
 // instance, pixel, and the ground truth: clean position, incidence, status, estimated normal),
@@ -31,5 +35,11 @@ StatusOr<PointCloud> ReadPly(const std::string& path);
 StatusOr<PointCloud> ReadPcd(const std::string& path);
 // Picks the reader from the extension (.ply or .pcd).
 StatusOr<PointCloud> ReadCloud(const std::string& path);
+
+// The same readers over bytes in memory (uploads): `where` stands for the path in messages, a
+// truncated file is DATA_LOSS as above, and a cloud whose arrays would take more than max_bytes
+// (PointCloud::BytesPerPoint() per point) is RESOURCE_EXHAUSTED before anything is allocated.
+StatusOr<PointCloud> ParsePly(std::string_view bytes, const std::string& where, uint64_t max_bytes);
+StatusOr<PointCloud> ParsePcd(std::string_view bytes, const std::string& where, uint64_t max_bytes);
 
 }  // namespace vscan

@@ -16,6 +16,7 @@
 #include "grpc/health/v1/health.grpc.pb.h"
 #include "vscan/client/types.h"
 #include "vscan/common/status.h"
+#include "vscan/v1/cloud.grpc.pb.h"
 #include "vscan/v1/job.grpc.pb.h"
 #include "vscan/v1/robot.grpc.pb.h"
 #include "vscan/v1/scan.grpc.pb.h"
@@ -110,6 +111,21 @@ class Client {
   // Passes the artifact's bytes to sink in order; checks the count against its metadata.
   StatusOr<v1::Artifact> ReadArtifact(const std::string& job_id, const std::string& artifact_id,
                                       const ArtifactSink& sink, const ProgressFn& progress = {});
+
+  // Stored clouds: uploads (PLY or PCD, streamed after a header that carries the size), the
+  // campaigns' scans, reads as binary PLY.
+  StatusOr<v1::Cloud> UploadCloudFile(const std::string& path, CloudUploadOptions options,
+                                      const ProgressFn& progress = {});
+  StatusOr<v1::Cloud> UploadCloudBytes(std::string_view bytes, const CloudUploadOptions& options,
+                                       const ProgressFn& progress = {});
+  StatusOr<v1::Cloud> GetCloud(const std::string& cloud_id);
+  // Every cloud (only job_id's scans when it is set), following page tokens.
+  StatusOr<std::vector<v1::Cloud>> ListClouds(const std::string& job_id = "");
+  // Deletes an uploaded cloud (FAILED_PRECONDITION for a campaign's scan: it goes with its job).
+  StatusOr<v1::DeleteCloudResponse> DeleteCloud(const std::string& cloud_id);
+  // Passes the cloud's binary PLY to sink in order; checks the count against its metadata.
+  StatusOr<v1::Cloud> ReadCloud(const std::string& cloud_id, const ArtifactSink& sink,
+                                const ProgressFn& progress = {});
 
  private:
   StatusOr<v1::Mesh> Upload(const MeshUploadOptions& options, uint64_t size,

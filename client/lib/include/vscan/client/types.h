@@ -10,6 +10,7 @@
 
 #include "vscan/common/point_cloud.h"
 #include "vscan/common/status.h"
+#include "vscan/v1/cloud.pb.h"
 #include "vscan/v1/common.pb.h"
 #include "vscan/v1/job.pb.h"
 #include "vscan/v1/robot.pb.h"
@@ -47,6 +48,27 @@ struct MeshUploadOptions {
   // Bytes per chunk message after the header.
   size_t chunk_bytes = 1 << 20;
 };
+
+struct CloudUploadOptions {
+  // Empty: the file name (without directories) when uploading a file.
+  std::string name;
+  // Unspecified: from the file extension (.ply, .pcd) when uploading a file, else the server tells
+  // the format from the bytes.
+  v1::CloudFormat format = v1::CLOUD_FORMAT_UNSPECIFIED;
+  // world_from_sensor, when known.
+  std::optional<v1::Pose> sensor_pose;
+  // The frame the points are in; unspecified means the world.
+  v1::Frame frame = v1::FRAME_UNSPECIFIED;
+  // The camera of the scan, when known.
+  std::optional<v1::CloudCamera> camera;
+  // The scene the cloud was scanned in, if any.
+  std::string scene_id;
+  // Bytes per chunk message after the header.
+  size_t chunk_bytes = 1 << 20;
+};
+
+// CLOUD_FORMAT_* from a file name's extension (.ply, .pcd, any case); UNSPECIFIED otherwise.
+v1::CloudFormat CloudFormatFromPath(const std::string& path);
 
 struct ObjectPlacement {
   // parent_from_object; unset means identity.
@@ -90,7 +112,7 @@ struct RobotUploadOptions {
 
 // Returns false to stop watching.
 using JobEventFn = std::function<bool(const v1::WatchJobResponse&)>;
-// Receives an artifact's bytes piece by piece; an error stops the download.
+// Receives an artifact's (or a cloud's) bytes piece by piece; an error stops the download.
 using ArtifactSink = std::function<Status(std::string_view)>;
 
 // One file of a robot bundle; path relative to the bundle root, '/' separated.

@@ -1,0 +1,80 @@
+#include "service/cloud_import.h"
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "vscan/common/cloud_io.h"
+#include "vscan/common/physical_limits.h"
+
+namespace vscan::service {
+namespace {
+
+const std::string kWhere(kCloudDataField);
+
+bool StartsWithLine(std::string_view bytes, std::string_view word) {
+  if (!bytes.starts_with(word)) return false;
+  const std::string_view rest = bytes.substr(word.size());
+  return rest.starts_with('\n') || rest.starts_with("\r\n");
+}
+
+// The readers say "cloud data: <text>"; the status names the field apart, and a truncated file is
+// the client's mistake here, not lost data.
+Status AsUploadError(const Status& status) {
+  const std::string_view lead = std::string_view(status.message()).substr(0, kWhere.size() + 2);
+  const std::string text = lead == kWhere + ": " ? status.message().substr(lead.size()) : status.message();
+  switch (status.code()) {
+    case StatusCode::kResourceExhausted:
+      return ResourceExhausted(kWhere, text + " (the upload limit, --max-upload-mib)");
+    case StatusCode::kDataLoss:
+    case StatusCode::kInvalidArgument: return InvalidArgument(kWhere, text);
+    default: return status;
+  }
+}
+
+// The first point whose coordinates are not finite or lie beyond the physical bound, named by its
+// index and the file's names for the coordinates.
+Status CheckPositions(const std::vector<Eigen::Vector3f>& points, std::string_view names) {
+  for (size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3f& p = points[i];
+    const bool finite = std::isfinite(p.x()) && std::isfinite(p.y()) && std::isfinite(p.z());
+    if (finite && p.cwiseAbs().maxCoeff() <= kMaxCoordinateM) continue;
+    const std::string where = "points[" + std::to_string(i) + "] (" + std::string(names) + "): ";
+    return InvalidArgument(kWhere,
+                           where + (finite ? "beyond 10 km (|x|, |y|, |z| <= 1e4 m)" : "NaN or infinite value"));
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+std::optional<CloudFileFormat> DetectCloudFormat(std::string_view bytes) {
+  if (StartsWithLine(bytes, "ply")) return CloudFileFormat::kPly;
+  if (bytes.starts_with("# .PCD") || bytes.starts_with("VERSION") || bytes.starts_with("FIELDS")) {
+    return CloudFileFormat::kPcd;
+  }
+  return std::nullopt;
+}
+
+StatusOr<PointCloud> ParseUploadedCloud(std::string_view bytes, CloudFileFormat format, uint64_t max_bytes) {
+  if (bytes.empty()) return InvalidArgument(kWhere, "empty: the upload sent no bytes");
+  if (format == CloudFileFormat::kDetect) {
+    const std::optional<CloudFileFormat> detected = DetectCloudFormat(bytes);
+    if (!detected) {
+      return InvalidArgument("format", "not given, and the bytes are neither PLY (a first line \"ply\") nor PCD "
+                                       "(\"# .PCD\", VERSION or FIELDS)");
+    }
+    format = *detected;
+  }
+  StatusOr<PointCloud> cloud = format == CloudFileFormat::kPly ? ParsePly(bytes, kWhere, max_bytes)
+                                                               : ParsePcd(bytes, kWhere, max_bytes);
+  if (!cloud.ok()) return AsUploadError(cloud.status());
+  if (cloud->size() == 0) return InvalidArgument(kWhere, "the file holds no points");
+  RETURN_IF_ERROR(CheckPositions(cloud->positions, "x, y, z"));
+  if (cloud->Has(kFieldCleanPosition)) {
+    RETURN_IF_ERROR(CheckPositions(cloud->clean_positions, "clean_x, clean_y, clean_z"));
+  }
+  return cloud;
+}
+
+}  // namespace vscan::service

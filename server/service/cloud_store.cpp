@@ -1,0 +1,67 @@
+#include "service/cloud_store.h"
+
+#include <cstdint>
+#include <utility>
+
+#include "vscan/common/cloud_io.h"
+#include "vscan/common/physical_limits.h"
+
+namespace vscan::service {
+
+store::CloudCamera ToCloudCamera(const sensor::PinholeCamera& camera) {
+  return {camera.width, camera.height, camera.fx, camera.fy, camera.cx, camera.cy, camera.near, camera.far};
+}
+
+StatusOr<store::CloudRecord> ImportCloud(ServiceContext& context, std::string_view bytes, const CloudUpload& upload) {
+  const uint64_t limit = context.options.limits.max_upload_bytes;
+  if (bytes.size() > limit) {
+    return ResourceExhausted(std::string(kCloudDataField), std::to_string(bytes.size()) +
+                                                               " bytes exceed the upload limit of " +
+                                                               std::to_string(limit) + " (--max-upload-mib)");
+  }
+  if (upload.camera) RETURN_IF_ERROR(sensor::ValidateCamera(*upload.camera, "camera", UINT64_MAX));
+  if (upload.world_from_sensor) {
+    RETURN_IF_ERROR(CheckPosition(upload.world_from_sensor->translation(), "world_from_sensor"));
+  }
+  if (!upload.scene_id.empty()) {
+    const auto scene = context.registry.catalogue().GetScene(upload.scene_id);
+    if (!scene.ok()) {
+      if (scene.status().code() == StatusCode::kNotFound) {
+        return NotFound("scene_id", "no scene '" + upload.scene_id + "'");
+      }
+      return scene.status();
+    }
+  }
+  ASSIGN_OR_RETURN(PointCloud cloud, ParseUploadedCloud(bytes, upload.format, limit));
+  ASSIGN_OR_RETURN(const std::string ply, EncodePly(cloud));
+
+  store::CloudRecord record;
+  record.name = upload.name.empty() ? "cloud" : upload.name;
+  record.size_bytes = ply.size();
+  record.points = cloud.size();
+  record.fields = cloud.fields;
+  record.origin = store::CloudOrigin::kUploaded;
+  record.scene_id = upload.scene_id;
+  record.frame = upload.frame;
+  if (upload.world_from_sensor) record.world_from_sensor = upload.world_from_sensor->matrix();
+  if (upload.camera) record.camera = ToCloudCamera(*upload.camera);
+  cloud = PointCloud();
+  // Pinned until the row names it, so that a concurrent delete of the same bytes cannot collect it.
+  ASSIGN_OR_RETURN(const store::BlobPin pin, context.blobs.PutPinned(ply));
+  record.sha256 = pin.sha256();
+  return context.clouds.Insert(std::move(record));
+}
+
+StatusOr<StoredCloud> LoadCloud(ServiceContext& context, const std::string& cloud_id) {
+  StoredCloud stored;
+  ASSIGN_OR_RETURN(stored.record, context.clouds.Get(cloud_id));
+  ASSIGN_OR_RETURN(stored.ply, context.blobs.Get(stored.record.sha256));
+  return stored;
+}
+
+StatusOr<store::CollectedBlobs> DeleteCloud(ServiceContext& context, const std::string& cloud_id) {
+  ASSIGN_OR_RETURN(const std::string sha256, context.clouds.Delete(cloud_id));
+  return store::CollectBlobs(context.clouds.database(), context.blobs, {sha256});
+}
+
+}  // namespace vscan::service

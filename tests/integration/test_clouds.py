@@ -1,0 +1,341 @@
+"""Stored clouds through a real vscand: PLY and PCD files vscan writes keep every field, list, get,
+read and delete, refusals that name their field and leave nothing behind, a campaign's scans as
+clouds of their job, and the CLI round trip."""
+
+import json
+import math
+import os
+import struct
+import subprocess
+import tempfile
+import unittest
+
+import grpc
+import numpy as np
+
+from harness import BUNNY, VSCAN, Server, common_pb2
+from test_campaign_service import CampaignFixture, camera, spec
+from vscan.v1 import cloud_pb2, cloud_pb2_grpc, job_pb2, scan_pb2
+
+from vscan_client import Client, VscanError, parse_ply
+
+C = grpc.StatusCode
+FIELD_ATTRIBUTES = ("positions", "normals", "ranges", "intensities", "instance_ids", "pixels", "clean_positions",
+                    "incidence_angles", "statuses", "estimated_normals")
+EVERY_FIELD = [scan_pb2.POINT_FIELD_POSITION, scan_pb2.POINT_FIELD_NORMAL, scan_pb2.POINT_FIELD_RANGE,
+               scan_pb2.POINT_FIELD_INTENSITY, scan_pb2.POINT_FIELD_INSTANCE_ID, scan_pb2.POINT_FIELD_PIXEL,
+               scan_pb2.POINT_FIELD_CLEAN_POSITION, scan_pb2.POINT_FIELD_INCIDENCE_ANGLE, scan_pb2.POINT_FIELD_STATUS,
+               scan_pb2.POINT_FIELD_ESTIMATED_NORMAL]
+
+
+def bytes_under(path):
+    return sum(os.path.getsize(os.path.join(root, name)) for root, _, names in os.walk(path) for name in names)
+
+
+def xyz_ply(points):
+    """A binary PLY of float x, y, z."""
+    head = f"ply\nformat binary_little_endian 1.0\nelement vertex {len(points)}\nproperty float x\n" \
+           "property float y\nproperty float z\nend_header\n"
+    return head.encode() + b"".join(struct.pack("<3f", *p) for p in points)
+
+
+def run(*args, server):
+    return subprocess.run([VSCAN, "--server", server.address, *args], capture_output=True, text=True, timeout=120)
+
+
+class CloudUploadTest(unittest.TestCase):
+    """Uploads of files vscan wrote, and what the server keeps of them."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.server = Server().start()
+        cls.addClassCleanup(cls.server.cleanup)
+        cls.client = Client(cls.server.address, stream_timeout=120)
+        cls.addClassCleanup(cls.client.close)
+        cls.tmp = tempfile.TemporaryDirectory(prefix="vscan-clouds-")
+        cls.addClassCleanup(cls.tmp.cleanup)
+        cls.blobs = os.path.join(cls.server.data_dir, "store", "blobs")
+        cls.scene = cls.bunny_scene()
+        # A noisy scan with every field vscan writes, as PLY and as PCD.
+        cls.ply, cls.pcd = (os.path.join(cls.tmp.name, name) for name in ("scan.ply", "scan.pcd"))
+        for path in (cls.ply, cls.pcd):
+            out = run("-q", "scan", cls.scene, "-o", path, "--width", "96", "--height", "72", "--hfov", "40",
+                      "--eye", "0,0.1,0.5", "--target", "0,0.1,0", "--up", "0,1,0", "--fields", "all,truth",
+                      "--noise", "0.0005", "--estimate-normals=8", "--seed", "4", server=cls.server)
+            assert out.returncode == 0, out.stderr
+
+    @classmethod
+    def bunny_scene(cls):
+        out = run("-q", "mesh", "upload", BUNNY, "--unit", "m", server=cls.server)
+        mesh = out.stdout.strip()
+        scene = run("-q", "scene", "create", "clouds", server=cls.server).stdout.strip()
+        run("-q", "object", "add", scene, mesh, server=cls.server)
+        return scene
+
+    def read_bytes(self, path):
+        with open(path, "rb") as f:
+            return f.read()
+
+    def assertCode(self, code, call, field):
+        with self.assertRaises(VscanError) as ctx:
+            call()
+        self.assertEqual(ctx.exception.code, code, ctx.exception.message)
+        self.assertTrue(ctx.exception.message.startswith(field), ctx.exception.message)
+        return ctx.exception
+
+    def test_a_ply_written_by_vscan_comes_back_byte_for_byte(self):
+        cloud = self.client.upload_cloud(self.ply, scene_id=self.scene)
+        self.assertTrue(cloud.cloud_id.startswith("cld_"))
+        self.assertEqual(cloud.name, "scan.ply")
+        self.assertEqual(list(cloud.fields), EVERY_FIELD)
+        self.assertEqual(cloud.origin, cloud_pb2.CLOUD_ORIGIN_UPLOADED)
+        self.assertEqual(cloud.scene_id, self.scene)
+        self.assertEqual(cloud.frame, scan_pb2.FRAME_WORLD)
+        self.assertFalse(cloud.HasField("sensor_pose"))
+        self.assertFalse(cloud.HasField("table_angle_deg"))
+        got, data = self.client.read_cloud(cloud.cloud_id)
+        self.assertEqual(got, cloud)
+        self.assertEqual(data, self.read_bytes(self.ply))
+        points = parse_ply(data)
+        self.assertEqual(len(points), cloud.points)
+        for attribute in FIELD_ATTRIBUTES:
+            self.assertIsNotNone(getattr(points, attribute), attribute)
+        self.assertEqual(self.client.get_cloud(cloud.cloud_id), cloud)
+
+    def test_a_pcd_keeps_every_field(self):
+        from_ply = parse_ply(self.read_bytes(self.ply))
+        cloud = self.client.upload_cloud(self.pcd, name="pcd scan")
+        self.assertEqual(list(cloud.fields), EVERY_FIELD)
+        points = self.client.read_cloud_points(cloud.cloud_id)
+        self.assertEqual(points.cloud.cloud_id, cloud.cloud_id)
+        for attribute in FIELD_ATTRIBUTES:
+            np.testing.assert_array_equal(getattr(points, attribute), getattr(from_ply, attribute), err_msg=attribute)
+        # Unspecified format: the server tells it from the bytes.
+        told = self.client.upload_cloud(data=self.read_bytes(self.pcd), name="told")
+        self.assertEqual(told.sha256, cloud.sha256)
+
+    def test_the_pose_frame_and_camera_a_client_gives_are_kept(self):
+        pose = np.eye(4)
+        pose[:3, 3] = (0.1, -0.2, 0.5)
+        pose[:3, :3] = [[0, -1, 0], [1, 0, 0], [0, 0, 1]]
+        cloud = self.client.upload_cloud(data=xyz_ply([(0, 0, 1), (0.1, 0, 1)]), name="sensor frame",
+                                         sensor_pose=pose, frame="sensor",
+                                         camera=(640, 480, 525.0, 525.0, 319.5, 239.5, 0.3, 4.0))
+        self.assertEqual(cloud.frame, scan_pb2.FRAME_SENSOR)
+        np.testing.assert_allclose(np.reshape(cloud.sensor_pose.values, (4, 4)), pose, atol=1e-12)
+        self.assertEqual((cloud.camera.width, cloud.camera.height), (640, 480))
+        self.assertEqual(cloud.camera.intrinsics.cx, 319.5)
+        self.assertEqual((cloud.camera.near, cloud.camera.far), (0.3, 4.0))
+
+    def test_list_pages_and_delete_frees_the_bytes(self):
+        ids = [self.client.upload_cloud(data=xyz_ply([(i, 0, 0), (0, i, 0)]), name=f"c{i}").cloud_id
+               for i in range(3)]
+        stub = cloud_pb2_grpc.CloudServiceStub(self.server.channel())
+        page = stub.ListClouds(cloud_pb2.ListCloudsRequest(page_size=1))
+        self.assertEqual(len(page.clouds), 1)
+        self.assertTrue(page.next_page_token)
+        listed = [c.cloud_id for c in self.client.list_clouds()]
+        self.assertEqual(listed, sorted(listed))
+        self.assertTrue(set(ids) <= set(listed))
+
+        before = bytes_under(self.blobs)
+        deleted = self.client.delete_cloud(ids[0])
+        self.assertEqual(deleted.removed_files, 1)
+        self.assertGreater(deleted.removed_bytes, 0)
+        self.assertEqual(bytes_under(self.blobs), before - deleted.removed_bytes)
+        self.assertCode(C.NOT_FOUND, lambda: self.client.get_cloud(ids[0]), "cloud_id")
+        self.assertCode(C.NOT_FOUND, lambda: self.client.read_cloud(ids[0]), "cloud_id")
+        self.assertCode(C.NOT_FOUND, lambda: self.client.delete_cloud(ids[0]), "cloud_id")
+        self.assertNotIn(ids[0], [c.cloud_id for c in self.client.list_clouds()])
+        self.assertCode(C.INVALID_ARGUMENT, lambda: self.client.get_cloud(""), "cloud_id")
+        with self.assertRaises(grpc.RpcError) as ctx:
+            stub.ListClouds(cloud_pb2.ListCloudsRequest(page_token="x"))
+        self.assertEqual(ctx.exception.code(), C.INVALID_ARGUMENT)
+
+    def assertRefusedAndNothingStored(self, code, field, requests):
+        before = (len(self.client.list_clouds()), bytes_under(self.blobs))
+        stub = cloud_pb2_grpc.CloudServiceStub(self.server.channel())
+        with self.assertRaises(grpc.RpcError) as ctx:
+            stub.UploadCloud(iter(requests), timeout=60)
+        self.assertEqual(ctx.exception.code(), code, ctx.exception.details())
+        self.assertTrue(ctx.exception.details().startswith(field), ctx.exception.details())
+        self.assertEqual((len(self.client.list_clouds()), bytes_under(self.blobs)), before)
+        return ctx.exception.details()
+
+    def upload_requests(self, data, **header):
+        return [cloud_pb2.UploadCloudRequest(header=cloud_pb2.CloudHeader(**header)),
+                cloud_pb2.UploadCloudRequest(chunk=data)]
+
+    def test_bad_uploads_name_their_field_and_leave_nothing(self):
+        good = xyz_ply([(0, 0, 0), (1, 1, 1)])
+        scan = self.read_bytes(self.ply)
+        self.assertRefusedAndNothingStored(C.INVALID_ARGUMENT, "cloud data: ", self.upload_requests(scan[:-9]))
+        self.assertRefusedAndNothingStored(C.INVALID_ARGUMENT, "cloud data: ",
+                                           self.upload_requests(good, format=cloud_pb2.CLOUD_FORMAT_PCD))
+        self.assertRefusedAndNothingStored(C.INVALID_ARGUMENT, "header.format: ",
+                                           self.upload_requests(b"solid cube\nendsolid\n"))
+        self.assertRefusedAndNothingStored(C.INVALID_ARGUMENT, "cloud data: ", self.upload_requests(xyz_ply([])))
+        nan = self.assertRefusedAndNothingStored(
+            C.INVALID_ARGUMENT, "cloud data: points[1] (x, y, z): NaN",
+            self.upload_requests(xyz_ply([(0, 0, 0), (0, math.nan, 0)])))
+        self.assertIn("NaN or infinite", nan)
+        self.assertRefusedAndNothingStored(C.INVALID_ARGUMENT, "cloud data: points[0] (x, y, z): beyond 10 km",
+                                           self.upload_requests(xyz_ply([(2e4, 0, 0)])))
+        self.assertRefusedAndNothingStored(C.INVALID_ARGUMENT, "header: sent twice", [
+            cloud_pb2.UploadCloudRequest(header=cloud_pb2.CloudHeader(name="a")),
+            cloud_pb2.UploadCloudRequest(header=cloud_pb2.CloudHeader(name="b")),
+            cloud_pb2.UploadCloudRequest(chunk=good)])
+        self.assertRefusedAndNothingStored(C.INVALID_ARGUMENT, "header: the first message",
+                                           [cloud_pb2.UploadCloudRequest(chunk=good)])
+        self.assertRefusedAndNothingStored(C.INVALID_ARGUMENT, "header.size_bytes: ",
+                                           self.upload_requests(good, size_bytes=len(good) + 1))
+        self.assertRefusedAndNothingStored(C.RESOURCE_EXHAUSTED, "header.size_bytes: ",
+                                           self.upload_requests(good, size_bytes=1 << 40))
+        self.assertRefusedAndNothingStored(C.NOT_FOUND, "header.scene_id: ",
+                                           self.upload_requests(good, scene_id="scn_0000000000000000"))
+        self.assertRefusedAndNothingStored(C.INVALID_ARGUMENT, "header.sensor_pose.matrix", self.upload_requests(
+            good, sensor_pose=common_pb2.Pose(matrix=common_pb2.Matrix4(values=[2] + [0] * 15))))
+        self.assertRefusedAndNothingStored(C.INVALID_ARGUMENT, "header.camera.intrinsics.fx", self.upload_requests(
+            good, camera=cloud_pb2.CloudCamera(width=64, height=48, near=0.1, far=2)))
+        self.assertRefusedAndNothingStored(C.INVALID_ARGUMENT, "header.name", self.upload_requests(good, name="a\nb"))
+        self.assertRefusedAndNothingStored(C.INVALID_ARGUMENT, "header.frame", self.upload_requests(good, frame=9))
+
+
+class CloudLimitTest(unittest.TestCase):
+    """--max-upload-mib bounds the bytes sent and the cloud they hold."""
+
+    def test_uploads_beyond_the_limit_are_resource_exhausted(self):
+        server = Server(extra_args=["--max-upload-mib", "1"]).start()
+        self.addCleanup(server.cleanup)
+        client = Client(server.address, stream_timeout=60)
+        self.addCleanup(client.close)
+        blobs = os.path.join(server.data_dir, "store", "blobs")
+        before = bytes_under(blobs)
+        with self.assertRaises(VscanError) as ctx:
+            client.upload_cloud(data=xyz_ply([(0, 0, 0)] * 100000), name="big")  # 1.2 MB
+        self.assertEqual(ctx.exception.code, C.RESOURCE_EXHAUSTED, ctx.exception.message)
+        self.assertIn("--max-upload-mib", ctx.exception.message)
+        # A small file of one-byte coordinates that would pass the limit once read as floats.
+        head = b"ply\nformat binary_little_endian 1.0\nelement vertex 200000\nproperty uchar x\nproperty uchar y\n" \
+               b"property uchar z\nend_header\n"
+        with self.assertRaises(VscanError) as ctx:
+            client.upload_cloud(data=head + bytes(600000), name="grows")
+        self.assertEqual(ctx.exception.code, C.RESOURCE_EXHAUSTED, ctx.exception.message)
+        self.assertTrue(ctx.exception.message.startswith("cloud data: "), ctx.exception.message)
+        self.assertEqual(client.list_clouds(), [])
+        self.assertEqual(bytes_under(blobs), before)
+        self.assertEqual(client.upload_cloud(data=xyz_ply([(0, 0, 0)] * 1000)).points, 1000)
+
+
+class CampaignCloudsTest(unittest.TestCase):
+    """A campaign's captured scans are clouds of its job, with their poses, until the job goes."""
+
+    def test_a_campaigns_scans_are_clouds_until_its_job_is_deleted(self):
+        server = Server().start()
+        self.addCleanup(server.cleanup)
+        fx = CampaignFixture(server)
+        self.addCleanup(fx.close)
+        client = Client(server.address, stream_timeout=300)
+        self.addCleanup(client.close)
+        blobs = os.path.join(server.data_dir, "store", "blobs")
+        s = spec(fx.scene.scene_id, fx.mount, viewpoints=[((0.25, 0.0, 0.30), (0.0, 0.0, 0.11))], rotations=2,
+                 step=90.0, seed=5, sensor=camera(160, 120), apply_encoder_noise=True)
+        job = client.start_campaign(spec=s)
+        done = client.wait_job(job.job_id, timeout=300)
+        self.assertEqual(done.state, job_pb2.JOB_STATE_SUCCEEDED, done.message)
+        scans = [a for a in done.artifacts if a.HasField("scan")]
+        self.assertEqual(len(scans), 2)
+
+        clouds = client.list_clouds(job_id=job.job_id)
+        self.assertEqual(sorted(c.name for c in clouds), sorted(a.name for a in scans))
+        self.assertEqual(len([c for c in client.list_clouds() if c.job_id == job.job_id]), 2)
+        for artifact in scans:
+            cloud = next(c for c in clouds if c.name == artifact.name)
+            self.assertEqual(cloud.origin, cloud_pb2.CLOUD_ORIGIN_CAMPAIGN_SCAN)
+            self.assertEqual(cloud.scene_id, fx.scene.scene_id)
+            self.assertEqual(cloud.frame, scan_pb2.FRAME_WORLD)
+            self.assertEqual(cloud.points, artifact.scan.points)
+            self.assertEqual(cloud.size_bytes, artifact.size_bytes)
+            self.assertEqual(cloud.table_angle_deg, artifact.scan.table_angle_deg)
+            self.assertEqual(list(cloud.sensor_pose.values), list(artifact.scan.sensor_pose.values))
+            self.assertEqual((cloud.camera.width, cloud.camera.height), (160, 120))
+            self.assertAlmostEqual(cloud.camera.intrinsics.fx, 80 / math.tan(math.radians(22.5)))
+            _, cloud_bytes = client.read_cloud(cloud.cloud_id)
+            _, artifact_bytes = client.read_artifact(job.job_id, artifact.artifact_id)
+            self.assertEqual(cloud_bytes, artifact_bytes)
+            with self.assertRaises(VscanError) as ctx:
+                client.delete_cloud(cloud.cloud_id)
+            self.assertEqual(ctx.exception.code, C.FAILED_PRECONDITION)
+            self.assertTrue(ctx.exception.message.startswith("cloud_id: "), ctx.exception.message)
+
+        before = bytes_under(blobs)
+        deleted = client.delete_job(job.job_id)
+        self.assertEqual(deleted.removed_files, 3)
+        self.assertEqual(bytes_under(blobs), before - deleted.removed_bytes)
+        self.assertEqual(client.list_clouds(job_id=job.job_id), [])
+        for cloud in clouds:
+            with self.assertRaises(VscanError) as ctx:
+                client.get_cloud(cloud.cloud_id)
+            self.assertEqual(ctx.exception.code, C.NOT_FOUND)
+
+
+class CloudCliTest(unittest.TestCase):
+    def test_upload_list_get_download_delete(self):
+        server = Server().start()
+        self.addCleanup(server.cleanup)
+        tmp = tempfile.TemporaryDirectory(prefix="vscan-cloud-cli-")
+        self.addCleanup(tmp.cleanup)
+        source = os.path.join(tmp.name, "in.ply")
+        with open(source, "wb") as f:
+            f.write(xyz_ply([(0.0, 0.0, 1.0), (0.5, 0.25, 1.5), (-0.5, 0.0, 2.0)]))
+
+        def ok(*args):
+            out = run(*args, server=server)
+            self.assertEqual(out.returncode, 0, out.stderr)
+            return out.stdout.strip()
+
+        uploaded = json.loads(ok("--json", "cloud", "upload", source, "--name", "three", "--frame", "sensor",
+                                 "--position", "1,2,3", "--rpy", "0,0,90", "--camera", "64,48,50,50,31.5,23.5,0.1,5"))
+        cloud_id = uploaded["cloudId"]
+        self.assertEqual(uploaded["points"], "3")
+        self.assertEqual(uploaded["frame"], "FRAME_SENSOR")
+        pose = np.reshape([float(v) for v in uploaded["sensorPose"]["values"]], (4, 4))
+        np.testing.assert_allclose(pose[:3, 3], (1, 2, 3))
+        np.testing.assert_allclose(pose[:3, :3], [[0, -1, 0], [1, 0, 0], [0, 0, 1]], atol=1e-12)
+        self.assertEqual(uploaded["camera"]["width"], 64)
+
+        self.assertEqual(ok("-q", "cloud", "list"), cloud_id)
+        self.assertIn("three  3 points (position)  uploaded", ok("cloud", "get", cloud_id))
+
+        as_ply = os.path.join(tmp.name, "out.ply")
+        ok("-q", "cloud", "download", cloud_id, "-o", as_ply)
+        with open(as_ply, "rb") as a, open(source, "rb") as b:
+            self.assertEqual(a.read(), b.read())
+        as_pcd = os.path.join(tmp.name, "out.pcd")
+        ok("-q", "cloud", "download", cloud_id, "-o", as_pcd)
+        again = json.loads(ok("--json", "cloud", "upload", as_pcd))
+        self.assertEqual(again["sha256"], uploaded["sha256"])
+
+        deleted = json.loads(ok("--json", "cloud", "delete", again["cloudId"]))
+        self.assertEqual(deleted["removedFiles"], 0)  # the first upload holds the same bytes
+        deleted = json.loads(ok("--json", "cloud", "delete", cloud_id))
+        self.assertEqual(deleted["removedFiles"], 1)
+        self.assertEqual(ok("-q", "cloud", "list"), "")
+
+        missing = run("cloud", "get", cloud_id, server=server)
+        self.assertEqual(missing.returncode, 3, missing.stderr)
+        self.assertIn("NOT_FOUND", missing.stderr)
+        unreadable = run("cloud", "upload", os.path.join(tmp.name, "nope.ply"), server=server)
+        self.assertEqual(unreadable.returncode, 5, unreadable.stderr)
+        bad_file = os.path.join(tmp.name, "bad.ply")
+        with open(bad_file, "wb") as f:
+            f.write(b"ply\nformat ascii 1.0\nelement vertex 0\nend_header\n")
+        refused = run("cloud", "upload", bad_file, server=server)
+        self.assertEqual(refused.returncode, 3, refused.stderr)
+        self.assertIn("cloud data", refused.stderr)
+        usage = run("cloud", "download", cloud_id, "-o", os.path.join(tmp.name, "out.xyz"), server=server)
+        self.assertEqual(usage.returncode, 2, usage.stderr)
+
+
+if __name__ == "__main__":
+    unittest.main()
