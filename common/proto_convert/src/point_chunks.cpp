@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <bit>
+#include <cstddef>
 #include <cstring>
+#include <iterator>
 #include <string>
 
 namespace vscan {
@@ -16,15 +18,58 @@ void CopyOut(const std::vector<T>& src, size_t begin, size_t count, std::string*
   if (count) std::memcpy(dst->data(), src.data() + begin, count * sizeof(T));
 }
 
+// Reads T values out of bytes with no alignment for T; lets a vector grow straight from the
+// wire bytes instead of zero-filling new elements and then overwriting them.
+template <typename T>
+class LoadIterator {
+ public:
+  using iterator_category = std::random_access_iterator_tag;
+  using value_type = T;
+  using difference_type = std::ptrdiff_t;
+  using pointer = const T*;
+  using reference = T;
+
+  explicit LoadIterator(const char* p) : p_(p) {}
+  T operator*() const {
+    T v;
+    std::memcpy(static_cast<void*>(&v), p_, sizeof(T));
+    return v;
+  }
+  LoadIterator& operator++() {
+    p_ += sizeof(T);
+    return *this;
+  }
+  LoadIterator operator++(int) {
+    LoadIterator old = *this;
+    p_ += sizeof(T);
+    return old;
+  }
+  LoadIterator& operator--() {
+    p_ -= sizeof(T);
+    return *this;
+  }
+  LoadIterator& operator+=(difference_type n) {
+    p_ += n * static_cast<difference_type>(sizeof(T));
+    return *this;
+  }
+  LoadIterator operator+(difference_type n) const { return LoadIterator(*this) += n; }
+  difference_type operator-(const LoadIterator& other) const {
+    return (p_ - other.p_) / static_cast<difference_type>(sizeof(T));
+  }
+  bool operator==(const LoadIterator& other) const { return p_ == other.p_; }
+  bool operator!=(const LoadIterator& other) const { return p_ != other.p_; }
+
+ private:
+  const char* p_;
+};
+
 template <typename T>
 Status CopyIn(const std::string& src, size_t count, const char* name, std::vector<T>* dst) {
   if (src.size() != count * sizeof(T)) {
     return InvalidArgument(std::string("chunk.") + name + ": expected " + std::to_string(count * sizeof(T)) +
                            " bytes, got " + std::to_string(src.size()));
   }
-  const size_t old = dst->size();
-  dst->resize(old + count);
-  if (count) std::memcpy(reinterpret_cast<char*>(dst->data() + old), src.data(), src.size());
+  dst->insert(dst->end(), LoadIterator<T>(src.data()), LoadIterator<T>(src.data() + src.size()));
   return Status::Ok();
 }
 
