@@ -1,5 +1,6 @@
 #include <algorithm>
 
+#include "huge_pages.h"
 #include "vscan/client/client.h"
 #include "vscan/common/grpc_status.h"
 #include "vscan/common/point_chunks.h"
@@ -11,17 +12,24 @@ namespace {
 // Upper bound on points reserved up front, so a bogus header cannot exhaust memory by itself.
 constexpr uint64_t kMaxReservedPoints = uint64_t{1} << 26;
 
+template <typename T>
+void Reserve(bool present, size_t n, std::vector<T>* array) {
+  if (!present) return;
+  array->reserve(n);
+  AdviseHugePages(*array);
+}
+
 void Reserve(PointCloud* cloud, size_t n) {
-  cloud->positions.reserve(n);
-  if (cloud->Has(kFieldNormal)) cloud->normals.reserve(n);
-  if (cloud->Has(kFieldRange)) cloud->ranges.reserve(n);
-  if (cloud->Has(kFieldIntensity)) cloud->intensities.reserve(n);
-  if (cloud->Has(kFieldInstanceId)) cloud->instance_ids.reserve(n);
-  if (cloud->Has(kFieldPixel)) cloud->pixels.reserve(n);
-  if (cloud->Has(kFieldCleanPosition)) cloud->clean_positions.reserve(n);
-  if (cloud->Has(kFieldIncidence)) cloud->incidence_angles.reserve(n);
-  if (cloud->Has(kFieldStatus)) cloud->statuses.reserve(n);
-  if (cloud->Has(kFieldEstimatedNormal)) cloud->estimated_normals.reserve(n);
+  Reserve(true, n, &cloud->positions);
+  Reserve(cloud->Has(kFieldNormal), n, &cloud->normals);
+  Reserve(cloud->Has(kFieldRange), n, &cloud->ranges);
+  Reserve(cloud->Has(kFieldIntensity), n, &cloud->intensities);
+  Reserve(cloud->Has(kFieldInstanceId), n, &cloud->instance_ids);
+  Reserve(cloud->Has(kFieldPixel), n, &cloud->pixels);
+  Reserve(cloud->Has(kFieldCleanPosition), n, &cloud->clean_positions);
+  Reserve(cloud->Has(kFieldIncidence), n, &cloud->incidence_angles);
+  Reserve(cloud->Has(kFieldStatus), n, &cloud->statuses);
+  Reserve(cloud->Has(kFieldEstimatedNormal), n, &cloud->estimated_normals);
 }
 
 // Folds the stream's messages into a ScanResult, checking their order and sizes.
