@@ -57,8 +57,8 @@ class ScanAssembler {
     if (!have_stats_) return DataLoss("scan stream: ended without statistics");
     // A streamed scan's header announces no count (0); its statistics carry the total.
     const uint64_t expected = result_.header.points() != 0 ? result_.header.points() : result_.stats.streamed_points();
-    if (result_.cloud.size() != expected) {
-      return DataLoss("scan stream: received " + std::to_string(result_.cloud.size()) + " of " +
+    if (received_ != expected) {
+      return DataLoss("scan stream: received " + std::to_string(received_) + " of " +
                       std::to_string(expected) + " points");
     }
     return std::move(result_);
@@ -73,7 +73,7 @@ class ScanAssembler {
     // Room for a point per ray when the count is not announced: chunks land in the final arrays,
     // and pages no point reaches are never touched.
     const uint64_t room = header.points() != 0 ? header.points() : header.rays();
-    Reserve(&result_.cloud, static_cast<size_t>(std::min(room, kMaxReservedPoints)));
+    if (!callbacks_.on_chunk) Reserve(&result_.cloud, static_cast<size_t>(std::min(room, kMaxReservedPoints)));
     have_header_ = true;
     if (callbacks_.on_header) callbacks_.on_header(result_.header);
     return Status::Ok();
@@ -81,17 +81,24 @@ class ScanAssembler {
 
   Status OnChunk(const v1::PointChunk& chunk) {
     if (!have_header_) return DataLoss("scan stream: chunk before the header");
-    if (result_.header.points() != 0 && result_.cloud.size() + chunk.count() > result_.header.points()) {
+    if (result_.header.points() != 0 && received_ + chunk.count() > result_.header.points()) {
       return DataLoss("scan stream: more points than the header announced (" +
                       std::to_string(result_.header.points()) + ")");
     }
-    RETURN_IF_ERROR(AppendChunk(chunk, &result_.cloud));
-    if (callbacks_.on_progress) callbacks_.on_progress(result_.cloud.size(), result_.header.points());
+    if (callbacks_.on_chunk) {
+      RETURN_IF_ERROR(CheckChunk(chunk, result_.cloud.fields));
+      RETURN_IF_ERROR(callbacks_.on_chunk(chunk));
+    } else {
+      RETURN_IF_ERROR(AppendChunk(chunk, &result_.cloud));
+    }
+    received_ += chunk.count();
+    if (callbacks_.on_progress) callbacks_.on_progress(received_, result_.header.points());
     return Status::Ok();
   }
 
   const ScanCallbacks& callbacks_;
   ScanResult result_;
+  uint64_t received_ = 0;
   bool have_header_ = false;
   bool have_stats_ = false;
 };

@@ -62,6 +62,10 @@ struct ScanCallbacks {
   std::function<void(const v1::ScanHeader&)> on_header;
   // After each chunk: (points received, points the header announced, 0 when streamed).
   ProgressFn on_progress;
+  // When set, each chunk (its arrays checked against its count) goes here instead of into the
+  // result's cloud, which then stays empty: for callers that write points out as they arrive. An
+  // error stops the scan and is returned.
+  std::function<Status(const v1::PointChunk&)> on_chunk;
 };
 
 struct ScanResult {
