@@ -31,6 +31,10 @@ struct ClientOptions {
   std::chrono::milliseconds stream_timeout{0};
   // Largest message the client accepts; scan chunks may be up to 16 MiB.
   int max_receive_bytes = 64 << 20;
+  // HTTP/2 receive window of each stream, fixed from the first byte. gRPC's own flow control
+  // (0 here) starts a new channel at 64 KiB and grows it by probing, too late for a one-shot
+  // scan, and asks for ever larger frames that cost the client fresh buffers.
+  int stream_window_bytes = 8 << 20;
 };
 
 // Called with (done, total); total is 0 when unknown.
