@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -32,6 +33,10 @@ pid_t Spawn(const std::vector<std::string>& argv, const std::string& out_path, b
   return pid;
 }
 
+double CpuMs(const rusage& u) {
+  return (u.ru_utime.tv_sec + u.ru_stime.tv_sec) * 1e3 + (u.ru_utime.tv_usec + u.ru_stime.tv_usec) / 1e3;
+}
+
 int ExitCode(int status) {
   if (WIFEXITED(status)) return WEXITSTATUS(status);
   return WIFSIGNALED(status) ? 128 + WTERMSIG(status) : -1;
@@ -45,7 +50,9 @@ ProcessRun RunProcess(const std::vector<std::string>& argv, const std::string& s
   const auto start = std::chrono::steady_clock::now();
   const pid_t pid = Spawn(argv, out_path, false);
   int status = 0;
-  ::waitpid(pid, &status, 0);
+  rusage usage{};
+  ::wait4(pid, &status, 0, &usage);
+  run.cpu_ms = CpuMs(usage);
   run.wall_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   run.exit_code = ExitCode(status);
   std::ifstream in(out_path);

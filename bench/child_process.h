@@ -10,6 +10,7 @@ namespace vscan::bench {
 struct ProcessRun {
   int exit_code = -1;  // the signal number + 128 when a signal ended it
   double wall_ms = 0;  // from the spawn to the reaping
+  double cpu_ms = 0;   // user + system time of the process
   std::string output;  // what it wrote to stdout
 };
 

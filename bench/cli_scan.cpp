@@ -54,6 +54,7 @@ RunFigures RunCliScan(const CliScan& cli, const v1::ScanRequest& request, const 
   const auto& stats = json.fields().at("statistics").struct_value();
   RunFigures figures;
   figures.ms = run.wall_ms;
+  figures.cpu_ms = run.cpu_ms;
   figures.points = Field(stats, "points");
   figures.server_ms = Field(stats, "totalMs");
   figures.client_ms = Field(json, "clientMs");

@@ -15,8 +15,10 @@
 #include <cstdlib>
 #include <filesystem>
 #include <memory>
+#include <random>
 #include <string>
 #include <thread>
+#include <sys/resource.h>
 #include <unistd.h>
 
 #include "bench_meshes.h"
@@ -124,7 +126,15 @@ v1::ScanRequest WithFields(v1::ScanRequest request, bool all_fields) {
   return request;
 }
 
+double ProcessCpuMs() {
+  rusage u{};
+  ::getrusage(RUSAGE_SELF, &u);
+  return (u.ru_utime.tv_sec + u.ru_stime.tv_sec) * 1e3 + (u.ru_utime.tv_usec + u.ru_stime.tv_usec) / 1e3;
+}
+
+// This process does nothing else while it scans, so its CPU time is the client's.
 RunFigures LibraryScan(client::Client& client, const v1::ScanRequest& request) {
+  const double cpu_start = ProcessCpuMs();
   const auto start = Clock::now();
   Clock::time_point first{};
   client::ScanCallbacks callbacks;
@@ -140,10 +150,17 @@ RunFigures LibraryScan(client::Client& client, const v1::ScanRequest& request) {
   figures.points = static_cast<double>(result->cloud.size());
   figures.server_ms = result->stats.total_ms();
   figures.first_ms = ms(first);
+  figures.cpu_ms = ProcessCpuMs() - cpu_start;
   return figures;
 }
 
-void Idle(const Options& o) { std::this_thread::sleep_for(std::chrono::milliseconds(o.idle_ms)); }
+// The pause before a single request: idle_ms plus up to 100 ms, drawn from a fixed seed, so that
+// runs sample the server's idle timers at every phase instead of one.
+void Idle(const Options& o) {
+  static std::mt19937 draw(20261124);
+  std::uniform_int_distribution<int> extra(0, 99);
+  std::this_thread::sleep_for(std::chrono::milliseconds(o.idle_ms + extra(draw)));
+}
 
 void Round(const Options& o, const BunnyGrid& grid, Served& served, bool all_fields, RunTable& table) {
   const std::string what = served.label + (all_fields ? ", all fields" : ", positions");
@@ -168,8 +185,8 @@ int Main(int argc, char** argv) {
     Hold(o, grid, *streamed, *whole);
     return 0;
   }
-  std::printf("%d runs, %d ms idle before each one-shot and after-idle scan; CLI output to %s\n", o.runs, o.idle_ms,
-              o.output_dir.c_str());
+  std::printf("%d runs, %d-%d ms idle before each one-shot and after-idle scan; CLI output to %s\n", o.runs,
+              o.idle_ms, o.idle_ms + 99, o.output_dir.c_str());
   RunTable table;
   packets.Frame();
   for (int run = 0; run < o.runs; ++run) {

@@ -44,9 +44,9 @@ void RunTable::Print(const std::string& baseline) const {
   for (const Case& c : cases_) {
     if (c.name == baseline) base_ms = SpreadOf(Known(c.runs, [](const RunFigures& r) { return r.ms; })).median;
   }
-  std::printf("%-40s %3s %-20s %-17s %-20s %-17s %-17s %-15s %-15s %s\n", "case", "n", "ms min/med/max",
+  std::printf("%-40s %3s %-20s %-17s %-20s %-17s %-17s %-15s %-15s %-17s %s\n", "case", "n", "ms min/med/max",
               "Mpts/s min/med/max", "client ms", "client Mpts/s", "server total ms", "first chunk ms", "first share",
-              "ms/base");
+              "client cpu ms", "ms/base");
   const auto per_ms = [](double points, double ms) { return ms > 0 ? points / ms / 1e3 : -1; };
   for (const Case& c : cases_) {
     const auto ms = Known(c.runs, [](const RunFigures& r) { return r.ms; });
@@ -56,7 +56,7 @@ void RunTable::Print(const std::string& baseline) const {
       return r.first_ms >= 0 && whole > 0 ? r.first_ms / whole : -1;
     });
     const double ratio = base_ms > 0 ? SpreadOf(ms).median / base_ms : 0;
-    std::printf("%-40s %3zu %-20s %-17s %-20s %-17s %-17s %-15s %-15s %.2f\n", c.name.c_str(), c.runs.size(),
+    std::printf("%-40s %3zu %-20s %-17s %-20s %-17s %-17s %-15s %-15s %-17s %.2f\n", c.name.c_str(), c.runs.size(),
                 Cell(ms, "%.1f/%.1f/%.1f").c_str(),
                 Cell(Known(c.runs, [&](const RunFigures& r) { return per_ms(r.points, r.ms); }), "%.1f/%.1f/%.1f")
                     .c_str(),
@@ -69,7 +69,8 @@ void RunTable::Print(const std::string& baseline) const {
                     .c_str(),
                 Cell(Known(c.runs, [](const RunFigures& r) { return r.server_ms; }), "%.1f/%.1f/%.1f").c_str(),
                 Cell(Known(c.runs, [](const RunFigures& r) { return r.first_ms; }), "%.1f/%.1f/%.1f").c_str(),
-                Cell(share, "%.2f/%.2f/%.2f").c_str(), ratio);
+                Cell(share, "%.2f/%.2f/%.2f").c_str(),
+                Cell(Known(c.runs, [](const RunFigures& r) { return r.cpu_ms; }), "%.0f/%.0f/%.0f").c_str(), ratio);
   }
 }
 

@@ -20,6 +20,7 @@ struct RunFigures {
   double client_ms = -1;  // the client's own connect-to-last-chunk time, when it is not ms
   double server_ms = -1;  // the server's reported total
   double first_ms = -1;   // call to first chunk
+  double cpu_ms = -1;     // the client's user + system time
 };
 
 class RunTable {
