@@ -18,6 +18,8 @@
 #include <random>
 #include <string>
 #include <thread>
+#include <pthread.h>
+#include <signal.h>
 #include <sys/resource.h>
 #include <unistd.h>
 
@@ -115,7 +117,14 @@ void Hold(const Options& o, const BunnyGrid& grid, const Served& streamed, const
     std::printf("\n");
   }
   std::fflush(stdout);
-  std::this_thread::sleep_for(std::chrono::seconds(o.hold_s));
+  // Until the time is up or SIGINT/SIGTERM, then back to the caller, which stops the servers.
+  sigset_t stop;
+  sigemptyset(&stop);
+  sigaddset(&stop, SIGINT);
+  sigaddset(&stop, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &stop, nullptr);
+  const timespec limit{o.hold_s, 0};
+  sigtimedwait(&stop, nullptr, &limit);
 }
 
 v1::ScanRequest WithFields(v1::ScanRequest request, bool all_fields) {
