@@ -15,6 +15,7 @@
 #include "api/scan_request.h"
 #include "api/scan_target.h"
 #include "api/write_watch.h"
+#include "vscan/common/chunk_limits.h"
 #include "vscan/common/grpc_status.h"
 #include "vscan/common/point_chunks.h"
 
@@ -40,7 +41,7 @@ class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
       : context_(context),
         write_watch_(context.stalled_readers, ctx),
         outbox_(
-            ChunkWindow(request.chunk_bytes() ? request.chunk_bytes() : 1u << 20),
+            ChunkWindow(request.chunk_bytes() ? request.chunk_bytes() : kDefaultChunkBytes),
             [this](const v1::ScanResponse* message) {
               write_watch_.Started("scan of " + plan_.scene_id);
               StartWrite(message);
@@ -57,6 +58,8 @@ class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
       return;
     }
     plan_ = std::move(plan).value();
+    points_per_chunk_ = PointsPerChunk(plan_.fields, plan_.chunk_bytes);
+    if (request.chunk_bytes() == 0) points_per_chunk_ = std::min(points_per_chunk_, kDefaultChunkPoints);
     if (context_.active_scans.fetch_add(1) >= context_.options.limits.max_concurrent_scans) {
       context_.active_scans.fetch_sub(1);
       Fail(ResourceExhausted("scan: " + std::to_string(context.options.limits.max_concurrent_scans) +
@@ -119,7 +122,7 @@ class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
     auto header = Message();
     FillScanHeader(plan_, target.scene.revision, header->mutable_header());
     outbox_.Push(std::move(header));
-    ChunkPacker packer(plan_.fields, PointsPerChunk(plan_.fields, plan_.chunk_bytes), outbox_);
+    ChunkPacker packer(plan_.fields, points_per_chunk_, outbox_);
     raycast::ScanOptions options;
     options.fields = plan_.fields;
     options.frame = plan_.frame;
@@ -144,7 +147,7 @@ class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
     raycast::ScanStats stats;
     capture::MeasureStats measure;
     ASSIGN_OR_RETURN(PointCloud cloud, RunScanBackend(plan_, target, context_.raster, &cancel_, &stats, &measure));
-    const size_t per_chunk = PointsPerChunk(plan_.fields, plan_.chunk_bytes);
+    const size_t per_chunk = points_per_chunk_;
     const auto chunks = static_cast<uint32_t>((cloud.size() + per_chunk - 1) / per_chunk);
     auto header = Message();
     FillScanHeader(plan_, target.scene.revision, header->mutable_header());
@@ -185,6 +188,7 @@ class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
   WriteWatch write_watch_;
   const Clock::time_point start_ = Clock::now();
   ScanPlan plan_;
+  size_t points_per_chunk_ = 1;
   bool holds_slot_ = false;
   std::atomic<bool> cancel_{false};
   // When the call was cancelled (steady clock ticks; 0: not cancelled).
