@@ -1,12 +1,10 @@
 #include "vscan/common/cloud_io.h"
 
 #include <algorithm>
-#include <atomic>
 #include <bit>
 #include <cctype>
 #include <cerrno>
 #include <cstdint>
-#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -20,7 +18,7 @@
 namespace vscan {
 namespace {
 
-static_assert(std::endian::native == std::endian::little, "binary files are written in native little-endian");
+static_assert(std::endian::native == std::endian::little, "binary files are read in native little-endian");
 
 std::string ErrnoText() { return std::strerror(errno); }
 
