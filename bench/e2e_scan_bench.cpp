@@ -16,12 +16,12 @@
 
 #include "api/server.h"
 #include "bench_meshes.h"
+#include "grid_scene_upload.h"
 #include "packet_loop.h"
 #include "ratio_reporter.h"
 #include "raycast/embree_scene.h"
 #include "raycast/raycast_scene.h"
 #include "vscan/client/client.h"
-#include "vscan/common/proto_convert.h"
 
 namespace vscan::bench {
 namespace {
@@ -55,30 +55,9 @@ std::unique_ptr<ServedScene> Serve(const BunnyGrid& grid, bool whole_cloud) {
   Check(connected.status());
   s->client = std::make_unique<client::Client>(std::move(connected).value());
 
-  client::MeshUploadOptions upload;
-  upload.unit = v1::LENGTH_UNIT_METRE;
-  auto mesh = s->client->UploadMeshFile(kBunnyPath, upload);
-  Check(mesh.status());
-  auto scene = s->client->CreateScene("e2e-bench");
-  Check(scene.status());
-  for (const auto& instance : grid.instances) {
-    client::ObjectPlacement placement;
-    placement.pose = PoseToProto(instance.world_from_object);
-    placement.scale = instance.scale;
-    Check(s->client->AddObject(scene->scene_id(), mesh->mesh_id(), placement).status());
-  }
-  s->request.set_scene_id(scene->scene_id());
-  auto* pinhole = s->request.mutable_sensor()->mutable_pinhole();
-  pinhole->set_width(grid.camera.width);
-  pinhole->set_height(grid.camera.height);
-  auto* k = pinhole->mutable_intrinsics();
-  k->set_fx(grid.camera.fx);
-  k->set_fy(grid.camera.fy);
-  k->set_cx(grid.camera.cx);
-  k->set_cy(grid.camera.cy);
-  pinhole->set_near(grid.camera.near);
-  pinhole->set_far(grid.camera.far);
-  *s->request.mutable_pose() = PoseToProto(grid.world_from_sensor);
+  auto request = UploadBunnyGrid(*s->client, grid, kBunnyPath, "e2e-bench");
+  Check(request.status());
+  s->request = std::move(request).value();
   Check(s->client->Scan(s->request).status());  // builds the server's scene: later scans are warm
   return s;
 }

@@ -1,12 +1,15 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 
 #include "args.h"
 #include "commands.h"
 #include "progress.h"
 #include "vscan/common/chunk_limits.h"
-#include "vscan/common/cloud_io.h"
+#include "vscan/common/cloud_file_writer.h"
+#include "vscan/common/point_chunks.h"
+#include "vscan/common/proto_convert.h"
 
 namespace vscan::cli {
 namespace {
@@ -36,11 +39,18 @@ std::string Fixed(double v, int digits) {
   return buf;
 }
 
-void PrintSummary(Context& ctx, const client::ScanResult& result, const std::string& output, double client_ms) {
+// Client times from the call: to the first chunk (negative: none came) and to the last.
+struct ClientTimes {
+  double first_chunk_ms = -1;
+  double total_ms = 0;
+};
+
+void PrintSummary(Context& ctx, const client::ScanResult& result, uint64_t points, const std::string& output,
+                  const ClientTimes& times) {
   const auto& s = result.stats;
-  ctx.Say("scan: " + std::to_string(result.cloud.size()) + " points from " + std::to_string(s.rays()) +
-          " rays (hit ratio " + Fixed(s.hit_ratio() * 100.0, 1) + "%)");
-  if (result.cloud.size() > 0) {
+  ctx.Say("scan: " + std::to_string(points) + " points from " + std::to_string(s.rays()) + " rays (hit ratio " +
+          Fixed(s.hit_ratio() * 100.0, 1) + "%)");
+  if (points > 0) {
     ctx.Say("range: " + Fixed(s.min_range(), 4) + " .. " + Fixed(s.max_range(), 4) + " m");
   }
   std::string artefacts;
@@ -56,7 +66,8 @@ void PrintSummary(Context& ctx, const client::ScanResult& result, const std::str
   add(s.rejected_dim(), "dim");
   if (!artefacts.empty()) ctx.Say("measurement: " + artefacts + " (" + Fixed(s.measurement_ms(), 1) + " ms)");
   ctx.Say("time: server scan " + Fixed(s.scan_ms(), 1) + " ms, server total " + Fixed(s.total_ms(), 1) +
-          " ms, client total " + Fixed(client_ms, 1) + " ms");
+          " ms, client total " + Fixed(times.total_ms, 1) + " ms" +
+          (times.first_chunk_ms >= 0 ? " (first chunk " + Fixed(times.first_chunk_ms, 1) + " ms)" : ""));
   ctx.Say("wrote " + output);
 }
 
@@ -68,21 +79,52 @@ int RunScan(Context& ctx, const ScanCommandArgs& args) {
   auto* client = ctx.GetClient();
   if (!client) return ctx.last_exit();
   const auto start = std::chrono::steady_clock::now();
+  const auto ms_since_start = [&start] {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  };
   ProgressBar bar("scan", "points", !ctx.quiet() && !ctx.json());
+  // Chunks go to the file as they arrive (no cloud held in memory); it is renamed into place once
+  // the scan has ended well. The client has checked the header's fields before on_header.
+  std::optional<CloudFileWriter> writer;
+  Status local_io;
+  PointCloud block;
+  ClientTimes times;
   client::ScanCallbacks callbacks;
+  callbacks.on_header = [&](const v1::ScanHeader& header) {
+    const auto fields = FieldsFromProto(header.fields(), "header.fields");
+    block.fields = fields.ok() ? *fields : kFieldPosition;
+    auto file = CloudFileWriter::Open(args.output, *CloudFileFormatOf(args.output), block.fields);
+    if (file.ok()) {
+      writer.emplace(std::move(file).value());
+    } else {
+      local_io = file.status();
+    }
+  };
+  callbacks.on_chunk = [&](const v1::PointChunk& chunk) -> Status {
+    if (times.first_chunk_ms < 0) times.first_chunk_ms = ms_since_start();
+    if (!writer) return local_io;
+    block.Resize(0);
+    RETURN_IF_ERROR(AppendChunk(chunk, &block));
+    local_io = writer->Append(block);
+    return local_io;
+  };
   callbacks.on_progress = [&bar](uint64_t done, uint64_t total) { bar.Update(done, total); };
   auto result = client->Scan(*request, callbacks);
+  times.total_ms = ms_since_start();
   bar.Finish();
+  if (!local_io.ok()) return ctx.LocalError(local_io);
   if (!result.ok()) return ctx.ServerError(result.status());
-  const double client_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  if (!writer) return ctx.LocalError(Internal("scan: ended without a header"));
 
-  const Status written = WriteCloud(result->cloud, args.output);
+  const Status written = writer->Finish();
   if (!written.ok()) return ctx.LocalError(written);
+  const uint64_t points = writer->points();
   if (ctx.json()) {
     ctx.EmitJson("{\"header\":" + ToJson(result->header) + ",\"statistics\":" + ToJson(result->stats) +
-                 ",\"output\":" + JsonQuote(args.output) + ",\"clientMs\":" + Fixed(client_ms, 3) + "}");
+                 ",\"output\":" + JsonQuote(args.output) + ",\"clientMs\":" + Fixed(times.total_ms, 3) +
+                 (times.first_chunk_ms >= 0 ? ",\"firstChunkMs\":" + Fixed(times.first_chunk_ms, 3) : "") + "}");
   } else {
-    PrintSummary(ctx, *result, args.output, client_ms);
+    PrintSummary(ctx, *result, points, args.output, times);
   }
   return kExitOk;
 }

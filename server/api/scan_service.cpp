@@ -13,6 +13,8 @@
 #include "api/scan_writer.h"
 #include "api/write_watch.h"
 #include "service/scan_run.h"
+#include "vscan/common/chunk_limits.h"
+#include "vscan/common/point_chunks.h"
 #include "vscan/common/grpc_status.h"
 
 namespace vscan::api {
@@ -36,7 +38,7 @@ class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
       : context_(context),
         write_watch_(stalled_readers, ctx),
         outbox_(
-            ChunkWindow(request.chunk_bytes() ? request.chunk_bytes() : 1u << 20),
+            ChunkWindow(request.chunk_bytes() ? request.chunk_bytes() : kDefaultChunkBytes),
             [this](const v1::ScanResponse* message) {
               write_watch_.Started("scan of " + plan_.scene_id);
               StartWrite(message);
@@ -53,6 +55,8 @@ class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
       return;
     }
     plan_ = std::move(plan).value();
+    points_per_chunk_ = PointsPerChunk(plan_.fields, plan_.chunk_bytes);
+    if (request.chunk_bytes() == 0) points_per_chunk_ = std::min(points_per_chunk_, kDefaultChunkPoints);
     auto slot = context_.scans.Admit();
     if (!slot.ok()) {
       Fail(slot.status());
@@ -93,7 +97,7 @@ class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
       Fail(Cancelled("scan cancelled"));
       return;
     }
-    ScanWriter writer(plan_, outbox_, cancel_);
+    ScanWriter writer(plan_, points_per_chunk_, outbox_, cancel_);
     service::ScanOutcome outcome;
     const Status status = service::RunScan(context_, plan_, &cancel_, writer, &outcome);
     if (status.code() == StatusCode::kCancelled && outcome.streamed) {
@@ -122,6 +126,7 @@ class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
   const Clock::time_point start_ = Clock::now();
   ScanPlan plan_;
   service::ScanSlot slot_;
+  size_t points_per_chunk_ = 1;
   std::atomic<bool> cancel_{false};
   // When the call was cancelled (steady clock ticks; 0: not cancelled).
   std::atomic<int64_t> cancelled_at_{0};

@@ -8,16 +8,17 @@
 
 namespace vscan::api {
 
-ScanWriter::ScanWriter(const service::ScanPlan& plan, ScanOutbox& outbox, const std::atomic<bool>& cancel)
-    : plan_(plan), outbox_(outbox), cancel_(cancel),
-      packer_(plan.fields, PointsPerChunk(plan.fields, plan.chunk_bytes), outbox) {}
+ScanWriter::ScanWriter(const service::ScanPlan& plan, size_t points_per_chunk, ScanOutbox& outbox,
+                       const std::atomic<bool>& cancel)
+    : plan_(plan), outbox_(outbox), cancel_(cancel), points_per_chunk_(points_per_chunk),
+      packer_(plan.fields, points_per_chunk, outbox) {}
 
 void ScanWriter::Begin(uint64_t scene_revision, std::optional<uint64_t> points) {
   auto message = std::make_unique<v1::ScanResponse>();
   v1::ScanHeader* header = message->mutable_header();
   FillScanHeader(plan_, scene_revision, header);
   if (points) {
-    const size_t per_chunk = PointsPerChunk(plan_.fields, plan_.chunk_bytes);
+    const size_t per_chunk = points_per_chunk_;
     header->set_points(*points);
     header->set_chunk_count(static_cast<uint32_t>((*points + per_chunk - 1) / per_chunk));
   }
@@ -25,7 +26,7 @@ void ScanWriter::Begin(uint64_t scene_revision, std::optional<uint64_t> points) 
 }
 
 Status ScanWriter::Cloud(const PointCloud& cloud) {
-  const size_t per_chunk = PointsPerChunk(plan_.fields, plan_.chunk_bytes);
+  const size_t per_chunk = points_per_chunk_;
   const auto chunks = static_cast<uint32_t>((cloud.size() + per_chunk - 1) / per_chunk);
   for (uint32_t i = 0; i < chunks; ++i) {
     if (!outbox_.HasRoom()) outbox_.WaitForRoom();

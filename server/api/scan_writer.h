@@ -13,7 +13,8 @@ namespace vscan::api {
 
 class ScanWriter final : public service::ScanConsumer {
  public:
-  ScanWriter(const service::ScanPlan& plan, ScanOutbox& outbox, const std::atomic<bool>& cancel);
+  ScanWriter(const service::ScanPlan& plan, size_t points_per_chunk, ScanOutbox& outbox,
+             const std::atomic<bool>& cancel);
 
   void Begin(uint64_t scene_revision, std::optional<uint64_t> points) override;
   void Accept(const raycast::RowBlock& block) override { packer_.Accept(block); }
@@ -28,6 +29,7 @@ class ScanWriter final : public service::ScanConsumer {
   const service::ScanPlan& plan_;
   ScanOutbox& outbox_;
   const std::atomic<bool>& cancel_;
+  const size_t points_per_chunk_;
   ChunkPacker packer_;
   uint64_t cloud_points_ = 0;
   uint32_t cloud_chunks_ = 0;

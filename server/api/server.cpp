@@ -16,8 +16,9 @@
 #include <grpcpp/server_builder.h>
 #include <spdlog/spdlog.h>
 
-#include "guards/data_dir_lock.h"
+#include "api/callback_queue_ticker.h"
 #include "api/cloud_service.h"
+#include "guards/data_dir_lock.h"
 #include "api/job_service.h"
 #include "api/job_tracker.h"
 #include "api/robot_service.h"
@@ -120,6 +121,7 @@ struct Server::Impl {
   std::unique_ptr<JobService> job_service;
   std::unique_ptr<jobs::PeriodicTask> retention;
   std::unique_ptr<grpc::Server> server;
+  std::unique_ptr<CallbackQueueTicker> ticker;
   int port = 0;
 };
 
@@ -200,6 +202,7 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& op
   if (!impl->server || impl->port == 0) {
     return Unavailable("--listen: cannot listen on '" + options.listen_address + "'");
   }
+  impl->ticker = std::make_unique<CallbackQueueTicker>(*impl->server, std::chrono::milliseconds(250));
   if (!options.port_file.empty()) {
     const std::string tmp = options.port_file + ".tmp";
     std::ofstream(tmp) << impl->port << "\n";
@@ -219,6 +222,7 @@ void Server::Shutdown(double grace_seconds) {
   // Jobs end first (INTERRUPTED, recorded), so that their watch streams end and the drain is quick.
   impl_->job_runner->Stop();
   if (impl_->retention) impl_->retention->Stop();
+  impl_->ticker->Stop();
   // Past the deadline gRPC cancels the calls still running (their OnCancel) and waits for them to end.
   impl_->server->Shutdown(deadline);
   if (std::chrono::system_clock::now() >= deadline) spdlog::info("grace period over: running calls were cancelled");

@@ -116,5 +116,19 @@ class StreamScanTest(ServerTestCase):
         self.assertEqual(parts[-1], "statistics")
 
 
+    def test_default_chunks_hold_at_most_32768_points(self):
+        def chunk_counts(fields, chunk_bytes=0):
+            request = self.request(512)  # 262,144 points
+            request.fields.extend(fields)
+            request.chunk_bytes = chunk_bytes
+            return [r.chunk.count for r in self.scans.Scan(request, timeout=60) if r.WhichOneof("part") == "chunk"]
+
+        positions = [scan_pb2.POINT_FIELD_POSITION]
+        # 12 bytes a point: a MiB would be 87,381 points, a third of this frame before the first chunk.
+        self.assertEqual(chunk_counts(positions)[:-1], [32768] * 7)
+        self.assertEqual(chunk_counts(positions, 1 << 20)[0], (1 << 20) // 12)
+        # 36 bytes a point (the default fields): the MiB is the smaller bound.
+        self.assertEqual(chunk_counts([])[0], (1 << 20) // 36)
+
 if __name__ == "__main__":
     unittest.main()

@@ -39,6 +39,10 @@ StatusOr<Client> Client::Connect(const std::string& target, const ClientOptions&
   ASSIGN_OR_RETURN(auto credentials, Credentials(options));
   grpc::ChannelArguments args;
   args.SetMaxReceiveMessageSize(options.max_receive_bytes);
+  if (options.stream_window_bytes > 0) {
+    args.SetInt(GRPC_ARG_HTTP2_BDP_PROBE, 0);
+    args.SetInt(GRPC_ARG_HTTP2_STREAM_LOOKAHEAD_BYTES, options.stream_window_bytes);
+  }
   return Client(grpc::CreateCustomChannel(target, credentials, args), options);
 }
 

@@ -1,5 +1,6 @@
 #include <algorithm>
 
+#include "huge_pages.h"
 #include "vscan/client/client.h"
 #include "vscan/common/grpc_status.h"
 #include "vscan/common/point_chunks.h"
@@ -11,17 +12,24 @@ namespace {
 // Upper bound on points reserved up front, so a bogus header cannot exhaust memory by itself.
 constexpr uint64_t kMaxReservedPoints = uint64_t{1} << 26;
 
+template <typename T>
+void Reserve(bool present, size_t n, std::vector<T>* array) {
+  if (!present) return;
+  array->reserve(n);
+  AdviseHugePages(*array);
+}
+
 void Reserve(PointCloud* cloud, size_t n) {
-  cloud->positions.reserve(n);
-  if (cloud->Has(kFieldNormal)) cloud->normals.reserve(n);
-  if (cloud->Has(kFieldRange)) cloud->ranges.reserve(n);
-  if (cloud->Has(kFieldIntensity)) cloud->intensities.reserve(n);
-  if (cloud->Has(kFieldInstanceId)) cloud->instance_ids.reserve(n);
-  if (cloud->Has(kFieldPixel)) cloud->pixels.reserve(n);
-  if (cloud->Has(kFieldCleanPosition)) cloud->clean_positions.reserve(n);
-  if (cloud->Has(kFieldIncidence)) cloud->incidence_angles.reserve(n);
-  if (cloud->Has(kFieldStatus)) cloud->statuses.reserve(n);
-  if (cloud->Has(kFieldEstimatedNormal)) cloud->estimated_normals.reserve(n);
+  Reserve(true, n, &cloud->positions);
+  Reserve(cloud->Has(kFieldNormal), n, &cloud->normals);
+  Reserve(cloud->Has(kFieldRange), n, &cloud->ranges);
+  Reserve(cloud->Has(kFieldIntensity), n, &cloud->intensities);
+  Reserve(cloud->Has(kFieldInstanceId), n, &cloud->instance_ids);
+  Reserve(cloud->Has(kFieldPixel), n, &cloud->pixels);
+  Reserve(cloud->Has(kFieldCleanPosition), n, &cloud->clean_positions);
+  Reserve(cloud->Has(kFieldIncidence), n, &cloud->incidence_angles);
+  Reserve(cloud->Has(kFieldStatus), n, &cloud->statuses);
+  Reserve(cloud->Has(kFieldEstimatedNormal), n, &cloud->estimated_normals);
 }
 
 // Folds the stream's messages into a ScanResult, checking their order and sizes.
@@ -49,8 +57,8 @@ class ScanAssembler {
     if (!have_stats_) return DataLoss("scan stream: ended without statistics");
     // A streamed scan's header announces no count (0); its statistics carry the total.
     const uint64_t expected = result_.header.points() != 0 ? result_.header.points() : result_.stats.streamed_points();
-    if (result_.cloud.size() != expected) {
-      return DataLoss("scan stream: received " + std::to_string(result_.cloud.size()) + " of " +
+    if (received_ != expected) {
+      return DataLoss("scan stream: received " + std::to_string(received_) + " of " +
                       std::to_string(expected) + " points");
     }
     return std::move(result_);
@@ -65,7 +73,7 @@ class ScanAssembler {
     // Room for a point per ray when the count is not announced: chunks land in the final arrays,
     // and pages no point reaches are never touched.
     const uint64_t room = header.points() != 0 ? header.points() : header.rays();
-    Reserve(&result_.cloud, static_cast<size_t>(std::min(room, kMaxReservedPoints)));
+    if (!callbacks_.on_chunk) Reserve(&result_.cloud, static_cast<size_t>(std::min(room, kMaxReservedPoints)));
     have_header_ = true;
     if (callbacks_.on_header) callbacks_.on_header(result_.header);
     return Status::Ok();
@@ -73,17 +81,24 @@ class ScanAssembler {
 
   Status OnChunk(const v1::PointChunk& chunk) {
     if (!have_header_) return DataLoss("scan stream: chunk before the header");
-    if (result_.header.points() != 0 && result_.cloud.size() + chunk.count() > result_.header.points()) {
+    if (result_.header.points() != 0 && received_ + chunk.count() > result_.header.points()) {
       return DataLoss("scan stream: more points than the header announced (" +
                       std::to_string(result_.header.points()) + ")");
     }
-    RETURN_IF_ERROR(AppendChunk(chunk, &result_.cloud));
-    if (callbacks_.on_progress) callbacks_.on_progress(result_.cloud.size(), result_.header.points());
+    if (callbacks_.on_chunk) {
+      RETURN_IF_ERROR(CheckChunk(chunk, result_.cloud.fields));
+      RETURN_IF_ERROR(callbacks_.on_chunk(chunk));
+    } else {
+      RETURN_IF_ERROR(AppendChunk(chunk, &result_.cloud));
+    }
+    received_ += chunk.count();
+    if (callbacks_.on_progress) callbacks_.on_progress(received_, result_.header.points());
     return Status::Ok();
   }
 
   const ScanCallbacks& callbacks_;
   ScanResult result_;
+  uint64_t received_ = 0;
   bool have_header_ = false;
   bool have_stats_ = false;
 };

@@ -48,7 +48,13 @@ class Client(RobotCalls, JobCalls, CloudCalls):
     """
 
     def __init__(self, address="127.0.0.1:50051", token=None, root_cert=None, timeout=30.0, stream_timeout=None):
-        options = [("grpc.max_receive_message_length", 64 << 20)]
+        # A fixed 8 MiB stream window from the first byte: gRPC's probing starts a new channel at
+        # 64 KiB and grows it too late for a single scan.
+        options = [
+            ("grpc.max_receive_message_length", 64 << 20),
+            ("grpc.http2.bdp_probe", 0),
+            ("grpc.http2.lookahead_bytes", 8 << 20),
+        ]
         if root_cert:
             with open(root_cert, "rb") as f:
                 credentials = grpc.ssl_channel_credentials(root_certificates=f.read())

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <bit>
+#include <cstddef>
 #include <cstring>
+#include <iterator>
 #include <string>
 
 namespace vscan {
@@ -16,15 +18,63 @@ void CopyOut(const std::vector<T>& src, size_t begin, size_t count, std::string*
   if (count) std::memcpy(dst->data(), src.data() + begin, count * sizeof(T));
 }
 
+// Reads T values out of bytes with no alignment for T; lets a vector grow straight from the
+// wire bytes instead of zero-filling new elements and then overwriting them.
 template <typename T>
-Status CopyIn(const std::string& src, size_t count, const char* name, std::vector<T>* dst) {
-  if (src.size() != count * sizeof(T)) {
-    return InvalidArgument(std::string("chunk.") + name + ": expected " + std::to_string(count * sizeof(T)) +
+class LoadIterator {
+ public:
+  using iterator_category = std::random_access_iterator_tag;
+  using value_type = T;
+  using difference_type = std::ptrdiff_t;
+  using pointer = const T*;
+  using reference = T;
+
+  explicit LoadIterator(const char* p) : p_(p) {}
+  T operator*() const {
+    T v;
+    std::memcpy(static_cast<void*>(&v), p_, sizeof(T));
+    return v;
+  }
+  LoadIterator& operator++() {
+    p_ += sizeof(T);
+    return *this;
+  }
+  LoadIterator operator++(int) {
+    LoadIterator old = *this;
+    p_ += sizeof(T);
+    return old;
+  }
+  LoadIterator& operator--() {
+    p_ -= sizeof(T);
+    return *this;
+  }
+  LoadIterator& operator+=(difference_type n) {
+    p_ += n * static_cast<difference_type>(sizeof(T));
+    return *this;
+  }
+  LoadIterator operator+(difference_type n) const { return LoadIterator(*this) += n; }
+  difference_type operator-(const LoadIterator& other) const {
+    return (p_ - other.p_) / static_cast<difference_type>(sizeof(T));
+  }
+  bool operator==(const LoadIterator& other) const { return p_ == other.p_; }
+  bool operator!=(const LoadIterator& other) const { return p_ != other.p_; }
+
+ private:
+  const char* p_;
+};
+
+Status CheckSize(const std::string& src, size_t count, size_t value_bytes, const char* name) {
+  if (src.size() != count * value_bytes) {
+    return InvalidArgument(std::string("chunk.") + name + ": expected " + std::to_string(count * value_bytes) +
                            " bytes, got " + std::to_string(src.size()));
   }
-  const size_t old = dst->size();
-  dst->resize(old + count);
-  if (count) std::memcpy(reinterpret_cast<char*>(dst->data() + old), src.data(), src.size());
+  return Status::Ok();
+}
+
+template <typename T>
+Status CopyIn(const std::string& src, size_t count, const char* name, std::vector<T>* dst) {
+  RETURN_IF_ERROR(CheckSize(src, count, sizeof(T), name));
+  dst->insert(dst->end(), LoadIterator<T>(src.data()), LoadIterator<T>(src.data() + src.size()));
   return Status::Ok();
 }
 
@@ -69,6 +119,23 @@ Status AppendChunk(const v1::PointChunk& chunk, PointCloud* cloud) {
   if (cloud->Has(kFieldStatus)) RETURN_IF_ERROR(CopyIn(chunk.statuses(), n, "statuses", &cloud->statuses));
   if (cloud->Has(kFieldEstimatedNormal))
     RETURN_IF_ERROR(CopyIn(chunk.estimated_normals(), n, "estimated_normals", &cloud->estimated_normals));
+  return Status::Ok();
+}
+
+Status CheckChunk(const v1::PointChunk& chunk, uint32_t fields) {
+  const size_t n = chunk.count();
+  RETURN_IF_ERROR(CheckSize(chunk.positions(), n, 12, "positions"));
+  if (fields & kFieldNormal) RETURN_IF_ERROR(CheckSize(chunk.normals(), n, 12, "normals"));
+  if (fields & kFieldRange) RETURN_IF_ERROR(CheckSize(chunk.ranges(), n, 4, "ranges"));
+  if (fields & kFieldIntensity) RETURN_IF_ERROR(CheckSize(chunk.intensities(), n, 4, "intensities"));
+  if (fields & kFieldInstanceId) RETURN_IF_ERROR(CheckSize(chunk.instance_ids(), n, 4, "instance_ids"));
+  if (fields & kFieldPixel) RETURN_IF_ERROR(CheckSize(chunk.pixels(), n, 4, "pixels"));
+  if (fields & kFieldCleanPosition) RETURN_IF_ERROR(CheckSize(chunk.clean_positions(), n, 12, "clean_positions"));
+  if (fields & kFieldIncidence) RETURN_IF_ERROR(CheckSize(chunk.incidence_angles(), n, 4, "incidence_angles"));
+  if (fields & kFieldStatus) RETURN_IF_ERROR(CheckSize(chunk.statuses(), n, 1, "statuses"));
+  if (fields & kFieldEstimatedNormal) {
+    RETURN_IF_ERROR(CheckSize(chunk.estimated_normals(), n, 12, "estimated_normals"));
+  }
   return Status::Ok();
 }
 

@@ -313,6 +313,43 @@ TEST_F(ClientTest, StreamedScanWithoutCountsLandsInArraysReservedForEveryRay) {
   EXPECT_GE(result->cloud.pixels.capacity(), 20000u);
 }
 
+TEST_F(ClientTest, ChunksGoToOnChunkInsteadOfTheCloud) {
+  scans_.announced_points = 0;
+  scans_.streamed_points = 10000;
+  Client client = Connect();
+  v1::ScanRequest request;
+  request.set_scene_id("scene-1");
+  PointCloud received;
+  received.fields = kFieldsAll;
+  uint64_t last = 0;
+  ScanCallbacks callbacks;
+  callbacks.on_chunk = [&](const v1::PointChunk& chunk) { return AppendChunk(chunk, &received); };
+  callbacks.on_progress = [&](uint64_t done, uint64_t) { last = done; };
+  const auto result = client.Scan(request, callbacks);
+  ASSERT_TRUE(result.ok()) << result.status().ToString();
+  EXPECT_EQ(last, 10000u);
+  EXPECT_EQ(result->cloud.size(), 0u);
+  EXPECT_EQ(result->cloud.positions.capacity(), 0u);
+  EXPECT_EQ(received.positions, scans_.cloud.positions);
+  EXPECT_EQ(received.pixels, scans_.cloud.pixels);
+}
+
+TEST_F(ClientTest, AnOnChunkErrorStopsTheScanWithIt) {
+  Client client = Connect();
+  v1::ScanRequest request;
+  request.set_scene_id("scene-1");
+  int chunks = 0;
+  ScanCallbacks callbacks;
+  callbacks.on_chunk = [&](const v1::PointChunk&) {
+    ++chunks;
+    return DataLoss("disk full");
+  };
+  const auto result = client.Scan(request, callbacks);
+  EXPECT_EQ(result.status().code(), StatusCode::kDataLoss);
+  EXPECT_EQ(result.status().message(), "disk full");
+  EXPECT_EQ(chunks, 1);
+}
+
 TEST_F(ClientTest, StreamedScanShortOfItsStatisticsIsDataLoss) {
   scans_.announced_points = 0;
   scans_.streamed_points = 10001;

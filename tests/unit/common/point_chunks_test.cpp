@@ -45,6 +45,18 @@ TEST(PointChunks, RoundTripOverManyChunks) {
   }
 }
 
+TEST(PointChunks, CheckChunkNamesTheShortArray) {
+  v1::PointChunk chunk;
+  PackChunk(MakeCloud(kFieldsDefault, 5), 0, 5, 0, &chunk);
+  EXPECT_TRUE(CheckChunk(chunk, kFieldsDefault).ok());
+  EXPECT_TRUE(CheckChunk(chunk, kFieldPosition).ok());
+  chunk.mutable_ranges()->pop_back();
+  const Status short_ranges = CheckChunk(chunk, kFieldsDefault);
+  EXPECT_EQ(short_ranges.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(short_ranges.message().find("chunk.ranges"), std::string::npos);
+  EXPECT_EQ(CheckChunk(chunk, kFieldsAll).code(), StatusCode::kInvalidArgument);
+}
+
 TEST(PointChunks, AbsentFieldsAreNotPacked) {
   v1::PointChunk chunk;
   const PointCloud cloud = MakeCloud(kFieldPosition | kFieldRange, 4);

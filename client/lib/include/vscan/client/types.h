@@ -32,6 +32,10 @@ struct ClientOptions {
   std::chrono::milliseconds stream_timeout{0};
   // Largest message the client accepts; scan chunks may be up to 16 MiB.
   int max_receive_bytes = 64 << 20;
+  // HTTP/2 receive window of each stream, fixed from the first byte. gRPC's own flow control
+  // (0 here) starts a new channel at 64 KiB and grows it by probing, too late for a one-shot
+  // scan, and asks for ever larger frames that cost the client fresh buffers.
+  int stream_window_bytes = 8 << 20;
 };
 
 // Called with (done, total); total is 0 when unknown.
@@ -84,6 +88,10 @@ struct ScanCallbacks {
   std::function<void(const v1::ScanHeader&)> on_header;
   // After each chunk: (points received, points the header announced, 0 when streamed).
   ProgressFn on_progress;
+  // When set, each chunk (its arrays checked against its count) goes here instead of into the
+  // result's cloud, which then stays empty: for callers that write points out as they arrive. An
+  // error stops the scan and is returned.
+  std::function<Status(const v1::PointChunk&)> on_chunk;
 };
 
 struct ScanResult {

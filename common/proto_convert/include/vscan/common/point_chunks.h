@@ -18,4 +18,7 @@ void PackChunk(const PointCloud& cloud, size_t begin, size_t count, uint32_t ind
 // Appends a chunk to cloud, whose fields must already be set; checks every array's length.
 Status AppendChunk(const v1::PointChunk& chunk, PointCloud* cloud);
 
+// Checks that every array of chunk that fields name holds chunk.count() values.
+Status CheckChunk(const v1::PointChunk& chunk, uint32_t fields);
+
 }  // namespace vscan
