@@ -1,4 +1,4 @@
-#include "normals/kd_tree.h"
+#include "spatial/kd_tree.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-namespace vscan::normals {
+namespace vscan::spatial {
 namespace {
 
 std::vector<Eigen::Vector3f> RandomPoints(size_t n, uint32_t seed) {
@@ -92,7 +92,40 @@ TEST(KdTreeTest, EmptyTree) {
   const KdTree tree(std::span<const Eigen::Vector3f>{});
   std::vector<Neighbor> out(3);
   EXPECT_EQ(tree.Knn({0, 0, 0}, 1.0f, out), 0u);
+  EXPECT_EQ(tree.Nearest({0, 0, 0}, 1.0f).slot, KdTree::kNoSlot);
+}
+
+TEST(KdTreeTest, NearestMatchesBruteForce) {
+  const auto points = RandomPoints(5000, 4);
+  const KdTree tree(points);
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> u(-1.2f, 1.2f);
+  for (int i = 0; i < 600; ++i) {
+    const Eigen::Vector3f q(u(rng), u(rng), u(rng));
+    for (float limit : {std::numeric_limits<float>::infinity(), 0.01f}) {
+      float expected = std::numeric_limits<float>::infinity();
+      for (const auto& p : points) expected = std::min(expected, (p - q).squaredNorm());
+      const Neighbor nb = tree.Nearest(q, limit);
+      if (expected > limit) {
+        EXPECT_EQ(nb.slot, KdTree::kNoSlot) << "query " << i;
+        continue;
+      }
+      ASSERT_NE(nb.slot, KdTree::kNoSlot) << "query " << i;
+      EXPECT_FLOAT_EQ(nb.dist_sq, expected) << "query " << i;
+      EXPECT_FLOAT_EQ((points[tree.original_index(nb.slot)] - q).squaredNorm(), nb.dist_sq);
+    }
+  }
+}
+
+TEST(KdTreeTest, NearestWithTheExactDistanceAsLimitFindsThatPoint) {
+  const auto points = RandomPoints(2000, 5);
+  const KdTree tree(points);
+  const Eigen::Vector3f q(0.3f, -0.2f, 0.05f);
+  const Neighbor free = tree.Nearest(q, std::numeric_limits<float>::infinity());
+  const Neighbor bounded = tree.Nearest(q, free.dist_sq);
+  EXPECT_EQ(bounded.slot, free.slot);
+  EXPECT_EQ(tree.Nearest(q, free.dist_sq * 0.999f).slot, KdTree::kNoSlot);
 }
 
 }  // namespace
-}  // namespace vscan::normals
+}  // namespace vscan::spatial

@@ -7,7 +7,7 @@
 
 #include <Eigen/Core>
 
-namespace vscan::normals {
+namespace vscan::spatial {
 
 // One search result: a tree slot and its squared distance to the query.
 struct Neighbor {
@@ -26,6 +26,11 @@ class KdTree {
   // Writes the (at most out.size()) nearest points within sqrt(max_dist_sq) of q to out, nearest
   // first, and returns how many were found. Pass infinity for no distance limit.
   size_t Knn(const Eigen::Vector3f& q, float max_dist_sq, std::span<Neighbor> out) const;
+
+  static constexpr uint32_t kNoSlot = ~uint32_t{0};
+  // The nearest point within sqrt(max_dist_sq) of q, or slot kNoSlot when there is none. A tight
+  // limit (e.g. the distance to a point known to be near) prunes most of the tree.
+  Neighbor Nearest(const Eigen::Vector3f& q, float max_dist_sq) const;
 
   size_t size() const { return index_.size(); }
   Eigen::Vector3f point(uint32_t slot) const { return {xs_[slot], ys_[slot], zs_[slot]}; }
@@ -51,4 +56,4 @@ class KdTree {
   std::vector<uint32_t> index_;
 };
 
-}  // namespace vscan::normals
+}  // namespace vscan::spatial

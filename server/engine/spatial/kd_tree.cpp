@@ -1,4 +1,4 @@
-#include "normals/kd_tree.h"
+#include "spatial/kd_tree.h"
 
 #include <algorithm>
 #include <array>
@@ -7,7 +7,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
-namespace vscan::normals {
+namespace vscan::spatial {
 namespace {
 
 // Subtrees this large are built as parallel tasks.
@@ -176,4 +176,46 @@ size_t KdTree::Knn(const Eigen::Vector3f& q, float max_dist_sq, std::span<Neighb
   return heap.size();
 }
 
-}  // namespace vscan::normals
+Neighbor KdTree::Nearest(const Eigen::Vector3f& q, float max_dist_sq) const {
+  Neighbor best{max_dist_sq, kNoSlot};
+  if (nodes_.empty()) return best;
+  // The same descent as Knn with a single best candidate instead of a heap.
+  struct Pending {
+    uint32_t node;
+    float dist_sq;
+    std::array<float, 3> offset;
+  };
+  std::array<Pending, 64> stack;
+  size_t top = 0;
+  stack[top++] = {0, 0.0f, {0.0f, 0.0f, 0.0f}};
+  while (top > 0) {
+    Pending p = stack[--top];
+    if (p.dist_sq > best.dist_sq) continue;
+    uint32_t node = p.node;
+    while (nodes_[node].dim != Node::kLeaf) {
+      const Node& nd = nodes_[node];
+      const float diff = q[nd.dim] - nd.split;
+      const uint32_t near = diff < 0.0f ? node + 1 : nd.a;
+      const uint32_t far = diff < 0.0f ? nd.a : node + 1;
+      const float far_dist_sq = p.dist_sq - p.offset[nd.dim] * p.offset[nd.dim] + diff * diff;
+      if (far_dist_sq <= best.dist_sq) {
+        Pending& f = stack[top++];
+        f = {far, far_dist_sq, p.offset};
+        f.offset[nd.dim] = diff;
+      }
+      node = near;
+    }
+    const Node& leaf = nodes_[node];
+    const float* xs = xs_.data() + leaf.a;
+    const float* ys = ys_.data() + leaf.a;
+    const float* zs = zs_.data() + leaf.a;
+    for (uint32_t i = 0, count = leaf.b - leaf.a; i < count; ++i) {
+      const float dx = xs[i] - q.x(), dy = ys[i] - q.y(), dz = zs[i] - q.z();
+      const float d = dx * dx + dy * dy + dz * dz;
+      if (d < best.dist_sq || (d == best.dist_sq && best.slot == kNoSlot)) best = {d, leaf.a + i};
+    }
+  }
+  return best;
+}
+
+}  // namespace vscan::spatial
