@@ -14,7 +14,7 @@ PACKAGES=(
   # store, logging, command line
   libsqlite3-dev sqlite3 libssl-dev libspdlog-dev libfmt-dev libcli11-dev
   # tests, benchmark peers
-  libgtest-dev libgmock-dev libbenchmark-dev liborocos-kdl-dev libkdl-parser-dev
+  libgtest-dev libgmock-dev libbenchmark-dev liborocos-kdl-dev libkdl-parser-dev libopen3d-dev
   # Python client and its tests
   python3 python3-grpcio python3-protobuf python3-numpy python3-open3d
 )
