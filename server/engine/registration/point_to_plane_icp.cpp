@@ -13,6 +13,7 @@
 #include "registration/normal_equations.h"
 #include "registration/spatial_order.h"
 #include "registration/target_index.h"
+#include "registration/warm_nearest.h"
 
 namespace vscan::registration {
 namespace {
@@ -84,10 +85,10 @@ Status Validate(std::span<const Eigen::Vector3f> source, std::span<const Eigen::
   return Status::Ok();
 }
 
-// Nearest target point of each active source point under `pose`. warm[i] is source point i's pair
-// from an earlier iteration: its distance bounds the search, as does the previous point's pair
-// (close by in the spatial order) when i has none yet.
-void FindPairs(const Inputs& in, const Pose3& pose, std::span<const uint32_t> active, std::vector<uint32_t>& warm,
+// Nearest target point of each active source point under `pose`, warm-started from each point's
+// last search (warm[i] for source point i) or, for a point without one, its predecessor's in the
+// spatial order.
+void FindPairs(const Inputs& in, const Pose3& pose, std::span<const uint32_t> active, std::vector<WarmStart>& warm,
                std::vector<Pair>& pairs) {
   const Eigen::Matrix3d rotation = pose.linear();
   const Eigen::Vector3d translation = pose.translation();
@@ -96,24 +97,16 @@ void FindPairs(const Inputs& in, const Pose3& pose, std::span<const uint32_t> ac
   tbb::parallel_for(
       tbb::blocked_range<size_t>(0, active.size(), kGrain),
       [&](const tbb::blocked_range<size_t>& r) {
-        uint32_t previous = KdTree::kNoSlot;
+        const WarmStart* previous = nullptr;
         for (size_t j = r.begin(); j != r.end(); ++j) {
           const uint32_t i = active[j];
           const Eigen::Vector3d p = rotation * in.source[i].cast<double>() + translation;
-          const Eigen::Vector3f pf = p.cast<float>();
-          const uint32_t seed = warm[i] != KdTree::kNoSlot ? warm[i] : previous;
-          float bound = max_sq;
-          if (seed != KdTree::kNoSlot) {
-            // The slack keeps the seed itself inside the bound despite rounding.
-            const float seed_sq = (in.target.point(seed) - pf).squaredNorm();
-            bound = std::min(bound, seed_sq * (1.0f + 1e-5f) + std::numeric_limits<float>::min());
-          }
-          const spatial::Neighbor nb = in.target.tree().Nearest(pf, bound);
+          const spatial::Neighbor nb = WarmNearest(in.target.tree(), p.cast<float>(), max_sq, warm[i], previous);
+          if (warm[i].slot != KdTree::kNoSlot) previous = &warm[i];
           if (nb.slot == KdTree::kNoSlot) {
             pairs[j] = {std::numeric_limits<float>::infinity(), KdTree::kNoSlot, kNan};
             continue;
           }
-          warm[i] = previous = nb.slot;
           const Eigen::Vector3d n = in.target.normal(nb.slot).cast<double>();
           double residual = n.dot(p - in.target.point(nb.slot).cast<double>());
           if (!in.source_normals.empty()) {
@@ -244,7 +237,7 @@ StatusOr<IcpResult> PointToPlaneIcp(std::span<const Eigen::Vector3f> source,
   IcpResult result;
   result.target_from_source = initial_target_from_source;
   result.stop = IcpStop::kMaxIterations;
-  std::vector<uint32_t> warm(source.size(), KdTree::kNoSlot);
+  std::vector<WarmStart> warm(source.size());
   std::vector<Pair> pairs(order.size());
   bool coarse = start_coarse;
   for (int iteration = 1; iteration <= options.max_iterations; ++iteration) {
