@@ -34,14 +34,13 @@ spatial::Neighbor WarmNearest(const KdTree& tree, const Eigen::Vector3f& q, floa
     const float reach = hint->second + (q - hint->anchor).norm() + slack;
     bound_sq = std::min(bound_sq, reach * reach);
   }
-  std::array<spatial::Neighbor, 2> found;
-  const size_t n = tree.Knn(q, bound_sq, found);
-  if (n == 0) {
+  const std::array<spatial::Neighbor, 2> found = tree.NearestTwo(q, bound_sq);
+  if (found[0].slot == KdTree::kNoSlot) {
     state.slot = KdTree::kNoSlot;
     return {max_dist_sq, KdTree::kNoSlot};
   }
-  // With one point found, the second lies beyond the bound.
-  state = {q, std::sqrt(n == 2 ? found[1].dist_sq : bound_sq), found[0].slot};
+  // With one point found, the second lies beyond the bound, which is then its distance.
+  state = {q, std::sqrt(found[1].dist_sq), found[0].slot};
   return found[0];
 }
 

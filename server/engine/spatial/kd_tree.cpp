@@ -176,10 +176,14 @@ size_t KdTree::Knn(const Eigen::Vector3f& q, float max_dist_sq, std::span<Neighb
   return heap.size();
 }
 
-Neighbor KdTree::Nearest(const Eigen::Vector3f& q, float max_dist_sq) const {
-  Neighbor best{max_dist_sq, kNoSlot};
+std::array<Neighbor, 2> KdTree::NearestTwo(const Eigen::Vector3f& q, float max_dist_sq) const {
+  std::array<Neighbor, 2> best{{{max_dist_sq, kNoSlot}, {max_dist_sq, kNoSlot}}};
   if (nodes_.empty()) return best;
-  // The same descent as Knn with a single best candidate instead of a heap.
+  // Closer than an entry, or within the limit while the entry is still empty.
+  const auto better = [](float d, const Neighbor& entry) {
+    return d < entry.dist_sq || (entry.slot == kNoSlot && d <= entry.dist_sq);
+  };
+  // The same descent as Knn with two candidates instead of a heap.
   struct Pending {
     uint32_t node;
     float dist_sq;
@@ -190,7 +194,7 @@ Neighbor KdTree::Nearest(const Eigen::Vector3f& q, float max_dist_sq) const {
   stack[top++] = {0, 0.0f, {0.0f, 0.0f, 0.0f}};
   while (top > 0) {
     Pending p = stack[--top];
-    if (p.dist_sq > best.dist_sq) continue;
+    if (p.dist_sq > best[1].dist_sq) continue;
     uint32_t node = p.node;
     while (nodes_[node].dim != Node::kLeaf) {
       const Node& nd = nodes_[node];
@@ -198,7 +202,7 @@ Neighbor KdTree::Nearest(const Eigen::Vector3f& q, float max_dist_sq) const {
       const uint32_t near = diff < 0.0f ? node + 1 : nd.a;
       const uint32_t far = diff < 0.0f ? nd.a : node + 1;
       const float far_dist_sq = p.dist_sq - p.offset[nd.dim] * p.offset[nd.dim] + diff * diff;
-      if (far_dist_sq <= best.dist_sq) {
+      if (far_dist_sq <= best[1].dist_sq) {
         Pending& f = stack[top++];
         f = {far, far_dist_sq, p.offset};
         f.offset[nd.dim] = diff;
@@ -212,7 +216,13 @@ Neighbor KdTree::Nearest(const Eigen::Vector3f& q, float max_dist_sq) const {
     for (uint32_t i = 0, count = leaf.b - leaf.a; i < count; ++i) {
       const float dx = xs[i] - q.x(), dy = ys[i] - q.y(), dz = zs[i] - q.z();
       const float d = dx * dx + dy * dy + dz * dz;
-      if (d < best.dist_sq || (d == best.dist_sq && best.slot == kNoSlot)) best = {d, leaf.a + i};
+      if (!better(d, best[1])) continue;
+      if (better(d, best[0])) {
+        best[1] = best[0];
+        best[0] = {d, leaf.a + i};
+      } else {
+        best[1] = {d, leaf.a + i};
+      }
     }
   }
   return best;

@@ -1,6 +1,7 @@
 #pragma once
 // A flat, balanced kd-tree for k-nearest-neighbour queries on 3D points.
 
+#include <array>
 #include <cstdint>
 #include <span>
 #include <vector>
@@ -28,9 +29,10 @@ class KdTree {
   size_t Knn(const Eigen::Vector3f& q, float max_dist_sq, std::span<Neighbor> out) const;
 
   static constexpr uint32_t kNoSlot = ~uint32_t{0};
-  // The nearest point within sqrt(max_dist_sq) of q, or slot kNoSlot when there is none. A tight
-  // limit (e.g. the distance to a point known to be near) prunes most of the tree.
-  Neighbor Nearest(const Eigen::Vector3f& q, float max_dist_sq) const;
+  // The two nearest points within sqrt(max_dist_sq) of q, nearest first; a missing one has slot
+  // kNoSlot and distance max_dist_sq. Like Knn with k = 2 without the heap. A tight limit (e.g.
+  // from points known to be near) prunes most of the tree.
+  std::array<Neighbor, 2> NearestTwo(const Eigen::Vector3f& q, float max_dist_sq) const;
 
   size_t size() const { return index_.size(); }
   Eigen::Vector3f point(uint32_t slot) const { return {xs_[slot], ys_[slot], zs_[slot]}; }
