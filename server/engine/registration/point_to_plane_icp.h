@@ -33,7 +33,7 @@ struct IcpOptions {
   // Sources larger than twice this start on an evenly spread subset of about this many points and
   // switch to all points once that stage's updates fall below 10 times the tolerances; 0 uses all
   // points from the start.
-  size_t coarse_points = 10000;
+  size_t coarse_points = 5000;
   // An iteration with fewer accepted pairs than this ends the run, not converged.
   size_t min_correspondences = 32;
 };
