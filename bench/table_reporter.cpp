@@ -35,12 +35,17 @@ void TableReporter::ReportRuns(const std::vector<Run>& runs) {
 
 void TableReporter::PrintTable() const {
   const auto base = rows_.find(baseline_);
+  // The baseline first, then by name: with random interleaving the run order means nothing.
+  std::vector<std::string> order = order_;
+  std::sort(order.begin(), order.end(), [this](const std::string& a, const std::string& b) {
+    return std::make_pair(a != baseline_, a) < std::make_pair(b != baseline_, b);
+  });
   std::printf("\n| case | median ms | min–max ms |");
   for (const Column& c : columns_) std::printf(" %s |", c.header.c_str());
   std::printf(" time / %s |\n|---|---|---|", baseline_.c_str());
   for (size_t i = 0; i <= columns_.size(); ++i) std::printf("---|");
   std::printf("\n");
-  for (const std::string& name : order_) {
+  for (const std::string& name : order) {
     const Row& row = rows_.at(name);
     std::printf("| %s | %.1f | %.1f–%.1f |", name.c_str(), row.median, row.min, row.max);
     for (const Column& c : columns_) {

@@ -1,6 +1,7 @@
 #pragma once
-// Console output, then one Markdown row per benchmark with its median, min and max wall time over
-// the repetitions, chosen counters (their medians) and the median's ratio to a baseline case.
+// Console output, then one Markdown row per benchmark (the baseline first, the rest by name) with
+// its median, min and max wall time over the repetitions, chosen counters (their medians) and the
+// median's ratio to the baseline's.
 // Benchmarks need Repetitions and the "min" and "max" statistics (see AddMinMax).
 
 #include <map>
