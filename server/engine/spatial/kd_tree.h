@@ -51,6 +51,10 @@ class KdTree {
   };
 
   void Build(uint32_t node, uint32_t begin, uint32_t end, std::span<const Eigen::Vector3f> points);
+  // Visits, nearest first, the leaves whose cells lie within bound() of q, passing each leaf's
+  // first slot and its points' squared distances to q.
+  template <class Bound, class Visit>
+  void VisitLeaves(const Eigen::Vector3f& q, Bound bound, Visit visit) const;
 
   std::vector<Node> nodes_;
   // Coordinates by axis so that a leaf's distances vectorise.
