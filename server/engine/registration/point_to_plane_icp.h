@@ -3,6 +3,7 @@
 // normals, from a start close enough for nearest neighbours to be mostly right.
 
 #include <cstddef>
+#include <numbers>
 #include <span>
 
 #include <Eigen/Core>
@@ -21,7 +22,7 @@ struct IcpOptions {
   double rejection_factor = 3.0;
   // With source normals: pairs whose normals differ by more than this (radians, sign ignored) are
   // rejected.
-  double max_normal_angle = 0.785398163;
+  double max_normal_angle = std::numbers::pi / 4;
   RobustKernel kernel = RobustKernel::kTukey;
   // Kernel width in robust residual scales; 0 picks the kernel's usual constant (see KernelWidth).
   double kernel_width = 0.0;

@@ -28,7 +28,7 @@ spatial::Neighbor WarmNearest(const KdTree& tree, const Eigen::Vector3f& q, floa
       if (dist_sq <= max_dist_sq) return {dist_sq, state.slot};
       return {max_dist_sq, KdTree::kNoSlot};
     }
-    // The two points found last time are within second + moved of q.
+    // What the last search found lies within second + moved of q.
     bound_sq = std::min(bound_sq, (state.second + moved + slack) * (state.second + moved + slack));
   } else if (hint != nullptr && hint->slot != KdTree::kNoSlot) {
     const float reach = hint->second + (q - hint->anchor).norm() + slack;
