@@ -7,7 +7,7 @@
 #include "evaluation/distance_summary.h"
 #include "evaluation/nearest_distances.h"
 #include "evaluation/surface_sampling.h"
-#include "normals/kd_tree.h"
+#include "spatial/kd_tree.h"
 #include "raycast/point_queries.h"
 #include "raycast/raycast_scene.h"
 
@@ -52,7 +52,7 @@ StatusOr<GroundTruth> GroundTruth::Prepare(const TriangleMesh& mesh, const Evalu
 
 Evaluation GroundTruth::EvaluatePoints(std::span<const Eigen::Vector3f> points) const {
   const std::vector<float> to_truth = raycast::DistancesToSurface(*scene_, points, kInf);
-  const normals::KdTree tree(points);
+  const spatial::KdTree tree(points);
   const std::vector<float> from_truth = NearestDistances(tree, samples_);
   return Combine(points, to_truth, from_truth);
 }

@@ -7,11 +7,11 @@
 
 namespace vscan::evaluation {
 
-std::vector<float> NearestDistances(const normals::KdTree& tree, std::span<const Eigen::Vector3f> queries) {
+std::vector<float> NearestDistances(const spatial::KdTree& tree, std::span<const Eigen::Vector3f> queries) {
   constexpr float kInf = std::numeric_limits<float>::infinity();
   std::vector<float> distances(queries.size(), kInf);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, queries.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
-    normals::Neighbor nearest[1];
+    spatial::Neighbor nearest[1];
     for (size_t i = r.begin(); i != r.end(); ++i) {
       if (!queries[i].allFinite()) continue;
       if (tree.Knn(queries[i], kInf, nearest) == 1) distances[i] = std::sqrt(nearest[0].dist_sq);

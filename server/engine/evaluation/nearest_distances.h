@@ -6,11 +6,11 @@
 
 #include <Eigen/Core>
 
-#include "normals/kd_tree.h"
+#include "spatial/kd_tree.h"
 
 namespace vscan::evaluation {
 
 // +infinity for every query when the tree is empty, and for non-finite queries.
-std::vector<float> NearestDistances(const normals::KdTree& tree, std::span<const Eigen::Vector3f> queries);
+std::vector<float> NearestDistances(const spatial::KdTree& tree, std::span<const Eigen::Vector3f> queries);
 
 }  // namespace vscan::evaluation

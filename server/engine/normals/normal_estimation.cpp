@@ -9,7 +9,7 @@
 
 #include <tbb/parallel_for.h>
 
-#include "normals/kd_tree.h"
+#include "spatial/kd_tree.h"
 #include "normals/plane_fit.h"
 
 namespace vscan::normals {
@@ -41,9 +41,10 @@ bool IsCancelled(const NormalOptions& options) {
 // The previous query's k neighbours are k distinct points, so the farthest of them from p bounds
 // p's k-th neighbour distance: searching within it gives the same answer and prunes from the start.
 // Consecutive slots are close in space, which keeps the bound tight. The slack covers rounding.
-float SeedBound(const KdTree& tree, const Eigen::Vector3f& p, std::span<const Neighbor> previous) {
+float SeedBound(const spatial::KdTree& tree, const Eigen::Vector3f& p,
+                std::span<const spatial::Neighbor> previous) {
   float bound = 0.0f;
-  for (const Neighbor& nb : previous) bound = std::max(bound, (tree.point(nb.slot) - p).squaredNorm());
+  for (const spatial::Neighbor& nb : previous) bound = std::max(bound, (tree.point(nb.slot) - p).squaredNorm());
   return bound * (1.0f + 1e-5f) + std::numeric_limits<float>::min();
 }
 
@@ -54,7 +55,7 @@ StatusOr<std::vector<Eigen::Vector3f>> EstimateNormals(std::span<const Eigen::Ve
   RETURN_IF_ERROR(Validate(points, options));
   const float nan = std::numeric_limits<float>::quiet_NaN();
   std::vector<Eigen::Vector3f> normals(points.size(), Eigen::Vector3f::Constant(nan));
-  const KdTree tree(points);
+  const spatial::KdTree tree(points);
   if (IsCancelled(options)) return Cancelled("normals: cancelled");
 
   const float max_dist_sq = options.max_distance > 0.0f
@@ -65,7 +66,7 @@ StatusOr<std::vector<Eigen::Vector3f>> EstimateNormals(std::span<const Eigen::Ve
   // Queries run in leaf order so that neighbouring tasks touch neighbouring memory.
   tbb::parallel_for(tbb::blocked_range<uint32_t>(0, n, kGrain), [&](const tbb::blocked_range<uint32_t>& r) {
     if (IsCancelled(options)) return;
-    std::array<Neighbor, kMaxK> storage;
+    std::array<spatial::Neighbor, kMaxK> storage;
     size_t found = 0;
     for (uint32_t slot = r.begin(); slot != r.end(); ++slot) {
       const Eigen::Vector3f p = tree.point(slot);

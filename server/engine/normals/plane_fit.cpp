@@ -4,14 +4,14 @@
 
 namespace vscan::normals {
 
-Eigen::Vector3f FitPlaneNormal(const KdTree& tree, std::span<const Neighbor> neighbours) {
+Eigen::Vector3f FitPlaneNormal(const spatial::KdTree& tree, std::span<const spatial::Neighbor> neighbours) {
   Eigen::Vector3f centroid = Eigen::Vector3f::Zero();
-  for (const Neighbor& nb : neighbours) centroid += tree.point(nb.slot);
+  for (const spatial::Neighbor& nb : neighbours) centroid += tree.point(nb.slot);
   centroid /= static_cast<float>(neighbours.size());
 
   // Centring first keeps float accuracy independent of how far the cloud is from the origin.
   float xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
-  for (const Neighbor& nb : neighbours) {
+  for (const spatial::Neighbor& nb : neighbours) {
     const Eigen::Vector3f d = tree.point(nb.slot) - centroid;
     xx += d.x() * d.x();
     xy += d.x() * d.y();

@@ -5,7 +5,7 @@
 
 #include <Eigen/Core>
 
-#include "normals/kd_tree.h"
+#include "spatial/kd_tree.h"
 
 namespace vscan::normals {
 
@@ -13,6 +13,6 @@ namespace vscan::normals {
 // closed-form SelfAdjointEigenSolver::computeDirect). That is the right singular vector of the
 // smallest singular value of the centred neighbourhood matrix, without forming an SVD. The sign is
 // arbitrary. Needs at least one neighbour.
-Eigen::Vector3f FitPlaneNormal(const KdTree& tree, std::span<const Neighbor> neighbours);
+Eigen::Vector3f FitPlaneNormal(const spatial::KdTree& tree, std::span<const spatial::Neighbor> neighbours);
 
 }  // namespace vscan::normals

@@ -4,17 +4,17 @@
 
 #include <tbb/parallel_for.h>
 
-#include "normals/kd_tree.h"
+#include "spatial/kd_tree.h"
 #include "reconstruction/mesh_cleanup.h"
 
 namespace vscan::reconstruction {
 
 size_t TrimFarFromPoints(TriangleMesh& mesh, std::span<const Eigen::Vector3f> points, float max_distance) {
-  const normals::KdTree tree(points);
+  const spatial::KdTree tree(points);
   std::vector<char> keep(mesh.vertices.size(), 0);
   const float max_sq = max_distance * max_distance;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, mesh.vertices.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
-    normals::Neighbor nearest[1];
+    spatial::Neighbor nearest[1];
     for (size_t v = r.begin(); v != r.end(); ++v) keep[v] = tree.Knn(mesh.vertices[v], max_sq, nearest) == 1;
   });
   const size_t before = mesh.triangles.size();

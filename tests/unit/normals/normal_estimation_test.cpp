@@ -10,7 +10,7 @@
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
-#include "normals/kd_tree.h"
+#include "spatial/kd_tree.h"
 
 namespace vscan::normals {
 namespace {
@@ -105,8 +105,8 @@ TEST(NormalEstimationTest, SphereNormalsAreRadial) {
   for (auto& p : points) p = centre + radius * Eigen::Vector3f(g(rng), g(rng), g(rng)).normalized();
 
   const auto normals = Estimate(points, {.k = k, .viewpoint = centre});
-  const KdTree tree(points);
-  std::vector<Neighbor> nb(k);
+  const spatial::KdTree tree(points);
+  std::vector<spatial::Neighbor> nb(k);
   double sum_error = 0.0, sum_subtended = 0.0;
   for (size_t i = 0; i < n; ++i) {
     const size_t found = tree.Knn(points[i], std::numeric_limits<float>::infinity(), nb);

@@ -1,4 +1,4 @@
-#include "normals/kd_tree.h"
+#include "spatial/kd_tree.h"
 
 #include <algorithm>
 #include <cmath>
@@ -8,7 +8,7 @@
 
 #include <gtest/gtest.h>
 
-namespace vscan::normals {
+namespace vscan::spatial {
 namespace {
 
 std::vector<Eigen::Vector3f> RandomPoints(size_t n, uint32_t seed) {
@@ -92,7 +92,55 @@ TEST(KdTreeTest, EmptyTree) {
   const KdTree tree(std::span<const Eigen::Vector3f>{});
   std::vector<Neighbor> out(3);
   EXPECT_EQ(tree.Knn({0, 0, 0}, 1.0f, out), 0u);
+  EXPECT_EQ(tree.NearestTwo({0, 0, 0}, 1.0f)[0].slot, KdTree::kNoSlot);
+}
+
+TEST(KdTreeTest, NearestTwoMatchesBruteForce) {
+  const auto points = RandomPoints(5000, 4);
+  const KdTree tree(points);
+  std::mt19937 rng(9);
+  std::uniform_real_distribution<float> u(-1.2f, 1.2f);
+  for (int i = 0; i < 600; ++i) {
+    const Eigen::Vector3f q = i % 3 == 0 ? points[static_cast<size_t>(i) * 5 % points.size()]
+                                         : Eigen::Vector3f(u(rng), u(rng), u(rng));
+    for (float limit : {std::numeric_limits<float>::infinity(), 0.01f}) {
+      float first = std::numeric_limits<float>::infinity(), second = first;
+      for (const auto& p : points) {
+        const float d = (p - q).squaredNorm();
+        if (d < first) {
+          second = first;
+          first = d;
+        } else if (d < second) {
+          second = d;
+        }
+      }
+      const auto nb = tree.NearestTwo(q, limit);
+      for (int rank = 0; rank < 2; ++rank) {
+        const float expected = rank == 0 ? first : second;
+        if (expected > limit) {
+          EXPECT_EQ(nb[rank].slot, KdTree::kNoSlot) << "query " << i << " rank " << rank;
+          continue;
+        }
+        ASSERT_NE(nb[rank].slot, KdTree::kNoSlot) << "query " << i << " rank " << rank;
+        EXPECT_FLOAT_EQ(nb[rank].dist_sq, expected) << "query " << i << " rank " << rank;
+        EXPECT_FLOAT_EQ((points[tree.original_index(nb[rank].slot)] - q).squaredNorm(), nb[rank].dist_sq);
+      }
+    }
+  }
+}
+
+TEST(KdTreeTest, NearestTwoWithTheExactDistanceAsLimitFindsThosePoints) {
+  const auto points = RandomPoints(2000, 5);
+  const KdTree tree(points);
+  const Eigen::Vector3f q(0.3f, -0.2f, 0.05f);
+  const auto free = tree.NearestTwo(q, std::numeric_limits<float>::infinity());
+  const auto bounded = tree.NearestTwo(q, free[1].dist_sq);
+  EXPECT_EQ(bounded[0].slot, free[0].slot);
+  EXPECT_EQ(bounded[1].slot, free[1].slot);
+  const auto one = tree.NearestTwo(q, free[1].dist_sq * 0.999f);
+  EXPECT_EQ(one[0].slot, free[0].slot);
+  EXPECT_EQ(one[1].slot, KdTree::kNoSlot);
 }
 
 }  // namespace
-}  // namespace vscan::normals
+}  // namespace vscan::spatial

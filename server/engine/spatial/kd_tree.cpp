@@ -1,4 +1,4 @@
-#include "normals/kd_tree.h"
+#include "spatial/kd_tree.h"
 
 #include <algorithm>
 #include <array>
@@ -7,7 +7,7 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
-namespace vscan::normals {
+namespace vscan::spatial {
 namespace {
 
 // Subtrees this large are built as parallel tasks.
@@ -127,9 +127,8 @@ void KdTree::Build(uint32_t node, uint32_t begin, uint32_t end, std::span<const 
   }
 }
 
-size_t KdTree::Knn(const Eigen::Vector3f& q, float max_dist_sq, std::span<Neighbor> out) const {
-  if (out.empty() || nodes_.empty()) return 0;
-  BoundedHeap heap(out, max_dist_sq);
+template <class Bound, class Visit>
+void KdTree::VisitLeaves(const Eigen::Vector3f& q, Bound bound, Visit visit) const {
   // A pending subtree with the query's per-axis offsets to its cell and their squared sum, a lower
   // bound on the distance to any point inside (incremental distance, Arya and Mount).
   struct Pending {
@@ -144,7 +143,7 @@ size_t KdTree::Knn(const Eigen::Vector3f& q, float max_dist_sq, std::span<Neighb
   std::array<float, kLeafSize> dist_sq;
   while (top > 0) {
     Pending p = stack[--top];
-    if (p.dist_sq > heap.bound()) continue;
+    if (p.dist_sq > bound()) continue;
     uint32_t node = p.node;
     while (nodes_[node].dim != Node::kLeaf) {
       const Node& nd = nodes_[node];
@@ -152,7 +151,7 @@ size_t KdTree::Knn(const Eigen::Vector3f& q, float max_dist_sq, std::span<Neighb
       const uint32_t near = diff < 0.0f ? node + 1 : nd.a;
       const uint32_t far = diff < 0.0f ? nd.a : node + 1;
       const float far_dist_sq = p.dist_sq - p.offset[nd.dim] * p.offset[nd.dim] + diff * diff;
-      if (far_dist_sq <= heap.bound()) {
+      if (far_dist_sq <= bound()) {
         Pending& f = stack[top++];
         f = {far, far_dist_sq, p.offset};
         f.offset[nd.dim] = diff;
@@ -168,12 +167,46 @@ size_t KdTree::Knn(const Eigen::Vector3f& q, float max_dist_sq, std::span<Neighb
       const float dx = xs[i] - q.x(), dy = ys[i] - q.y(), dz = zs[i] - q.z();
       dist_sq[i] = dx * dx + dy * dy + dz * dz;
     }
-    for (uint32_t i = 0; i < count; ++i) {
-      if (dist_sq[i] < heap.bound() || !heap.full()) heap.Offer(dist_sq[i], leaf.a + i);
-    }
+    visit(leaf.a, std::span<const float>(dist_sq.data(), count));
   }
+}
+
+size_t KdTree::Knn(const Eigen::Vector3f& q, float max_dist_sq, std::span<Neighbor> out) const {
+  if (out.empty() || nodes_.empty()) return 0;
+  BoundedHeap heap(out, max_dist_sq);
+  VisitLeaves(
+      q, [&heap] { return heap.bound(); },
+      [&heap](uint32_t first, std::span<const float> dist_sq) {
+        for (uint32_t i = 0; i < dist_sq.size(); ++i) {
+          if (dist_sq[i] < heap.bound() || !heap.full()) heap.Offer(dist_sq[i], first + i);
+        }
+      });
   heap.SortAscending();
   return heap.size();
 }
 
-}  // namespace vscan::normals
+std::array<Neighbor, 2> KdTree::NearestTwo(const Eigen::Vector3f& q, float max_dist_sq) const {
+  std::array<Neighbor, 2> best{{{max_dist_sq, kNoSlot}, {max_dist_sq, kNoSlot}}};
+  if (nodes_.empty()) return best;
+  // Closer than an entry, or within the limit while the entry is still empty.
+  const auto better = [](float d, const Neighbor& entry) {
+    return d < entry.dist_sq || (entry.slot == kNoSlot && d <= entry.dist_sq);
+  };
+  VisitLeaves(
+      q, [&best] { return best[1].dist_sq; },
+      [&](uint32_t first, std::span<const float> dist_sq) {
+        for (uint32_t i = 0; i < dist_sq.size(); ++i) {
+          const float d = dist_sq[i];
+          if (!better(d, best[1])) continue;
+          if (better(d, best[0])) {
+            best[1] = best[0];
+            best[0] = {d, first + i};
+          } else {
+            best[1] = {d, first + i};
+          }
+        }
+      });
+  return best;
+}
+
+}  // namespace vscan::spatial
