@@ -6,10 +6,9 @@
 #include <fstream>
 #include <sstream>
 
-#include <unistd.h>
-
 #include "vscan/common/cloud_io.h"
 #include "vscan_test/clouds.h"
+#include "vscan_test/temp_dir.h"
 
 namespace vscan {
 namespace {
@@ -21,20 +20,14 @@ namespace fs = std::filesystem;
 
 class CloudFileWriterTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("vscan_cloud_writer_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string Path(const std::string& name) const { return (dir_ / name).string(); }
+  std::string Path(const std::string& name) const { return (dir_.path() / name).string(); }
   size_t Files() const {
     size_t n = 0;
-    for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir_)) ++n;
+    for ([[maybe_unused]] const auto& e : fs::directory_iterator(dir_.path())) ++n;
     return n;
   }
 
-  fs::path dir_;
+  test::TempDir dir_;
 };
 
 std::string ReadAll(const std::string& path) {
