@@ -1,0 +1,52 @@
+#pragma once
+// Alignment without a known pose: keypoints, SHOT descriptors and RANSAC over their matches (PCL),
+// then point-to-plane ICP. A pair that cannot be aligned is reported as such, never guessed.
+
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <span>
+#include <string>
+
+#include <Eigen/Core>
+
+#include "vscan/common/pose.h"
+#include "vscan/common/status.h"
+
+namespace vscan::registration {
+
+struct FeatureAlignmentOptions {
+  // Both clouds are thinned to this voxel edge (metres); > 0.
+  double voxel_size = 0.003;
+  // Radius of the normals and of the SHOT support, in voxels.
+  double normal_radius_voxels = 3;
+  double descriptor_radius_voxels = 10;
+  // RANSAC: iterations, and the distance (in voxels) within which a matched keypoint is an inlier.
+  int ransac_iterations = 20000;
+  double inlier_distance_voxels = 2;
+  // The result is accepted when at least this many matches are inliers and, after ICP, at least
+  // min_fitness of the source's points lie within 2 voxels of the target.
+  size_t min_inliers = 12;
+  double min_fitness = 0.3;
+  uint64_t seed = 1;
+};
+
+struct FeatureAlignmentResult {
+  bool found = false;
+  std::string reason;  // why not found
+  Pose3 target_from_source = Pose3::Identity();
+  size_t keypoints_source = 0;
+  size_t keypoints_target = 0;
+  size_t matches = 0;
+  size_t inliers = 0;
+  double fitness = 0;  // after ICP
+};
+
+// InvalidArgument names "features.<option>" for an option out of range; Cancelled when cancel
+// becomes true. Too few points or no consensus give found = false with a reason, not an error.
+StatusOr<FeatureAlignmentResult> AlignByFeatures(std::span<const Eigen::Vector3f> source,
+                                                 std::span<const Eigen::Vector3f> target,
+                                                 const FeatureAlignmentOptions& options,
+                                                 const std::atomic<bool>* cancel = nullptr);
+
+}  // namespace vscan::registration
