@@ -366,7 +366,8 @@ class PlanParser {
       const YamlAt at = YamlReader::Child(top, key);
       if (!YamlReader::Has(at)) continue;
       if (!wanted) {
-        return yaml_.Error(KeyMark(top, key), key, std::string("tunes a part that does not run: set ") + needs + ": true");
+        return yaml_.Error(KeyMark(top, key), key,
+                           std::string("tunes a part that does not run: set ") + needs + ": true");
       }
       RETURN_IF_ERROR(yaml_.FillMessage(at, message()));
     }

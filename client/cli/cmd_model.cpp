@@ -129,7 +129,8 @@ void AddInputOptions(CLI::App* cmd, RunArgs& args) {
                   "Keep only points inside xmin,ymin,zmin,xmax,ymax,zmax (model frame, metres; default: a "
                   "cylinder round the ground truth above the table, when the scene is known)");
   cmd->add_option("--name", m.name, "Label shown in listings");
-  cmd->add_option("-o,--out", args.out_dir, "Download the artifacts (model.json, aligned.ply, ...) into this directory");
+  cmd->add_option("-o,--out", args.out_dir,
+                  "Download the artifacts (model.json, aligned.ply, ...) into this directory");
   cmd->add_flag("--no-wait", args.no_wait, "Start the job, print its id and return");
   cmd->add_flag("--validate", args.validate, "Ask the server to check the request; start nothing");
 }
