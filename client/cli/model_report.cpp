@@ -174,6 +174,7 @@ void AppendEvaluation(const Struct& evaluation, std::string* out) {
             Format("%.4f", NumberOr(*truth, "area_m2")) + " m2, " + Count(NumberOr(*truth, "samples")) +
             " samples)";
   }
+  if (const auto seconds = Number(evaluation, "seconds")) *out += " in " + Format("%.1f", *seconds) + " s";
   *out += ":\n";
   *out += MetricsLine("part", {"precision", "recall", "F-score", "accuracy mm", "completeness mm", "Chamfer mm"});
   *out += MetricsLine("", {"", "", "", "mean / median", "mean / median", ""});

@@ -34,7 +34,7 @@ const char* const kReport = R"json({
   "reconstruction": {"method": "tsdf", "voxel_size": 0.001, "vertices": 12345, "triangles": 24680, "seconds": 4.06,
                      "artifact": "mesh.ply"},
   "evaluation": {
-    "tau": 0.001, "ground_truth": {"objects": ["obj_1"], "area_m2": 0.05712, "samples": 100000},
+    "tau": 0.001, "ground_truth": {"objects": ["obj_1"], "area_m2": 0.05712, "samples": 100000}, "seconds": 2.14,
     "union": {"precision": 0.981, "recall": 0.934, "f_score": 0.9569, "accuracy_mean": 0.00021,
               "accuracy_median": 0.00015, "completeness_mean": 0.00045, "completeness_median": 0.0002,
               "chamfer": 0.00033},
@@ -73,7 +73,7 @@ TEST(ModelReport, PrintsEverySectionInItsUnits) {
       "  scan 2 (cld_c) NOT aligned: fitness 0.12 below 0.3",
       "  aligned scans: aligned.ply",
       "reconstruction: tsdf, voxel 1.000 mm: 12345 vertices, 24680 triangles in 4.1 s: mesh.ply",
-      "evaluation at tau 1.000 mm against 1 object (0.0571 m2, 100000 samples):",
+      "evaluation at tau 1.000 mm against 1 object (0.0571 m2, 100000 samples) in 2.1 s:",
       "  part    precision   recall  F-score      accuracy mm  completeness mm  Chamfer mm",
       "                                         mean / median    mean / median",
       "  union      98.1 %   93.4 %   95.7 %    0.210 / 0.150    0.450 / 0.200       0.330",
