@@ -124,7 +124,9 @@ void AddInputOptions(CLI::App* cmd, RunArgs& args) {
   ModelArgs& m = args.model;
   cmd->add_option("CLOUD_ID", m.cloud_ids, "Stored clouds, in this order (see `vscan cloud list`)");
   cmd->add_option("--campaign", m.campaign_job_id, "Every captured scan of this campaign job instead of CLOUD_ID...");
-  cmd->add_option("--scene", m.scene_id, "The scene that holds the ground truth (default: the clouds' scene)");
+  cmd->add_option("--scene", m.scene_id,
+                  "The scene whose objects are the ground truth and set the default crop (default: the clouds' "
+                  "scene)");
   cmd->add_option("--crop", m.crop,
                   "Keep only points inside xmin,ymin,zmin,xmax,ymax,zmax (model frame, metres; default: a "
                   "cylinder round the ground truth above the table, when the scene is known)");
