@@ -35,9 +35,16 @@ Status CheckLength(double value, const char* field, double min) {
   return Status::Ok();
 }
 
+Status CheckCorner(const Eigen::Vector3d& p, const char* field) {
+  if (!p.allFinite() || p.cwiseAbs().maxCoeff() > kMaxCoordinateM) {
+    return InvalidArgument(field, "coordinates must be finite and within " + Number(kMaxCoordinateM) + " m");
+  }
+  return Status::Ok();
+}
+
 Status CheckCrop(const ModelBox& crop) {
-  RETURN_IF_ERROR(CheckPosition(crop.min, "crop.min"));
-  RETURN_IF_ERROR(CheckPosition(crop.max, "crop.max"));
+  RETURN_IF_ERROR(CheckCorner(crop.min, "crop.min"));
+  RETURN_IF_ERROR(CheckCorner(crop.max, "crop.max"));
   if (!(crop.min.array() < crop.max.array()).all()) {
     return InvalidArgument("crop", "min must be below max on every axis");
   }

@@ -1,0 +1,87 @@
+#pragma once
+// The world of the model-job tests: a UR5 beside a rotary table with an L-shaped block on it;
+// campaigns run through the service layer with their scans stored as vscand stores them (blobs,
+// artifact rows, cloud rows), and model jobs run over those clouds.
+
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "service/campaign_plan.h"
+#include "service/job_events.h"
+#include "service/model_campaigns.h"
+#include "service/model_plan.h"
+#include "service_world.h"
+#include "vscan/common/mesh.h"
+
+namespace vscan::service::testing {
+
+// An L-shaped prism 8 cm long (x), 6 cm deep (y) and 7 cm tall (z), standing on z = 0 about the
+// origin: closed, and without a symmetry along which alignment could slide.
+TriangleMesh LBlock();
+
+// A job's events and artifacts kept in the world's store, and for the test to read.
+class StoredJob final : public JobRecorder {
+ public:
+  StoredJob(ServiceWorld& world, const std::string& kind);
+
+  Status Record(const JobEventUpdate& update) override;
+  StatusOr<std::string> RecordArtifact(const std::string& name, const std::string& media_type,
+                                       const std::string& bytes, const CampaignStepRecord* scan,
+                                       const store::CloudRecord* cloud, const JobEventUpdate& update) override;
+  Status End(const JobEventUpdate& update) override;
+
+  std::string job_id;
+  std::vector<std::string> messages;
+  std::vector<ScanAlignmentRecord> alignments;  // as the events carried them
+  std::map<std::string, std::string> artifacts;  // name -> bytes
+  std::vector<CampaignScanRecord> scans;
+  std::vector<uint32_t> steps_done;
+  store::JobState end_state = store::JobState::kRunning;
+  std::string end_message;
+
+ private:
+  store::JobProgress Progress(const JobEventUpdate& update);
+  ServiceWorld& world_;
+  uint64_t sequence_ = 0;
+};
+
+class TestCampaignRecords final : public CampaignRecords {
+ public:
+  explicit TestCampaignRecords(ServiceWorld& world) : world_(world) {}
+  void Add(const CampaignRecord& record) { records_[record.job_id] = record; }
+  StatusOr<CampaignRecord> Get(const std::string& job_id) override;
+
+ private:
+  ServiceWorld& world_;
+  std::map<std::string, CampaignRecord> records_;
+};
+
+class ModelWorld {
+ public:
+  // encoder_sigma (radians, every joint) is the arm's encoder noise a campaign may apply.
+  explicit ModelWorld(double encoder_sigma = 0.0);
+
+  ServiceWorld world;
+  std::string scene_id;
+  std::string mount_id;
+  TestCampaignRecords campaigns{world};
+
+  static constexpr double kTargetHeight = 0.035;
+  // A viewpoint `distance` from the block's middle at elevation_deg, on the arm's side (+x).
+  static CampaignViewpoint Viewpoint(double distance, double elevation_deg, double azimuth_deg = 0.0);
+  static CampaignViewpoint ViewpointAt(const Eigen::Vector3d& position, const Eigen::Vector3d& target);
+
+  // viewpoints x rotations (evenly over a turn), a 320 x 240 camera storing positions and pixels.
+  CampaignPlan Campaign(std::vector<CampaignViewpoint> viewpoints, uint32_t rotations, bool encoder_noise = false,
+                        double start_angle_deg = 0.0) const;
+  // Runs the campaign to its end; returns its job id (its records known to `campaigns`).
+  std::string RunCampaign(const CampaignPlan& plan);
+  // Plans and runs a model job; a plan the request does not pass fails the test.
+  std::unique_ptr<StoredJob> RunModel(const ModelRequest& request);
+};
+
+}  // namespace vscan::service::testing
