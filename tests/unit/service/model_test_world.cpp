@@ -1,5 +1,6 @@
 #include "model_test_world.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -8,6 +9,7 @@
 #include "jobs/job_runner.h"
 #include "robot_fixtures.h"
 #include "service/campaign_run.h"
+#include "service/campaign_summary.h"
 #include "service/model_run.h"
 
 namespace vscan::service::testing {
@@ -19,31 +21,7 @@ T Must(StatusOr<T> value) {
   return std::move(value).value();
 }
 
-// The L in the xz plane, counter-clockwise seen from -y, metres.
-const Eigen::Vector2d kOutline[] = {{-0.04, 0.0}, {0.04, 0.0}, {0.04, 0.03}, {0.0, 0.03}, {0.0, 0.07}, {-0.04, 0.07}};
-
 }  // namespace
-
-TriangleMesh LBlock() {
-  constexpr uint32_t n = 6;
-  constexpr double half_depth = 0.03;
-  TriangleMesh mesh;
-  for (const double y : {-half_depth, half_depth}) {
-    for (const Eigen::Vector2d& p : kOutline) mesh.vertices.emplace_back(p.x(), y, p.y());
-  }
-  // Caps: a fan from the first corner covers the L (every fan triangle lies inside it). The outline
-  // runs counter-clockwise seen from -y, so the front cap (y < 0) keeps that order.
-  for (uint32_t k = 1; k + 1 < n; ++k) {
-    mesh.triangles.push_back({0, k, k + 1});
-    mesh.triangles.push_back({n, n + k + 1, n + k});
-  }
-  for (uint32_t k = 0; k < n; ++k) {
-    const uint32_t a = k, b = (k + 1) % n;
-    mesh.triangles.push_back({a, n + b, b});
-    mesh.triangles.push_back({a, n + a, n + b});
-  }
-  return mesh;
-}
 
 StoredJob::StoredJob(ServiceWorld& world, const std::string& kind) : world_(world) {
   store::JobRecord record;
@@ -169,15 +147,24 @@ std::string ModelWorld::RunCampaign(const CampaignPlan& plan) {
   return job.job_id;
 }
 
-std::unique_ptr<StoredJob> ModelWorld::RunModel(const ModelRequest& request) {
+std::vector<std::string> ModelWorld::CloudsOf(const std::string& campaign_job_id) {
+  std::vector<store::CloudRecord> clouds = Must(world.clouds().List("", 1000, campaign_job_id));
+  // Scan names sort as the campaign captured them (rotation-major).
+  std::sort(clouds.begin(), clouds.end(), [](const auto& a, const auto& b) { return a.name < b.name; });
+  std::vector<std::string> ids;
+  for (const auto& cloud : clouds) ids.push_back(cloud.cloud_id);
+  return ids;
+}
+
+std::unique_ptr<StoredJob> ModelWorld::RunModel(const ModelRequest& request, jobs::JobControl* control) {
   auto job = std::make_unique<StoredJob>(world, "model");
   auto plan = PlanModel(world.context(), campaigns, request);
   if (!plan.ok()) {
     ADD_FAILURE() << plan.status().ToString();
     return job;
   }
-  jobs::JobControl control;
-  service::RunModel(world.context(), *job, job->job_id, *plan, control);
+  jobs::JobControl own;
+  service::RunModel(world.context(), *job, job->job_id, *plan, control ? *control : own);
   return job;
 }
 

@@ -10,18 +10,15 @@
 
 #include <Eigen/Core>
 
+#include "jobs/job_runner.h"
 #include "service/campaign_plan.h"
 #include "service/job_events.h"
 #include "service/model_campaigns.h"
 #include "service/model_plan.h"
 #include "service_world.h"
-#include "vscan/common/mesh.h"
+#include "model_test_block.h"
 
 namespace vscan::service::testing {
-
-// An L-shaped prism 8 cm long (x), 6 cm deep (y) and 7 cm tall (z), standing on z = 0 about the
-// origin: closed, and without a symmetry along which alignment could slide.
-TriangleMesh LBlock();
 
 // A job's events and artifacts kept in the world's store, and for the test to read.
 class StoredJob final : public JobRecorder {
@@ -80,8 +77,10 @@ class ModelWorld {
                         double start_angle_deg = 0.0) const;
   // Runs the campaign to its end; returns its job id (its records known to `campaigns`).
   std::string RunCampaign(const CampaignPlan& plan);
+  // The clouds a campaign stored, in the order it captured them.
+  std::vector<std::string> CloudsOf(const std::string& campaign_job_id);
   // Plans and runs a model job; a plan the request does not pass fails the test.
-  std::unique_ptr<StoredJob> RunModel(const ModelRequest& request);
+  std::unique_ptr<StoredJob> RunModel(const ModelRequest& request, jobs::JobControl* control = nullptr);
 };
 
 }  // namespace vscan::service::testing
