@@ -14,6 +14,10 @@
 namespace vscan::service {
 namespace {
 
+// A scan whose aligned pose disagrees with its known pose by more than this many times the median
+// disagreement is left out of the fit that places the aligned set.
+constexpr double kOutlierMisfits = 4.0;
+
 // The alignment voxel picked from an object's size (its bounding-box diagonal).
 double VoxelForSize(double size) { return std::clamp(size / 100.0, 2e-4, 0.05); }
 
@@ -179,7 +183,8 @@ class ScanAligner {
   }
 
   // The anchor keeps its known pose, which carries its own error (e.g. the arm's encoder noise):
-  // the aligned set is moved to where it best agrees with every known initial pose instead.
+  // the aligned set is moved to where it best agrees with every known initial pose instead. Scans
+  // that disagree far more than the rest (a wrong alignment) are left out of that fit.
   void PlaceOnKnownPoses(double reach) {
     std::vector<Pose3> from, to;
     for (size_t i = 0; i < out_.scans.size(); ++i) {
@@ -189,7 +194,21 @@ class ScanAligner {
       }
     }
     if (from.size() < 3) return;
-    const Pose3 move = FitPoses(from, to, reach);
+    Pose3 move = FitPoses(from, to, reach);
+    std::vector<double> misfit;
+    for (size_t k = 0; k < from.size(); ++k) {
+      misfit.push_back(TranslationError(move * from[k], to[k]) +
+                       reach * RotationErrorDeg(move * from[k], to[k]) * std::numbers::pi / 180.0);
+    }
+    const double bound = std::max(kOutlierMisfits * Median(misfit), 1e-9);
+    std::vector<Pose3> kept_from, kept_to;
+    for (size_t k = 0; k < from.size(); ++k) {
+      if (misfit[k] <= bound) {
+        kept_from.push_back(from[k]);
+        kept_to.push_back(to[k]);
+      }
+    }
+    if (kept_from.size() >= 3 && kept_from.size() < from.size()) move = FitPoses(kept_from, kept_to, reach);
     for (ScanAlignmentRecord& record : out_.scans) {
       if (record.aligned) record.model_from_sensor = move * record.model_from_sensor;
     }

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <iostream>
 #include <string>
 #include <vector>
 
@@ -93,6 +94,107 @@ TEST(ModelRunTest, NoiseFreeScansStayAtTheirTruePosesAndRebuildTheBlock) {
   EXPECT_NEAR(static_cast<double>(uncovered->size()) / evaluation["ground_truth"]["samples"].number(), 1 - coverage,
               1e-9);
   EXPECT_EQ(job->steps_done.back(), 12u + 3u);
+}
+
+double Mean(const JsonValue& scans, const char* key) {
+  double sum = 0;
+  for (size_t i = 0; i < scans.size(); ++i) sum += scans[i][key].number();
+  return scans.size() ? sum / static_cast<double>(scans.size()) : 0;
+}
+
+TEST(ModelRunTest, AlignmentRemovesMostOfTheArmsEncoderError) {
+  ModelWorld world(/*encoder_sigma=*/0.001);
+  const std::string campaign = world.RunCampaign(world.Campaign(ThreeViewpoints(), 4, /*encoder_noise=*/true));
+  ModelRequest request;
+  request.campaign_job_id = campaign;
+  const auto job = world.RunModel(request);
+  ASSERT_EQ(job->end_state, store::JobState::kSucceeded) << job->end_message;
+  const JsonValue report = Report(*job);
+  const JsonValue& alignment = report["alignment"];
+  ASSERT_EQ(alignment["aligned"].number(), 12);
+  const JsonValue& scans = alignment["scans"];
+  const double initial_rotation = Mean(scans, "initial_rotation_error_deg");
+  const double initial_translation = Mean(scans, "initial_translation_error_m");
+  const double rotation = Mean(scans, "rotation_error_deg");
+  const double translation = Mean(scans, "translation_error_m");
+  // The arm misses by about a millimetre and a tenth of a degree; alignment takes most of it away.
+  EXPECT_GT(initial_translation, 2e-4);
+  EXPECT_GT(initial_rotation, 0.02);
+  EXPECT_LT(translation, initial_translation / 3) << "from " << initial_translation;
+  EXPECT_LT(rotation, initial_rotation / 3) << "from " << initial_rotation;
+  EXPECT_EQ(report["alignment"]["initial_translation_error_m"]["mean"].number(), initial_translation);
+  // No reconstruction or evaluation was asked for.
+  EXPECT_FALSE(report.Has("reconstruction"));
+  EXPECT_FALSE(report.Has("evaluation"));
+  EXPECT_EQ(job->steps_done.back(), 12u + 1u);
+}
+
+TEST(ModelRunTest, FewViewsCoverLessAndTheirNextBestViewsAddWhatTheyPromise) {
+  ModelWorld world;
+  const std::string sparse = world.RunCampaign(world.Campaign({ModelWorld::Viewpoint(0.3, 35)}, 2));
+  ModelRequest request = Evaluate(sparse);
+  request.skip_next_best_views = false;
+  request.next_best_views = 3;
+  const auto job = world.RunModel(request);
+  ASSERT_EQ(job->end_state, store::JobState::kSucceeded) << job->end_message;
+  const JsonValue report = Report(*job);
+  const double before = report["evaluation"]["coverage"].number();
+  const JsonValue& views = report["evaluation"]["next_best_views"];
+  ASSERT_GE(views.size(), 1u) << report["evaluation"]["next_best_views_note"].text();
+  EXPECT_LT(before, 0.8);
+
+  // Scan what was proposed, where it was proposed, and model everything together.
+  std::vector<std::string> clouds = world.CloudsOf(sparse);
+  double predicted = before;
+  for (size_t k = 0; k < views.size(); ++k) {
+    const JsonValue& view = views[k];
+    const Eigen::Vector3d position(view["position"][0].number(), view["position"][1].number(),
+                                   view["position"][2].number());
+    const Eigen::Vector3d target(view["target"][0].number(), view["target"][1].number(), view["target"][2].number());
+    EXPECT_GT(view["coverage_gain"].number(), 0.0);
+    EXPECT_GT(view["coverage_after"].number(), predicted);
+    predicted = view["coverage_after"].number();
+    const std::string extra = world.RunCampaign(
+        world.Campaign({ModelWorld::ViewpointAt(position, target)}, 1, false, view["table_angle_deg"].number()));
+    for (const std::string& id : world.CloudsOf(extra)) clouds.push_back(id);
+  }
+  ModelRequest more;
+  more.cloud_ids = clouds;
+  more.evaluate = true;
+  more.tau = kTau;
+  more.skip_next_best_views = true;
+  const auto after_job = world.RunModel(more);
+  ASSERT_EQ(after_job->end_state, store::JobState::kSucceeded) << after_job->end_message;
+  const double after = Report(*after_job)["evaluation"]["coverage"].number();
+  EXPECT_GT(after, before + 0.05) << "predicted " << predicted;
+  EXPECT_NEAR(after, predicted, 0.1);
+}
+
+TEST(ModelRunTest, CloudsTakenAsTheyAreKeepTheirStoredPoses) {
+  ModelWorld world;
+  const std::string campaign = world.RunCampaign(world.Campaign({ModelWorld::Viewpoint(0.3, 35)}, 3));
+  ModelRequest request = Evaluate(campaign);
+  request.skip_alignment = true;
+  const auto job = world.RunModel(request);
+  ASSERT_EQ(job->end_state, store::JobState::kSucceeded) << job->end_message;
+  EXPECT_TRUE(job->end_message.starts_with("3 clouds merged")) << job->end_message;
+  EXPECT_TRUE(job->alignments.empty());
+  const JsonValue report = Report(*job);
+  EXPECT_FALSE(report.Has("alignment"));
+  EXPECT_GT(report["evaluation"]["union"]["precision"].number(), 0.999);
+  EXPECT_TRUE(job->artifacts.count("aligned.ply"));
+}
+
+TEST(ModelRunTest, AStoppedJobEndsCancelledWithItsReport) {
+  ModelWorld world;
+  const std::string campaign = world.RunCampaign(world.Campaign({ModelWorld::Viewpoint(0.3, 35)}, 2));
+  jobs::JobControl control;
+  control.RequestStop(jobs::StopReason::kCancelled);
+  const auto job = world.RunModel(Evaluate(campaign), &control);
+  EXPECT_EQ(job->end_state, store::JobState::kCancelled);
+  EXPECT_TRUE(job->end_message.starts_with("cancelled after 0 of")) << job->end_message;
+  EXPECT_EQ(Report(*job)["state"].text(), "CANCELLED");
+  EXPECT_FALSE(job->artifacts.count("aligned.ply"));
 }
 
 }  // namespace
