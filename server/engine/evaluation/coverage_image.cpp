@@ -10,6 +10,7 @@
 
 #include <Eigen/Geometry>
 
+#include "spatial/kd_tree.h"
 #include "vscan/common/png_codec.h"
 
 namespace vscan::evaluation {
@@ -21,6 +22,10 @@ constexpr int kMaxPanel = 2048;
 constexpr float kMargin = 0.05f;
 constexpr std::array<uint8_t, 3> kUncovered{215, 25, 25};
 constexpr float kNearGrey = 225, kFarGrey = 70;
+// Splat sides, in pixels.
+constexpr int kMinSplat = 2, kMaxSplat = 16;
+// Samples whose nearest-neighbour distance sets the splat size.
+constexpr size_t kSpacingProbes = 4096;
 
 // One panel's view: screen x along right, screen y against up, looking along forward.
 struct PanelView {
@@ -75,6 +80,30 @@ Framing FrameSamples(std::span<const Eigen::Vector3f> samples, const Eigen::Vect
     f.up_high = std::max(f.up_high, along);
   }
   return f;
+}
+
+// The typical distance between neighbouring samples: for points spread uniformly by area with
+// density rho the median nearest-neighbour distance is sqrt(ln 2 / (pi rho)), so 1 / sqrt(rho) is
+// about 2.13 times it. 0 with fewer than two samples.
+float SampleSpacing(std::span<const Eigen::Vector3f> samples) {
+  if (samples.size() < 2) return 0;
+  const spatial::KdTree tree(samples);
+  const size_t step = std::max<size_t>(1, samples.size() / kSpacingProbes);
+  std::vector<float> nearest;
+  spatial::Neighbor two[2];
+  for (size_t i = 0; i < samples.size(); i += step) {
+    if (tree.Knn(samples[i], std::numeric_limits<float>::infinity(), two) == 2) nearest.push_back(two[1].dist_sq);
+  }
+  const auto middle = nearest.begin() + static_cast<std::ptrdiff_t>(nearest.size() / 2);
+  std::nth_element(nearest.begin(), middle, nearest.end());
+  return 2.13f * std::sqrt(*middle);
+}
+
+// Squares of side s leave a share exp(-s^2 / spacing^2) of a surface bare where it faces the
+// viewer: 2.6 spacings leave about one pixel in a thousand, so that hidden samples rarely show
+// through the gaps of nearer ones.
+int SplatSide(float spacing_px) {
+  return std::clamp(static_cast<int>(std::ceil(2.6f * spacing_px)), kMinSplat, kMaxSplat);
 }
 
 class Canvas {
@@ -140,7 +169,7 @@ StatusOr<std::string> RenderCoveragePng(std::span<const Eigen::Vector3f> samples
   const float scale = panel * (1 - 2 * kMargin) / extent;
   const float up_middle = (framing.up_low + framing.up_high) / 2;
   const float depth_span = std::max(2 * framing.radius, 1e-9f);
-  const int splat = std::max(2, panel / 200);
+  const int splat = SplatSide(SampleSpacing(samples) * scale);
 
   Canvas canvas(panel);
   const std::array<PanelView, 4> views = PanelViews(up);

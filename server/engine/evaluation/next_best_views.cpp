@@ -12,9 +12,8 @@
 
 #include "evaluation/greedy_cover.h"
 #include "evaluation/thinned_camera.h"
+#include "evaluation/view_hits.h"
 #include "raycast/raycast_scene.h"
-#include "raycast/scanner.h"
-#include "spatial/kd_tree.h"
 
 namespace vscan::evaluation {
 namespace {
@@ -91,51 +90,6 @@ uint32_t ViewStride(const sensor::PinholeCamera& camera, const Pose3& frame_from
                   SpacingStride(camera, kRaySpacingPerTau * options.tau, farthest));
 }
 
-// The hits of the candidate's thinned scan that meet the surface within the incidence limit.
-StatusOr<std::vector<Eigen::Vector3f>> UsableHits(const raycast::RaycastScene& scene,
-                                                  const sensor::PinholeCamera& thin, const Pose3& frame_from_sensor,
-                                                  double max_incidence_deg, const std::atomic<bool>* cancel) {
-  raycast::ScanOptions scan;
-  scan.fields = kFieldPosition | kFieldNormal;
-  scan.frame = raycast::ScanFrame::kWorld;
-  scan.cancel = cancel;
-  ASSIGN_OR_RETURN(PointCloud cloud, raycast::Scan(scene, thin, frame_from_sensor, scan));
-  const Eigen::Vector3f origin = frame_from_sensor.translation().cast<float>();
-  const auto min_cos = static_cast<float>(std::cos(max_incidence_deg * std::numbers::pi / 180));
-  // Normals face the sensor, so the cosine is never negative: 90 degrees keeps every hit.
-  const bool keep_all = max_incidence_deg >= 90;
-  std::vector<Eigen::Vector3f> hits;
-  hits.reserve(cloud.size());
-  for (size_t i = 0; i < cloud.size(); ++i) {
-    const Eigen::Vector3f to_sensor = (origin - cloud.positions[i]).normalized();
-    if (keep_all || cloud.normals[i].dot(to_sensor) >= min_cos) hits.push_back(cloud.positions[i]);
-  }
-  return hits;
-}
-
-// The missed samples within tau of a hit.
-SampleBits SeenSamples(std::span<const Eigen::Vector3f> hits, std::span<const Eigen::Vector3f> missed, double tau) {
-  SampleBits seen(missed.size());
-  if (hits.empty()) return seen;
-  const auto reach = static_cast<float>(tau);
-  Eigen::Vector3f lo = hits[0], hi = hits[0];
-  for (const Eigen::Vector3f& h : hits) {
-    lo = lo.cwiseMin(h);
-    hi = hi.cwiseMax(h);
-  }
-  lo.array() -= reach;
-  hi.array() += reach;
-  const spatial::KdTree tree(hits);
-  const float reach_sq = reach * reach;
-  spatial::Neighbor nearest[1];
-  for (size_t i = 0; i < missed.size(); ++i) {
-    const Eigen::Vector3f& p = missed[i];
-    if ((p.array() < lo.array()).any() || (p.array() > hi.array()).any()) continue;
-    if (tree.Knn(p, reach_sq, nearest) == 1) seen.Set(i);
-  }
-  return seen;
-}
-
 }  // namespace
 
 StatusOr<std::vector<ViewPick>> PickNextBestViews(const TriangleMesh& mesh, std::span<const Eigen::Vector3f> samples,
@@ -159,12 +113,12 @@ StatusOr<std::vector<ViewPick>> PickNextBestViews(const TriangleMesh& mesh, std:
     if (IsCancelled(cancel)) return;
     const Pose3& pose = candidates[c].frame_from_sensor;
     const sensor::PinholeCamera thin = ThinCamera(camera, ViewStride(camera, pose, missed, options));
-    StatusOr<std::vector<Eigen::Vector3f>> hits = UsableHits(*scene, thin, pose, options.max_incidence_deg, cancel);
-    if (!hits.ok()) {
-      failures[c] = hits.status();
+    StatusOr<ViewHits> view = CastView(*scene, thin, pose, options.max_incidence_deg, cancel);
+    if (!view.ok()) {
+      failures[c] = view.status();
       return;
     }
-    seen[c] = SeenSamples(*hits, missed.points, options.tau);
+    seen[c] = SamplesNearHits(*view, missed.points, options.tau);
   });
   if (IsCancelled(cancel)) return Cancelled("next best views cancelled");
   for (size_t c = 0; c < candidates.size(); ++c) {
