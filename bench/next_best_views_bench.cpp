@@ -34,7 +34,8 @@ TriangleMesh SplitInFour(const TriangleMesh& mesh) {
   std::map<std::pair<uint32_t, uint32_t>, uint32_t> midpoints;
   const auto midpoint = [&](uint32_t a, uint32_t b) {
     const auto key = std::minmax(a, b);
-    const auto [it, inserted] = midpoints.try_emplace({key.first, key.second}, static_cast<uint32_t>(out.vertices.size()));
+    const auto next = static_cast<uint32_t>(out.vertices.size());
+    const auto [it, inserted] = midpoints.try_emplace({key.first, key.second}, next);
     if (inserted) out.vertices.push_back((mesh.vertices[a] + mesh.vertices[b]) / 2);
     return it->second;
   };
@@ -93,7 +94,8 @@ int Main(const char* png_path) {
   for (size_t i = 0; i < samples.size(); ++i) half[i] = samples[i].x() > centre.x() ? 1 : 0;
   for (const auto& [name, covered] : {std::pair{"none covered", &none}, std::pair{"half covered", &half}}) {
     StatusOr<std::vector<evaluation::ViewPick>> picks = std::vector<evaluation::ViewPick>{};
-    const double ms = MedianMs([&] { picks = evaluation::PickNextBestViews(mesh, samples, *covered, camera, views, options); });
+    const double ms =
+        MedianMs([&] { picks = evaluation::PickNextBestViews(mesh, samples, *covered, camera, views, options); });
     if (!picks.ok()) {
       std::fprintf(stderr, "bench: %s\n", picks.status().ToString().c_str());
       return 1;

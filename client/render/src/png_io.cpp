@@ -32,7 +32,8 @@ Status WritePng(const Image& image, const std::string& path) {
   const int write_err = errno;
   const bool closed = std::fclose(file) == 0;
   if (!written || !closed) {
-    const std::string msg = path + ": " + (written ? "close: " : "write: ") + std::strerror(written ? errno : write_err);
+    const int err = written ? errno : write_err;
+    const std::string msg = path + ": " + (written ? "close: " : "write: ") + std::strerror(err);
     std::remove(tmp.c_str());
     return DataLoss(msg);
   }

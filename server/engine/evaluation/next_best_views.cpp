@@ -14,6 +14,7 @@
 #include "evaluation/thinned_camera.h"
 #include "evaluation/view_hits.h"
 #include "raycast/raycast_scene.h"
+#include "spatial/kd_tree.h"
 
 namespace vscan::evaluation {
 namespace {
@@ -28,7 +29,9 @@ bool IsCancelled(const std::atomic<bool>* cancel) {
 
 Status ValidateOptions(const NextBestViewOptions& o) {
   if (o.max_views < 1) return InvalidArgument("next_best_views.max_views", "must be at least 1");
-  if (!(o.tau > 0) || !std::isfinite(o.tau)) return InvalidArgument("next_best_views.tau", "must be finite and positive");
+  if (!(o.tau > 0) || !std::isfinite(o.tau)) {
+    return InvalidArgument("next_best_views.tau", "must be finite and positive");
+  }
   if (!(o.max_incidence_deg > 0 && o.max_incidence_deg <= 90)) {
     return InvalidArgument("next_best_views.max_incidence_deg", "must be in (0, 90]");
   }
@@ -56,7 +59,7 @@ Status ValidateInputs(std::span<const Eigen::Vector3f> samples, std::span<const 
   return Status::Ok();
 }
 
-// The samples not covered yet, with the sphere around their bounds.
+// The samples not covered yet, in an order of their own, with the sphere around their bounds.
 struct Missed {
   std::vector<Eigen::Vector3f> points;
   Eigen::Vector3f centre = Eigen::Vector3f::Zero();
@@ -73,10 +76,13 @@ Missed MissedSamples(std::span<const Eigen::Vector3f> samples, std::span<const u
     lo = lo.cwiseMin(samples[i]);
     hi = hi.cwiseMax(samples[i]);
   }
-  if (!missed.points.empty()) {
-    missed.centre = (lo + hi) / 2;
-    missed.radius = (hi - lo).norm() / 2;
-  }
+  if (missed.points.empty()) return missed;
+  missed.centre = (lo + hi) / 2;
+  missed.radius = (hi - lo).norm() / 2;
+  // In the kd-tree's leaf order, neighbours in the list are neighbours in space, so each view
+  // reads its hit image in runs.
+  const spatial::KdTree tree(missed.points);
+  for (uint32_t slot = 0; slot < tree.size(); ++slot) missed.points[slot] = tree.point(slot);
   return missed;
 }
 
@@ -105,7 +111,8 @@ StatusOr<std::vector<ViewPick>> PickNextBestViews(const TriangleMesh& mesh, std:
 
   raycast::SceneInstance instance;
   instance.mesh = std::make_shared<const TriangleMesh>(mesh);
-  ASSIGN_OR_RETURN(const auto scene, raycast::RaycastScene::Build(std::span<const raycast::SceneInstance>(&instance, 1)));
+  ASSIGN_OR_RETURN(const auto scene,
+                   raycast::RaycastScene::Build(std::span<const raycast::SceneInstance>(&instance, 1)));
 
   std::vector<SampleBits> seen(candidates.size(), SampleBits(missed.points.size()));
   std::vector<std::optional<Status>> failures(candidates.size());
