@@ -87,6 +87,7 @@ class ModelRun {
       message = status.message();
     } else {
       message = Summary();
+      steps_done_ = ModelStepsTotal(plan_);
     }
     WriteReport(state);
     const Status ended = recorder_.End(Update(state, message));
@@ -185,6 +186,12 @@ class ModelRun {
     report.pose_graph = plan_.pose_graph;
     report.seconds = aligned_->seconds;
     report.scans = aligned_->scans;
+    const auto placed = std::find_if(aligned_->scans.begin(), aligned_->scans.end(),
+                                     [](const ScanAlignmentRecord& scan) { return scan.aligned; });
+    if (placed == aligned_->scans.end()) {
+      const std::string reason = aligned_->scans.empty() ? "no scans" : aligned_->scans.front().reason;
+      return FailedPrecondition("no scan could be aligned (the first: " + reason + ")");
+    }
     if (!aligned_->in_model_frame && truth_) RETURN_IF_ERROR(PlaceOnTruth());
     report.scans = aligned_->scans;
     return Status::Ok();

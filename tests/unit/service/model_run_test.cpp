@@ -170,6 +170,25 @@ TEST(ModelRunTest, FewViewsCoverLessAndTheirNextBestViewsAddWhatTheyPromise) {
   EXPECT_NEAR(after, predicted, 0.1);
 }
 
+TEST(ModelRunTest, ScansWithoutAKnownPoseAreAlignedByTheirFeaturesAndPlacedOnTheTruth) {
+  ModelWorld world;
+  const std::string campaign = world.RunCampaign(world.Campaign(ThreeViewpoints(), 4));
+  ModelRequest request = Evaluate(campaign);
+  request.initial_pose = InitialPoseMode::kFeatures;
+  const auto job = world.RunModel(request);
+  ASSERT_EQ(job->end_state, store::JobState::kSucceeded) << job->end_message;
+  const JsonValue report = Report(*job);
+  const JsonValue& alignment = report["alignment"];
+  EXPECT_EQ(alignment["initial_pose"].text(), "features");
+  EXPECT_GE(alignment["aligned"].number(), 10);
+  // Errors of the set as a whole laid onto the truth: what features and ICP got right between scans.
+  EXPECT_LT(alignment["rotation_error_deg"]["max"].number(), 0.2);
+  EXPECT_LT(alignment["translation_error_m"]["max"].number(), 5e-4);
+  // Laid onto the truth by features, the union is judged like one aligned from known poses.
+  EXPECT_GT(report["evaluation"]["union"]["precision"].number(), 0.95);
+  EXPECT_GT(report["evaluation"]["coverage"].number(), 0.8);
+}
+
 TEST(ModelRunTest, CloudsTakenAsTheyAreKeepTheirStoredPoses) {
   ModelWorld world;
   const std::string campaign = world.RunCampaign(world.Campaign({ModelWorld::Viewpoint(0.3, 35)}, 3));
