@@ -111,7 +111,8 @@ StatusOr<MatchedKeypoints> DescribeAndMatch(const FeatureCloud& from, const Feat
   const double radius = options.descriptor_radius_voxels * options.voxel_size;
   ASSIGN_OR_RETURN(const ShotDescriptors from_shot,
                    DescribeWithShot(from.points, from.normals, from.keypoints, radius, cancel));
-  ASSIGN_OR_RETURN(const ShotDescriptors to_shot, DescribeWithShot(to.points, to.normals, to.keypoints, radius, cancel));
+  ASSIGN_OR_RETURN(const ShotDescriptors to_shot,
+                   DescribeWithShot(to.points, to.normals, to.keypoints, radius, cancel));
   MatchedKeypoints matched;
   matched.keypoints_source = from_shot.points.size();
   matched.keypoints_target = to_shot.points.size();
