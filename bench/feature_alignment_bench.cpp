@@ -93,11 +93,12 @@ bool AlignOnce(const std::vector<Eigen::Vector3f>& source, const std::vector<Eig
 
 void PrintOutcome(const char* label, const Timed& run, const Pose3& truth) {
   const auto& r = run.result;
-  std::printf("%-16s found %-3s keypoints %zu/%zu matches %zu inliers %zu fitness %.3f  "
-              "error %.4f deg %.3f mm%s%s\n",
-              label, r.found ? "yes" : "no", r.keypoints_source, r.keypoints_target, r.matches, r.inliers, r.fitness,
-              RotationErrorDeg(r.target_from_source, truth), TranslationErrorMm(r.target_from_source, truth),
-              r.found ? "" : "  reason: ", r.reason.c_str());
+  std::printf(
+      "%-16s found %-3s keypoints %zu/%zu matches %zu inliers %zu fitness %.3f  "
+      "error %.4f deg %.3f mm%s%s\n",
+      label, r.found ? "yes" : "no", r.keypoints_source, r.keypoints_target, r.matches, r.inliers, r.fitness,
+      RotationErrorDeg(r.target_from_source, truth), TranslationErrorMm(r.target_from_source, truth),
+      r.found ? "" : "  reason: ", r.reason.c_str());
 }
 
 void TimeCase(const char* label, const Pair& pair, const Pose3& motion) {

@@ -37,9 +37,8 @@ Status Validate(const FeatureAlignmentOptions& o) {
                            "must be finite and >= 1, got " + std::to_string(o.normal_radius_voxels));
   }
   if (!std::isfinite(o.descriptor_radius_voxels) || o.descriptor_radius_voxels < o.normal_radius_voxels) {
-    return InvalidArgument("features.descriptor_radius_voxels",
-                           "must be finite and >= normal_radius_voxels, got " +
-                               std::to_string(o.descriptor_radius_voxels));
+    return InvalidArgument("features.descriptor_radius_voxels", "must be finite and >= normal_radius_voxels, got " +
+                                                                    std::to_string(o.descriptor_radius_voxels));
   }
   if (!std::isfinite(o.keypoint_spacing_voxels) || o.keypoint_spacing_voxels < 1.0) {
     return InvalidArgument("features.keypoint_spacing_voxels",
@@ -72,7 +71,7 @@ std::string Millimetres(double metres) {
   return text;
 }
 
-FeatureAlignmentResult NotFound(FeatureAlignmentResult result, std::string reason) {
+FeatureAlignmentResult NotAligned(FeatureAlignmentResult result, std::string reason) {
   result.found = false;
   result.reason = std::move(reason);
   result.target_from_source = Pose3::Identity();
@@ -147,10 +146,10 @@ StatusOr<FeatureAlignmentResult> AlignByFeatures(std::span<const Eigen::Vector3f
   ASSIGN_OR_RETURN(const FeatureCloud to, PrepareFeatureCloud(target, prepare));
   for (const auto& [cloud, name] : {std::pair{&from, "source"}, std::pair{&to, "target"}}) {
     if (cloud->points.size() < kMinPoints) {
-      return NotFound(result, std::string("too few points: the ") + name + " has " +
-                                  std::to_string(cloud->points.size()) + " with normals after thinning to " +
-                                  Millimetres(voxel) + " voxels, at least " + std::to_string(kMinPoints) +
-                                  " are needed");
+      return NotAligned(result, std::string("too few points: the ") + name + " has " +
+                                    std::to_string(cloud->points.size()) + " with normals after thinning to " +
+                                    Millimetres(voxel) + " voxels, at least " + std::to_string(kMinPoints) +
+                                    " are needed");
     }
   }
 
@@ -159,13 +158,13 @@ StatusOr<FeatureAlignmentResult> AlignByFeatures(std::span<const Eigen::Vector3f
   result.keypoints_target = matched.keypoints_target;
   result.matches = matched.source.size();
   if (result.keypoints_source < options.min_inliers || result.keypoints_target < options.min_inliers) {
-    return NotFound(result, "too few keypoints: " + std::to_string(result.keypoints_source) + " in the source and " +
-                                std::to_string(result.keypoints_target) + " in the target, min_inliers is " +
-                                std::to_string(options.min_inliers));
+    return NotAligned(result, "too few keypoints: " + std::to_string(result.keypoints_source) + " in the source and " +
+                                  std::to_string(result.keypoints_target) + " in the target, min_inliers is " +
+                                  std::to_string(options.min_inliers));
   }
   if (result.matches < options.min_inliers) {
-    return NotFound(result, "too few matches: " + std::to_string(result.matches) +
-                                " mutual nearest descriptors, min_inliers is " + std::to_string(options.min_inliers));
+    return NotAligned(result, "too few matches: " + std::to_string(result.matches) +
+                                  " mutual nearest descriptors, min_inliers is " + std::to_string(options.min_inliers));
   }
   const ConsensusOptions consensus_options{.iterations = options.ransac_iterations,
                                            .inlier_distance = inlier_distance,
@@ -174,10 +173,10 @@ StatusOr<FeatureAlignmentResult> AlignByFeatures(std::span<const Eigen::Vector3f
   ASSIGN_OR_RETURN(const Consensus consensus, FindMatchConsensus(matched.source, matched.target, consensus_options));
   result.inliers = consensus.inliers;
   if (result.inliers < options.min_inliers) {
-    return NotFound(result, "no consensus: the best of " + std::to_string(options.ransac_iterations) +
-                                " hypotheses has " + std::to_string(result.inliers) + " inliers among " +
-                                std::to_string(result.matches) + " matches, min_inliers is " +
-                                std::to_string(options.min_inliers));
+    return NotAligned(result, "no consensus: the best of " + std::to_string(options.ransac_iterations) +
+                                  " hypotheses has " + std::to_string(result.inliers) + " inliers among " +
+                                  std::to_string(result.matches) + " matches, min_inliers is " +
+                                  std::to_string(options.min_inliers));
   }
 
   IcpOptions icp;
@@ -188,13 +187,13 @@ StatusOr<FeatureAlignmentResult> AlignByFeatures(std::span<const Eigen::Vector3f
   // From a start this close a real alignment settles within a few iterations; ICP that keeps
   // sliding (shapeless clouds, a plane on a plane) has no single answer.
   if (!refined.converged) {
-    return NotFound(result, std::string("ICP from the consensus did not converge: ") + IcpStopName(refined.stop));
+    return NotAligned(result, std::string("ICP from the consensus did not converge: ") + IcpStopName(refined.stop));
   }
   const spatial::KdTree target_tree(to.points);
   result.fitness = Fitness(from.points, target_tree, refined.target_from_source, kFitnessVoxels * voxel);
   if (result.fitness < options.min_fitness) {
-    return NotFound(result, "fitness " + std::to_string(result.fitness) + " after ICP is below min_fitness " +
-                                std::to_string(options.min_fitness));
+    return NotAligned(result, "fitness " + std::to_string(result.fitness) + " after ICP is below min_fitness " +
+                                  std::to_string(options.min_fitness));
   }
   result.found = true;
   result.target_from_source = refined.target_from_source;

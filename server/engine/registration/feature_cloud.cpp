@@ -98,8 +98,8 @@ StatusOr<FeatureCloud> PrepareFeatureCloud(std::span<const Eigen::Vector3f> poin
   // About as many neighbours as a surface sampled once per voxel has within the radius.
   const double radius_in_voxels = options.normal_radius / options.voxel;
   normals::NormalOptions normal_options;
-  normal_options.k = static_cast<int>(
-      std::clamp(std::ceil(std::numbers::pi * radius_in_voxels * radius_in_voxels), 8.0, 256.0));
+  normal_options.k =
+      static_cast<int>(std::clamp(std::ceil(std::numbers::pi * radius_in_voxels * radius_in_voxels), 8.0, 256.0));
   normal_options.max_distance = static_cast<float>(options.normal_radius);
   normal_options.orient_towards_viewpoint = false;
   normal_options.cancel = options.cancel;

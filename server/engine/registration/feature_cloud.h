@@ -36,7 +36,6 @@ struct FeatureCloudOptions {
 
 // Thins, estimates normals from the neighbours within normal_radius (points with too few of them
 // are dropped), orients them and spreads the keypoints. Cancelled when cancel becomes true.
-StatusOr<FeatureCloud> PrepareFeatureCloud(std::span<const Eigen::Vector3f> points,
-                                           const FeatureCloudOptions& options);
+StatusOr<FeatureCloud> PrepareFeatureCloud(std::span<const Eigen::Vector3f> points, const FeatureCloudOptions& options);
 
 }  // namespace vscan::registration

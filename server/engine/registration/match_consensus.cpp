@@ -28,14 +28,16 @@ class Sampler {
  public:
   Sampler(std::span<const Eigen::Vector3f> source, std::span<const Eigen::Vector3f> target, float inlier_distance,
           uint64_t seed)
-      : source_(source), target_(target), tolerance_(inlier_distance), min_edge_(kMinSpread * inlier_distance),
+      : source_(source),
+        target_(target),
+        tolerance_(inlier_distance),
+        min_edge_(kMinSpread * inlier_distance),
         draws_(seed) {}
 
   // Three pairs that agree with each other, or false when the draws ran out.
   bool Draw(std::array<size_t, 3>& picked) {
     picked[0] = Index();
-    return DrawUntil(picked[1], [&](size_t j) { return Agree(picked[0], j); }) &&
-           DrawUntil(picked[2], [&](size_t k) {
+    return DrawUntil(picked[1], [&](size_t j) { return Agree(picked[0], j); }) && DrawUntil(picked[2], [&](size_t k) {
              return Agree(picked[0], k) && Agree(picked[1], k) && WellShaped(picked[0], picked[1], k);
            });
   }
@@ -80,8 +82,8 @@ Pose3 Fit(std::span<const Eigen::Vector3f> source, std::span<const Eigen::Vector
   return Pose3(Eigen::umeyama(from, to, false));
 }
 
-size_t CountInliers(std::span<const Eigen::Vector3f> source, std::span<const Eigen::Vector3f> target,
-                    const Pose3& pose, float inlier_distance, std::vector<size_t>* inliers = nullptr) {
+size_t CountInliers(std::span<const Eigen::Vector3f> source, std::span<const Eigen::Vector3f> target, const Pose3& pose,
+                    float inlier_distance, std::vector<size_t>* inliers = nullptr) {
   const Eigen::Matrix3f rotation = pose.linear().cast<float>();
   const Eigen::Vector3f translation = pose.translation().cast<float>();
   const float limit_sq = inlier_distance * inlier_distance;

@@ -143,8 +143,8 @@ TEST(FeatureAlignmentTest, APlaneDoesNotAlignWithTheObject) {
   std::normal_distribution<float> noise(0.0f, 0.0005f);
   std::vector<Eigen::Vector3f> plane;
   for (int i = 0; i < 133; ++i) {
-    for (int j = 0; j < 133; ++j) plane.emplace_back(0.003f * static_cast<float>(i) - 0.2f,
-                                                     0.003f * static_cast<float>(j) - 0.2f, noise(rng));
+    for (int j = 0; j < 133; ++j)
+      plane.emplace_back(0.003f * static_cast<float>(i) - 0.2f, 0.003f * static_cast<float>(j) - 0.2f, noise(rng));
   }
   const auto result = AlignByFeatures(plane, ThinReferencePair().target, FeatureAlignmentOptions{});
   ExpectNotFound(result, "", "plane");
