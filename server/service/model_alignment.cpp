@@ -75,12 +75,23 @@ class ScanAligner {
       if (!added) unmatched.push_back(i);
       RETURN_IF_ERROR(on_scan_(out_.scans[i], ++done_));
     }
-    // Scans whose features found no partner get one more try against the whole union.
-    for (const size_t i : unmatched) {
-      if (Stopped()) return vscan::Cancelled("model job stopped");
-      ASSIGN_OR_RETURN(ModelScan scan, LoadModelScan(context_, plan_, i, crop_));
-      ASSIGN_OR_RETURN(const bool added, Add(scan));
-      if (added) RETURN_IF_ERROR(on_scan_(out_.scans[i], done_));
+    // Scans whose features found no partner try again against the grown union, for as long as a
+    // pass places one more.
+    for (bool progress = true; progress && !unmatched.empty();) {
+      progress = false;
+      std::vector<size_t> still;
+      for (const size_t i : unmatched) {
+        if (Stopped()) return vscan::Cancelled("model job stopped");
+        ASSIGN_OR_RETURN(ModelScan scan, LoadModelScan(context_, plan_, i, crop_));
+        ASSIGN_OR_RETURN(const bool added, Add(scan));
+        if (added) {
+          progress = true;
+          RETURN_IF_ERROR(on_scan_(out_.scans[i], done_));
+        } else {
+          still.push_back(i);
+        }
+      }
+      unmatched = std::move(still);
     }
     RETURN_IF_ERROR(Finish());
     out_.voxel_size = options_.voxel_size;

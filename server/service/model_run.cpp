@@ -51,8 +51,8 @@ const char* StateName(store::JobState state) {
   return "UNKNOWN";
 }
 
-std::string ScanMessage(const ScanAlignmentRecord& scan, size_t done, size_t total) {
-  std::string message = "scan " + std::to_string(done) + " of " + std::to_string(total) + " (" + scan.name + ") ";
+std::string ScanMessage(const ScanAlignmentRecord& scan, size_t total) {
+  std::string message = "scan " + std::to_string(scan.index + 1) + " of " + std::to_string(total) + " (" + scan.name + ") ";
   if (!scan.aligned) return message + "not aligned: " + scan.reason;
   message += "aligned, fitness " + Number(scan.fitness);
   if (scan.has_error) {
@@ -173,7 +173,7 @@ class ModelRun {
     const size_t total = plan_.clouds.size();
     auto on_scan = [&](const ScanAlignmentRecord& scan, size_t done) {
       steps_done_ = static_cast<uint32_t>(done);
-      JobEventUpdate update = Update(store::JobState::kRunning, ScanMessage(scan, done, total));
+      JobEventUpdate update = Update(store::JobState::kRunning, ScanMessage(scan, total));
       update.alignment = scan;
       return recorder_.Record(update);
     };

@@ -5,10 +5,14 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <fstream>
 #include <iostream>
+#include <iterator>
+#include <numbers>
 #include <string>
 #include <vector>
 
+#include "geometry/mesh_import.h"
 #include "model_test_json.h"
 #include "model_test_world.h"
 #include "service/model_run.h"
@@ -23,8 +27,8 @@ using testing::StoredJob;
 
 constexpr double kTau = 0.001;
 
-std::vector<CampaignViewpoint> ThreeViewpoints() {
-  return {ModelWorld::Viewpoint(0.3, 10), ModelWorld::Viewpoint(0.3, 35), ModelWorld::Viewpoint(0.3, 60)};
+std::vector<CampaignViewpoint> ThreeViewpoints(const ModelWorld& world) {
+  return {world.Viewpoint(0.3, 10), world.Viewpoint(0.3, 35), world.Viewpoint(0.3, 60)};
 }
 
 JsonValue Report(const StoredJob& job) {
@@ -47,7 +51,7 @@ ModelRequest Evaluate(const std::string& campaign_job_id) {
 
 TEST(ModelRunTest, NoiseFreeScansStayAtTheirTruePosesAndRebuildTheBlock) {
   ModelWorld world;
-  const std::string campaign = world.RunCampaign(world.Campaign(ThreeViewpoints(), 4));
+  const std::string campaign = world.RunCampaign(world.Campaign(ThreeViewpoints(world), 4));
   ModelRequest request = Evaluate(campaign);
   request.reconstruct = true;
   const auto job = world.RunModel(request);
@@ -104,7 +108,7 @@ double Mean(const JsonValue& scans, const char* key) {
 
 TEST(ModelRunTest, AlignmentRemovesMostOfTheArmsEncoderError) {
   ModelWorld world(/*encoder_sigma=*/0.001);
-  const std::string campaign = world.RunCampaign(world.Campaign(ThreeViewpoints(), 4, /*encoder_noise=*/true));
+  const std::string campaign = world.RunCampaign(world.Campaign(ThreeViewpoints(world), 4, /*encoder_noise=*/true));
   ModelRequest request;
   request.campaign_job_id = campaign;
   const auto job = world.RunModel(request);
@@ -131,7 +135,7 @@ TEST(ModelRunTest, AlignmentRemovesMostOfTheArmsEncoderError) {
 
 TEST(ModelRunTest, FewViewsCoverLessAndTheirNextBestViewsAddWhatTheyPromise) {
   ModelWorld world;
-  const std::string sparse = world.RunCampaign(world.Campaign({ModelWorld::Viewpoint(0.3, 35)}, 2));
+  const std::string sparse = world.RunCampaign(world.Campaign({world.Viewpoint(0.3, 35)}, 2));
   ModelRequest request = Evaluate(sparse);
   request.skip_next_best_views = false;
   request.next_best_views = 3;
@@ -170,9 +174,20 @@ TEST(ModelRunTest, FewViewsCoverLessAndTheirNextBestViewsAddWhatTheyPromise) {
   EXPECT_NEAR(after, predicted, 0.1);
 }
 
+// The Stanford bunny standing on the table (its +y turned to +z): curved, with features to match.
+TriangleMesh Bunny() {
+  std::ifstream in(std::string(VSCAN_DATA_DIR) + "/meshes/bunny/bunny_zipper_res2.ply", std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto mesh = geometry::ImportMesh(bytes, geometry::MeshFileFormat::kPly, 1.0);
+  EXPECT_TRUE(mesh.ok()) << mesh.status().ToString();
+  return mesh.ok() ? std::move(mesh).value() : TriangleMesh();
+}
+
+Pose3 Upright() { return Pose3(Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitX())); }
+
 TEST(ModelRunTest, ScansWithoutAKnownPoseAreAlignedByTheirFeaturesAndPlacedOnTheTruth) {
-  ModelWorld world;
-  const std::string campaign = world.RunCampaign(world.Campaign(ThreeViewpoints(), 4));
+  ModelWorld world(0.0, Bunny(), Upright());
+  const std::string campaign = world.RunCampaign(world.Campaign(ThreeViewpoints(world), 4));
   ModelRequest request = Evaluate(campaign);
   request.initial_pose = InitialPoseMode::kFeatures;
   const auto job = world.RunModel(request);
@@ -180,18 +195,19 @@ TEST(ModelRunTest, ScansWithoutAKnownPoseAreAlignedByTheirFeaturesAndPlacedOnThe
   const JsonValue report = Report(*job);
   const JsonValue& alignment = report["alignment"];
   EXPECT_EQ(alignment["initial_pose"].text(), "features");
-  EXPECT_GE(alignment["aligned"].number(), 10);
+  // Scans of the back, matched against the front, may find no consensus; most are placed.
+  EXPECT_GE(alignment["aligned"].number(), 8);
   // Errors of the set as a whole laid onto the truth: what features and ICP got right between scans.
   EXPECT_LT(alignment["rotation_error_deg"]["max"].number(), 0.2);
   EXPECT_LT(alignment["translation_error_m"]["max"].number(), 5e-4);
   // Laid onto the truth by features, the union is judged like one aligned from known poses.
   EXPECT_GT(report["evaluation"]["union"]["precision"].number(), 0.95);
-  EXPECT_GT(report["evaluation"]["coverage"].number(), 0.8);
+  EXPECT_GT(report["evaluation"]["coverage"].number(), 0.6);
 }
 
 TEST(ModelRunTest, CloudsTakenAsTheyAreKeepTheirStoredPoses) {
   ModelWorld world;
-  const std::string campaign = world.RunCampaign(world.Campaign({ModelWorld::Viewpoint(0.3, 35)}, 3));
+  const std::string campaign = world.RunCampaign(world.Campaign({world.Viewpoint(0.3, 35)}, 3));
   ModelRequest request = Evaluate(campaign);
   request.skip_alignment = true;
   const auto job = world.RunModel(request);
@@ -206,7 +222,7 @@ TEST(ModelRunTest, CloudsTakenAsTheyAreKeepTheirStoredPoses) {
 
 TEST(ModelRunTest, AStoppedJobEndsCancelledWithItsReport) {
   ModelWorld world;
-  const std::string campaign = world.RunCampaign(world.Campaign({ModelWorld::Viewpoint(0.3, 35)}, 2));
+  const std::string campaign = world.RunCampaign(world.Campaign({world.Viewpoint(0.3, 35)}, 2));
   jobs::JobControl control;
   control.RequestStop(jobs::StopReason::kCancelled);
   const auto job = world.RunModel(Evaluate(campaign), &control);

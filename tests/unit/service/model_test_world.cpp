@@ -77,8 +77,11 @@ StatusOr<CampaignRecord> TestCampaignRecords::Get(const std::string& job_id) {
   return record;
 }
 
-ModelWorld::ModelWorld(double encoder_sigma) {
-  scene_id = world.SceneWith(LBlock(), Pose3::Identity(), /*table=*/true);
+ModelWorld::ModelWorld(double encoder_sigma, const TriangleMesh& object, const Pose3& world_from_object) {
+  scene_id = world.SceneWith(object, world_from_object, /*table=*/true);
+  Eigen::Vector3f min, max;
+  object.Bounds(min, max);
+  target = world_from_object * ((min + max) / 2).cast<double>();
   const auto& fixture = robot::testing::Fixture("ur5");
   robots::RobotUpload upload;
   upload.urdf_path = fixture.urdf_path;
@@ -105,10 +108,9 @@ CampaignViewpoint ModelWorld::ViewpointAt(const Eigen::Vector3d& position, const
   return viewpoint;
 }
 
-CampaignViewpoint ModelWorld::Viewpoint(double distance, double elevation_deg, double azimuth_deg) {
+CampaignViewpoint ModelWorld::Viewpoint(double distance, double elevation_deg, double azimuth_deg) const {
   const double el = elevation_deg * std::numbers::pi / 180.0;
   const double az = azimuth_deg * std::numbers::pi / 180.0;
-  const Eigen::Vector3d target(0.0, 0.0, kTargetHeight);
   const Eigen::Vector3d direction(std::cos(el) * std::cos(az), std::cos(el) * std::sin(az), std::sin(el));
   return ViewpointAt(target + distance * direction, target);
 }

@@ -59,17 +59,20 @@ class TestCampaignRecords final : public CampaignRecords {
 
 class ModelWorld {
  public:
-  // encoder_sigma (radians, every joint) is the arm's encoder noise a campaign may apply.
-  explicit ModelWorld(double encoder_sigma = 0.0);
+  // object (metres) stands on the table at world_from_object; encoder_sigma (radians, every joint)
+  // is the arm's encoder noise a campaign may apply.
+  explicit ModelWorld(double encoder_sigma = 0.0, const TriangleMesh& object = LBlock(),
+                      const Pose3& world_from_object = Pose3::Identity());
 
   ServiceWorld world;
   std::string scene_id;
   std::string mount_id;
   TestCampaignRecords campaigns{world};
 
-  static constexpr double kTargetHeight = 0.035;
-  // A viewpoint `distance` from the block's middle at elevation_deg, on the arm's side (+x).
-  static CampaignViewpoint Viewpoint(double distance, double elevation_deg, double azimuth_deg = 0.0);
+  // The middle of the object's bounding box, where viewpoints look.
+  Eigen::Vector3d target = Eigen::Vector3d::Zero();
+  // A viewpoint `distance` from the object's middle at elevation_deg, on the arm's side (+x).
+  CampaignViewpoint Viewpoint(double distance, double elevation_deg, double azimuth_deg = 0.0) const;
   static CampaignViewpoint ViewpointAt(const Eigen::Vector3d& position, const Eigen::Vector3d& target);
 
   // viewpoints x rotations (evenly over a turn), a 320 x 240 camera storing positions and pixels.
