@@ -21,10 +21,20 @@ namespace vscan::registration {
 struct MultiviewOptions {
   // Scans are thinned to one point per voxel of this edge (metres) for alignment; > 0.
   double voxel_size = 0.002;
-  // ICP settings; max_correspondence_distance <= 0 means 5 voxels.
-  IcpOptions icp;
+  // ICP settings; max_correspondence_distance <= 0 (the default here) means 5 voxels.
+  IcpOptions icp = [] {
+    IcpOptions o;
+    o.max_correspondence_distance = 0;
+    return o;
+  }();
   // A scan whose fitness against the union stays below this is not aligned (and not merged).
   double min_fitness = 0.3;
+  // A scan that alignment moves by more than this (metres, the RMS distance its points travel
+  // from where the initial pose put them) is not aligned either: ICP only pairs points within the
+  // correspondence distance, so a correction of many such distances means a start outside its
+  // basin (a wrong initial pose) or a wrong minimum, whatever the fitness. <= 0 means 3 times the
+  // correspondence distance.
+  double max_correction = 0;
   // Run the pose graph in Finish.
   bool pose_graph = true;
   // Pairs whose thinned scans share less than this share of points (within the correspondence
