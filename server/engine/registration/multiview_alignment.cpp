@@ -29,7 +29,7 @@ constexpr double kNormalRadiusVoxels = 5.0;
 // Pose graph: candidate partners per scan, points sampled to measure a pair's overlap, the floor of
 // a pair's residual scale and the Huber width on an edge's disagreement (both in voxels, as an RMS
 // point-to-plane distance: consistent edges disagree by far less than a voxel, a wrong fit by more).
-constexpr size_t kPartnersPerScan = 8;
+constexpr size_t kPartnersPerScan = 6;
 constexpr size_t kOverlapSamples = 2000;
 constexpr double kSigmaFloorVoxels = 1e-3;
 constexpr double kHuberWidthVoxels = 0.5;
