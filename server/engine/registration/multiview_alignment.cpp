@@ -1,10 +1,13 @@
 #include "registration/multiview_alignment.h"
 
-#include <cmath>
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <optional>
+#include <span>
+#include <string>
 #include <utility>
+#include <vector>
 
 #include <tbb/parallel_for.h>
 
@@ -33,7 +36,7 @@ constexpr size_t kPartnersPerScan = 6;
 constexpr size_t kOverlapSamples = 2000;
 constexpr double kSigmaFloorVoxels = 1e-3;
 constexpr double kHuberWidthVoxels = 0.5;
-// Pairwise ICP: reach in voxels and iterations (see RunPoseGraph).
+// Pairwise ICP: reach in voxels and iterations (see FitPair).
 constexpr double kPairReachVoxels = 1.0;
 constexpr int kPairIterations = 10;
 
@@ -166,12 +169,15 @@ StatusOr<MultiviewAligner> MultiviewAligner::Create(const MultiviewOptions& opti
     return InvalidArgument("alignment.min_pair_overlap", "must be in [0, 1]");
   }
   IcpOptions icp = options.icp;
-  if (icp.max_correspondence_distance <= 0.0) icp.max_correspondence_distance = kDefaultReachVoxels * options.voxel_size;
+  if (icp.max_correspondence_distance <= 0.0) {
+    icp.max_correspondence_distance = kDefaultReachVoxels * options.voxel_size;
+  }
   // ICP's own checks, run on empty clouds, so that its rules are written in one place.
   const auto check = PointToPlaneIcp({}, {}, {}, Pose3::Identity(), icp);
   if (!check.ok()) return check.status();
-  const double max_correction =
-      options.max_correction > 0.0 ? options.max_correction : kDefaultCorrectionReaches * icp.max_correspondence_distance;
+  const double max_correction = options.max_correction > 0.0
+                                    ? options.max_correction
+                                    : kDefaultCorrectionReaches * icp.max_correspondence_distance;
   return MultiviewAligner(std::make_unique<State>(options, icp, max_correction));
 }
 

@@ -283,7 +283,9 @@ StatusOr<PoseGraphResult> OptimizePoseGraph(std::vector<Pose3> poses, std::span<
   if (variables == 0) result.converged = true;
   result.final_cost = TotalCost(edges, poses);
   result.edge_weights.reserve(edges.size());
-  for (const PoseGraphEdge& edge : edges) result.edge_weights.push_back(Huber(edge, Evaluate(edge, poses).error).weight);
+  for (const PoseGraphEdge& edge : edges) {
+    result.edge_weights.push_back(Huber(edge, Evaluate(edge, poses).error).weight);
+  }
   result.poses = std::move(poses);
   return result;
 }

@@ -237,6 +237,26 @@ TEST(MultiviewAlignmentTest, TheFirstScanWithEnoughPointsIsTheAnchor) {
   EXPECT_EQ(aligner->size(), 3u);
 }
 
+// The view opposite the anchor comes second, when the union holds only the anchor's side of the
+// bunny; once the views between them are in, Finish's second try aligns it.
+TEST(MultiviewAlignmentTest, FinishAlignsAScanThatCameTooEarly) {
+  const Ring ring = MakeRing(8, 15.0, 40.0, 0.0, 2.0, 0.008);
+  auto aligner = MultiviewAligner::Create(MultiviewOptions{});
+  ASSERT_TRUE(aligner.ok());
+  const std::vector<size_t> order = {0, 4, 1, 2, 3, 5, 6, 7};
+  for (size_t k : order) {
+    const auto added = aligner->Add(ScanOf(ring, k));
+    ASSERT_TRUE(added.ok());
+    EXPECT_EQ(added->aligned, k != 4) << k << ": " << added->reason;
+  }
+  const auto result = aligner->Finish();
+  ASSERT_TRUE(result.ok());
+  const ViewAlignment& late = (*result)[1];
+  ASSERT_TRUE(late.aligned) << late.reason;
+  EXPECT_LT(RotationErrorDeg(late.model_from_sensor, ring.views[4].model_from_sensor), 0.05);
+  EXPECT_LT(CentreErrorMm(late.model_from_sensor, ring.views[4].model_from_sensor), 0.2);
+}
+
 // The same view again and again, with fresh noise and small pose errors: the union fills the
 // voxels the surface passes through (up to sqrt(3) times as many as one thinned view, plus a
 // shell for the noise) and then stops growing, however many scans come.
