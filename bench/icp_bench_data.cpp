@@ -3,11 +3,11 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <utility>
 
 #include <Eigen/Geometry>
-#include <pcl/console/print.h>
-#include <pcl/io/pcd_io.h>
-#include <pcl/point_types.h>
+
+#include "vscan/common/cloud_io.h"
 
 namespace vscan::bench {
 namespace {
@@ -20,16 +20,10 @@ const std::string kDir = std::string(VSCAN_DATA_DIR) + "/registration/";
 }
 
 IcpCloud Load(const std::string& name) {
-  // The files have no curvature field, which PCL would warn about for every load.
-  pcl::console::setVerbosityLevel(pcl::console::L_ERROR);
-  pcl::PointCloud<pcl::PointNormal> cloud;
-  if (pcl::io::loadPCDFile(kDir + name, cloud) != 0) Die("cannot read " + kDir + name);
-  IcpCloud out;
-  for (const auto& p : cloud) {
-    out.points.emplace_back(p.x, p.y, p.z);
-    out.normals.emplace_back(p.normal_x, p.normal_y, p.normal_z);
-  }
-  return out;
+  StatusOr<PointCloud> cloud = ReadPcd(kDir + name);
+  if (!cloud.ok()) Die(cloud.status().ToString());
+  if (!cloud->Has(kFieldNormal)) Die(kDir + name + " has no normals");
+  return {std::move(cloud->positions), std::move(cloud->normals)};
 }
 
 }  // namespace

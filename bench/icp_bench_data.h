@@ -27,7 +27,7 @@ struct IcpOutcome {
   int iterations = 0;
 };
 
-// Loads the pair once (PCL's PCD reader); exits with a message when the files are missing.
+// Loads the pair once (vscan's PCD reader); exits with a message when the files are missing.
 const IcpPair& ReferencePair();
 
 double RotationErrorDeg(const Eigen::Matrix4d& estimate, const Eigen::Matrix4d& truth);

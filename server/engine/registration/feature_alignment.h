@@ -1,6 +1,7 @@
 #pragma once
-// Alignment without a known pose: keypoints, SHOT descriptors and RANSAC over their matches (PCL),
-// then point-to-plane ICP. A pair that cannot be aligned is reported as such, never guessed.
+// Alignment without a known pose: keypoints, SHOT descriptors (PCL) and a seeded RANSAC over their
+// matches, then point-to-plane ICP. A pair that cannot be aligned is reported as such, never guessed.
+// Method, defaults and limits: docs/ALIGNMENT.md.
 
 #include <atomic>
 #include <cstddef>
@@ -21,11 +22,14 @@ struct FeatureAlignmentOptions {
   // Radius of the normals and of the SHOT support, in voxels.
   double normal_radius_voxels = 3;
   double descriptor_radius_voxels = 10;
+  // Keypoints (the points that get a descriptor) lie one per cell of this edge, in voxels; >= 1.
+  // The descriptors take most of the time, so it trades time for the matches a small overlap needs.
+  double keypoint_spacing_voxels = 3;
   // RANSAC: iterations, and the distance (in voxels) within which a matched keypoint is an inlier.
   int ransac_iterations = 20000;
   double inlier_distance_voxels = 2;
-  // The result is accepted when at least this many matches are inliers and, after ICP, at least
-  // min_fitness of the source's points lie within 2 voxels of the target.
+  // The result is accepted when at least this many matches are inliers and, after ICP (which must
+  // converge), at least min_fitness of the thinned source points lie within 2 voxels of the target.
   size_t min_inliers = 12;
   double min_fitness = 0.3;
   uint64_t seed = 1;
@@ -43,7 +47,8 @@ struct FeatureAlignmentResult {
 };
 
 // InvalidArgument names "features.<option>" for an option out of range; Cancelled when cancel
-// becomes true. Too few points or no consensus give found = false with a reason, not an error.
+// becomes true. Too few points or no consensus give found = false with a reason, not an error, and
+// the identity as the pose. The same inputs and seed give the same result.
 StatusOr<FeatureAlignmentResult> AlignByFeatures(std::span<const Eigen::Vector3f> source,
                                                  std::span<const Eigen::Vector3f> target,
                                                  const FeatureAlignmentOptions& options,

@@ -1,10 +1,11 @@
 #include "reference_pair.h"
 
-#include <cstring>
 #include <fstream>
-#include <sstream>
+#include <utility>
 
 #include <gtest/gtest.h>
+
+#include "vscan/common/cloud_io.h"
 
 namespace vscan::registration::testing {
 namespace {
@@ -14,35 +15,12 @@ const std::string kDir = std::string(VSCAN_DATA_DIR) + "/registration/";
 }  // namespace
 
 Cloud ReadPcdWithNormals(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  EXPECT_TRUE(in) << path;
-  std::string line;
-  size_t count = 0;
-  bool fields_ok = false, binary = false;
-  while (std::getline(in, line)) {
-    std::istringstream words(line);
-    std::string key;
-    words >> key;
-    if (key == "FIELDS") fields_ok = line == "FIELDS x y z normal_x normal_y normal_z";
-    if (key == "POINTS") words >> count;
-    if (key == "DATA") {
-      binary = line == "DATA binary";
-      break;
-    }
-  }
-  EXPECT_TRUE(fields_ok && binary && count > 0) << path << ": unexpected PCD layout";
-  if (!fields_ok || !binary) return {};
-  std::vector<float> raw(count * 6);
-  in.read(reinterpret_cast<char*>(raw.data()), static_cast<std::streamsize>(raw.size() * sizeof(float)));
-  EXPECT_TRUE(in) << path << ": truncated";
-  Cloud cloud;
-  cloud.points.resize(count);
-  cloud.normals.resize(count);
-  for (size_t i = 0; i < count; ++i) {
-    cloud.points[i] = Eigen::Vector3f(raw[6 * i], raw[6 * i + 1], raw[6 * i + 2]);
-    cloud.normals[i] = Eigen::Vector3f(raw[6 * i + 3], raw[6 * i + 4], raw[6 * i + 5]);
-  }
-  return cloud;
+  StatusOr<PointCloud> read = ReadPcd(path);
+  EXPECT_TRUE(read.ok()) << read.status().ToString();
+  if (!read.ok()) return {};
+  EXPECT_TRUE(read->Has(kFieldNormal)) << path << ": no normals";
+  if (!read->Has(kFieldNormal)) return {};
+  return {std::move(read->positions), std::move(read->normals)};
 }
 
 const ReferencePair& LoadReferencePair() {

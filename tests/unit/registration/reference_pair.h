@@ -16,8 +16,8 @@ struct Cloud {
   std::vector<Eigen::Vector3f> normals;
 };
 
-// Binary PCD with exactly the float fields x y z normal_x normal_y normal_z; fails the calling test
-// (and returns an empty cloud) on anything else.
+// A PCD file with positions and normals (vscan's reader); fails the calling test (and returns an
+// empty cloud) when it cannot be read or has no normals.
 Cloud ReadPcdWithNormals(const std::string& path);
 
 struct ReferencePair {

@@ -1,0 +1,41 @@
+#pragma once
+// A cloud made ready for feature matching: thinned to one point per voxel, with consistently
+// oriented normals and evenly spread keypoints.
+
+#include <atomic>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "vscan/common/status.h"
+
+namespace vscan::registration {
+
+struct FeatureCloud {
+  std::vector<Eigen::Vector3f> points;
+  // Unit length, one per point, facing the same side of the surface along each connected part.
+  std::vector<Eigen::Vector3f> normals;
+  // Indices into points.
+  std::vector<uint32_t> keypoints;
+};
+
+// The centroid of the finite points in each voxel of edge `voxel` (metres), in voxel order.
+std::vector<Eigen::Vector3f> ThinToVoxels(std::span<const Eigen::Vector3f> points, double voxel);
+
+// One point per cell of edge `spacing` (metres): the one nearest the cell's centre, in cell order.
+std::vector<uint32_t> SpreadKeypoints(std::span<const Eigen::Vector3f> points, double spacing);
+
+struct FeatureCloudOptions {
+  double voxel = 0.003;
+  double normal_radius = 0.009;
+  double keypoint_spacing = 0.006;
+  const std::atomic<bool>* cancel = nullptr;
+};
+
+// Thins, estimates normals from the neighbours within normal_radius (points with too few of them
+// are dropped), orients them and spreads the keypoints. Cancelled when cancel becomes true.
+StatusOr<FeatureCloud> PrepareFeatureCloud(std::span<const Eigen::Vector3f> points, const FeatureCloudOptions& options);
+
+}  // namespace vscan::registration
