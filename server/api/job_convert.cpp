@@ -2,6 +2,8 @@
 
 #include <google/protobuf/util/time_util.h>
 
+#include "vscan/common/proto_convert.h"
+
 namespace vscan::api {
 
 v1::JobState ToProto(store::JobState state) {
@@ -45,8 +47,28 @@ Status ToProto(const store::JobRecord& job, v1::Job* out) {
   if (job.kind == "campaign" && !out->mutable_campaign()->ParseFromString(job.spec)) {
     return DataLoss("job catalogue: job '" + job.job_id + "' has an unreadable campaign spec");
   }
+  if (job.kind == "model" && !out->mutable_model()->ParseFromString(job.spec)) {
+    return DataLoss("job catalogue: job '" + job.job_id + "' has an unreadable model spec");
+  }
   for (const store::ArtifactRecord& artifact : job.artifacts) RETURN_IF_ERROR(ToProto(artifact, out->add_artifacts()));
   return Status::Ok();
+}
+
+void ToProto(const service::ScanAlignmentRecord& scan, v1::ScanAlignment* out) {
+  out->set_cloud_id(scan.cloud_id);
+  out->set_index(scan.index);
+  out->set_aligned(scan.aligned);
+  out->set_reason(scan.reason);
+  vscan::ToProto(scan.model_from_sensor, out->mutable_pose());
+  out->set_fitness(scan.fitness);
+  out->set_inlier_rmse(scan.inlier_rmse);
+  out->set_has_error(scan.has_error);
+  if (scan.has_error) {
+    out->set_rotation_error_deg(scan.rotation_error_deg);
+    out->set_translation_error_m(scan.translation_error_m);
+    out->set_initial_rotation_error_deg(scan.initial_rotation_error_deg);
+    out->set_initial_translation_error_m(scan.initial_translation_error_m);
+  }
 }
 
 }  // namespace vscan::api

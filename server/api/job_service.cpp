@@ -8,7 +8,10 @@
 #include "api/campaign_spec.h"
 #include "api/job_convert.h"
 #include "api/job_recorder.h"
+#include "api/model_campaigns.h"
+#include "api/model_spec.h"
 #include "service/campaign_run.h"
+#include "service/model_run.h"
 #include "api/unary.h"
 #include "api/validate.h"
 
@@ -41,34 +44,66 @@ grpc::ServerUnaryReactor* JobService::StartCampaign(grpc::CallbackServerContext*
     ASSIGN_OR_RETURN(v1::Job job, tracker_.CreateCampaign(request->spec(), validated.steps_total()));
     const std::string job_id = job.job_id();
     auto plan = std::make_shared<const service::CampaignPlan>(std::move(validated));
-    auto work = [this, job_id, plan](jobs::JobControl& control) {
-      try {
-        TrackedJobRecorder recorder(tracker_, job_id);
-        service::RunCampaign(context_, recorder, job_id, *plan, control);
-      } catch (const std::exception& e) {
-        JobEventUpdate update;
-        update.state = store::JobState::kFailed;
-        update.message = std::string("unexpected error: ") + e.what();
-        const Status ended = tracker_.End(job_id, update);
-        if (!ended.ok()) spdlog::error("job {}: {}", job_id, ended.ToString());
-      }
-    };
-    auto dropped = [this, job_id](jobs::StopReason reason) {
-      JobEventUpdate update;
-      update.state = service::StoppedState(reason);
-      update.message = reason == jobs::StopReason::kCancelled ? "cancelled before it started"
-                                                              : "server stopped while the job ran";
-      const Status ended = tracker_.End(job_id, update);
-      if (!ended.ok()) spdlog::error("job {}: {}", job_id, ended.ToString());
-    };
-    if (!runner_.Submit(job_id, std::move(work), dropped, max_queued)) {
-      dropped(jobs::StopReason::kShutdown);
-      return Unavailable("server is shutting down");
-    }
+    RETURN_IF_ERROR(Submit(job_id, [this, job_id, plan](jobs::JobControl& control) {
+      TrackedJobRecorder recorder(tracker_, job_id);
+      service::RunCampaign(context_, recorder, job_id, *plan, control);
+    }));
     spdlog::info("job {}: campaign of {} scans queued", job_id, plan->steps_total());
     *response->mutable_job() = std::move(job);
     return Status::Ok();
   });
+}
+
+grpc::ServerUnaryReactor* JobService::StartModel(grpc::CallbackServerContext* ctx, const v1::StartModelRequest* request,
+                                                 v1::StartModelResponse* response) {
+  return RunBlockingUnary(ctx, context_.options.token, "StartModel", context_.call_workers, [=, this]() -> Status {
+    if (!request->has_spec()) return InvalidArgument("spec: required");
+    CatalogueCampaignRecords campaigns(tracker_.catalogue());
+    ASSIGN_OR_RETURN(service::ModelPlan validated, ValidateModel(request->spec(), context_, campaigns));
+    if (request->validate_only()) return Status::Ok();
+    const uint32_t max_queued = context_.options.limits.max_queued_jobs;
+    std::lock_guard admit(admit_mutex_);
+    if (runner_.queued() >= max_queued) {
+      return ResourceExhausted("spec: " + std::to_string(max_queued) + " jobs already wait to run; retry later");
+    }
+    ASSIGN_OR_RETURN(v1::Job job, tracker_.CreateModel(request->spec(), service::ModelStepsTotal(validated)));
+    const std::string job_id = job.job_id();
+    auto plan = std::make_shared<const service::ModelPlan>(std::move(validated));
+    RETURN_IF_ERROR(Submit(job_id, [this, job_id, plan](jobs::JobControl& control) {
+      TrackedJobRecorder recorder(tracker_, job_id);
+      service::RunModel(context_, recorder, job_id, *plan, control);
+    }));
+    spdlog::info("job {}: model job over {} clouds queued", job_id, plan->clouds.size());
+    *response->mutable_job() = std::move(job);
+    return Status::Ok();
+  });
+}
+
+Status JobService::Submit(const std::string& job_id, std::function<void(jobs::JobControl&)> run) {
+  auto work = [this, job_id, run = std::move(run)](jobs::JobControl& control) {
+    try {
+      run(control);
+    } catch (const std::exception& e) {
+      JobEventUpdate update;
+      update.state = store::JobState::kFailed;
+      update.message = std::string("unexpected error: ") + e.what();
+      const Status ended = tracker_.End(job_id, update);
+      if (!ended.ok()) spdlog::error("job {}: {}", job_id, ended.ToString());
+    }
+  };
+  auto dropped = [this, job_id](jobs::StopReason reason) {
+    JobEventUpdate update;
+    update.state = service::StoppedState(reason);
+    update.message = reason == jobs::StopReason::kCancelled ? "cancelled before it started"
+                                                            : "server stopped while the job ran";
+    const Status ended = tracker_.End(job_id, update);
+    if (!ended.ok()) spdlog::error("job {}: {}", job_id, ended.ToString());
+  };
+  if (!runner_.Submit(job_id, std::move(work), dropped, context_.options.limits.max_queued_jobs)) {
+    dropped(jobs::StopReason::kShutdown);
+    return Unavailable("server is shutting down");
+  }
+  return Status::Ok();
 }
 
 grpc::ServerUnaryReactor* JobService::StartBinFill(grpc::CallbackServerContext* ctx, const v1::StartBinFillRequest*,

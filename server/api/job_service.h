@@ -1,8 +1,10 @@
 #pragma once
-// JobService: scan campaigns as durable jobs run by the job runner; get, list, cancel, watch them
-// and read what they produced.
+// JobService: scan campaigns and model jobs as durable jobs run by the job runner; get, list,
+// cancel, watch them and read what they produced.
 
+#include <functional>
 #include <mutex>
+#include <string>
 
 #include "api/job_tracker.h"
 #include "service/service_context.h"
@@ -18,6 +20,8 @@ class JobService final : public v1::JobService::CallbackService {
 
   grpc::ServerUnaryReactor* StartCampaign(grpc::CallbackServerContext* ctx, const v1::StartCampaignRequest* request,
                                           v1::StartCampaignResponse* response) override;
+  grpc::ServerUnaryReactor* StartModel(grpc::CallbackServerContext* ctx, const v1::StartModelRequest* request,
+                                       v1::StartModelResponse* response) override;
   grpc::ServerUnaryReactor* StartBinFill(grpc::CallbackServerContext* ctx, const v1::StartBinFillRequest* request,
                                          v1::StartBinFillResponse* response) override;
   grpc::ServerUnaryReactor* GetJob(grpc::CallbackServerContext* ctx, const v1::GetJobRequest* request,
@@ -34,6 +38,9 @@ class JobService final : public v1::JobService::CallbackService {
                                                                    const v1::ReadArtifactRequest* request) override;
 
  private:
+  // Queues work as job_id under the queue bound; false (the job then ended) when the runner stops.
+  Status Submit(const std::string& job_id, std::function<void(jobs::JobControl&)> run);
+
   service::ServiceContext& context_;
   JobTracker& tracker_;
   jobs::JobRunner& runner_;

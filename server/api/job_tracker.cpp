@@ -94,11 +94,20 @@ void LiveJob::Publish(v1::WatchJobResponse response, std::optional<v1::Artifact>
 }
 
 StatusOr<v1::Job> JobTracker::CreateCampaign(const v1::CampaignSpec& spec, uint32_t steps_total) {
+  return Create("campaign", spec.name(), spec.SerializeAsString(), steps_total);
+}
+
+StatusOr<v1::Job> JobTracker::CreateModel(const v1::ModelSpec& spec, uint32_t steps_total) {
+  return Create("model", spec.name(), spec.SerializeAsString(), steps_total);
+}
+
+StatusOr<v1::Job> JobTracker::Create(const std::string& kind, const std::string& name, std::string spec,
+                                     uint32_t steps_total) {
   store::JobRecord record;
-  record.kind = "campaign";
+  record.kind = kind;
   record.state = store::JobState::kQueued;
-  record.name = spec.name();
-  record.spec = spec.SerializeAsString();
+  record.name = name;
+  record.spec = std::move(spec);
   record.message = "queued";
   record.steps_total = steps_total;
   ASSIGN_OR_RETURN(record, catalogue_.InsertJob(std::move(record)));
@@ -154,6 +163,7 @@ v1::WatchJobResponse JobTracker::MakeEvent(const std::shared_ptr<LiveJob>& live,
   event->set_message(update.message);
   event->set_step(update.step);
   event->set_pose_reached(update.pose_reached);
+  if (update.alignment) ToProto(*update.alignment, event->mutable_alignment());
   return response;
 }
 

@@ -87,6 +87,7 @@ class JobTracker {
 
   // Records a QUEUED job and keeps it live.
   StatusOr<v1::Job> CreateCampaign(const v1::CampaignSpec& spec, uint32_t steps_total);
+  StatusOr<v1::Job> CreateModel(const v1::ModelSpec& spec, uint32_t steps_total);
   // The job as it is: from memory while live, else from the catalogue.
   StatusOr<v1::Job> Get(const std::string& job_id);
   // Null once the job has ended (ended but not null while its end could not be stored).
@@ -111,6 +112,7 @@ class JobTracker {
   StatusOr<int> DeleteEndedBefore(int64_t cutoff_ms);
 
  private:
+  StatusOr<v1::Job> Create(const std::string& kind, const std::string& name, std::string spec, uint32_t steps_total);
   StatusOr<std::shared_ptr<LiveJob>> RequireLive(const std::string& job_id);
   v1::WatchJobResponse MakeEvent(const std::shared_ptr<LiveJob>& live, const JobEventUpdate& update,
                                  uint64_t sequence, int64_t now_ms) const;

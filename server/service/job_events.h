@@ -2,15 +2,35 @@
 // What a running job reports, and to whom: every change is recorded durably before anyone sees it.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "store/cloud_catalogue.h"
 #include "store/job_catalogue.h"
+#include "vscan/common/pose.h"
 #include "vscan/common/status.h"
 
 namespace vscan::service {
 
 struct CampaignStepRecord;
+
+// One scan's alignment as a model job reports it (a model job's events, model.json).
+struct ScanAlignmentRecord {
+  std::string cloud_id;
+  std::string name;
+  uint32_t index = 0;  // in the job's list of clouds
+  bool aligned = false;
+  std::string reason;  // why not aligned
+  Pose3 model_from_sensor = Pose3::Identity();
+  double fitness = 0;
+  double inlier_rmse = 0;
+  // Against the true pose, when the server knows it.
+  bool has_error = false;
+  double rotation_error_deg = 0;
+  double translation_error_m = 0;
+  double initial_rotation_error_deg = 0;
+  double initial_translation_error_m = 0;
+};
 
 // What one event changes.
 struct JobEventUpdate {
@@ -19,6 +39,8 @@ struct JobEventUpdate {
   uint32_t steps_done = 0;
   uint32_t step = 0;
   bool pose_reached = false;
+  // Set when a scan was aligned (or found unalignable).
+  std::optional<ScanAlignmentRecord> alignment;
 };
 
 // Where a job's events and artifacts go (the job tracker, in vscand).

@@ -1,0 +1,38 @@
+#include "api/model_campaigns.h"
+
+#include "vscan/common/proto_convert.h"
+#include "vscan/v1/job.pb.h"
+
+namespace vscan::api {
+
+StatusOr<service::CampaignRecord> CatalogueCampaignRecords::Get(const std::string& job_id) {
+  ASSIGN_OR_RETURN(const store::JobRecord job, catalogue_.GetJob(job_id));
+  service::CampaignRecord record;
+  record.job_id = job.job_id;
+  record.kind = job.kind;
+  record.state = job.state;
+  if (job.kind != "campaign") return record;
+  v1::CampaignSpec spec;
+  if (!spec.ParseFromString(job.spec)) {
+    return DataLoss("job catalogue: job '" + job.job_id + "' has an unreadable campaign spec");
+  }
+  record.scene_id = spec.scene_id();
+  record.mount_id = spec.mount_id();
+  for (const store::ArtifactRecord& artifact : job.artifacts) {
+    if (artifact.info.empty()) continue;
+    v1::ScanArtifactInfo info;
+    if (!info.ParseFromString(artifact.info)) {
+      return DataLoss("job catalogue: artifact '" + artifact.artifact_id + "' has an unreadable description");
+    }
+    service::CampaignScanRecord scan;
+    scan.name = artifact.name;
+    if (info.has_commanded_sensor_pose()) {
+      auto pose = PoseFromProto(info.commanded_sensor_pose(), "commanded_sensor_pose");
+      if (pose.ok()) scan.commanded_world_from_sensor = *pose;
+    }
+    record.scans.push_back(std::move(scan));
+  }
+  return record;
+}
+
+}  // namespace vscan::api

@@ -1,0 +1,18 @@
+#pragma once
+// A ModelSpec checked and turned into a model plan: the contract's fields read into the service
+// layer's request (presence, enums and id syntax checked here), then checked against what the
+// server holds. Errors name "spec.<field>", so that a bad request creates no job.
+
+#include "service/model_campaigns.h"
+#include "service/model_plan.h"
+#include "service/service_context.h"
+#include "vscan/v1/model.pb.h"
+
+namespace vscan::api {
+
+StatusOr<service::ModelRequest> ModelRequestFromProto(const v1::ModelSpec& spec);
+
+StatusOr<service::ModelPlan> ValidateModel(const v1::ModelSpec& spec, service::ServiceContext& context,
+                                           service::CampaignRecords& campaigns);
+
+}  // namespace vscan::api

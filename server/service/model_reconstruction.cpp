@@ -1,0 +1,80 @@
+#include "service/model_reconstruction.h"
+
+#include <chrono>
+#include <vector>
+
+#include "reconstruction/poisson_pipeline.h"
+#include "reconstruction/range_image.h"
+#include "reconstruction/tsdf_fusion.h"
+#include "service/model_scans.h"
+
+namespace vscan::service {
+namespace {
+
+bool Stopped(const std::atomic<bool>* cancel) { return cancel && cancel->load(); }
+
+StatusOr<TriangleMesh> Tsdf(ServiceContext& context, const ModelPlan& plan, const AlignedScans& aligned,
+                            const ModelCrop& crop, double voxel_size, const std::atomic<bool>* cancel) {
+  std::vector<reconstruction::RangeImage> images;
+  for (size_t i = 0; i < aligned.scans.size(); ++i) {
+    const ScanAlignmentRecord& record = aligned.scans[i];
+    if (!record.aligned) continue;
+    if (Stopped(cancel)) return Cancelled("model job stopped");
+    ASSIGN_OR_RETURN(const ModelScan scan, LoadModelScan(context, plan, i, ModelCrop{}));
+    if (!scan.camera || scan.pixels.size() != scan.points.size()) {
+      return FailedPrecondition("reconstruction.method", "TSDF needs the camera and pixels of cloud '" +
+                                                             scan.cloud_id + "'");
+    }
+    // Points the crop drops leave their pixels empty, so fusion carves there instead.
+    PointCloud cloud;
+    cloud.fields = kFieldPosition | kFieldPixel;
+    const Eigen::Isometry3f model_from_sensor = record.model_from_sensor.cast<float>();
+    for (size_t k = 0; k < scan.points.size(); ++k) {
+      if (!crop.Contains(model_from_sensor * scan.points[k])) continue;
+      cloud.positions.push_back(scan.points[k]);
+      cloud.pixels.push_back(scan.pixels[k]);
+    }
+    ASSIGN_OR_RETURN(reconstruction::RangeImage image,
+                     reconstruction::RangeImageFromScan(cloud, *scan.camera, record.model_from_sensor,
+                                                        reconstruction::CloudFrame::kSensor));
+    images.push_back(std::move(image));
+  }
+  if (Stopped(cancel)) return Cancelled("model job stopped");
+  reconstruction::TsdfFusionOptions options;
+  options.tsdf.voxel_size = static_cast<float>(voxel_size);
+  return reconstruction::FuseRangeImages(images, options);
+}
+
+StatusOr<TriangleMesh> Poisson(const PlacedScans& placed, const ModelPlan& plan, double voxel_size) {
+  std::vector<reconstruction::ScanPoints> scans;
+  for (size_t k = 0; k < placed.points.size(); ++k) scans.push_back({placed.points[k], placed.origins[k]});
+  reconstruction::PoissonPipelineOptions options;
+  options.voxel_size = static_cast<float>(voxel_size);
+  options.poisson.depth = static_cast<int>(plan.poisson_depth);
+  return reconstruction::ReconstructPoisson(scans, options);
+}
+
+}  // namespace
+
+StatusOr<ModelMesh> ReconstructModel(ServiceContext& context, const ModelPlan& plan, const AlignedScans& aligned,
+                                     const PlacedScans& placed, const ModelCrop& crop, double voxel_size,
+                                     const std::atomic<bool>* cancel) {
+  const auto start = std::chrono::steady_clock::now();
+  ModelMesh out;
+  out.voxel_size = voxel_size;
+  if (placed.total_points() == 0) return FailedPrecondition("reconstruct", "no aligned points to reconstruct from");
+  TriangleMesh mesh;
+  if (plan.reconstruction == ReconstructionKind::kTsdf) {
+    out.method = "tsdf";
+    ASSIGN_OR_RETURN(mesh, Tsdf(context, plan, aligned, crop, voxel_size, cancel));
+  } else {
+    out.method = "poisson";
+    ASSIGN_OR_RETURN(mesh, Poisson(placed, plan, voxel_size));
+  }
+  if (Stopped(cancel)) return Cancelled("model job stopped");
+  out.mesh = ClipMesh(mesh, crop);
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+}  // namespace vscan::service
