@@ -49,8 +49,19 @@ ModelRequest Evaluate(const std::string& campaign_job_id) {
   return request;
 }
 
-TEST(ModelRunTest, NoiseFreeScansStayAtTheirTruePosesAndRebuildTheBlock) {
-  ModelWorld world;
+// The Stanford bunny standing on the table (its +y turned to +z): curved, with features to match.
+TriangleMesh Bunny() {
+  std::ifstream in(std::string(VSCAN_DATA_DIR) + "/meshes/bunny/bunny_zipper_res2.ply", std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto mesh = geometry::ImportMesh(bytes, geometry::MeshFileFormat::kPly, 1.0);
+  EXPECT_TRUE(mesh.ok()) << mesh.status().ToString();
+  return mesh.ok() ? std::move(mesh).value() : TriangleMesh();
+}
+
+Pose3 Upright() { return Pose3(Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitX())); }
+
+TEST(ModelRunTest, NoiseFreeScansStayAtTheirTruePosesAndRebuildTheBunny) {
+  ModelWorld world(0.0, Bunny(), Upright());
   const std::string campaign = world.RunCampaign(world.Campaign(ThreeViewpoints(world), 4));
   ModelRequest request = Evaluate(campaign);
   request.reconstruct = true;
@@ -71,7 +82,7 @@ TEST(ModelRunTest, NoiseFreeScansStayAtTheirTruePosesAndRebuildTheBlock) {
     // The commanded pose is the true one without encoder noise, and alignment keeps it.
     EXPECT_LT(scan["initial_rotation_error_deg"].number(), 1e-6);
     EXPECT_LT(scan["rotation_error_deg"].number(), 0.01);
-    EXPECT_LT(scan["translation_error_m"].number(), 2e-5);
+    EXPECT_LT(scan["translation_error_m"].number(), 5e-5);
     EXPECT_GT(scan["fitness"].number(), 0.5);
   }
   EXPECT_EQ(report["crop"]["kind"].text(), "cylinder");
@@ -80,8 +91,7 @@ TEST(ModelRunTest, NoiseFreeScansStayAtTheirTruePosesAndRebuildTheBlock) {
 
   const JsonValue& evaluation = report["evaluation"];
   EXPECT_EQ(evaluation["tau"].number(), kTau);
-  EXPECT_NEAR(evaluation["ground_truth"]["area_m2"].number(), 0.026 - 0.0048 - 0.28 * 0.001, 1e-6);
-  // Every scanned point lies on the block; the views from above and the side see most of it.
+  // Every scanned point lies on the bunny; the views from above and the side see most of it.
   EXPECT_GT(evaluation["union"]["precision"].number(), 0.999);
   const double coverage = evaluation["coverage"].number();
   EXPECT_GT(coverage, 0.8);
@@ -107,7 +117,7 @@ double Mean(const JsonValue& scans, const char* key) {
 }
 
 TEST(ModelRunTest, AlignmentRemovesMostOfTheArmsEncoderError) {
-  ModelWorld world(/*encoder_sigma=*/0.001);
+  ModelWorld world(/*encoder_sigma=*/0.001, Bunny(), Upright());
   const std::string campaign = world.RunCampaign(world.Campaign(ThreeViewpoints(world), 4, /*encoder_noise=*/true));
   ModelRequest request;
   request.campaign_job_id = campaign;
@@ -121,11 +131,13 @@ TEST(ModelRunTest, AlignmentRemovesMostOfTheArmsEncoderError) {
   const double initial_translation = Mean(scans, "initial_translation_error_m");
   const double rotation = Mean(scans, "rotation_error_deg");
   const double translation = Mean(scans, "translation_error_m");
-  // The arm misses by about a millimetre and a tenth of a degree; alignment takes most of it away.
+  // The arm misses by about a millimetre and a tenth of a degree. Alignment removes the error between
+  // the scans; what stays is where the set is placed: on the mean of 12 independent noisy poses,
+  // about 1/sqrt(12) of the error in theory, bounded here at 0.6 of it.
   EXPECT_GT(initial_translation, 2e-4);
   EXPECT_GT(initial_rotation, 0.02);
-  EXPECT_LT(translation, initial_translation / 3) << "from " << initial_translation;
-  EXPECT_LT(rotation, initial_rotation / 3) << "from " << initial_rotation;
+  EXPECT_LT(translation, 0.6 * initial_translation) << "from " << initial_translation;
+  EXPECT_LT(rotation, 0.6 * initial_rotation) << "from " << initial_rotation;
   EXPECT_EQ(report["alignment"]["initial_translation_error_m"]["mean"].number(), initial_translation);
   // No reconstruction or evaluation was asked for.
   EXPECT_FALSE(report.Has("reconstruction"));
@@ -134,7 +146,7 @@ TEST(ModelRunTest, AlignmentRemovesMostOfTheArmsEncoderError) {
 }
 
 TEST(ModelRunTest, FewViewsCoverLessAndTheirNextBestViewsAddWhatTheyPromise) {
-  ModelWorld world;
+  ModelWorld world(0.0, Bunny(), Upright());
   const std::string sparse = world.RunCampaign(world.Campaign({world.Viewpoint(0.3, 35)}, 2));
   ModelRequest request = Evaluate(sparse);
   request.skip_next_best_views = false;
@@ -174,17 +186,6 @@ TEST(ModelRunTest, FewViewsCoverLessAndTheirNextBestViewsAddWhatTheyPromise) {
   EXPECT_NEAR(after, predicted, 0.1);
 }
 
-// The Stanford bunny standing on the table (its +y turned to +z): curved, with features to match.
-TriangleMesh Bunny() {
-  std::ifstream in(std::string(VSCAN_DATA_DIR) + "/meshes/bunny/bunny_zipper_res2.ply", std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  auto mesh = geometry::ImportMesh(bytes, geometry::MeshFileFormat::kPly, 1.0);
-  EXPECT_TRUE(mesh.ok()) << mesh.status().ToString();
-  return mesh.ok() ? std::move(mesh).value() : TriangleMesh();
-}
-
-Pose3 Upright() { return Pose3(Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitX())); }
-
 TEST(ModelRunTest, ScansWithoutAKnownPoseAreAlignedByTheirFeaturesAndPlacedOnTheTruth) {
   ModelWorld world(0.0, Bunny(), Upright());
   const std::string campaign = world.RunCampaign(world.Campaign(ThreeViewpoints(world), 4));
@@ -216,6 +217,8 @@ TEST(ModelRunTest, CloudsTakenAsTheyAreKeepTheirStoredPoses) {
   EXPECT_TRUE(job->alignments.empty());
   const JsonValue report = Report(*job);
   EXPECT_FALSE(report.Has("alignment"));
+  // The block's true surface as a scan sees it: all but its base and a 1 mm strip above it.
+  EXPECT_NEAR(report["evaluation"]["ground_truth"]["area_m2"].number(), 0.026 - 0.0048 - 0.28 * 0.001, 1e-6);
   EXPECT_GT(report["evaluation"]["union"]["precision"].number(), 0.999);
   EXPECT_TRUE(job->artifacts.count("aligned.ply"));
 }
