@@ -1,7 +1,9 @@
 #include "campaign_plan.h"
 
 #include <fstream>
+#include <functional>
 #include <sstream>
+#include <tuple>
 
 #include "args.h"
 #include "campaign_yaml.h"
@@ -26,7 +28,9 @@ class PlanParser {
       return yaml_.Error(top, "a plan is a mapping with keys name, scene, robot, sensor, viewpoints, ...");
     RETURN_IF_ERROR(yaml_.ExpectMap(top, {"name", "scene", "scene_id", "robot", "mount_id", "sensor", "noise",
                                           "backend", "fields", "frame", "viewpoints", "rotations", "rotation_step_deg",
-                                          "start_angle_deg", "seed", "apply_encoder_noise", "reject_collisions"}));
+                                          "start_angle_deg", "seed", "apply_encoder_noise", "reject_collisions",
+                                          "align", "reconstruct", "evaluate", "alignment", "reconstruction",
+                                          "evaluation"}));
     CampaignPlan plan;
     plan.name = default_name_;
     if (const YamlAt at = YamlReader::Child(top, "name"); YamlReader::Has(at)) {
@@ -38,6 +42,7 @@ class PlanParser {
     RETURN_IF_ERROR(ParseSensor(top, &plan.spec));
     RETURN_IF_ERROR(ParseViewpoints(YamlReader::Child(top, "viewpoints"), &plan.spec));
     RETURN_IF_ERROR(ParseSchedule(top, &plan.spec));
+    RETURN_IF_ERROR(ParseModel(top, &plan.spec));
     return plan;
   }
 
@@ -338,6 +343,43 @@ class PlanParser {
       spec->set_reject_collisions(on);
     }
     return Status::Ok();
+  }
+
+  // align, reconstruct, evaluate and their option blocks; a block needs the part it tunes.
+  Status ParseModel(const YamlAt& top, v1::CampaignSpec* spec) const {
+    const std::pair<const char*, void (v1::CampaignSpec::*)(bool)> parts[] = {
+        {"align", &v1::CampaignSpec::set_align},
+        {"reconstruct", &v1::CampaignSpec::set_reconstruct},
+        {"evaluate", &v1::CampaignSpec::set_evaluate}};
+    for (const auto& [key, set] : parts) {
+      if (const YamlAt at = YamlReader::Child(top, key); YamlReader::Has(at)) {
+        ASSIGN_OR_RETURN(const bool on, yaml_.Bool(at));
+        (spec->*set)(on);
+      }
+    }
+    const bool aligns = spec->align() || spec->reconstruct() || spec->evaluate();
+    const std::tuple<const char*, bool, const char*, std::function<google::protobuf::Message*()>> blocks[] = {
+        {"alignment", aligns, "align, reconstruct or evaluate", [spec] { return spec->mutable_alignment(); }},
+        {"reconstruction", spec->reconstruct(), "reconstruct", [spec] { return spec->mutable_reconstruction(); }},
+        {"evaluation", spec->evaluate(), "evaluate", [spec] { return spec->mutable_evaluation(); }}};
+    for (const auto& [key, wanted, needs, message] : blocks) {
+      const YamlAt at = YamlReader::Child(top, key);
+      if (!YamlReader::Has(at)) continue;
+      if (!wanted) {
+        return yaml_.Error(KeyMark(top, key), key,
+                           std::string("tunes a part that does not run: set ") + needs + ": true");
+      }
+      RETURN_IF_ERROR(yaml_.FillMessage(at, message()));
+    }
+    return Status::Ok();
+  }
+
+  // Where key stands in the map (a block mapping's own mark is its first key's line).
+  static YAML::Mark KeyMark(const YamlAt& map, const std::string& key) {
+    for (const auto& entry : map.node) {
+      if (entry.first.Scalar() == key) return entry.first.Mark();
+    }
+    return map.mark;
   }
 
   // A path relative to the plan's directory that must exist.

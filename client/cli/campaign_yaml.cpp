@@ -2,6 +2,7 @@
 
 #include <google/protobuf/descriptor.h>
 
+#include <cctype>
 #include <cmath>
 #include <set>
 
@@ -23,6 +24,25 @@ std::string Describe(const YAML::Node& node) {
     case YAML::NodeType::Map: return "a mapping";
     default: return "nothing";
   }
+}
+
+std::string Lowered(std::string text) {
+  for (char& c : text) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return text;
+}
+
+// "INITIAL_POSE_" for enum InitialPose: the prefix its values carry by the proto style guide.
+std::string EnumPrefix(const google::protobuf::EnumDescriptor& type) {
+  std::string prefix;
+  for (const char c : type.name()) {
+    if (std::isupper(static_cast<unsigned char>(c)) && !prefix.empty()) prefix += '_';
+    prefix += static_cast<char>(std::toupper(static_cast<unsigned char>(c)));
+  }
+  prefix += '_';
+  for (int i = 0; i < type.value_count(); ++i) {
+    if (!type.value(i)->name().starts_with(prefix)) return "";
+  }
+  return prefix;
 }
 
 void IndexKeys(const YAML::Node& node, const std::string& path, std::map<std::string, YAML::Mark>* out) {
@@ -166,6 +186,22 @@ StatusOr<std::string> YamlReader::StringOrList(const YamlAt& at) const {
   return out;
 }
 
+StatusOr<int> YamlReader::EnumValue(const YamlAt& at, const google::protobuf::EnumDescriptor& type) const {
+  const std::string prefix = EnumPrefix(type);
+  std::string names;
+  for (int i = 0; i < type.value_count(); ++i) {
+    const std::string name = type.value(i)->name().substr(prefix.size());
+    if (type.value(i)->number() == 0) continue;
+    names += (names.empty() ? "" : ", ") + Lowered(name);
+  }
+  ASSIGN_OR_RETURN(const std::string text, String(at));
+  for (int i = 0; i < type.value_count(); ++i) {
+    const auto* value = type.value(i);
+    if (value->number() != 0 && Lowered(value->name().substr(prefix.size())) == Lowered(text)) return value->number();
+  }
+  return Error(at, "unknown value '" + text + "' (" + names + ")");
+}
+
 Status YamlReader::FillMessage(const YamlAt& at, google::protobuf::Message* message) const {
   const auto* descriptor = message->GetDescriptor();
   std::string known;
@@ -239,6 +275,11 @@ Status YamlReader::FillField(const YamlAt& at, const FieldDescriptor* field, goo
         return Status::Ok();
       }
       return FillMessage(at, child);
+    }
+    case FieldDescriptor::CPPTYPE_ENUM: {
+      ASSIGN_OR_RETURN(const int v, EnumValue(at, *field->enum_type()));
+      reflection->SetEnumValue(message, field, v);
+      return Status::Ok();
     }
     default: return Error(at, "cannot be set from a plan");
   }

@@ -1,6 +1,7 @@
 #pragma once
 // Typed reads from a YAML document whose errors carry "source:line: key.path: what".
 
+#include <google/protobuf/descriptor.h>
 #include <google/protobuf/message.h>
 #include <yaml-cpp/yaml.h>
 
@@ -55,11 +56,15 @@ class YamlReader {
   // A string or a list of strings, joined with commas.
   StatusOr<std::string> StringOrList(const YamlAt& at) const;
 
-  // Fills message from a map whose keys are its field names (scalars, nested messages; a
-  // vscan.v1.Vector3 may also be written [x, y, z]); at most one field of each oneof.
+  // Fills message from a map whose keys are its field names (scalars, enums by their value names
+  // without the enum's prefix, nested messages; a vscan.v1.Vector3 may also be written [x, y, z]);
+  // at most one field of each oneof.
   Status FillMessage(const YamlAt& at, google::protobuf::Message* message) const;
 
  private:
+  // The number of the enum value the scalar at names, written without the enum's prefix in any
+  // case ("features" for INITIAL_POSE_FEATURES); the zero value (unspecified) is not accepted.
+  StatusOr<int> EnumValue(const YamlAt& at, const google::protobuf::EnumDescriptor& type) const;
   Status FillField(const YamlAt& at, const google::protobuf::FieldDescriptor* field,
                    google::protobuf::Message* message) const;
 

@@ -5,12 +5,15 @@
 #include <cstdio>
 #include <filesystem>
 
-#include "campaign_download.h"
 #include "campaign_plan.h"
 #include "campaign_report.h"
 #include "campaign_setup.h"
-#include "campaign_watch.h"
 #include "commands.h"
+#include "job_commands.h"
+#include "job_download.h"
+#include "job_watch.h"
+#include "model_fetch.h"
+#include "model_report.h"
 
 namespace vscan::cli {
 namespace {
@@ -21,12 +24,6 @@ struct RunArgs {
   bool no_download = false;
   bool detach = false;
 };
-
-std::string JsonStrings(const std::vector<std::string>& items) {
-  std::string out = "[";
-  for (size_t i = 0; i < items.size(); ++i) out += (i ? "," : "") + JsonQuote(items[i]);
-  return out + "]";
-}
 
 std::string FormatSeconds(double seconds) {
   char buf[32];
@@ -39,9 +36,13 @@ int Finish(Context& ctx, const WatchResult& watched, const std::string& out_dir,
            const std::string& extra_json, double seconds) {
   const v1::Job& job = watched.job;
   const auto rows = CampaignRows(job, watched.notes);
+  // A campaign that aligned its scans leaves model.json.
+  std::optional<google::protobuf::Struct> model;
+  if (const int rc = FetchModelReport(ctx, job, &model); rc != kExitOk) return rc;
   if (ctx.json()) {
     ctx.EmitJson("{\"job\":" + ToJson(job) + extra_json + ",\"outputDir\":" + JsonQuote(out_dir) +
                  ",\"files\":" + JsonStrings(files) + ",\"steps\":" + CampaignRowsJson(rows) +
+                 (model ? ",\"model\":" + ModelReportJson(*model) : "") +
                  ",\"clientSeconds\":" + std::to_string(seconds) + "}");
     return JobExitCode(job.state());
   }
@@ -56,6 +57,7 @@ int Finish(Context& ctx, const WatchResult& watched, const std::string& out_dir,
     std::cout << "job " << job.job_id() << " " << JobStateName(job.state()) << ": " << captured << " of " << rows.size()
               << " scans, " << points << " points in " << FormatSeconds(seconds)
               << (job.message().empty() ? "" : "; " + job.message()) << '\n';
+    if (model) std::cout << FormatModelReport(*model);
     if (!out_dir.empty()) std::cout << "files in " << out_dir << '\n';
   } else {
     ctx.Print(job.job_id());
@@ -101,7 +103,7 @@ int RunCampaign(Context& ctx, const RunArgs& args) {
   ctx.Say("started campaign job " + job->job_id() + " (" + std::to_string(job->steps_total()) + " steps)");
 
   WatchResult watched;
-  if (const int rc = WatchCampaign(ctx, job->job_id(), &watched); rc != kExitOk) return rc;
+  if (const int rc = WatchJobToEnd(ctx, job->job_id(), &watched); rc != kExitOk) return rc;
   std::string out_dir;
   std::vector<std::string> files;
   if (!args.no_download) {
@@ -120,33 +122,6 @@ void AddRun(CLI::App& group, Context& ctx) {
   cmd->add_flag("--no-download", args->no_download, "Leave the scans on the server");
   cmd->add_flag("--detach", args->detach, "Start the campaign, print its job id and return");
   OnRun(cmd, ctx, [&ctx, args] { return RunCampaign(ctx, *args); });
-}
-
-void AddList(CLI::App& group, Context& ctx) {
-  auto* cmd = group.add_subcommand("list", "List campaign jobs");
-  OnRun(cmd, ctx, [&ctx]() -> int {
-    auto* client = ctx.GetClient();
-    if (!client) return ctx.last_exit();
-    const auto jobs = client->ListJobs();
-    if (!jobs.ok()) return ctx.ServerError(jobs.status());
-    std::vector<v1::Job> newest_first;
-    for (const auto& job : *jobs) {
-      if (job.kind() == "campaign") newest_first.push_back(job);
-    }
-    std::stable_sort(newest_first.begin(), newest_first.end(), [](const v1::Job& a, const v1::Job& b) {
-      const auto& ta = a.create_time();
-      const auto& tb = b.create_time();
-      return ta.seconds() != tb.seconds() ? ta.seconds() > tb.seconds() : ta.nanos() > tb.nanos();
-    });
-    v1::ListJobsResponse campaigns;
-    for (auto& job : newest_first) *campaigns.add_jobs() = std::move(job);
-    if (ctx.json()) {
-      ctx.EmitJson(ToJson(campaigns));
-      return kExitOk;
-    }
-    for (const auto& job : campaigns.jobs()) ctx.Print(ctx.quiet() ? job.job_id() : DescribeJob(job));
-    return kExitOk;
-  });
 }
 
 void AddGet(CLI::App& group, Context& ctx) {
@@ -179,77 +154,9 @@ void AddWatch(CLI::App& group, Context& ctx) {
   OnRun(cmd, ctx, [&ctx, id]() -> int {
     const auto started = std::chrono::steady_clock::now();
     WatchResult watched;
-    if (const int rc = WatchCampaign(ctx, *id, &watched); rc != kExitOk) return rc;
+    if (const int rc = WatchJobToEnd(ctx, *id, &watched); rc != kExitOk) return rc;
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
     return Finish(ctx, watched, "", {}, "", seconds);
-  });
-}
-
-void AddCancel(CLI::App& group, Context& ctx) {
-  auto* cmd = group.add_subcommand("cancel", "Cancel a campaign job; scans stored so far are kept");
-  auto id = std::make_shared<std::string>();
-  cmd->add_option("JOB", *id, "Job id")->required();
-  OnRun(cmd, ctx, [&ctx, id]() -> int {
-    auto* client = ctx.GetClient();
-    if (!client) return ctx.last_exit();
-    const auto job = client->CancelJob(*id);
-    if (!job.ok()) return ctx.ServerError(job.status());
-    if (ctx.json()) ctx.EmitJson(ToJson(*job));
-    // A running job stops between two steps, shortly after the request.
-    ctx.Done((JobFinished(job->state()) ? "job " : "cancelling job ") + DescribeJob(*job), "");
-    return kExitOk;
-  });
-}
-
-void AddDelete(CLI::App& group, Context& ctx) {
-  auto* cmd = group.add_subcommand("delete", "Delete an ended campaign job and its scans from the server");
-  auto id = std::make_shared<std::string>();
-  cmd->add_option("JOB", *id, "Job id (cancel a running job first)")->required();
-  OnRun(cmd, ctx, [&ctx, id]() -> int {
-    auto* client = ctx.GetClient();
-    if (!client) return ctx.last_exit();
-    const auto deleted = client->DeleteJob(*id);
-    if (!deleted.ok()) return ctx.ServerError(deleted.status());
-    if (ctx.json()) {
-      ctx.EmitJson("{\"jobId\":" + JsonQuote(*id) + ",\"removedFiles\":" + std::to_string(deleted->removed_files()) +
-                   ",\"removedBytes\":" + std::to_string(deleted->removed_bytes()) + "}");
-    }
-    ctx.Done("deleted job " + *id + " (" + std::to_string(deleted->removed_files()) + " files, " +
-                 std::to_string(deleted->removed_bytes()) + " bytes freed)",
-             *id);
-    return kExitOk;
-  });
-}
-
-void AddArtifacts(CLI::App& group, Context& ctx) {
-  auto* cmd = group.add_subcommand("artifacts", "List a job's artifacts, or download them with -o");
-  auto id = std::make_shared<std::string>();
-  auto dir = std::make_shared<std::string>();
-  cmd->add_option("JOB", *id, "Job id")->required();
-  cmd->add_option("-o,--output", *dir, "Download every artifact into this directory");
-  OnRun(cmd, ctx, [&ctx, id, dir]() -> int {
-    auto* client = ctx.GetClient();
-    if (!client) return ctx.last_exit();
-    const auto job = client->GetJob(*id);
-    if (!job.ok()) return ctx.ServerError(job.status());
-    std::vector<std::string> files;
-    if (!dir->empty()) {
-      if (const int rc = DownloadArtifacts(ctx, *job, *dir, &files); rc != kExitOk) return rc;
-    }
-    if (ctx.json()) {
-      std::string artifacts = "[";
-      for (int i = 0; i < job->artifacts_size(); ++i) artifacts += (i ? "," : "") + ToJson(job->artifacts(i));
-      ctx.EmitJson("{\"jobId\":" + JsonQuote(job->job_id()) + ",\"artifacts\":" + artifacts +
-                   "],\"files\":" + JsonStrings(files) + "}");
-      return kExitOk;
-    }
-    for (const auto& artifact : job->artifacts()) {
-      ctx.Print(ctx.quiet() ? artifact.artifact_id()
-                            : artifact.artifact_id() + "  " + artifact.name() + "  " + artifact.media_type() + "  " +
-                                  std::to_string(artifact.size_bytes()) + " bytes");
-    }
-    if (!dir->empty()) ctx.Say("saved " + std::to_string(files.size()) + " files in " + *dir);
-    return kExitOk;
   });
 }
 
@@ -259,12 +166,12 @@ void AddCampaignCommands(CLI::App& app, Context& ctx) {
   auto* group = app.add_subcommand("campaign", "Scan campaigns from YAML plans: run, follow, fetch the scans");
   group->require_subcommand(1);
   AddRun(*group, ctx);
-  AddList(*group, ctx);
+  AddJobList(*group, ctx, "campaign", "List campaign jobs");
   AddGet(*group, ctx);
   AddWatch(*group, ctx);
-  AddCancel(*group, ctx);
-  AddDelete(*group, ctx);
-  AddArtifacts(*group, ctx);
+  AddJobCancel(*group, ctx, "Cancel a campaign job; scans stored so far are kept");
+  AddJobDelete(*group, ctx, "Delete an ended campaign job and its scans from the server");
+  AddJobArtifacts(*group, ctx);
 }
 
 }  // namespace vscan::cli

@@ -26,5 +26,7 @@ void AddRobotCommands(CLI::App& app, Context& ctx);
 void AddCampaignCommands(CLI::App& app, Context& ctx);
 void AddSensorsCommand(CLI::App& app, Context& ctx);
 void AddCloudCommands(CLI::App& app, Context& ctx);
+// `vscan align|reconstruct|evaluate` and the `vscan model` group.
+void AddModelCommands(CLI::App& app, Context& ctx);
 
 }  // namespace vscan::cli

@@ -49,6 +49,7 @@ int main(int argc, char** argv) {
   vscan::cli::AddRobotCommands(app, ctx);
   vscan::cli::AddCampaignCommands(app, ctx);
   vscan::cli::AddCloudCommands(app, ctx);
+  vscan::cli::AddModelCommands(app, ctx);
   vscan::cli::AddSensorsCommand(app, ctx);
   app.footer(kFooter);
 

@@ -1,4 +1,4 @@
-// Client's JobService calls: scan campaigns, their events and their artifacts.
+// Client's JobService calls: scan campaigns, model jobs, their events and their artifacts.
 
 #include "byte_streams.h"
 #include "paging.h"
@@ -28,6 +28,22 @@ Status Client::ValidateCampaign(const v1::CampaignSpec& spec) {
   *request.mutable_spec() = spec;
   request.set_validate_only(true);
   return UnaryCall(*this, *stub, &Stub::StartCampaign, request).status();
+}
+
+StatusOr<v1::Job> Client::StartModel(const v1::ModelSpec& spec) {
+  auto stub = JobStub(*this);
+  v1::StartModelRequest request;
+  *request.mutable_spec() = spec;
+  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *stub, &Stub::StartModel, request));
+  return response.job();
+}
+
+Status Client::ValidateModel(const v1::ModelSpec& spec) {
+  auto stub = JobStub(*this);
+  v1::StartModelRequest request;
+  *request.mutable_spec() = spec;
+  request.set_validate_only(true);
+  return UnaryCall(*this, *stub, &Stub::StartModel, request).status();
 }
 
 StatusOr<v1::Job> Client::GetJob(const std::string& job_id) {

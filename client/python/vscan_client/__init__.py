@@ -9,6 +9,10 @@
         print(result.positions.shape)
         cloud = c.upload_cloud("scan.pcd", frame="sensor", sensor_pose=world_from_sensor)
         points = c.read_cloud_points(cloud.cloud_id)
+        job = c.start_model(campaign_job_id=campaign, evaluate=True)
+        for scan in c.watch_alignments(job.job_id):
+            print(scan.index, scan.fitness)
+        report = c.model_report(job.job_id)   # model.json as a dict
 
 The generated stubs (vscan.v1) must be importable: set VSCAN_PY_STUBS to <build>/python.
 """
@@ -16,6 +20,8 @@ The generated stubs (vscan.v1) must be importable: set VSCAN_PY_STUBS to <build>
 from .client import Client
 from .clouds import CloudPoints, parse_ply
 from .errors import VscanError
+from .models import alignment_options, evaluation_options, model_spec, reconstruction_options
 from .scan_result import ScanResult
 
-__all__ = ["Client", "CloudPoints", "ScanResult", "VscanError", "parse_ply"]
+__all__ = ["Client", "CloudPoints", "ScanResult", "VscanError", "alignment_options", "evaluation_options",
+           "model_spec", "parse_ply", "reconstruction_options"]

@@ -115,6 +115,11 @@ def vector3(values, what="vector"):
     return common_pb2.Vector3(x=values[0], y=values[1], z=values[2])
 
 
+def bounds(low, high, what="bounds"):
+    """Bounds from its min and max corners (x, y, z)."""
+    return common_pb2.Bounds(min=vector3(low, f"{what} min"), max=vector3(high, f"{what} max"))
+
+
 def matrix4(matrix, what="matrix"):
     """A 4x4 (nested sequence or numpy array) or 16 row-major values."""
     flat = [float(v) for row in matrix for v in (row if hasattr(row, "__iter__") else [row])]

@@ -1,10 +1,13 @@
-"""Job calls of the Client: scan campaigns as durable jobs (JobService)."""
+"""Job calls of the Client: scan campaigns and model jobs as durable jobs (JobService)."""
+
+import os
 
 import grpc
 
 from . import convert
 from ._stubs import sensor_pb2  # noqa: F401  (puts the generated stubs on sys.path)
 from .errors import from_rpc_error
+from .models import _options, alignment_options, evaluation_options, reconstruction_options
 
 from vscan.v1 import job_pb2, job_pb2_grpc  # noqa: E402
 
@@ -15,13 +18,25 @@ FINAL_STATES = (job_pb2.JOB_STATE_SUCCEEDED, job_pb2.JOB_STATE_FAILED, job_pb2.J
 def campaign_spec(scene_id, mount_id, viewpoints, rotations=1, rotation_step_deg=0.0, start_angle_deg=0.0,
                   width=640, height=480, hfov_deg=60.0, near=0.05, far=10.0, preset=None, noise=None, seed=0,
                   backend="raycast", fields=None, frame="world", encoder_noise=False, reject_collisions=False,
-                  name=""):
-    """A CampaignSpec: viewpoints is a list of (position, target) pairs in world metres."""
+                  name="", align=False, reconstruct=False, evaluate=False, alignment=None, reconstruction=None,
+                  evaluation=None):
+    """A CampaignSpec: viewpoints is a list of (position, target) pairs in world metres.
+
+    align, reconstruct and evaluate run those parts on the scans as they come (the last two imply the
+    first) and leave model.json; alignment, reconstruction and evaluation are their options, as a dict
+    of the keyword arguments of alignment_options(), reconstruction_options() and
+    evaluation_options(), or as the messages."""
     spec = job_pb2.CampaignSpec(scene_id=scene_id, mount_id=mount_id, rotations=int(rotations),
                                 rotation_step_deg=float(rotation_step_deg), start_angle_deg=float(start_angle_deg),
                                 seed=int(seed), backend=convert.backend(backend), frame=convert.frame(frame),
                                 apply_encoder_noise=bool(encoder_noise), reject_collisions=bool(reject_collisions),
-                                name=name)
+                                name=name, align=bool(align), reconstruct=bool(reconstruct), evaluate=bool(evaluate))
+    if alignment is not None:
+        spec.alignment.CopyFrom(_options(alignment, alignment_options, "alignment"))
+    if reconstruction is not None:
+        spec.reconstruction.CopyFrom(_options(reconstruction, reconstruction_options, "reconstruction"))
+    if evaluation is not None:
+        spec.evaluation.CopyFrom(_options(evaluation, evaluation_options, "evaluation"))
     if preset:
         spec.sensor.preset = preset
     else:
@@ -112,3 +127,22 @@ class JobCalls:
         except grpc.RpcError as err:
             raise from_rpc_error(err) from None
         return artifact, b"".join(chunks)
+
+    def download_artifacts(self, job_id, directory, names=None):
+        """Writes the job's artifacts (only those named in names, when given) into directory, created
+        if needed; returns the paths written."""
+        os.makedirs(directory, exist_ok=True)
+        paths = []
+        for artifact in self.get_job(job_id).artifacts:
+            if names is not None and artifact.name not in names:
+                continue
+            _, data = self.read_artifact(job_id, artifact.artifact_id)
+            # An artifact's name is a plain file name; anything else is written under its id.
+            name = artifact.name
+            if not name or name in (".", "..") or "/" in name or "\\" in name:
+                name = artifact.artifact_id
+            path = os.path.join(directory, name)
+            with open(path, "wb") as f:
+                f.write(data)
+            paths.append(path)
+        return paths

@@ -1,12 +1,15 @@
 #include "args.h"
 
+#include <google/protobuf/util/message_differencer.h>
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <numbers>
 
 #include "vscan/common/chunk_limits.h"
 #include "vscan/common/proto_convert.h"
+#include "model_args.h"
 
 namespace vscan::cli {
 namespace {
@@ -225,6 +228,188 @@ TEST(CliArgs, ChunkKibMatchesTheServerLimits) {
     ExpectInvalidNaming(s, "--chunk-kib");
     EXPECT_EQ(s.field(), "--chunk-kib");
   }
+}
+
+
+// --- vscan align | reconstruct | evaluate -------------------------------------------------------
+
+using google::protobuf::util::MessageDifferencer;
+
+ModelArgs TwoClouds() {
+  ModelArgs args;
+  args.cloud_ids = {"cld_a", "cld_b"};
+  return args;
+}
+
+TEST(ModelArgs, AlignMapsEveryOption) {
+  ModelArgs args = TwoClouds();
+  args.scene_id = "scn_1";
+  args.name = "bunny";
+  args.crop = "-0.1,-0.1,0.001,0.1,0.1,0.2";
+  args.initial = "Features";
+  args.align_voxel = 0.002;
+  args.max_distance = 0.01;
+  args.min_fitness = 0.5;
+  args.no_pose_graph = true;
+  const auto spec = BuildModelSpec(ModelCommand::kAlign, args);
+  ASSERT_TRUE(spec.ok()) << spec.status().message();
+
+  v1::ModelSpec expected;
+  expected.add_cloud_ids("cld_a");
+  expected.add_cloud_ids("cld_b");
+  expected.set_scene_id("scn_1");
+  expected.set_name("bunny");
+  *expected.mutable_crop()->mutable_min() = ToProto(Eigen::Vector3d(-0.1, -0.1, 0.001));
+  *expected.mutable_crop()->mutable_max() = ToProto(Eigen::Vector3d(0.1, 0.1, 0.2));
+  expected.mutable_alignment()->set_initial_pose(v1::INITIAL_POSE_FEATURES);
+  expected.mutable_alignment()->set_voxel_size(0.002);
+  expected.mutable_alignment()->set_max_correspondence_distance(0.01);
+  expected.mutable_alignment()->set_min_fitness(0.5);
+  expected.mutable_alignment()->set_skip_pose_graph(true);
+  EXPECT_TRUE(MessageDifferencer::Equals(*spec, expected)) << spec->DebugString();
+}
+
+TEST(ModelArgs, AlignDefaultsLeaveChoicesToTheServer) {
+  ModelArgs args;
+  args.campaign_job_id = "job_1";
+  const auto spec = BuildModelSpec(ModelCommand::kAlign, args);
+  ASSERT_TRUE(spec.ok()) << spec.status().message();
+  EXPECT_EQ(spec->campaign_job_id(), "job_1");
+  EXPECT_EQ(spec->cloud_ids_size(), 0);
+  EXPECT_EQ(spec->alignment().initial_pose(), v1::INITIAL_POSE_UNSPECIFIED);
+  EXPECT_EQ(spec->alignment().voxel_size(), 0.0);
+  EXPECT_FALSE(spec->skip_alignment());
+  EXPECT_FALSE(spec->reconstruct());
+  EXPECT_FALSE(spec->evaluate());
+  EXPECT_FALSE(spec->has_crop());
+  EXPECT_FALSE(spec->has_reconstruction());
+  EXPECT_FALSE(spec->has_evaluation());
+}
+
+TEST(ModelArgs, ReconstructTakesVoxelForTheSurface) {
+  ModelArgs args = TwoClouds();
+  args.align_voxel = 0.003;
+  args.method = "POISSON";
+  args.reconstruction_voxel = 0.001;
+  args.depth = 9;
+  const auto spec = BuildModelSpec(ModelCommand::kReconstruct, args);
+  ASSERT_TRUE(spec.ok()) << spec.status().message();
+  EXPECT_TRUE(spec->reconstruct());
+  EXPECT_FALSE(spec->evaluate());
+  EXPECT_EQ(spec->alignment().voxel_size(), 0.003);
+  EXPECT_EQ(spec->reconstruction().method(), v1::RECONSTRUCTION_METHOD_POISSON);
+  EXPECT_EQ(spec->reconstruction().voxel_size(), 0.001);
+  EXPECT_EQ(spec->reconstruction().poisson_depth(), 9u);
+}
+
+TEST(ModelArgs, EvaluateMapsItsOptions) {
+  ModelArgs args = TwoClouds();
+  args.tau = 0.0005;
+  args.next_best_views = 5;
+  args.mount_id = "mnt_1";
+  auto spec = BuildModelSpec(ModelCommand::kEvaluate, args);
+  ASSERT_TRUE(spec.ok()) << spec.status().message();
+  EXPECT_TRUE(spec->evaluate());
+  EXPECT_FALSE(spec->reconstruct());
+  EXPECT_EQ(spec->evaluation().tau(), 0.0005);
+  EXPECT_EQ(spec->evaluation().next_best_views(), 5u);
+  EXPECT_FALSE(spec->evaluation().skip_next_best_views());
+  EXPECT_EQ(spec->mount_id(), "mnt_1");
+
+  args.next_best_views.reset();
+  args.no_next_best_views = true;
+  args.reconstruct = true;
+  args.method = "tsdf";
+  args.skip_alignment = true;
+  spec = BuildModelSpec(ModelCommand::kEvaluate, args);
+  ASSERT_TRUE(spec.ok()) << spec.status().message();
+  EXPECT_TRUE(spec->evaluation().skip_next_best_views());
+  EXPECT_TRUE(spec->reconstruct());
+  EXPECT_TRUE(spec->skip_alignment());
+  EXPECT_EQ(spec->reconstruction().method(), v1::RECONSTRUCTION_METHOD_TSDF);
+}
+
+TEST(ModelArgs, Rejections) {
+  const auto rejects = [](ModelCommand command, ModelArgs args, const std::string& option) {
+    ExpectInvalidNaming(BuildModelSpec(command, args).status(), option);
+  };
+  rejects(ModelCommand::kAlign, ModelArgs{}, "CLOUD_ID");  // no input
+  ModelArgs both = TwoClouds();
+  both.campaign_job_id = "job_1";
+  rejects(ModelCommand::kAlign, both, "CLOUD_ID");
+
+  const std::pair<std::function<void(ModelArgs&)>, std::string> cases[] = {
+      {[](ModelArgs& a) { a.initial = "guess"; }, "--initial"},
+      {[](ModelArgs& a) { a.align_voxel = -0.001; }, "--voxel"},
+      {[](ModelArgs& a) { a.align_voxel = std::nan(""); }, "--voxel"},
+      {[](ModelArgs& a) { a.max_distance = INFINITY; }, "--max-distance"},
+      {[](ModelArgs& a) { a.min_fitness = 1.5; }, "--min-fitness"},
+      {[](ModelArgs& a) { a.min_fitness = std::nan(""); }, "--min-fitness"},
+      {[](ModelArgs& a) { a.crop = "0,0,0,1,1"; }, "--crop"},
+      {[](ModelArgs& a) { a.crop = "0,0,1,1,1,0.5"; }, "--crop"},
+  };
+  for (const auto& [edit, option] : cases) {
+    ModelArgs args = TwoClouds();
+    edit(args);
+    rejects(ModelCommand::kAlign, args, option);
+  }
+  // In reconstruct and evaluate --voxel is the surface's; the alignment's is --align-voxel.
+  ModelArgs voxel = TwoClouds();
+  voxel.align_voxel = -1;
+  rejects(ModelCommand::kReconstruct, voxel, "--align-voxel");
+  voxel = TwoClouds();
+  voxel.reconstruction_voxel = -1;
+  rejects(ModelCommand::kReconstruct, voxel, "--voxel");
+
+  ModelArgs method = TwoClouds();
+  method.method = "marching";
+  rejects(ModelCommand::kReconstruct, method, "--method");
+  // Reconstruction options without --reconstruct would be ignored: refused instead.
+  method.method = "tsdf";
+  rejects(ModelCommand::kEvaluate, method, "--method");
+  ModelArgs depth = TwoClouds();
+  depth.depth = 8;
+  rejects(ModelCommand::kEvaluate, depth, "--depth");
+
+  ModelArgs skip = TwoClouds();
+  skip.skip_alignment = true;
+  skip.initial = "known";
+  rejects(ModelCommand::kReconstruct, skip, "--initial");
+  skip.initial.clear();
+  skip.no_pose_graph = true;
+  rejects(ModelCommand::kReconstruct, skip, "--no-pose-graph");
+
+  ModelArgs views = TwoClouds();
+  views.next_best_views = 2;
+  views.no_next_best_views = true;
+  rejects(ModelCommand::kEvaluate, views, "--no-next-best-views");
+  views = TwoClouds();
+  views.tau = -0.001;
+  rejects(ModelCommand::kEvaluate, views, "--tau");
+}
+
+TEST(ModelArgs, ServerErrorsNameTheOption) {
+  const Status voxel = InvalidArgument("spec.alignment.voxel_size", "must be at most 0.1 m");
+  EXPECT_EQ(NameOptionInError(ModelCommand::kAlign, voxel).message(),
+            "--voxel: spec.alignment.voxel_size: must be at most 0.1 m");
+  EXPECT_EQ(NameOptionInError(ModelCommand::kEvaluate, voxel).message(),
+            "--align-voxel: spec.alignment.voxel_size: must be at most 0.1 m");
+  EXPECT_EQ(NameOptionInError(ModelCommand::kEvaluate, voxel).code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(NameOptionInError(ModelCommand::kReconstruct,
+                              InvalidArgument("spec.reconstruction.voxel_size", "too small")).message(),
+            "--voxel: spec.reconstruction.voxel_size: too small");
+  EXPECT_EQ(NameOptionInError(ModelCommand::kAlign, NotFound("spec.cloud_ids[2]", "no cloud 'cld_x'")).message(),
+            "CLOUD_ID[2]: spec.cloud_ids[2]: no cloud 'cld_x'");
+  EXPECT_EQ(OptionForSpecField(ModelCommand::kAlign, "spec.crop.min.x: NaN"), "--crop");
+  EXPECT_EQ(OptionForSpecField(ModelCommand::kEvaluate, "spec.evaluation.next_best_views: at most 20"),
+            "--next-best-views");
+  EXPECT_EQ(OptionForSpecField(ModelCommand::kEvaluate, "spec.reconstruction.method: needs pixels"), "--method");
+  EXPECT_EQ(OptionForSpecField(ModelCommand::kEvaluate, "spec.mount_id: no mount 'm'"), "--mount");
+  EXPECT_EQ(OptionForSpecField(ModelCommand::kEvaluate, "spec.scene_id_extra: x"), std::nullopt);
+  EXPECT_EQ(OptionForSpecField(ModelCommand::kEvaluate, "the server is tired"), std::nullopt);
+  // Trouble of the server itself is passed on as it is.
+  const Status down = Unavailable("spec.scene_id: connection reset");
+  EXPECT_EQ(NameOptionInError(ModelCommand::kAlign, down).message(), down.message());
 }
 
 }  // namespace

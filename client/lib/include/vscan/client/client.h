@@ -94,11 +94,16 @@ class Client {
   // Returns the scene's new revision.
   StatusOr<uint64_t> UnmountRobot(const std::string& mount_id);
 
-  // Jobs: scan campaigns and their artifacts.
+  // Jobs: scan campaigns, model jobs and their artifacts.
   StatusOr<v1::Job> StartCampaign(const v1::CampaignSpec& spec);
   // StartCampaign with validate_only: the server's verdict on spec; nothing is started. Empty
   // scene_id and mount_id are not looked up.
   Status ValidateCampaign(const v1::CampaignSpec& spec);
+  // A model job: aligns stored clouds (a list, or a campaign's scans), and reconstructs and
+  // evaluates them when spec asks.
+  StatusOr<v1::Job> StartModel(const v1::ModelSpec& spec);
+  // StartModel with validate_only: the server's verdict on spec; nothing is started.
+  Status ValidateModel(const v1::ModelSpec& spec);
   StatusOr<v1::Job> GetJob(const std::string& job_id);
   // Every job, following page tokens.
   StatusOr<std::vector<v1::Job>> ListJobs();

@@ -1,4 +1,4 @@
-#include "campaign_download.h"
+#include "job_download.h"
 
 #include <filesystem>
 #include <fstream>

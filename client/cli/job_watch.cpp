@@ -1,0 +1,67 @@
+#include "job_watch.h"
+
+#include <unistd.h>
+
+#include <iostream>
+#include <optional>
+
+#include "campaign_report.h"
+#include "model_report.h"
+#include "progress.h"
+
+namespace vscan::cli {
+namespace {
+
+std::string Counter(const v1::Job& job) {
+  return "[" + std::to_string(job.steps_done()) + "/" + std::to_string(job.steps_total()) + "] ";
+}
+
+// The command that picks the watch up again.
+std::string WatchCommand(const v1::Job& job) {
+  return (job.kind() == "model" ? "vscan model watch " : "vscan campaign watch ") + job.job_id();
+}
+
+}  // namespace
+
+int WatchJobToEnd(Context& ctx, const std::string& job_id, WatchResult* result) {
+  auto* client = ctx.GetClient();
+  if (!client) return ctx.last_exit();
+  const bool chatty = !ctx.json() && !ctx.quiet();
+  std::optional<ProgressBar> bar;
+  const bool tty = chatty && ::isatty(STDERR_FILENO) != 0;
+  bool first = true;
+  const Status status = client->WatchJob(job_id, [&](const v1::WatchJobResponse& response) {
+    result->job = response.job();
+    const v1::JobEvent& event = response.event();
+    if (!bar) bar.emplace(response.job().kind().empty() ? "job" : response.job().kind(), "steps", chatty);
+    if (event.has_alignment()) result->alignments.push_back(event.alignment());
+    // A step that stored nothing says why in its first event (steps_done counts it already).
+    if (!first && !event.has_artifact() && !event.has_alignment() && !event.message().empty() &&
+        response.job().steps_done() > 0 && !JobFinished(response.job().state())) {
+      result->notes.emplace(event.step(), StepNote{event.message(), event.pose_reached()});
+    }
+    if (chatty && event.has_alignment()) {
+      bar->Finish();
+      std::cout << Counter(response.job()) << FormatScanAlignment(event.alignment()) << std::endl;
+    } else if (chatty && !event.message().empty() && (!tty || !event.has_artifact())) {
+      bar->Finish();
+      std::cout << Counter(response.job()) << event.message() << std::endl;
+    }
+    bar->Update(response.job().steps_done(), response.job().steps_total());
+    first = false;
+    return !JobFinished(response.job().state());
+  });
+  if (bar) bar->Finish();
+  if (!status.ok()) return ctx.ServerError(status);
+  // The stream may end before the job does (a server going down); ask where it stands.
+  const auto job = client->GetJob(job_id);
+  if (!job.ok()) return ctx.ServerError(job.status());
+  result->job = *job;
+  if (!JobFinished(job->state())) {
+    return ctx.ServerError(Unavailable("job " + job_id + ": the watch ended while the job is " +
+                                       JobStateName(job->state()) + "; run `" + WatchCommand(*job) + "`"));
+  }
+  return kExitOk;
+}
+
+}  // namespace vscan::cli
