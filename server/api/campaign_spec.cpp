@@ -3,8 +3,10 @@
 #include <cmath>
 #include <optional>
 
+#include "api/model_spec.h"
 #include "api/scan_request.h"
 #include "api/validate.h"
+#include "service/model_run.h"
 #include "vscan/common/physical_limits.h"
 #include "vscan/common/proto_convert.h"
 
@@ -97,13 +99,6 @@ StatusOr<service::CampaignPlan> Validate(const v1::CampaignSpec& spec, bool dry_
                                          service::ServiceContext& context) {
   service::CampaignPlan plan;
   RETURN_IF_ERROR(CheckText(spec.name(), "name"));
-  if (spec.align()) {
-    return Status(StatusCode::kUnimplemented, "align", "campaign alignment is not supported by this server version");
-  }
-  if (spec.reconstruct()) {
-    return Status(StatusCode::kUnimplemented, "reconstruct",
-                  "campaign reconstruction is not supported by this server version");
-  }
   ASSIGN_OR_RETURN(plan.viewpoints, Viewpoints(spec));
 
   plan.rotations = spec.rotations() == 0 ? 1 : spec.rotations();
@@ -129,6 +124,12 @@ StatusOr<service::CampaignPlan> Validate(const v1::CampaignSpec& spec, bool dry_
   plan.apply_encoder_noise = spec.apply_encoder_noise();
   ASSIGN_OR_RETURN(plan.scan, StepScanSettings(spec, context.options.limits, context.robots));
   RETURN_IF_ERROR(service::CheckCampaignWorld(context, plan, dry_run));
+  if (spec.align() || spec.reconstruct() || spec.evaluate()) {
+    ASSIGN_OR_RETURN(const service::ModelRequest request, ModelRequestFromCampaign(spec));
+    const bool pixels = (plan.scan.fields & kFieldPixel) != 0;
+    ASSIGN_OR_RETURN(plan.model, service::PlanCampaignModel(context, request, plan.scene_id, plan.mount_id, pixels));
+    plan.model_steps = service::CampaignModelSteps(*plan.model);
+  }
   return plan;
 }
 

@@ -31,6 +31,28 @@ Status OptionalId(const std::string& id, const char* field) {
   return id.empty() ? Status::Ok() : RequireId(id, field);
 }
 
+// The stage options a ModelSpec and a CampaignSpec share, with the same field names.
+template <typename Spec>
+Status ReadStageOptions(const Spec& spec, service::ModelRequest& request) {
+  const v1::AlignmentOptions& alignment = spec.alignment();
+  ASSIGN_OR_RETURN(request.initial_pose, InitialPose(alignment.initial_pose()));
+  request.voxel_size = alignment.voxel_size();
+  request.max_correspondence_distance = alignment.max_correspondence_distance();
+  request.min_fitness = alignment.min_fitness();
+  request.skip_pose_graph = alignment.skip_pose_graph();
+
+  request.reconstruct = spec.reconstruct();
+  ASSIGN_OR_RETURN(request.reconstruction, Method(spec.reconstruction().method()));
+  request.reconstruction_voxel_size = spec.reconstruction().voxel_size();
+  request.poisson_depth = spec.reconstruction().poisson_depth();
+
+  request.evaluate = spec.evaluate();
+  request.tau = spec.evaluation().tau();
+  request.next_best_views = spec.evaluation().next_best_views();
+  request.skip_next_best_views = spec.evaluation().skip_next_best_views();
+  return Status::Ok();
+}
+
 }  // namespace
 
 StatusOr<service::ModelRequest> ModelRequestFromProto(const v1::ModelSpec& spec) {
@@ -53,28 +75,20 @@ StatusOr<service::ModelRequest> ModelRequestFromProto(const v1::ModelSpec& spec)
   request.mount_id = spec.mount_id();
 
   request.skip_alignment = spec.skip_alignment();
-  const v1::AlignmentOptions& alignment = spec.alignment();
-  ASSIGN_OR_RETURN(request.initial_pose, InitialPose(alignment.initial_pose()));
-  request.voxel_size = alignment.voxel_size();
-  request.max_correspondence_distance = alignment.max_correspondence_distance();
-  request.min_fitness = alignment.min_fitness();
-  request.skip_pose_graph = alignment.skip_pose_graph();
-
-  request.reconstruct = spec.reconstruct();
-  ASSIGN_OR_RETURN(request.reconstruction, Method(spec.reconstruction().method()));
-  request.reconstruction_voxel_size = spec.reconstruction().voxel_size();
-  request.poisson_depth = spec.reconstruction().poisson_depth();
-
-  request.evaluate = spec.evaluate();
-  request.tau = spec.evaluation().tau();
-  request.next_best_views = spec.evaluation().next_best_views();
-  request.skip_next_best_views = spec.evaluation().skip_next_best_views();
+  RETURN_IF_ERROR(ReadStageOptions(spec, request));
 
   if (spec.has_crop()) {
     if (!spec.crop().has_min()) return InvalidArgument("crop.min", "required when crop is set");
     if (!spec.crop().has_max()) return InvalidArgument("crop.max", "required when crop is set");
     request.crop = service::ModelBox{FromProto(spec.crop().min()), FromProto(spec.crop().max())};
   }
+  return request;
+}
+
+StatusOr<service::ModelRequest> ModelRequestFromCampaign(const v1::CampaignSpec& spec) {
+  service::ModelRequest request;
+  request.name = spec.name();
+  RETURN_IF_ERROR(ReadStageOptions(spec, request));
   return request;
 }
 

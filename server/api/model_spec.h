@@ -6,11 +6,15 @@
 #include "service/model_campaigns.h"
 #include "service/model_plan.h"
 #include "service/service_context.h"
+#include "vscan/v1/job.pb.h"
 #include "vscan/v1/model.pb.h"
 
 namespace vscan::api {
 
 StatusOr<service::ModelRequest> ModelRequestFromProto(const v1::ModelSpec& spec);
+
+// The model stages a campaign asks for (align, reconstruct, evaluate and their options).
+StatusOr<service::ModelRequest> ModelRequestFromCampaign(const v1::CampaignSpec& spec);
 
 StatusOr<service::ModelPlan> ValidateModel(const v1::ModelSpec& spec, service::ServiceContext& context,
                                            service::CampaignRecords& campaigns);

@@ -3,12 +3,14 @@
 // step scanned with the same sensor settings from where the arm puts the sensor.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "robot/ik_types.h"
+#include "service/model_plan.h"
 #include "service/scan_plan.h"
 #include "service/service_context.h"
 
@@ -38,8 +40,13 @@ struct CampaignPlan {
   // Sensor, measurement model, backend, fields and frame of every step's scan. Each step places
   // the sensor on the arm, turns the table and seeds the noise.
   ScanPlan scan;
+  // The model stages (align, reconstruct, evaluate) run on the scans as they are captured, when asked.
+  std::optional<ModelPlan> model;
+  // The steps the model stages add after the scans.
+  uint32_t model_steps = 0;
 
-  uint32_t steps_total() const { return rotations * static_cast<uint32_t>(viewpoints.size()); }
+  uint32_t scans_total() const { return rotations * static_cast<uint32_t>(viewpoints.size()); }
+  uint32_t steps_total() const { return scans_total() + model_steps; }
   double AngleDeg(uint32_t rotation) const { return start_angle_deg + rotation * rotation_step_deg; }
 };
 

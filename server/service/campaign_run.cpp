@@ -1,12 +1,14 @@
 #include "service/campaign_run.h"
 
 #include <cstdio>
+#include <optional>
 
 #include <spdlog/spdlog.h>
 
 #include "service/campaign_step.h"
 #include "service/campaign_summary.h"
 #include "service/cloud_store.h"
+#include "service/model_run.h"
 #include "vscan/common/cloud_io.h"
 
 namespace vscan::service {
@@ -44,10 +46,19 @@ class CampaignRun {
       : context_(context), recorder_(recorder), job_id_(job_id), plan_(plan), control_(control) {}
 
   void Run() {
-    const uint32_t total = plan_.steps_total();
+    const uint32_t total = plan_.scans_total();
     Status status = Event(std::to_string(total) + " scans planned (" + std::to_string(plan_.viewpoints.size()) +
-                          " viewpoints x " + std::to_string(plan_.rotations) + " rotations)");
+                          " viewpoints x " + std::to_string(plan_.rotations) + " rotations)" +
+                          (plan_.model ? ModelIntent(*plan_.model) : ""));
+    if (status.ok() && plan_.model) {
+      model_.emplace(context_, recorder_, job_id_, *plan_.model, control_);
+      status = model_->Prepare();
+    }
     if (status.ok()) status = Steps();
+    if (status.ok() && model_ && !control_.stop_requested()) {
+      status = model_->Complete(static_cast<uint32_t>(records_.size()));
+      if (status.ok()) model_steps_done_ = plan_.model_steps;
+    }
     store::JobState state = store::JobState::kSucceeded;
     std::string message;
     if (control_.stop_requested()) {
@@ -60,8 +71,10 @@ class CampaignRun {
     } else {
       message = "campaign done: " + std::to_string(captured_) + " scans captured, " +
                 std::to_string(records_.size() - captured_) + " steps skipped";
+      if (model_) message += "; " + model_->Summary();
     }
     WriteSummary(state);
+    if (model_) model_->WriteReport(state);
     const Status ended = recorder_.End(Update(state, message, false));
     if (!ended.ok()) spdlog::error("job {}: cannot record its end: {}", job_id_, ended.ToString());
     spdlog::info("job {} {}: {}", job_id_, StateName(state), message);
@@ -72,7 +85,7 @@ class CampaignRun {
     JobEventUpdate update;
     update.state = state;
     update.message = message;
-    update.steps_done = static_cast<uint32_t>(records_.size());
+    update.steps_done = static_cast<uint32_t>(records_.size()) + model_steps_done_;
     update.step = records_.empty() ? 0 : records_.back().step;
     update.pose_reached = reached;
     return update;
@@ -137,10 +150,9 @@ class CampaignRun {
     record.file = ScanArtifactName(r, v);
     ASSIGN_OR_RETURN(const std::string ply, EncodePly(result.cloud));
     const store::CloudRecord cloud = ScanCloud(record, result.cloud.fields);
-    result.cloud = PointCloud();
     ++captured_;
     record.message = "scan " + std::to_string(captured_) + " captured (step " + std::to_string(step + 1) + " of " +
-                     std::to_string(plan_.steps_total()) + "): " + Where(v, angle) + ", " +
+                     std::to_string(plan_.scans_total()) + "): " + Where(v, angle) + ", " +
                      std::to_string(record.points) + " points";
     records_.push_back(record);
     auto artifact = recorder_.RecordArtifact(record.file, kPlyMediaType, ply, &records_.back(), &cloud,
@@ -149,7 +161,28 @@ class CampaignRun {
       return Status(artifact.status().code(), "cannot store " + record.file + ": " + artifact.status().message());
     }
     records_.back().artifact_id = *artifact;
-    return Status::Ok();
+    if (!model_) return Status::Ok();
+    return model_->AlignCaptured(ModelCloudOf(cloud, record), result.cloud, static_cast<uint32_t>(records_.size()));
+  }
+
+  // The scan as the model stages see it: where the arm was told to put the sensor, the table it
+  // was turned on.
+  ModelCloud ModelCloudOf(const store::CloudRecord& cloud, const CampaignStepRecord& record) const {
+    ModelCloud model;
+    model.record = cloud;
+    model.record.origin = store::CloudOrigin::kCampaignScan;  // the recorder sets it on the stored row
+    model.label = record.file;
+    model.commanded_world_from_sensor = record.arm.commanded_pose;
+    const auto& scene = plan_.model->scene;
+    if (scene && scene->table.enabled) model.table = scene->table;
+    return model;
+  }
+
+  static std::string ModelIntent(const ModelPlan& model) {
+    std::string text = model.align ? "; each aligned as it is captured" : "; taken at their poses";
+    if (model.reconstruct) text += model.reconstruction == ReconstructionKind::kTsdf ? ", TSDF" : ", Poisson";
+    if (model.evaluate) text += ", evaluated";
+    return text;
   }
 
   // The stored cloud a captured scan also is: where the arm put the sensor, the plan's camera.
@@ -181,6 +214,8 @@ class CampaignRun {
   jobs::JobControl& control_;
   std::vector<CampaignStepRecord> records_;
   uint32_t captured_ = 0;
+  std::optional<CampaignModel> model_;
+  uint32_t model_steps_done_ = 0;
 };
 
 }  // namespace

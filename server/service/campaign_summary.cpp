@@ -114,7 +114,7 @@ std::string CampaignSummaryJson(const std::string& job_id, const std::string& fi
   json.Key("rotations").Value(uint64_t{plan.rotations});
   json.Key("rotation_step_deg").Value(plan.rotation_step_deg);
   json.Key("start_angle_deg").Value(plan.start_angle_deg);
-  json.Key("steps_total").Value(uint64_t{plan.steps_total()});
+  json.Key("steps_total").Value(uint64_t{plan.scans_total()});
   json.Key("viewpoints").Open('[');
   for (const CampaignViewpoint& v : plan.viewpoints) {
     json.Open('{');

@@ -52,55 +52,72 @@ void SetErrors(ScanAlignmentRecord& record, const Pose3& truth, const Pose3& ini
   record.initial_translation_error_m = TranslationError(gauge * initial, truth);
 }
 
-class ScanAligner {
+// Adds the time of its scope to a total.
+class Timer {
  public:
-  ScanAligner(ServiceContext& context, const ModelPlan& plan, const ModelCrop& crop, const AlignmentSettings& settings,
-              const ScanAlignedCallback& on_scan, const std::atomic<bool>* cancel)
-      : context_(context), plan_(plan), crop_(crop), settings_(settings), on_scan_(on_scan), cancel_(cancel) {
-    const size_t n = plan.clouds.size();
-    out_.scans.resize(n);
-    out_.truth.resize(n);
-    initial_.resize(n);
-    started_.assign(n, false);
-    features_.assign(n, false);
+  explicit Timer(double& total) : total_(total), start_(std::chrono::steady_clock::now()) {}
+  ~Timer() { total_ += Elapsed(); }
+  Timer(const Timer&) = delete;
+  Timer& operator=(const Timer&) = delete;
+  double Elapsed() const { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count(); }
+
+ private:
+  double& total_;
+  const std::chrono::steady_clock::time_point start_;
+};
+
+}  // namespace
+
+class ModelAligner::Impl {
+ public:
+  Impl(const AlignmentSettings& settings, ScanAlignedCallback on_scan, const std::atomic<bool>* cancel)
+      : settings_(settings), on_scan_(std::move(on_scan)), cancel_(cancel) {}
+
+  Status Add(ModelScan scan) {
+    if (Stopped()) return vscan::Cancelled("alignment stopped");
+    const Timer timer(seconds_);
+    Grow(scan.index + 1);
+    const size_t index = scan.index;
+    ASSIGN_OR_RETURN(const bool added, AddOne(scan));
+    // A scan whose features found no partner is kept to try again against the grown union.
+    if (!added) unmatched_.push_back(std::move(scan));
+    return on_scan_(out_.scans[index], ++done_);
   }
 
-  StatusOr<AlignedScans> Run() {
-    const auto start = std::chrono::steady_clock::now();
-    std::vector<size_t> unmatched;
-    for (size_t i = 0; i < plan_.clouds.size(); ++i) {
-      if (Stopped()) return vscan::Cancelled("model job stopped");
-      ASSIGN_OR_RETURN(ModelScan scan, LoadModelScan(context_, plan_, i, crop_));
-      ASSIGN_OR_RETURN(const bool added, Add(scan));
-      if (!added) unmatched.push_back(i);
-      RETURN_IF_ERROR(on_scan_(out_.scans[i], ++done_));
-    }
-    // Scans whose features found no partner try again against the grown union, for as long as a
-    // pass places one more.
-    for (bool progress = true; progress && !unmatched.empty();) {
+  StatusOr<AlignedScans> Finish() {
+    const Timer timer(seconds_);
+    for (bool progress = true; progress && !unmatched_.empty();) {
       progress = false;
-      std::vector<size_t> still;
-      for (const size_t i : unmatched) {
-        if (Stopped()) return vscan::Cancelled("model job stopped");
-        ASSIGN_OR_RETURN(ModelScan scan, LoadModelScan(context_, plan_, i, crop_));
-        ASSIGN_OR_RETURN(const bool added, Add(scan));
+      std::vector<ModelScan> still;
+      for (ModelScan& scan : unmatched_) {
+        if (Stopped()) return vscan::Cancelled("alignment stopped");
+        ASSIGN_OR_RETURN(const bool added, AddOne(scan));
         if (added) {
           progress = true;
-          RETURN_IF_ERROR(on_scan_(out_.scans[i], done_));
+          RETURN_IF_ERROR(on_scan_(out_.scans[scan.index], done_));
         } else {
-          still.push_back(i);
+          still.push_back(std::move(scan));
         }
       }
-      unmatched = std::move(still);
+      unmatched_ = std::move(still);
     }
-    RETURN_IF_ERROR(Finish());
+    RETURN_IF_ERROR(FinishGraph());
     out_.voxel_size = options_.voxel_size;
     out_.initial_pose = any_known_ && any_features_ ? "known+features" : (any_features_ ? "features" : "known");
-    out_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    out_.seconds = seconds_ + timer.Elapsed();
     return std::move(out_);
   }
 
  private:
+  void Grow(size_t n) {
+    if (out_.scans.size() >= n) return;
+    out_.scans.resize(n);
+    out_.truth.resize(n);
+    initial_.resize(n, Pose3::Identity());
+    started_.resize(n, false);
+    features_.resize(n, false);
+  }
+
   bool Stopped() const { return cancel_ && cancel_->load(); }
 
   Status Create(const ModelScan& first) {
@@ -114,7 +131,7 @@ class ScanAligner {
   }
 
   // False when the scan's pose is unknown and its features matched nothing (it was not added).
-  StatusOr<bool> Add(ModelScan& scan) {
+  StatusOr<bool> AddOne(ModelScan& scan) {
     if (!aligner_) RETURN_IF_ERROR(Create(scan));
     ScanAlignmentRecord& record = out_.scans[scan.index];
     record.cloud_id = scan.cloud_id;
@@ -167,7 +184,7 @@ class ScanAligner {
     record.inlier_rmse = view.inlier_rmse;
   }
 
-  Status Finish() {
+  Status FinishGraph() {
     if (!aligner_) return Status::Ok();
     ASSIGN_OR_RETURN(const std::vector<registration::ViewAlignment> views, aligner_->Finish(cancel_));
     if (views.size() != added_.size()) return Internal("alignment: the pose graph returned a different scan count");
@@ -225,12 +242,11 @@ class ScanAligner {
     }
   }
 
-  ServiceContext& context_;
-  const ModelPlan& plan_;
-  const ModelCrop& crop_;
-  const AlignmentSettings& settings_;
-  const ScanAlignedCallback& on_scan_;
+  const AlignmentSettings settings_;
+  const ScanAlignedCallback on_scan_;
   const std::atomic<bool>* cancel_;
+  double seconds_ = 0;  // spent aligning, not waiting for scans
+  std::vector<ModelScan> unmatched_;
   registration::MultiviewOptions options_;
   std::optional<registration::MultiviewAligner> aligner_;
   AlignedScans out_;
@@ -245,7 +261,12 @@ class ScanAligner {
   size_t done_ = 0;
 };
 
-}  // namespace
+ModelAligner::ModelAligner(const AlignmentSettings& settings, ScanAlignedCallback on_scan,
+                           const std::atomic<bool>* cancel)
+    : impl_(std::make_unique<Impl>(settings, std::move(on_scan), cancel)) {}
+ModelAligner::~ModelAligner() = default;
+Status ModelAligner::Add(ModelScan scan) { return impl_->Add(std::move(scan)); }
+StatusOr<AlignedScans> ModelAligner::Finish() { return impl_->Finish(); }
 
 double RotationErrorDeg(const Pose3& a, const Pose3& b) {
   const Eigen::AngleAxisd turn(a.linear().transpose() * b.linear());
@@ -273,7 +294,13 @@ Pose3 FitPoses(const std::vector<Pose3>& from, const std::vector<Pose3>& to, dou
 StatusOr<AlignedScans> AlignScans(ServiceContext& context, const ModelPlan& plan, const ModelCrop& crop,
                                   const AlignmentSettings& settings, const ScanAlignedCallback& on_scan,
                                   const std::atomic<bool>* cancel) {
-  return ScanAligner(context, plan, crop, settings, on_scan, cancel).Run();
+  ModelAligner aligner(settings, on_scan, cancel);
+  for (size_t i = 0; i < plan.clouds.size(); ++i) {
+    if (cancel && cancel->load()) return vscan::Cancelled("model job stopped");
+    ASSIGN_OR_RETURN(ModelScan scan, LoadModelScan(context, plan, i, crop));
+    RETURN_IF_ERROR(aligner.Add(std::move(scan)));
+  }
+  return aligner.Finish();
 }
 
 StatusOr<AlignedScans> TakeScansAsTheyAre(ServiceContext& context, const ModelPlan& plan, const ModelCrop& crop,

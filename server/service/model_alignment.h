@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "service/job_events.h"
 #include "service/model_crop.h"
 #include "service/model_plan.h"
+#include "service/model_scans.h"
 #include "service/service_context.h"
 #include "vscan/common/pose.h"
 
@@ -39,7 +41,26 @@ struct AlignedScans {
 // Called after each scan is added (done scans so far), with its alignment against the scans before.
 using ScanAlignedCallback = std::function<Status(const ScanAlignmentRecord& scan, size_t done)>;
 
-// CANCELLED when cancel becomes true.
+// Aligns scans one at a time, each against the union of those before it (a model job's clouds in
+// order, or a campaign's scans as they are captured). Finish retries the scans whose features
+// matched nothing, runs the pose graph and places the set. CANCELLED when cancel becomes true.
+class ModelAligner {
+ public:
+  ModelAligner(const AlignmentSettings& settings, ScanAlignedCallback on_scan, const std::atomic<bool>* cancel);
+  ~ModelAligner();
+  ModelAligner(const ModelAligner&) = delete;
+  ModelAligner& operator=(const ModelAligner&) = delete;
+
+  // scan.index is its place in the job's list of clouds; on_scan reports it.
+  Status Add(ModelScan scan);
+  StatusOr<AlignedScans> Finish();
+
+ private:
+  class Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+// Every cloud of plan through a ModelAligner. CANCELLED when cancel becomes true.
 StatusOr<AlignedScans> AlignScans(ServiceContext& context, const ModelPlan& plan, const ModelCrop& crop,
                                   const AlignmentSettings& settings, const ScanAlignedCallback& on_scan,
                                   const std::atomic<bool>* cancel);

@@ -134,14 +134,7 @@ StatusOr<std::vector<ModelCloud>> CampaignClouds(ServiceContext& context, Campai
     return FailedPrecondition(kField, "campaign '" + job_id + "' is still " + StateText(campaign.state) +
                                           "; start the model job when it has ended");
   }
-  std::vector<store::CloudRecord> records;
-  std::string after;
-  for (;;) {
-    ASSIGN_OR_RETURN(auto page, context.clouds.List(after, kCloudListPage, job_id));
-    records.insert(records.end(), page.begin(), page.end());
-    if (static_cast<int>(page.size()) < kCloudListPage) break;
-    after = page.back().cloud_id;
-  }
+  ASSIGN_OR_RETURN(std::vector<store::CloudRecord> records, ListJobClouds(context, job_id));
   if (records.empty()) return FailedPrecondition(kField, "campaign '" + job_id + "' captured no scans");
   // Capture order, as the campaign recorded its scans; names it does not list go last.
   std::map<std::string, size_t> order;
@@ -285,7 +278,54 @@ StatusOr<std::string> ResolveMount(ServiceContext& context, CampaignCache& campa
   return (*campaign)->mount_id;
 }
 
+void ApplyOptions(const ModelRequest& request, ModelPlan& plan) {
+  plan.align = !request.skip_alignment;
+  plan.initial_pose = request.initial_pose;
+  plan.voxel_size = request.voxel_size;
+  plan.max_correspondence_distance = request.max_correspondence_distance;
+  plan.min_fitness = request.min_fitness == 0 ? kDefaultMinFitness : request.min_fitness;
+  plan.pose_graph = !request.skip_pose_graph;
+  plan.reconstruct = request.reconstruct;
+  plan.reconstruction_voxel_size = request.reconstruction_voxel_size;
+  plan.poisson_depth = request.poisson_depth == 0 ? kDefaultPoissonDepth : request.poisson_depth;
+  plan.evaluate = request.evaluate;
+  plan.tau = request.tau;
+  plan.crop = request.crop;
+}
+
+Status CheckEvaluationScene(const ModelPlan& plan) {
+  if (plan.evaluate && !plan.scene) {
+    return FailedPrecondition("scene_id", "evaluation needs the scene that holds the true objects; the clouds name none");
+  }
+  if (plan.evaluate && plan.scene->objects.empty()) {
+    return FailedPrecondition("scene_id", "scene '" + plan.scene->scene_id + "' holds no objects to evaluate against");
+  }
+  return Status::Ok();
+}
+
+void ResolveNextBestViews(const ModelRequest& request, ModelPlan& plan) {
+  plan.next_best_views = 0;
+  if (!plan.evaluate || request.skip_next_best_views) return;
+  if (plan.mount_id.empty()) {
+    plan.next_best_views_note = "no robot mount to place the sensor: give mount_id";
+  } else {
+    plan.next_best_views = request.next_best_views == 0 ? kDefaultNextBestViews : request.next_best_views;
+  }
+}
+
 }  // namespace
+
+StatusOr<std::vector<store::CloudRecord>> ListJobClouds(ServiceContext& context, const std::string& job_id) {
+  std::vector<store::CloudRecord> records;
+  std::string after;
+  for (;;) {
+    ASSIGN_OR_RETURN(auto page, context.clouds.List(after, kCloudListPage, job_id));
+    records.insert(records.end(), page.begin(), page.end());
+    if (static_cast<int>(page.size()) < kCloudListPage) break;
+    after = page.back().cloud_id;
+  }
+  return records;
+}
 
 Status CheckModelOptions(const ModelRequest& request) {
   if (request.cloud_ids.empty() && request.campaign_job_id.empty()) {
@@ -303,6 +343,10 @@ Status CheckModelOptions(const ModelRequest& request) {
     const auto [it, inserted] = seen.emplace(request.cloud_ids[i], i);
     if (!inserted) return InvalidArgument(Index("cloud_ids", i), "repeats " + Index("cloud_ids", it->second));
   }
+  return CheckModelSettings(request);
+}
+
+Status CheckModelSettings(const ModelRequest& request) {
   RETURN_IF_ERROR(CheckLength(request.voxel_size, "alignment.voxel_size", kMinAlignmentVoxel));
   RETURN_IF_ERROR(
       CheckLength(request.max_correspondence_distance, "alignment.max_correspondence_distance", kMinAlignmentVoxel));
@@ -345,39 +389,38 @@ StatusOr<ModelPlan> PlanModel(ServiceContext& context, CampaignRecords& campaign
   RETURN_IF_ERROR(ResolveTables(context, plan.clouds));
   RETURN_IF_ERROR(CheckPoses(request, plan.clouds));
 
-  plan.align = !request.skip_alignment;
-  plan.initial_pose = request.initial_pose;
-  plan.voxel_size = request.voxel_size;
-  plan.max_correspondence_distance = request.max_correspondence_distance;
-  plan.min_fitness = request.min_fitness == 0 ? kDefaultMinFitness : request.min_fitness;
-  plan.pose_graph = !request.skip_pose_graph;
-
-  plan.reconstruct = request.reconstruct;
+  ApplyOptions(request, plan);
   if (plan.reconstruct) {
     ASSIGN_OR_RETURN(plan.reconstruction, ResolveReconstruction(request, plan.clouds));
   }
-  plan.reconstruction_voxel_size = request.reconstruction_voxel_size;
-  plan.poisson_depth = request.poisson_depth == 0 ? kDefaultPoissonDepth : request.poisson_depth;
-
-  plan.evaluate = request.evaluate;
-  plan.tau = request.tau;
-  plan.crop = request.crop;
   ASSIGN_OR_RETURN(plan.scene, ResolveScene(context, request, plan.clouds));
-  if (plan.evaluate && !plan.scene) {
-    return FailedPrecondition("scene_id", "evaluation needs the scene that holds the true objects; the clouds name none");
-  }
-  if (plan.evaluate && plan.scene->objects.empty()) {
-    return FailedPrecondition("scene_id", "scene '" + plan.scene->scene_id + "' holds no objects to evaluate against");
-  }
+  RETURN_IF_ERROR(CheckEvaluationScene(plan));
   ASSIGN_OR_RETURN(plan.mount_id, ResolveMount(context, campaigns, request, plan.clouds, plan.scene));
-  plan.next_best_views = 0;
-  if (plan.evaluate && !request.skip_next_best_views) {
-    if (plan.mount_id.empty()) {
-      plan.next_best_views_note = "no robot mount to place the sensor: give mount_id";
-    } else {
-      plan.next_best_views = request.next_best_views == 0 ? kDefaultNextBestViews : request.next_best_views;
+  ResolveNextBestViews(request, plan);
+  return plan;
+}
+
+StatusOr<ModelPlan> PlanCampaignModel(ServiceContext& context, const ModelRequest& request,
+                                      const std::string& scene_id, const std::string& mount_id,
+                                      bool scans_have_pixels) {
+  RETURN_IF_ERROR(CheckModelSettings(request));
+  ModelPlan plan;
+  plan.name = request.name;
+  ApplyOptions(request, plan);
+  if (plan.reconstruct) {
+    if (request.reconstruction == ReconstructionKind::kTsdf && !scans_have_pixels) {
+      return FailedPrecondition("reconstruction.method", "TSDF needs the scans' pixel field; add it to fields");
     }
+    const bool tsdf = request.reconstruction == ReconstructionKind::kTsdf ||
+                      (request.reconstruction == ReconstructionKind::kAuto && scans_have_pixels);
+    plan.reconstruction = tsdf ? ReconstructionKind::kTsdf : ReconstructionKind::kPoisson;
   }
+  // A dry run without a scene checks the options alone.
+  if (scene_id.empty()) return plan;
+  ASSIGN_OR_RETURN(plan.scene, FindScene(context, scene_id));
+  RETURN_IF_ERROR(CheckEvaluationScene(plan));
+  plan.mount_id = mount_id;
+  ResolveNextBestViews(request, plan);
   return plan;
 }
 

@@ -109,7 +109,20 @@ struct ModelPlan {
 // stored about their scans.
 StatusOr<ModelPlan> PlanModel(ServiceContext& context, CampaignRecords& campaigns, const ModelRequest& request);
 
+// Every cloud a job stored (a campaign's scans).
+StatusOr<std::vector<store::CloudRecord>> ListJobClouds(ServiceContext& context, const std::string& job_id);
+
 // The checks that need nothing but the request (a dry run may call them on their own).
 Status CheckModelOptions(const ModelRequest& request);
+
+// The same without the clouds: the options alone.
+Status CheckModelSettings(const ModelRequest& request);
+
+// The model stages a campaign runs on its own scans, which it adds to plan.clouds as it captures
+// them: the request's options (its clouds are ignored), the campaign's scene and mount. TSDF is
+// possible when scans_have_pixels. An empty scene_id (a dry run) checks the options alone.
+StatusOr<ModelPlan> PlanCampaignModel(ServiceContext& context, const ModelRequest& request,
+                                      const std::string& scene_id, const std::string& mount_id,
+                                      bool scans_have_pixels);
 
 }  // namespace vscan::service

@@ -1,6 +1,7 @@
 #include "service/model_run.h"
 
 #include <algorithm>
+#include <map>
 #include <cstdio>
 #include <optional>
 
@@ -52,7 +53,8 @@ const char* StateName(store::JobState state) {
 }
 
 std::string ScanMessage(const ScanAlignmentRecord& scan, size_t total) {
-  std::string message = "scan " + std::to_string(scan.index + 1) + " of " + std::to_string(total) + " (" + scan.name + ") ";
+  std::string message = "scan " + std::to_string(scan.index + 1) + (total > 0 ? " of " + std::to_string(total) : "") +
+                        " (" + scan.name + ") ";
   if (!scan.aligned) return message + "not aligned: " + scan.reason;
   message += "aligned, fitness " + Number(scan.fitness);
   if (scan.has_error) {
@@ -63,11 +65,13 @@ std::string ScanMessage(const ScanAlignmentRecord& scan, size_t total) {
   return message;
 }
 
+}  // namespace
+
 class ModelRun {
  public:
-  ModelRun(ServiceContext& context, JobRecorder& recorder, const std::string& job_id, const ModelPlan& plan,
+  ModelRun(ServiceContext& context, JobRecorder& recorder, const std::string& job_id, ModelPlan plan,
            jobs::JobControl& control)
-      : context_(context), recorder_(recorder), job_id_(job_id), plan_(plan), control_(control) {
+      : context_(context), recorder_(recorder), job_id_(job_id), plan_(std::move(plan)), control_(control) {
     report_.job_id = job_id;
     report_.clouds = plan.clouds.size();
     if (plan.scene) report_.scene_id = plan.scene->scene_id;
@@ -95,6 +99,72 @@ class ModelRun {
     spdlog::info("job {} {}: {}", job_id_, StateName(state), message);
   }
 
+  // A campaign's part: the model's events count from the campaign's steps, and its scans are
+  // aligned as they are captured.
+  void SetStepBase(uint32_t base) { step_base_ = base; }
+  const ModelPlan& plan() const { return plan_; }
+
+  Status Prepare() {
+    RETURN_IF_ERROR(PrepareTruth());
+    if (!plan_.align) return Status::Ok();
+    aligner_.emplace(Settings(), [this](const ScanAlignmentRecord& scan, size_t) { return OnScan(scan, 0); }, cancel());
+    return Status::Ok();
+  }
+
+  Status AlignCaptured(ModelCloud cloud, const PointCloud& points) {
+    const size_t index = plan_.clouds.size();
+    plan_.clouds.push_back(std::move(cloud));
+    if (!aligner_) return Status::Ok();
+    return aligner_->Add(ModelScanFromPoints(plan_, plan_.clouds.back(), index, points, crop_));
+  }
+
+  // The stages after alignment, on the scans as the campaign stored them (job_id's clouds).
+  Status Complete() {
+    RETURN_IF_ERROR(AdoptStoredClouds());
+    if (aligner_) {
+      RETURN_IF_ERROR(Aligned(aligner_->Finish()));
+    } else {
+      RETURN_IF_ERROR(Align());
+    }
+    return AfterAlignment();
+  }
+
+  void WriteReport(store::JobState state) {
+    report_.state = StateName(state);
+    report_.clouds = plan_.clouds.size();
+    if (report_.alignment) report_.alignment->artifact = placed_ ? "aligned.ply" : "";
+    const std::string json = ModelReportJson(report_);
+    auto written = recorder_.RecordArtifact("model.json", kJsonMediaType, json, nullptr, nullptr,
+                                            Update(store::JobState::kRunning, "model.json written"));
+    if (!written.ok()) spdlog::error("job {}: cannot store model.json: {}", job_id_, written.status().ToString());
+  }
+
+  std::string Summary() const {
+    std::string text;
+    if (report_.alignment) {
+      const auto& scans = report_.alignment->scans;
+      const auto aligned = std::count_if(scans.begin(), scans.end(), [](const auto& s) { return s.aligned; });
+      text = std::to_string(aligned) + " of " + std::to_string(scans.size()) + " scans aligned";
+      const ErrorSummary rotation = SummariseFinalRotation(scans);
+      if (rotation.count > 0) {
+        text += ", max error " + Number(rotation.max) + " deg / " +
+                Number(SummariseFinalTranslation(scans).max * 1e3) + " mm";
+      }
+    } else {
+      text = std::to_string(plan_.clouds.size()) + " clouds merged";
+    }
+    if (report_.reconstruction) {
+      text += "; " + report_.reconstruction->method + " mesh of " + std::to_string(report_.reconstruction->triangles) +
+              " triangles";
+    }
+    if (report_.evaluation) {
+      const ModelEvaluationReport& e = *report_.evaluation;
+      const double f = e.mesh_metrics ? e.mesh_metrics->f_score : e.union_metrics.f_score;
+      text += "; coverage " + Number(e.coverage) + "; F " + Number(f) + " at " + Number(e.tau * 1e3) + " mm";
+    }
+    return text;
+  }
+
  private:
   const std::atomic<bool>* cancel() const { return control_.flag(); }
 
@@ -102,8 +172,8 @@ class ModelRun {
     JobEventUpdate update;
     update.state = state;
     update.message = message;
-    update.steps_done = steps_done_;
-    update.step = steps_done_;
+    update.steps_done = step_base_ + steps_done_;
+    update.step = step_base_ + steps_done_;
     return update;
   }
 
@@ -131,6 +201,10 @@ class ModelRun {
   Status Stages() {
     RETURN_IF_ERROR(PrepareTruth());
     RETURN_IF_ERROR(Align());
+    return AfterAlignment();
+  }
+
+  Status AfterAlignment() {
     if (Stopped()) return Stop();
     RETURN_IF_ERROR(Merge());
     if (Stopped()) return Stop();
@@ -163,6 +237,11 @@ class ModelRun {
       steps_done_ = static_cast<uint32_t>(plan_.clouds.size());
       return Event(std::to_string(plan_.clouds.size()) + " clouds taken at their stored poses");
     }
+    auto on_scan = [this](const ScanAlignmentRecord& scan, size_t done) { return OnScan(scan, done); };
+    return Aligned(AlignScans(context_, plan_, crop_, Settings(), on_scan, cancel()));
+  }
+
+  AlignmentSettings Settings() const {
     AlignmentSettings settings;
     settings.voxel_size = plan_.voxel_size > 0   ? plan_.voxel_size
                            : size_ > 0 ? std::clamp(size_ * kAlignmentVoxelPerSize, 2e-4, 0.05)
@@ -170,16 +249,37 @@ class ModelRun {
     settings.max_correspondence_distance = plan_.max_correspondence_distance;
     settings.min_fitness = plan_.min_fitness;
     settings.pose_graph = plan_.pose_graph;
-    const size_t total = plan_.clouds.size();
-    auto on_scan = [&](const ScanAlignmentRecord& scan, size_t done) {
-      steps_done_ = static_cast<uint32_t>(done);
-      JobEventUpdate update = Update(store::JobState::kRunning, ScanMessage(scan, total));
-      update.alignment = scan;
-      return recorder_.Record(update);
-    };
-    auto aligned = AlignScans(context_, plan_, crop_, settings, on_scan, cancel());
+    return settings;
+  }
+
+  // done > 0 counts the scans as steps (a model job); a campaign counted them as it captured them.
+  Status OnScan(const ScanAlignmentRecord& scan, size_t done) {
+    if (done > 0) steps_done_ = static_cast<uint32_t>(done);
+    const size_t total = done > 0 ? plan_.clouds.size() : 0;
+    JobEventUpdate update = Update(store::JobState::kRunning, ScanMessage(scan, total));
+    update.alignment = scan;
+    return recorder_.Record(update);
+  }
+
+  // The campaign's scans as stored, in capture order: the later stages read them back by cloud id.
+  Status AdoptStoredClouds() {
+    ASSIGN_OR_RETURN(std::vector<store::CloudRecord> stored, ListJobClouds(context_, job_id_));
+    std::map<std::string, store::CloudRecord> by_name;
+    for (store::CloudRecord& record : stored) by_name.emplace(record.name, std::move(record));
+    for (ModelCloud& cloud : plan_.clouds) {
+      const auto it = by_name.find(cloud.record.name);
+      if (it == by_name.end()) return Internal("campaign scan " + cloud.record.name + " was not stored as a cloud");
+      cloud.record = it->second;
+    }
+    return Status::Ok();
+  }
+
+  Status Aligned(StatusOr<AlignedScans> aligned) {
     if (!aligned.ok()) return Stopped() ? Stop() : aligned.status();
     aligned_ = std::move(aligned).value();
+    for (ScanAlignmentRecord& scan : aligned_->scans) {
+      if (scan.index < plan_.clouds.size()) scan.cloud_id = plan_.clouds[scan.index].record.cloud_id;
+    }
     ModelAlignmentReport& report = report_.alignment.emplace();
     report.initial_pose = aligned_->initial_pose;
     report.voxel_size = aligned_->voxel_size;
@@ -307,47 +407,14 @@ class ModelRun {
     return Event(message);
   }
 
-  std::string Summary() const {
-    std::string text;
-    if (report_.alignment) {
-      const auto& scans = report_.alignment->scans;
-      const auto aligned = std::count_if(scans.begin(), scans.end(), [](const auto& s) { return s.aligned; });
-      text = std::to_string(aligned) + " of " + std::to_string(scans.size()) + " scans aligned";
-      const ErrorSummary rotation = SummariseFinalRotation(scans);
-      if (rotation.count > 0) {
-        text += ", max error " + Number(rotation.max) + " deg / " +
-                Number(SummariseFinalTranslation(scans).max * 1e3) + " mm";
-      }
-    } else {
-      text = std::to_string(plan_.clouds.size()) + " clouds merged";
-    }
-    if (report_.reconstruction) {
-      text += "; " + report_.reconstruction->method + " mesh of " + std::to_string(report_.reconstruction->triangles) +
-              " triangles";
-    }
-    if (report_.evaluation) {
-      const ModelEvaluationReport& e = *report_.evaluation;
-      const double f = e.mesh_metrics ? e.mesh_metrics->f_score : e.union_metrics.f_score;
-      text += "; coverage " + Number(e.coverage) + "; F " + Number(f) + " at " + Number(e.tau * 1e3) + " mm";
-    }
-    return text;
-  }
-
-  void WriteReport(store::JobState state) {
-    report_.state = StateName(state);
-    if (report_.alignment) report_.alignment->artifact = placed_ ? "aligned.ply" : "";
-    const std::string json = ModelReportJson(report_);
-    auto written = recorder_.RecordArtifact("model.json", kJsonMediaType, json, nullptr, nullptr,
-                                            Update(store::JobState::kRunning, "model.json written"));
-    if (!written.ok()) spdlog::error("job {}: cannot store model.json: {}", job_id_, written.status().ToString());
-  }
-
   ServiceContext& context_;
   JobRecorder& recorder_;
   const std::string job_id_;
-  const ModelPlan& plan_;
+  ModelPlan plan_;
   jobs::JobControl& control_;
   uint32_t steps_done_ = 0;
+  uint32_t step_base_ = 0;
+  std::optional<ModelAligner> aligner_;
   ModelReport report_;
   std::optional<ModelGroundTruth> truth_;
   ModelCrop crop_;
@@ -359,8 +426,6 @@ class ModelRun {
   std::optional<ModelMesh> mesh_;
 };
 
-}  // namespace
-
 uint32_t ModelStepsTotal(const ModelPlan& plan) {
   return static_cast<uint32_t>(plan.clouds.size()) + 1 + (plan.reconstruct ? 1 : 0) + (plan.evaluate ? 1 : 0) +
          (plan.evaluate && plan.next_best_views > 0 ? 1 : 0);
@@ -370,5 +435,32 @@ void RunModel(ServiceContext& context, JobRecorder& recorder, const std::string&
               jobs::JobControl& control) {
   ModelRun(context, recorder, job_id, plan, control).Run();
 }
+
+uint32_t CampaignModelSteps(const ModelPlan& plan) {
+  return ModelStepsTotal(plan) - static_cast<uint32_t>(plan.clouds.size());
+}
+
+CampaignModel::CampaignModel(ServiceContext& context, JobRecorder& recorder, const std::string& job_id,
+                             ModelPlan plan, jobs::JobControl& control)
+    : run_(std::make_unique<ModelRun>(context, recorder, job_id, std::move(plan), control)) {}
+CampaignModel::~CampaignModel() = default;
+
+Status CampaignModel::Prepare() { return run_->Prepare(); }
+
+Status CampaignModel::AlignCaptured(ModelCloud cloud, const PointCloud& points, uint32_t steps_done) {
+  run_->SetStepBase(steps_done);
+  return run_->AlignCaptured(std::move(cloud), points);
+}
+
+Status CampaignModel::Complete(uint32_t steps_done) {
+  run_->SetStepBase(steps_done);
+  return run_->Complete();
+}
+
+void CampaignModel::WriteReport(store::JobState state) { run_->WriteReport(state); }
+
+std::string CampaignModel::Summary() const { return run_->Summary(); }
+
+const ModelPlan& CampaignModel::plan() const { return run_->plan(); }
 
 }  // namespace vscan::service

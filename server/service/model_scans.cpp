@@ -27,7 +27,12 @@ StatusOr<ModelScan> LoadModelScan(ServiceContext& context, const ModelPlan& plan
   ASSIGN_OR_RETURN(const StoredCloud stored, LoadCloud(context, record.cloud_id));
   ASSIGN_OR_RETURN(const PointCloud points,
                    ParsePly(stored.ply, "cloud '" + record.cloud_id + "'", std::numeric_limits<uint64_t>::max()));
+  return ModelScanFromPoints(plan, cloud, index, points, crop);
+}
 
+ModelScan ModelScanFromPoints(const ModelPlan& plan, const ModelCloud& cloud, size_t index, const PointCloud& points,
+                              const ModelCrop& crop) {
+  const store::CloudRecord& record = cloud.record;
   ModelScan scan;
   scan.index = index;
   scan.cloud_id = record.cloud_id;

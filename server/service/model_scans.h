@@ -15,6 +15,7 @@
 #include "service/model_crop.h"
 #include "service/model_plan.h"
 #include "service/service_context.h"
+#include "vscan/common/point_cloud.h"
 #include "vscan/common/pose.h"
 
 namespace vscan::service {
@@ -36,6 +37,10 @@ struct ModelScan {
 
 // Reads plan.clouds[index]. crop applies to scans whose initial pose is known.
 StatusOr<ModelScan> LoadModelScan(ServiceContext& context, const ModelPlan& plan, size_t index, const ModelCrop& crop);
+
+// The same from points already in memory (a campaign's scan just captured), framed as cloud.record says.
+ModelScan ModelScanFromPoints(const ModelPlan& plan, const ModelCloud& cloud, size_t index, const PointCloud& points,
+                              const ModelCrop& crop);
 
 sensor::PinholeCamera CameraFromRecord(const store::CloudCamera& camera);
 

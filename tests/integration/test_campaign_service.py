@@ -457,8 +457,16 @@ class CampaignTest(unittest.TestCase):
         self.assertCode(C.INVALID_ARGUMENT, lambda: start(edited(frame=42)), "spec.frame")
         self.assertCode(C.INVALID_ARGUMENT, lambda: start(spec(scene, mount, noise=sensor_pb2.NoiseSpec(
             sigma_a=-1.0))), "spec.noise")
-        self.assertCode(C.UNIMPLEMENTED, lambda: start(edited(align=True)), "spec.align")
-        self.assertCode(C.UNIMPLEMENTED, lambda: start(edited(reconstruct=True)), "spec.reconstruct")
+        bad_voxel = edited(align=True)
+        bad_voxel.alignment.voxel_size = -1e-3
+        self.assertCode(C.INVALID_ARGUMENT, lambda: start(bad_voxel), "spec.alignment.voxel_size")
+        bad_tau = edited(evaluate=True)
+        bad_tau.evaluation.tau = nan
+        self.assertCode(C.INVALID_ARGUMENT, lambda: start(bad_tau), "spec.evaluation.tau")
+        # TSDF fuses range images: it needs each point's pixel, which the default fields do not keep.
+        tsdf = edited(reconstruct=True)
+        tsdf.reconstruction.method = 1
+        self.assertCode(C.FAILED_PRECONDITION, lambda: start(tsdf), "spec.reconstruction.method")
         self.assertEqual(len(self.client.list_jobs()), before)
 
         self.assertCode(C.UNIMPLEMENTED, lambda: jobs.StartBinFill(job_pb2.StartBinFillRequest()), "StartBinFill")

@@ -49,19 +49,9 @@ ModelRequest Evaluate(const std::string& campaign_job_id) {
   return request;
 }
 
-// The Stanford bunny standing on the table (its +y turned to +z): curved, with features to match.
-TriangleMesh Bunny() {
-  std::ifstream in(std::string(VSCAN_DATA_DIR) + "/meshes/bunny/bunny_zipper_res2.ply", std::ios::binary);
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  auto mesh = geometry::ImportMesh(bytes, geometry::MeshFileFormat::kPly, 1.0);
-  EXPECT_TRUE(mesh.ok()) << mesh.status().ToString();
-  return mesh.ok() ? std::move(mesh).value() : TriangleMesh();
-}
-
-Pose3 Upright() { return Pose3(Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitX())); }
 
 TEST(ModelRunTest, NoiseFreeScansStayAtTheirTruePosesAndRebuildTheBunny) {
-  ModelWorld world(0.0, Bunny(), Upright());
+  ModelWorld world(0.0, testing::Bunny(), testing::BunnyUpright());
   const std::string campaign = world.RunCampaign(world.Campaign(ThreeViewpoints(world), 4));
   ModelRequest request = Evaluate(campaign);
   request.reconstruct = true;
@@ -117,7 +107,7 @@ double Mean(const JsonValue& scans, const char* key) {
 }
 
 TEST(ModelRunTest, AlignmentRemovesMostOfTheArmsEncoderError) {
-  ModelWorld world(/*encoder_sigma=*/0.001, Bunny(), Upright());
+  ModelWorld world(/*encoder_sigma=*/0.001, testing::Bunny(), testing::BunnyUpright());
   const std::string campaign = world.RunCampaign(world.Campaign(ThreeViewpoints(world), 4, /*encoder_noise=*/true));
   ModelRequest request;
   request.campaign_job_id = campaign;
@@ -146,7 +136,7 @@ TEST(ModelRunTest, AlignmentRemovesMostOfTheArmsEncoderError) {
 }
 
 TEST(ModelRunTest, FewViewsCoverLessAndTheirNextBestViewsAddWhatTheyPromise) {
-  ModelWorld world(0.0, Bunny(), Upright());
+  ModelWorld world(0.0, testing::Bunny(), testing::BunnyUpright());
   const std::string sparse = world.RunCampaign(world.Campaign({world.Viewpoint(0.3, 35)}, 2));
   ModelRequest request = Evaluate(sparse);
   request.skip_next_best_views = false;
@@ -187,7 +177,7 @@ TEST(ModelRunTest, FewViewsCoverLessAndTheirNextBestViewsAddWhatTheyPromise) {
 }
 
 TEST(ModelRunTest, ScansWithoutAKnownPoseAreAlignedByTheirFeaturesAndPlacedOnTheTruth) {
-  ModelWorld world(0.0, Bunny(), Upright());
+  ModelWorld world(0.0, testing::Bunny(), testing::BunnyUpright());
   const std::string campaign = world.RunCampaign(world.Campaign(ThreeViewpoints(world), 4));
   ModelRequest request = Evaluate(campaign);
   request.initial_pose = InitialPoseMode::kFeatures;

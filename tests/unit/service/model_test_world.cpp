@@ -2,10 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <fstream>
+#include <iterator>
 #include <numbers>
 
 #include <gtest/gtest.h>
 
+#include "geometry/mesh_import.h"
 #include "jobs/job_runner.h"
 #include "robot_fixtures.h"
 #include "service/campaign_run.h"
@@ -134,20 +137,35 @@ CampaignPlan ModelWorld::Campaign(std::vector<CampaignViewpoint> viewpoints, uin
 }
 
 std::string ModelWorld::RunCampaign(const CampaignPlan& plan) {
+  const auto job = RunCampaignJob(plan);
+  EXPECT_EQ(job->end_state, store::JobState::kSucceeded) << job->end_message;
+  return job->job_id;
+}
+
+std::unique_ptr<StoredJob> ModelWorld::RunCampaignJob(const CampaignPlan& plan, jobs::JobControl* control) {
   EXPECT_TRUE(CheckCampaignWorld(world.context(), plan, false).ok());
-  StoredJob job(world, "campaign");
-  jobs::JobControl control;
-  service::RunCampaign(world.context(), job, job.job_id, plan, control);
-  EXPECT_EQ(job.end_state, store::JobState::kSucceeded) << job.end_message;
+  auto job = std::make_unique<StoredJob>(world, "campaign");
+  jobs::JobControl own;
+  service::RunCampaign(world.context(), *job, job->job_id, plan, control ? *control : own);
   CampaignRecord record;
-  record.job_id = job.job_id;
+  record.job_id = job->job_id;
   record.kind = "campaign";
   record.scene_id = plan.scene_id;
   record.mount_id = plan.mount_id;
-  record.scans = job.scans;
+  record.scans = job->scans;
   campaigns.Add(record);
-  return job.job_id;
+  return job;
 }
+
+TriangleMesh Bunny() {
+  std::ifstream in(std::string(VSCAN_DATA_DIR) + "/meshes/bunny/bunny_zipper_res2.ply", std::ios::binary);
+  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  auto mesh = geometry::ImportMesh(bytes, geometry::MeshFileFormat::kPly, 1.0);
+  EXPECT_TRUE(mesh.ok()) << mesh.status().ToString();
+  return mesh.ok() ? std::move(mesh).value() : TriangleMesh();
+}
+
+Pose3 BunnyUpright() { return Pose3(Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitX())); }
 
 std::vector<std::string> ModelWorld::CloudsOf(const std::string& campaign_job_id) {
   std::vector<store::CloudRecord> clouds = Must(world.clouds().List("", 1000, campaign_job_id));

@@ -57,6 +57,11 @@ class TestCampaignRecords final : public CampaignRecords {
   std::map<std::string, CampaignRecord> records_;
 };
 
+// The Stanford bunny (metres) and the pose that stands it on the table (its +y turned to +z):
+// curved, with features to match.
+TriangleMesh Bunny();
+Pose3 BunnyUpright();
+
 class ModelWorld {
  public:
   // object (metres) stands on the table at world_from_object; encoder_sigma (radians, every joint)
@@ -80,6 +85,8 @@ class ModelWorld {
                         double start_angle_deg = 0.0) const;
   // Runs the campaign to its end; returns its job id (its records known to `campaigns`).
   std::string RunCampaign(const CampaignPlan& plan);
+  // The same, returning the job's events and artifacts.
+  std::unique_ptr<StoredJob> RunCampaignJob(const CampaignPlan& plan, jobs::JobControl* control = nullptr);
   // The clouds a campaign stored, in the order it captured them.
   std::vector<std::string> CloudsOf(const std::string& campaign_job_id);
   // Plans and runs a model job; a plan the request does not pass fails the test.
