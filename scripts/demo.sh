@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The main job: set up, build, start vscand on the embedded defaults, run a scan campaign of the
-# Stanford bunny on a turntable with a UR5-held camera, and leave binary PLY files and a summary in
-# vscan-demo/.
+# Stanford bunny on a turntable with a UR5-held camera that aligns each scan as it comes, rebuild
+# and score the surface, and leave binary PLY files, the verdict and a summary in vscan-demo/.
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 OUT="${VSCAN_DEMO_DIR:-$ROOT/vscan-demo}"
@@ -47,7 +47,8 @@ for a in scans:
                  f"{int(s['points']):9d} {errors[-1]:13.3f}")
 points = sum(int(a["scan"]["points"]) for a in scans)
 totals = [f"campaign {job['campaign']['name']} ({job['jobId']}): {job['state'].removeprefix('JOB_STATE_')}, "
-          f"{len(scans)} of {job.get('stepsTotal', 0)} scans, {points} points",
+          f"{len(scans)} of {len(job['campaign']['viewpoints']) * job['campaign'].get('rotations', 1)} scans, "
+          f"{points} points",
           f"pose error from encoder noise: mean {sum(errors) / max(len(errors), 1):.3f} mm, "
           f"max {max(errors, default=0):.3f} mm"]
 open(sys.argv[2], "w").write("\n".join(lines + [""] + totals) + "\n")
@@ -56,4 +57,8 @@ PY
 # A picture of the first scan from its viewpoint, drawn headless with OpenGL.
 vscan render "$OUT/campaign/scan-r00-v00.ply" -o "$OUT/scan-r00-v00.png" --color normal --width 800 --height 600 \
   --eye 0.30,0,0.12 --target 0,0,0.07 --up 0,0,1
-echo "demo: PLY files in $OUT/campaign, summary in $OUT/summary.txt, a picture in $OUT/scan-r00-v00.png"
+# The surface rebuilt from the 40 aligned scans, shaded; coverage.png beside it marks what no scan saw.
+vscan render "$OUT/campaign/mesh.ply" -o "$OUT/mesh.png" --width 800 --height 600 \
+  --eye 0.30,0.1,0.2 --target 0,0,0.07 --up 0,0,1
+echo "demo: PLY files in $OUT/campaign, the verdict in $OUT/campaign/model.json, summary in $OUT/summary.txt," \
+  "pictures in $OUT/scan-r00-v00.png, $OUT/mesh.png and $OUT/campaign/coverage.png"

@@ -25,7 +25,8 @@ inline constexpr uint32_t kMaxNextBestViews = 20;
 inline constexpr uint32_t kDefaultNextBestViews = 3;
 inline constexpr double kDefaultMinFitness = 0.3;
 inline constexpr uint32_t kDefaultPoissonDepth = 8;
-inline constexpr uint32_t kMaxPoissonDepth = 12;
+// PCL's solver cannot be stopped midway: the depth bounds how long a stop waits for it.
+inline constexpr uint32_t kMaxPoissonDepth = 10;
 // Largest voxel, correspondence distance or tau a request may give, metres.
 inline constexpr double kMaxModelLength = 1.0;
 
