@@ -217,7 +217,9 @@ std::string ModelReportJson(const Struct& report) {
 }
 
 std::string FormatScanAlignment(const v1::ScanAlignment& alignment) {
-  std::string line = "scan " + std::to_string(alignment.index()) + " " + alignment.cloud_id() + ": ";
+  // A campaign aligns its scans before they are stored as clouds: its events name the scan instead.
+  const std::string& id = alignment.cloud_id().empty() ? alignment.name() : alignment.cloud_id();
+  std::string line = "scan " + std::to_string(alignment.index() + 1) + " " + id + ": ";
   if (!alignment.aligned()) {
     return line + "NOT aligned: " + (alignment.reason().empty() ? "no reason given" : alignment.reason());
   }

@@ -3,8 +3,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <map>
-#include <tuple>
 
 #include "evaluation/next_best_views.h"
 #include "robot/ik_types.h"
@@ -22,7 +20,7 @@ constexpr double kIkTolerance = 1e-4;
 constexpr size_t kRaysPerCandidate = 50'000;
 
 struct RingPoint {
-  Eigen::Vector3d eye;  // model frame
+  Eigen::Vector3d eye;  // world frame
 };
 
 std::vector<RingPoint> Ring(const Eigen::Vector3d& centre, const Eigen::Vector3d& up, double distance) {
@@ -49,15 +47,10 @@ double MedianDistance(const std::vector<Pose3>& poses, const Eigen::Vector3d& ce
   return d[d.size() / 2];
 }
 
-using PointKey = std::tuple<long long, long long, long long>;
-PointKey Key(const Eigen::Vector3d& p) {
-  return {std::llround(p.x() * 1e6), std::llround(p.y() * 1e6), std::llround(p.z() * 1e6)};
-}
-
 struct Candidate {
-  Eigen::Vector3d eye;     // world, table at angle
-  Eigen::Vector3d target;  // world, table at angle
-  double angle = 0;
+  Eigen::Vector3d eye;     // world
+  Eigen::Vector3d target;  // world
+  double angle = 0;        // the table's
 };
 
 }  // namespace
@@ -77,31 +70,34 @@ StatusOr<ProposedViews> ProposeNextBestViews(ServiceContext& context, const Next
   settings.time_budget = kIkBudget;
 
   const bool table = request.table && request.table->enabled;
-  const Eigen::Vector3d up = table ? request.table->axis : Eigen::Vector3d::UnitZ();
-  const std::vector<RingPoint> ring = Ring(request.centre, up, distance);
-  // The arm does not turn with the table: a world viewpoint is solved once, whatever the angle.
-  std::map<std::pair<PointKey, PointKey>, std::optional<Pose3>> solved;
+  const Eigen::Vector3d up = table ? request.table->axis.normalized() : Eigen::Vector3d::UnitZ();
+  // With a table the views aim at its axis at the object's height: one ring in the world then
+  // serves every table angle (the arm does not turn with the table), so each viewpoint is solved
+  // once rather than once per angle, which an unreachable one would pay its whole IK budget for.
+  const Eigen::Vector3d aim =
+      table ? request.table->centre + (request.centre - request.table->centre).dot(up) * up : request.centre;
+  const std::vector<RingPoint> ring = Ring(aim, up, distance);
+  std::vector<Pose3> reached;
+  std::vector<Eigen::Vector3d> eyes;
+  for (const RingPoint& point : ring) {
+    if (cancel && cancel->load()) return Cancelled("model job stopped");
+    ASSIGN_OR_RETURN(const robot::IkGoal goal, robot::LookAtGoal(point.eye, aim, "next_best_view"));
+    ASSIGN_OR_RETURN(const robots::IkAnswer answer,
+                     robots::SolveInPlacement(*mounted.chain, mounted.placement, goal, {}, settings));
+    if (!answer.reached) continue;
+    reached.push_back(answer.frame_from_tool);
+    eyes.push_back(point.eye);
+  }
   std::vector<evaluation::CandidateView> views;
   std::vector<Candidate> candidates;
   for (double angle = 0; angle < (table ? 360 : 1); angle += kTableStepDeg) {
-    const Pose3 world_from_model = WorldFromModel(request.table, angle);
-    const Eigen::Vector3d target = world_from_model * request.centre;
-    for (const RingPoint& point : ring) {
-      if (cancel && cancel->load()) return Cancelled("model job stopped");
-      const Eigen::Vector3d eye = world_from_model * point.eye;
-      auto [it, fresh] = solved.try_emplace({Key(eye), Key(target)});
-      if (fresh) {
-        ASSIGN_OR_RETURN(const robot::IkGoal goal, robot::LookAtGoal(eye, target, "next_best_view"));
-        ASSIGN_OR_RETURN(const robots::IkAnswer answer,
-                         robots::SolveInPlacement(*mounted.chain, mounted.placement, goal, {}, settings));
-        if (answer.reached) it->second = answer.frame_from_tool;
-      }
-      if (!it->second) continue;
+    const Pose3 model_from_world = WorldFromModel(request.table, angle).inverse();
+    for (size_t i = 0; i < reached.size(); ++i) {
       evaluation::CandidateView view;
-      view.frame_from_sensor = world_from_model.inverse() * *it->second;
+      view.frame_from_sensor = model_from_world * reached[i];
       view.tag = static_cast<uint32_t>(candidates.size());
       views.push_back(view);
-      candidates.push_back({eye, target, angle});
+      candidates.push_back({eyes[i], aim, angle});
     }
   }
   out.candidates = candidates.size();

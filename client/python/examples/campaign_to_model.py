@@ -67,13 +67,13 @@ def main():
                                  next_best_views=3, name="campaign_to_model")
         for scan in client.watch_alignments(job.job_id):
             if not scan.aligned:
-                print(f"scan {scan.index}: not aligned: {scan.reason}")
+                print(f"scan {scan.index + 1} ({scan.name}): not aligned: {scan.reason}")
             elif scan.has_error:
-                print(f"scan {scan.index}: fitness {scan.fitness:.3f}, pose error {scan.rotation_error_deg:.3f} deg "
+                print(f"scan {scan.index + 1} ({scan.name}): fitness {scan.fitness:.3f}, pose error {scan.rotation_error_deg:.3f} deg "
                       f"and {scan.translation_error_m * 1e3:.3f} mm (from {scan.initial_rotation_error_deg:.3f} deg "
                       f"and {scan.initial_translation_error_m * 1e3:.3f} mm)")
             else:
-                print(f"scan {scan.index}: fitness {scan.fitness:.3f}")
+                print(f"scan {scan.index + 1} ({scan.name}): fitness {scan.fitness:.3f}")
         job = client.get_job(job.job_id)
         if job.state != job_pb2.JOB_STATE_SUCCEEDED:
             print(f"model job {job.job_id} ended {job_pb2.JobState.Name(job.state)}: {job.message}", file=sys.stderr)

@@ -48,8 +48,8 @@ class CliModelCommands(unittest.TestCase):
         self.assertEqual((spec.scene_id, spec.name), ("scene-1", "two"))
         lines = r.stdout.splitlines()
         self.assertEqual(lines[0], "started model job job-m1 on 2 clouds")
-        self.assertIn("[1/2] scan 0 cld-a: fitness 0.950, rmse 0.200 mm, rot err 0.020 deg, trans err 0.050 mm", lines)
-        self.assertIn("[2/2] scan 1 cld-b: NOT aligned: fitness 0.10 below 0.30", lines)
+        self.assertIn("[1/2] scan 1 cld-a: fitness 0.950, rmse 0.200 mm, rot err 0.020 deg, trans err 0.050 mm", lines)
+        self.assertIn("[2/2] scan 2 cld-b: NOT aligned: fitness 0.10 below 0.30", lines)
         self.assertIn("[2/2] model job finished", lines)
         self.assertIn("alignment: 1 of 2 scans aligned (known initial poses, voxel 2.000 mm, pose graph) in 0.5 s",
                       lines)
@@ -120,7 +120,7 @@ class CliModelCommands(unittest.TestCase):
         out = os.path.join(self.tmp.name, "watched")
         r = self.run_cli("model", "watch", "job-m1", "-o", out)
         self.assertEqual(r.returncode, 0, r.stderr)
-        self.assertIn("[1/2] scan 0 cld-a: fitness 0.950", r.stdout)
+        self.assertIn("[1/2] scan 1 cld-a: fitness 0.950", r.stdout)
         self.assertTrue(os.path.exists(os.path.join(out, "model.json")))
 
     def test_validate_starts_nothing(self):

@@ -131,15 +131,15 @@ TEST(ModelReport, ScanAlignmentLine) {
   scan.set_aligned(true);
   scan.set_fitness(0.9123);
   scan.set_inlier_rmse(0.00021);
-  EXPECT_EQ(FormatScanAlignment(scan), "scan 3 cld_x: fitness 0.912, rmse 0.210 mm");
+  EXPECT_EQ(FormatScanAlignment(scan), "scan 4 cld_x: fitness 0.912, rmse 0.210 mm");
   scan.set_has_error(true);
   scan.set_rotation_error_deg(0.0121);
   scan.set_translation_error_m(0.00008);
   EXPECT_EQ(FormatScanAlignment(scan),
-            "scan 3 cld_x: fitness 0.912, rmse 0.210 mm, rot err 0.012 deg, trans err 0.080 mm");
+            "scan 4 cld_x: fitness 0.912, rmse 0.210 mm, rot err 0.012 deg, trans err 0.080 mm");
   scan.set_aligned(false);
   scan.set_reason("no overlap with the scans aligned so far");
-  EXPECT_EQ(FormatScanAlignment(scan), "scan 3 cld_x: NOT aligned: no overlap with the scans aligned so far");
+  EXPECT_EQ(FormatScanAlignment(scan), "scan 4 cld_x: NOT aligned: no overlap with the scans aligned so far");
 }
 
 }  // namespace
