@@ -173,6 +173,7 @@ class ModelAligner::Impl {
       out_.in_model_frame = !scan.features;
     }
     Fill(record, view);
+    record.union_points = aligner_->UnionSize();
     if (out_.in_model_frame && out_.truth[scan.index]) {
       SetErrors(record, *out_.truth[scan.index], start, Pose3::Identity());
     }

@@ -234,6 +234,8 @@ StatusOr<ViewAlignment> MultiviewAligner::Add(ViewScan scan, const std::atomic<b
 
 std::vector<Eigen::Vector3f> MultiviewAligner::UnionPoints() const { return state_->merged.points(); }
 
+size_t MultiviewAligner::UnionSize() const { return state_->merged.size(); }
+
 size_t MultiviewAligner::size() const { return state_->scans.size(); }
 
 StatusOr<std::vector<ViewAlignment>> MultiviewAligner::Finish(const std::atomic<bool>* cancel) {

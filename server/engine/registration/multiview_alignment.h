@@ -84,6 +84,8 @@ class MultiviewAligner {
   // The points aligned so far, thinned, in the model frame (e.g. for feature matching of a scan
   // whose pose is unknown).
   std::vector<Eigen::Vector3f> UnionPoints() const;
+  // How many points (one per voxel) the union holds now.
+  size_t UnionSize() const;
 
   // Tries once more each scan that was not aligned (against the whole union, which may now cover
   // it), runs the pose graph (when enabled) over the aligned scans, rebuilds the union at the final

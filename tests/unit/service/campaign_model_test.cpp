@@ -71,7 +71,10 @@ TEST(CampaignModelTest, EachScanIsAlignedBeforeTheNextIsCaptured) {
     EXPECT_LT(captured, aligned);
     EXPECT_LT(aligned, next);
     EXPECT_TRUE(job->alignments[k - 1].has_error);
+    // The union grows as the scans come (a scan seeing only what is there already adds little).
+    EXPECT_GE(job->alignments[k].union_points, job->alignments[k - 1].union_points);
   }
+  EXPECT_GT(job->alignments.back().union_points, 2 * job->alignments.front().union_points);
   // The steps run on past the scans: the union, the mesh and the evaluation.
   EXPECT_EQ(job->steps_done.back(), plan.steps_total());
   EXPECT_EQ(plan.steps_total(), 12u + 3u);
