@@ -34,8 +34,10 @@ std::string SceneCameraJson(const DatasetFrame& frame, double depth_scale_mm) {
   const Pose3 camera_from_world = frame.world_from_camera.inverse();
   JsonWriter json;
   json.Open('{').Key("0").Open('{');
+  // BOP and OpenCV put pixel (u, v)'s centre at (u, v), vscan at (u + 0.5, v + 0.5).
+  const double cx = k.cx - 0.5, cy = k.cy - 0.5;
   json.Key("cam_K").Open('[');
-  for (const double v : {k.fx, 0.0, k.cx, 0.0, k.fy, k.cy, 0.0, 0.0, 1.0}) json.Value(v);
+  for (const double v : {k.fx, 0.0, cx, 0.0, k.fy, cy, 0.0, 0.0, 1.0}) json.Value(v);
   json.Close(']');
   json.Key("depth_scale").Value(depth_scale_mm);
   json.Key("width").Value(uint64_t{k.width});

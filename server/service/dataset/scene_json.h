@@ -11,7 +11,8 @@
 
 namespace vscan::service::dataset {
 
-// cam_K, depth_scale, width, height, cam_R_w2c, cam_t_w2c and world_from_camera (row-major 4x4, metres).
+// cam_K (pixel centres at whole coordinates, as BOP and OpenCV have them: the frame's cx - 0.5),
+// depth_scale, width, height, cam_R_w2c, cam_t_w2c and world_from_camera (row-major 4x4, metres).
 std::string SceneCameraJson(const DatasetFrame& frame, double depth_scale_mm);
 // obj_id, instance_id, cam_R_m2c, cam_t_m2c per object, in the frame's order.
 std::string SceneGtJson(const DatasetFrame& frame);
