@@ -16,14 +16,7 @@
 namespace vscan::service::dataset {
 namespace {
 
-DatasetPlan SmallPlan() {
-  DatasetPlan plan;
-  plan.name = "synthetic";
-  plan.bins = {"near-pair", "far-pair"};
-  plan.seeds = SeedRange(11, 3);
-  plan.sensors = {"narrow", "wide"};
-  return plan;
-}
+DatasetPlan SmallPlan() { return test::SyntheticPlan(); }
 
 // Every file under root by relative path, with its bytes.
 std::map<std::string, std::string> Tree(const std::filesystem::path& root) {

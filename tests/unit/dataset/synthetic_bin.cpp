@@ -102,6 +102,15 @@ std::pair<uint64_t, ImageBox> AloneInView(const CameraIntrinsics& camera, const 
 
 }  // namespace
 
+service::dataset::DatasetPlan SyntheticPlan() {
+  service::dataset::DatasetPlan plan;
+  plan.name = "synthetic";
+  plan.bins = {"near-pair", "far-pair"};
+  plan.seeds = service::dataset::SeedRange(11, 3);
+  plan.sensors = {"narrow", "wide"};
+  return plan;
+}
+
 std::vector<SyntheticBox> SyntheticBoxes(const SceneKey& key) {
   const double shift = double(int64_t(key.seed % 7) - 3) * 0.012;
   const double bin_offset = 0.02 * double(key.bin_index);

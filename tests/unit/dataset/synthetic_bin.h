@@ -21,6 +21,8 @@ struct SyntheticBox {
   Pose3 world_from_object;  // centre of the box
 };
 
+// Two bins, three seeds, two sensors: twelve scenes.
+service::dataset::DatasetPlan SyntheticPlan();
 std::vector<SyntheticBox> SyntheticBoxes(const service::dataset::SceneKey& key);
 service::dataset::CameraIntrinsics SyntheticCamera(size_t sensor_index);
 // Looks straight down from kCameraHeightM above the floor's centre.
