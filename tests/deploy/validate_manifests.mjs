@@ -108,4 +108,5 @@ const numericMount = structuredClone(shardJob);
 numericMount.spec.template.spec.containers[0].volumeMounts[0].mountPath = 42;
 await expectRejected(numericMount, "a numeric mountPath");
 
-console.log(`${manifests.length} manifests valid: ${manifests.map((m) => `${m.object.kind}/${m.object.metadata.name}`).join(", ")}`);
+const names = manifests.map((m) => `${m.object.kind}/${m.object.metadata.name}`);
+console.log(`${manifests.length} manifests valid: ${names.join(", ")}`);

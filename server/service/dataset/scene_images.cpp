@@ -106,8 +106,12 @@ Status CheckFrame(const DatasetFrame& frame) {
     if (object.obj_id == 0) return InvalidArgument(path + ".obj_id", "part types count from 1");
     if (object.instance_id == 0) return InvalidArgument(path + ".instance_id", "0 stands for no instance");
     const auto [first, inserted] = first_with_instance.emplace(object.instance_id, i);
-    if (!inserted) return InvalidArgument(path + ".instance_id", "repeats objects[" + std::to_string(first->second) + "]");
-    if (!object.world_from_object.matrix().allFinite()) return InvalidArgument(path + ".world_from_object", "is not finite");
+    if (!inserted) {
+      return InvalidArgument(path + ".instance_id", "repeats objects[" + std::to_string(first->second) + "]");
+    }
+    if (!object.world_from_object.matrix().allFinite()) {
+      return InvalidArgument(path + ".world_from_object", "is not finite");
+    }
     const auto found = counts.find(object.instance_id);
     const uint64_t seen = found == counts.end() ? 0 : found->second;
     if (seen != object.visible_pixels) {

@@ -89,7 +89,9 @@ Status WriteScene(const std::filesystem::path& root, const DatasetPlan& plan, co
   RETURN_IF_ERROR(CheckFrame(frame));
   const std::filesystem::path final_dir = SceneDir(root, key.scene_id);
   std::error_code ec;
-  if (std::filesystem::exists(final_dir, ec)) return Status(StatusCode::kAlreadyExists, final_dir.string() + " is already written");
+  if (std::filesystem::exists(final_dir, ec)) {
+    return Status(StatusCode::kAlreadyExists, final_dir.string() + " is already written");
+  }
   const std::filesystem::path partial = PartialSceneDir(root, key.scene_id);
   RETURN_IF_ERROR(MakeDirectories(partial));
   SceneFiles files(partial);

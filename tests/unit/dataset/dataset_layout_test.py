@@ -166,7 +166,8 @@ class DatasetLayoutTest(unittest.TestCase):
                 box = [xs.min(), ys.min(), xs.max() - xs.min() + 1, ys.max() - ys.min() + 1]
                 self.assertEqual(entry["bbox_visib"], box)
                 bx, by, bw, bh = entry["bbox_obj"]
-                self.assertTrue(bx <= box[0] and by <= box[1] and bx + bw >= box[0] + box[2] and by + bh >= box[1] + box[3])
+                self.assertTrue(bx <= box[0] and by <= box[1])
+                self.assertTrue(bx + bw >= box[0] + box[2] and by + bh >= box[1] + box[3])
                 self.assertTrue(0 < entry["visib_fract"] <= 1)
                 occluded += entry["visib_fract"] < 1
         self.assertGreater(occluded, 0, "the taller box should hide part of the other in some scene")
@@ -191,7 +192,8 @@ class DatasetLayoutTest(unittest.TestCase):
                 self.assertTrue(np.all(in_model >= lo - SURFACE_TOLERANCE_MM), scene)
                 self.assertTrue(np.all(in_model <= hi + SURFACE_TOLERANCE_MM), scene)
                 # On a face: some coordinate sits at a bound of the box.
-                on_face = (np.abs(in_model - lo) <= SURFACE_TOLERANCE_MM) | (np.abs(in_model - hi) <= SURFACE_TOLERANCE_MM)
+                on_face = ((np.abs(in_model - lo) <= SURFACE_TOLERANCE_MM) |
+                           (np.abs(in_model - hi) <= SURFACE_TOLERANCE_MM))
                 self.assertTrue(np.all(on_face.any(axis=1)), scene)
 
     def test_cloud_holds_one_point_per_measured_pixel_with_its_instance(self):
