@@ -1,5 +1,6 @@
 #include "localization/baseline_localizer.h"
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -24,6 +25,9 @@ namespace {
 constexpr size_t kMinSearchPoints = 100;
 // Parts are compared at this many voxels across their bounding box's diagonal by default.
 constexpr double kVoxelsPerDiagonal = 50;
+// ... and at least this many across its middle extent, so that a long thin part (a rod) is not
+// reduced to a line.
+constexpr double kVoxelsPerMiddleExtent = 10;
 // A voted pose is within about one bin of the truth; ICP pairs points up to two bins apart.
 constexpr double kIcpReachInPpfSteps = 2;
 // Votes for poses within this many PPF steps and angle steps are pooled.
@@ -156,13 +160,29 @@ std::vector<bool> NearPart(const OrientedPoints& model, const Pose3& world_from_
   return near;
 }
 
-// The share of the part's samples, placed, with a scan point within distance.
-double InlierShare(const OrientedPoints& model, const Pose3& pose, const spatial::KdTree& scan, double distance) {
+// The share of the part's samples, placed, with a point of `cloud` within distance.
+double InlierShare(const OrientedPoints& model, const Pose3& pose, const spatial::KdTree& cloud, double distance) {
   const auto max_sq = static_cast<float>(distance * distance);
   std::array<spatial::Neighbor, 1> nearest{};
   size_t inliers = 0;
   for (const auto& p : model.points) {
-    if (scan.Knn((pose * p.cast<double>()).cast<float>(), max_sq, nearest) == 1) ++inliers;
+    if (cloud.Knn((pose * p.cast<double>()).cast<float>(), max_sq, nearest) == 1) ++inliers;
+  }
+  return static_cast<double>(inliers) / static_cast<double>(model.points.size());
+}
+
+// The share of the part's samples, placed, with a scan point within distance whose normal is
+// within acos(min_cos) of the part's there: the verification score.
+double ExplainedShare(const OrientedPoints& model, const Pose3& pose, const OrientedPoints& scan,
+                      const spatial::KdTree& scan_tree, double distance, double min_cos) {
+  const auto max_sq = static_cast<float>(distance * distance);
+  const Eigen::Matrix3f rotation = pose.linear().cast<float>();
+  std::array<spatial::Neighbor, 1> nearest{};
+  size_t inliers = 0;
+  for (size_t i = 0; i < model.points.size(); ++i) {
+    if (scan_tree.Knn((pose * model.points[i].cast<double>()).cast<float>(), max_sq, nearest) == 0) continue;
+    const Eigen::Vector3f& scan_normal = scan.normals[scan_tree.original_index(nearest[0].slot)];
+    if ((rotation * model.normals[i]).dot(scan_normal) >= min_cos) ++inliers;
   }
   return static_cast<double>(inliers) / static_cast<double>(model.points.size());
 }
@@ -218,7 +238,10 @@ class AcceptedSurface {
 double DefaultVoxel(const TriangleMesh& part) {
   Eigen::Vector3f lo, hi;
   part.Bounds(lo, hi);
-  return static_cast<double>((hi - lo).norm()) / kVoxelsPerDiagonal;
+  Eigen::Vector3f extents = hi - lo;
+  std::sort(extents.data(), extents.data() + 3);
+  return std::min(static_cast<double>(extents.norm()) / kVoxelsPerDiagonal,
+                  static_cast<double>(extents[1]) / kVoxelsPerMiddleExtent);
 }
 
 }  // namespace
@@ -248,7 +271,6 @@ StatusOr<LocalizationResult> LocalizeInstances(const TriangleMesh& part, std::sp
 
 
   ASSIGN_OR_RETURN(OrientedPoints scan, WithNormals(scan_points, scan_normals, voxel, options, cancel));
-  const spatial::KdTree whole_scan(scan.points);
   if (options.remove_support_plane) {
     const double distance = options.plane_distance_voxels * voxel;
     if (auto plane = FindDominantPlane(scan.points, distance, options.min_plane_share, kSeed)) {
@@ -259,6 +281,10 @@ StatusOr<LocalizationResult> LocalizeInstances(const TriangleMesh& part, std::sp
     }
   }
 
+  // Instances are verified against every scan point but the plate's, whichever instance they are
+  // removed with.
+  const OrientedPoints parts_scan = scan;
+  const spatial::KdTree parts_tree(parts_scan.points);
   const double min_cos = std::cos(options.max_normal_angle_deg * std::numbers::pi / 180);
   const double explained_distance = options.explained_distance_voxels * voxel;
   AcceptedSurface accepted_surface;
@@ -295,7 +321,8 @@ StatusOr<LocalizationResult> LocalizeInstances(const TriangleMesh& part, std::sp
         absorbed = instance.explained_points > 0;
         continue;
       }
-      instance.score = InlierShare(model, refined, whole_scan, options.inlier_distance_voxels * voxel);
+      instance.score = ExplainedShare(model, refined, parts_scan, parts_tree, options.inlier_distance_voxels * voxel,
+                                      min_cos);
       if (instance.explained_points >= options.min_explained_points && instance.score >= options.min_score) {
         accepted = instance;
       } else if (rejected.empty()) {

@@ -22,7 +22,7 @@ namespace vscan::localization {
 
 struct LocalizerOptions {
   // The fine length (metres) the other lengths are counted in; 0 picks the diagonal of the part's
-  // bounding box / 50.
+  // bounding box / 50, or its middle extent / 10 when that is smaller (a long thin part).
   double voxel_size = 0;
   // Points sampled on the part's surface (with its outward normals).
   size_t model_samples = 20000;
@@ -41,8 +41,9 @@ struct LocalizerOptions {
   // normal within max_normal_angle_deg of the part's there) are explained by it and removed.
   double explained_distance_voxels = 2;
   double max_normal_angle_deg = 60;
-  // The score of an instance: the share of the part's samples, placed, with a scan point within
-  // this distance. A scan sees one side, so about half is the most a single view gives.
+  // The score of an instance: the share of the part's samples, placed, with a scan point (the
+  // plate's left out) within this distance whose normal is within max_normal_angle_deg of the
+  // part's there. A scan sees one side, so about half is the most a single view gives.
   double inlier_distance_voxels = 1.5;
   // An instance must explain at least this many scan points and score at least min_score, or the
   // search stops.

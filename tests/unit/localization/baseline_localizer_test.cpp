@@ -1,5 +1,6 @@
 #include "localization/baseline_localizer.h"
 
+#include <algorithm>
 #include <atomic>
 #include <vector>
 
@@ -13,8 +14,14 @@ namespace vscan::localization {
 namespace {
 
 using testing::AngleBlock;
+using testing::FixturePart;
+using testing::LoadPart;
+using testing::LyingParts;
+using testing::PlacedPart;
+using testing::ScanFloor;
 using testing::ScanParts;
 using testing::StandingPoses;
+using testing::SymmetriesOf;
 
 struct Scored {
   LocalizationResult found;
@@ -54,6 +61,54 @@ TEST(BaselineLocalizer, FindsThreeCopiesOnAPlate) {
     EXPECT_GT(instance.score, 0.2);
     EXPECT_GT(instance.explained_points, 1000u);
   }
+}
+
+// Localizes every kind of part the floor holds and scores all of them together.
+ScanScore LocalizeFloor(const std::vector<PlacedPart>& placed, const PointCloud& scan) {
+  std::vector<PartDefinition> parts;
+  std::vector<TrueInstance> truth;
+  std::vector<EstimatedInstance> estimates;
+  for (const PlacedPart& p : placed) {
+    const auto id = static_cast<uint32_t>(p.part) + 1;
+    truth.push_back({id, p.world_from_part, 1.0});
+    if (std::any_of(parts.begin(), parts.end(), [&](const PartDefinition& d) { return d.part_id == id; })) continue;
+    parts.push_back({id, LoadPart(p.part)->vertices, SymmetriesOf(p.part)});
+    auto found = LocalizeInstances(*LoadPart(p.part), scan);
+    EXPECT_TRUE(found.ok()) << found.status().ToString();
+    if (!found.ok()) continue;
+    for (const auto& instance : found->instances) estimates.push_back({id, instance.world_from_part, instance.score});
+  }
+  auto score = ScoreScan(parts, truth, estimates);
+  EXPECT_TRUE(score.ok()) << score.status().ToString();
+  return score.ok() ? *score : ScanScore{};
+}
+
+TEST(BaselineLocalizer, FindsAngleBlocksLyingOnAFloor) {
+  const std::vector<PlacedPart> placed = LyingParts({{FixturePart::kAngleBlock, 5}}, 0.2, 1);
+  ASSERT_EQ(placed.size(), 5u);
+  const ScanScore score = LocalizeFloor(placed, ScanFloor(placed, 0.2, 640, 480));
+  ASSERT_TRUE(score.add_recall.has_value());
+  EXPECT_GE(*score.add_recall, 0.8);
+  EXPECT_GE(*score.mssd_average_recall, 0.7);
+}
+
+TEST(BaselineLocalizer, FindsTubesLyingOnAFloorUpToTheirSymmetry) {
+  const std::vector<PlacedPart> placed = LyingParts({{FixturePart::kRound, 3}}, 1.0, 2);
+  ASSERT_EQ(placed.size(), 3u);
+  const ScanScore score = LocalizeFloor(placed, ScanFloor(placed, 1.0, 640, 480));
+  ASSERT_EQ(score.parts.size(), 1u);
+  EXPECT_TRUE(score.parts[0].uses_add_s);
+  ASSERT_TRUE(score.add_recall.has_value());
+  EXPECT_GE(*score.add_recall, 0.8);
+}
+
+TEST(BaselineLocalizer, FindsNoTubeAmongPlates) {
+  const std::vector<PlacedPart> plates = LyingParts({{FixturePart::kPlateHoles, 3}}, 1.0, 3);
+  ASSERT_EQ(plates.size(), 3u);
+  auto found = LocalizeInstances(*LoadPart(FixturePart::kRound), ScanFloor(plates, 1.0, 640, 480));
+  ASSERT_TRUE(found.ok()) << found.status().ToString();
+  EXPECT_TRUE(found->instances.empty()) << found->instances.size() << " tubes found, the first scoring "
+                                        << found->instances.front().score;
 }
 
 TEST(BaselineLocalizer, FindsNothingOnAnEmptyPlate) {
