@@ -47,10 +47,13 @@ std::shared_ptr<const TriangleMesh> Square(double side) {
   return mesh;
 }
 
-PointCloud Cast(std::vector<raycast::SceneInstance> instances, const Eigen::Vector3d& eye,
+Pose3 LookingAtOrigin(const Eigen::Vector3d& eye) {
+  return OrDie(PoseFromLookAt(eye, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), "sensor"), "sensor");
+}
+
+PointCloud Cast(const std::vector<raycast::SceneInstance>& instances, const Pose3& sensor,
                 const sensor::PinholeCamera& camera) {
   const auto scene = OrDie(raycast::RaycastScene::Build(instances), "scene");
-  const Pose3 sensor = OrDie(PoseFromLookAt(eye, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), "sensor"), "sensor");
   raycast::ScanOptions options;
   options.fields = kFieldPosition | kFieldNormal;
   return OrDie(raycast::Scan(*scene, camera, sensor, options), "scan");
@@ -136,7 +139,7 @@ PointCloud ScanParts(const std::vector<Pose3>& world_from_part, double plate_sid
     instances.push_back({AngleBlock(), world_from_part[i], 1.0, static_cast<uint32_t>(i + 1)});
   }
   instances.push_back({Square(plate_side), Pose3::Identity(), 1.0, 0});
-  return Cast(std::move(instances), Eigen::Vector3d(0.02, -0.22, 0.32), sensor::CameraFromFov(640, 480, 40, 0.05, 2.0));
+  return Cast(instances, LookingAtOrigin(Eigen::Vector3d(0.02, -0.22, 0.32)), sensor::CameraFromFov(640, 480, 40, 0.05, 2.0));
 }
 
 std::vector<PlacedPart> LyingParts(const std::vector<std::pair<FixturePart, size_t>>& counts, double floor_side,
@@ -188,14 +191,20 @@ std::vector<PlacedPart> LyingParts(const std::vector<std::pair<FixturePart, size
   return placed;
 }
 
-PointCloud ScanFloor(const std::vector<PlacedPart>& parts, double floor_side, uint32_t width, uint32_t height) {
+std::vector<raycast::SceneInstance> FloorInstances(const std::vector<PlacedPart>& parts, double floor_side) {
   std::vector<raycast::SceneInstance> instances;
   for (size_t i = 0; i < parts.size(); ++i) {
     instances.push_back({LoadPart(parts[i].part), parts[i].world_from_part, 1.0, static_cast<uint32_t>(i + 1)});
   }
   instances.push_back({Square(floor_side), Pose3::Identity(), 1.0, 0});
-  const Eigen::Vector3d eye = floor_side * Eigen::Vector3d(0.1, -0.35, 1.45);
-  return Cast(std::move(instances), eye, sensor::CameraFromFov(width, height, 50, 0.05, 4 * floor_side));
+  return instances;
+}
+
+Pose3 FloorSensorPose(double floor_side) { return LookingAtOrigin(floor_side * Eigen::Vector3d(0.1, -0.35, 1.45)); }
+
+PointCloud ScanFloor(const std::vector<PlacedPart>& parts, double floor_side, uint32_t width, uint32_t height) {
+  return Cast(FloorInstances(parts, floor_side), FloorSensorPose(floor_side),
+              sensor::CameraFromFov(width, height, 50, 0.05, 4 * floor_side));
 }
 
 }  // namespace vscan::localization::testing

@@ -1,5 +1,5 @@
 #pragma once
-// Noise-free ray-cast scans of the fixture parts (data/parts/) at known poses, for the localizer
+// Noise-free ray-cast scans (and the scenes behind them) of the fixture parts (data/parts/) at known poses, for the localizer
 // tests: copies of the angle block standing on a plate, or any mix of parts lying on a floor.
 
 #include <cstdint>
@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 
 #include "localization/part_symmetries.h"
+#include "raycast/raycast_scene.h"
 #include "vscan/common/mesh.h"
 #include "vscan/common/point_cloud.h"
 #include "vscan/common/pose.h"
@@ -46,8 +47,13 @@ struct PlacedPart {
 std::vector<PlacedPart> LyingParts(const std::vector<std::pair<FixturePart, size_t>>& counts, double floor_side,
                                    uint64_t seed);
 
-// A depth scan (world frame, positions and normals) of the parts on their floor, seen from above
-// at a slant from 1.5 floor sides away with a 50 degree wide view of width x height pixels.
+// The parts and their floor (instance ids from 1 in the order given, the floor 0), and where
+// ScanFloor's sensor stands: above, at a slant, 1.5 floor sides from the floor's centre.
+std::vector<raycast::SceneInstance> FloorInstances(const std::vector<PlacedPart>& parts, double floor_side);
+Pose3 FloorSensorPose(double floor_side);
+
+// A depth scan (world frame, positions and normals) of the parts on their floor from
+// FloorSensorPose with a 50 degree wide view of width x height pixels.
 PointCloud ScanFloor(const std::vector<PlacedPart>& parts, double floor_side, uint32_t width, uint32_t height);
 
 }  // namespace vscan::localization::testing
