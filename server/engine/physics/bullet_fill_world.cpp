@@ -1,0 +1,97 @@
+#include "physics/bullet_fill_world.h"
+
+#include <btBulletDynamicsCommon.h>
+
+#include <algorithm>
+#include <array>
+
+#include "physics/bullet_shared.h"
+
+namespace vscan::physics {
+namespace {
+
+class BulletFillWorld final : public FillWorld {
+ public:
+  BulletFillWorld(const BinSpec& bin, const std::vector<PartGeometry>& geometry, const FillOptions& options)
+      : options_(options), dispatcher_(&configuration_),
+        world_(&dispatcher_, &broadphase_, &solver_, &configuration_) {
+    world_.setGravity(btVector3(0, 0, btScalar(-9.81)));
+    world_.getSolverInfo().m_numIterations = options.solver_iterations;
+    bin_ = MakeBinBodies(bin, options.friction);
+    for (auto& wall : bin_.bodies) world_.addRigidBody(wall.get());
+    for (const PartGeometry& part : geometry) {
+      auto shape = std::make_unique<btConvexHullShape>();
+      for (const auto& p : part.hull) shape->addPoint(ToBullet(p), false);
+      shape->recalcLocalAabb();
+      shape->setMargin(btScalar(options.collision_margin_m));
+      btVector3 inertia(0, 0, 0);
+      shape->calculateLocalInertia(btScalar(part.mass_kg), inertia);
+      shapes_.push_back({std::move(shape), btScalar(part.mass_kg), inertia});
+    }
+  }
+
+  ~BulletFillWorld() override {
+    for (auto& body : bodies_) {
+      if (body) world_.removeRigidBody(body.get());
+    }
+    for (auto& wall : bin_.bodies) world_.removeRigidBody(wall.get());
+  }
+
+  size_t AddPart(size_t type, const Pose3& world_from_body) override {
+    const TypeShape& shape = shapes_[type];
+    btRigidBody::btRigidBodyConstructionInfo info(shape.mass, nullptr, shape.shape.get(), shape.inertia);
+    info.m_startWorldTransform = ToBullet(world_from_body);
+    info.m_friction = btScalar(options_.friction);
+    info.m_restitution = btScalar(options_.restitution);
+    info.m_linearSleepingThreshold = btScalar(options_.settle_linear_m_per_s);
+    info.m_angularSleepingThreshold = btScalar(options_.settle_angular_rad_per_s);
+    auto body = std::make_unique<btRigidBody>(info);
+    world_.addRigidBody(body.get());
+    bodies_.push_back(std::move(body));
+    return bodies_.size() - 1;
+  }
+
+  void RemovePart(size_t body) override {
+    world_.removeRigidBody(bodies_[body].get());
+    bodies_[body].reset();
+  }
+
+  void Step() override {
+    const auto substeps = options_.substeps;
+    world_.stepSimulation(btScalar(options_.time_step_s), substeps, btScalar(options_.time_step_s / substeps));
+  }
+
+  BodyState State(size_t body) const override {
+    const btRigidBody& b = *bodies_[body];
+    return {FromBullet(b.getWorldTransform()), static_cast<double>(b.getLinearVelocity().length()),
+            static_cast<double>(b.getAngularVelocity().length())};
+  }
+
+  ContactDepths DeepestContacts() override { return DeepestContactsOf(world_); }
+
+ private:
+  struct TypeShape {
+    std::unique_ptr<btConvexHullShape> shape;
+    btScalar mass;
+    btVector3 inertia;
+  };
+
+  const FillOptions options_;
+  btDefaultCollisionConfiguration configuration_;
+  btCollisionDispatcher dispatcher_;
+  btDbvtBroadphase broadphase_;
+  btSequentialImpulseConstraintSolver solver_;
+  btDiscreteDynamicsWorld world_;
+  BinBodies bin_;
+  std::vector<TypeShape> shapes_;
+  std::vector<std::unique_ptr<btRigidBody>> bodies_;
+};
+
+}  // namespace
+
+std::unique_ptr<FillWorld> MakeBulletFillWorld(const BinSpec& bin, const std::vector<PartGeometry>& geometry,
+                                               const FillOptions& options) {
+  return std::make_unique<BulletFillWorld>(bin, geometry, options);
+}
+
+}  // namespace vscan::physics
