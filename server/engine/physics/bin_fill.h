@@ -48,6 +48,13 @@ struct FillOptions {
   double collision_margin_m = 0.0005;
   double friction = 0.6;
   double restitution = 0.0;
+  // Rolling and spinning resistance (metres of lever): without it round parts roll for ever.
+  double rolling_friction_m = 0.002;
+  double linear_damping = 0.05;
+  double angular_damping = 0.3;
+  // Contacts from the hulls' faces (Bullet's polyhedral clipping): a full manifold every step,
+  // so parts resting on a face do not rock.
+  bool polyhedral_contacts = true;
   // A part is at rest while its speeds stay under these for settle_steps consecutive steps; the
   // fill is settled when every part is.
   double settle_linear_m_per_s = 0.01;

@@ -24,6 +24,7 @@ class BulletFillWorld final : public FillWorld {
       for (const auto& p : part.hull) shape->addPoint(ToBullet(p), false);
       shape->recalcLocalAabb();
       shape->setMargin(btScalar(options.collision_margin_m));
+      if (options.polyhedral_contacts) shape->initializePolyhedralFeatures();
       btVector3 inertia(0, 0, 0);
       shape->calculateLocalInertia(btScalar(part.mass_kg), inertia);
       shapes_.push_back({std::move(shape), btScalar(part.mass_kg), inertia});
@@ -43,6 +44,10 @@ class BulletFillWorld final : public FillWorld {
     info.m_startWorldTransform = ToBullet(world_from_body);
     info.m_friction = btScalar(options_.friction);
     info.m_restitution = btScalar(options_.restitution);
+    info.m_rollingFriction = btScalar(options_.rolling_friction_m);
+    info.m_spinningFriction = btScalar(options_.rolling_friction_m);
+    info.m_linearDamping = btScalar(options_.linear_damping);
+    info.m_angularDamping = btScalar(options_.angular_damping);
     info.m_linearSleepingThreshold = btScalar(options_.settle_linear_m_per_s);
     info.m_angularSleepingThreshold = btScalar(options_.settle_angular_rad_per_s);
     auto body = std::make_unique<btRigidBody>(info);
