@@ -44,7 +44,7 @@ struct FillOptions {
   int substeps = 1;                  // internal Bullet steps per step (time_step_s / substeps each)
   int solver_iterations = 10;
   // Hull points kept per part: the farthest-point subset of the hull's vertices.
-  int max_hull_vertices = 48;
+  int max_hull_vertices = 24;
   double collision_margin_m = 0.0005;
   double friction = 0.6;
   double restitution = 0.0;
@@ -55,11 +55,19 @@ struct FillOptions {
   // Contacts from the hulls' faces (Bullet's polyhedral clipping): a full manifold every step,
   // so parts resting on a face do not rock.
   bool polyhedral_contacts = true;
-  // A part is at rest while its speeds stay under these for settle_steps consecutive steps; the
-  // fill is settled when every part is.
-  double settle_linear_m_per_s = 0.01;
-  double settle_angular_rad_per_s = 0.1;
+  // A part is at rest once it has stayed within settle_move_m and settle_turn_rad of where it
+  // was settle_steps steps ago (its pose, not its speed: a pile's solver jitter has speed but goes
+  // nowhere); the fill is settled when every part is.
+  double settle_move_m = 0.001;
+  double settle_turn_rad = 0.02;
   int settle_steps = 24;
+  // Bullet puts a pile to sleep when all its parts stay under these for 2 s (its deactivation
+  // time); a sleeping part has no speed, so it counts as at rest. Zero turns sleeping off.
+  double sleep_linear_m_per_s = 0.05;
+  double sleep_angular_rad_per_s = 0.5;
+  // Once the last drop has fallen below the rim (or is full), every part gets this damping, which
+  // takes out the solver's jitter in a pile without moving the parts much: the settle phase.
+  double settle_damping = 0.9;
   double max_simulated_s = 60.0;
   // Spawn: up to parts_per_drop parts at once, each at rim + drop_clearance_m above its lowest
   // point, at seeded positions inside the footprint and seeded uniform orientations. The next

@@ -17,7 +17,7 @@ class BulletFillWorld final : public FillWorld {
         world_(&dispatcher_, &broadphase_, &solver_, &configuration_) {
     world_.setGravity(btVector3(0, 0, btScalar(-9.81)));
     world_.getSolverInfo().m_numIterations = options.solver_iterations;
-    bin_ = MakeBinBodies(bin, options.friction);
+    bin_ = MakeBinBodies(bin, options.friction, options.collision_margin_m);
     for (auto& wall : bin_.bodies) world_.addRigidBody(wall.get());
     for (const PartGeometry& part : geometry) {
       auto shape = std::make_unique<btConvexHullShape>();
@@ -48,9 +48,12 @@ class BulletFillWorld final : public FillWorld {
     info.m_spinningFriction = btScalar(options_.rolling_friction_m);
     info.m_linearDamping = btScalar(options_.linear_damping);
     info.m_angularDamping = btScalar(options_.angular_damping);
-    info.m_linearSleepingThreshold = btScalar(options_.settle_linear_m_per_s);
-    info.m_angularSleepingThreshold = btScalar(options_.settle_angular_rad_per_s);
+    info.m_linearSleepingThreshold = btScalar(options_.sleep_linear_m_per_s);
+    info.m_angularSleepingThreshold = btScalar(options_.sleep_angular_rad_per_s);
     auto body = std::make_unique<btRigidBody>(info);
+    if (options_.sleep_linear_m_per_s == 0 || options_.sleep_angular_rad_per_s == 0) {
+      body->setActivationState(DISABLE_DEACTIVATION);
+    }
     world_.addRigidBody(body.get());
     bodies_.push_back(std::move(body));
     return bodies_.size() - 1;
@@ -64,6 +67,12 @@ class BulletFillWorld final : public FillWorld {
   void Step() override {
     const auto substeps = options_.substeps;
     world_.stepSimulation(btScalar(options_.time_step_s), substeps, btScalar(options_.time_step_s / substeps));
+  }
+
+  void SetDamping(double damping) override {
+    for (auto& body : bodies_) {
+      if (body) body->setDamping(btScalar(damping), btScalar(damping));
+    }
   }
 
   BodyState State(size_t body) const override {

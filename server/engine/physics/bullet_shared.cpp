@@ -52,7 +52,7 @@ BinBodies MakeBinBodies(const BinSpec& bin, double friction, double margin) {
   BinBodies out;
   for (const Slab& slab : slabs) {
     auto shape = std::make_unique<btBoxShape>(ToBullet(slab.half_extents));
-    if (margin >= 0) shape->setMargin(btScalar(margin));
+    shape->setMargin(btScalar(margin));
     Pose3 bin_from_slab = Pose3::Identity();
     bin_from_slab.translation() = slab.centre;
     btRigidBody::btRigidBodyConstructionInfo info(0, nullptr, shape.get());

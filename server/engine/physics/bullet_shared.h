@@ -33,8 +33,8 @@ struct BinBodies {
   std::vector<std::unique_ptr<btRigidBody>> bodies;
 };
 
-// margin < 0 keeps Bullet's default box margin.
-BinBodies MakeBinBodies(const BinSpec& bin, double friction, double margin = -1.0);
+// Bullet's default box margin (4 cm) is thicker than a wall, so the margin is always given.
+BinBodies MakeBinBodies(const BinSpec& bin, double friction, double margin);
 
 // Runs a collision pass and reads every contact manifold: part-bin when one body is static.
 ContactDepths DeepestContactsOf(btDiscreteDynamicsWorld& world);

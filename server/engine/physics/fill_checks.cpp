@@ -68,11 +68,15 @@ Status CheckOptions(const FillOptions& o) {
   if (!in(o.collision_margin_m, 0, 0.05)) return Bad("options.collision_margin_m", "must be within [0, 0.05] m");
   if (!in(o.friction, 0, 10)) return Bad("options.friction", "must be within [0, 10]");
   if (!in(o.restitution, 0, 1)) return Bad("options.restitution", "must be within [0, 1]");
-  if (!Positive(o.settle_linear_m_per_s)) return Bad("options.settle_linear_m_per_s", "must be finite and positive");
-  if (!Positive(o.settle_angular_rad_per_s)) {
-    return Bad("options.settle_angular_rad_per_s", "must be finite and positive");
-  }
+  if (!Positive(o.settle_move_m)) return Bad("options.settle_move_m", "must be finite and positive");
+  if (!Positive(o.settle_turn_rad)) return Bad("options.settle_turn_rad", "must be finite and positive");
   if (o.settle_steps < 1 || o.settle_steps > 100000) return Bad("options.settle_steps", "must be within [1, 100000]");
+  if (!in(o.settle_damping, 0, 1)) return Bad("options.settle_damping", "must be within [0, 1]");
+  if (!NonNegative(o.sleep_linear_m_per_s)) return Bad("options.sleep_linear_m_per_s", "must be finite, >= 0");
+  if (!NonNegative(o.sleep_angular_rad_per_s)) return Bad("options.sleep_angular_rad_per_s", "must be finite, >= 0");
+  if (!in(o.rolling_friction_m, 0, 1)) return Bad("options.rolling_friction_m", "must be within [0, 1] m");
+  if (!in(o.linear_damping, 0, 1)) return Bad("options.linear_damping", "must be within [0, 1]");
+  if (!in(o.angular_damping, 0, 1)) return Bad("options.angular_damping", "must be within [0, 1]");
   if (!in(o.max_simulated_s, 0, 3600) || o.max_simulated_s == 0) {
     return Bad("options.max_simulated_s", "must be positive and at most 3600 s");
   }

@@ -21,6 +21,7 @@ struct LivePart {
   size_t type = 0;
   size_t instance = 0;
   int rest_steps = 0;
+  Pose3 anchor = Pose3::Identity();  // where the part was when rest_steps was last zero
 };
 
 struct SpawnSlot {
@@ -69,6 +70,10 @@ class Filler {
         break;
       }
       if (!full_ && next_ < order_.size() && DropDue()) DropWave();
+      if (!settling_ && (full_ || (next_ == order_.size() && DropDue()))) {
+        world_.SetDamping(options_.settle_damping);
+        settling_ = true;
+      }
       if (steps_ >= max_steps_) {
         if (full_) {
           Finish(result, FillEnd::kFull, full_message_ + "; not at rest by the time bound");
@@ -137,7 +142,7 @@ class Filler {
         bin_from_body.translation() = centre;
         bin_from_body.linear() = rotation.toRotationMatrix();
         const size_t body = world_.AddPart(slot.type, bin_.world_from_bin * bin_from_body);
-        live_.push_back({body, slot.type, slot.instance, 0});
+        live_.push_back({body, slot.type, slot.instance, 0, bin_.world_from_bin * bin_from_body});
         wave_.push_back(body);
         occupied.emplace_back(centre, r);
         placed = true;
@@ -176,9 +181,12 @@ class Filler {
         live_.erase(live_.begin() + static_cast<std::ptrdiff_t>(i));
         continue;
       }
-      const bool slow = state.linear_speed < options_.settle_linear_m_per_s &&
-                        state.angular_speed < options_.settle_angular_rad_per_s;
-      part.rest_steps = slow ? part.rest_steps + 1 : 0;
+      if (StayedNearAnchor(part, state.world_from_body)) {
+        ++part.rest_steps;
+      } else {
+        part.anchor = state.world_from_body;
+        part.rest_steps = 0;
+      }
       if (part.rest_steps == options_.settle_steps && !full_ &&
           TopInBin(part.type, state.world_from_body) > rim_ + options_.rim_tolerance_m) {
         full_ = true;
@@ -189,6 +197,12 @@ class Filler {
       ++i;
     }
     return all_at_rest;
+  }
+
+  bool StayedNearAnchor(const LivePart& part, const Pose3& pose) const {
+    const double moved = (pose.translation() - part.anchor.translation()).norm();
+    const double turned = Eigen::AngleAxisd(part.anchor.linear().transpose() * pose.linear()).angle();
+    return moved <= options_.settle_move_m && turned <= options_.settle_turn_rad;
   }
 
   PlacedPart Placed(const LivePart& part, const BodyState& state) const {
@@ -238,6 +252,7 @@ class Filler {
   double last_drop_s_ = 0.0;
   uint64_t steps_ = 0;
   bool full_ = false;
+  bool settling_ = false;
   std::string full_message_;
 };
 

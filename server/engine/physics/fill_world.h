@@ -28,6 +28,8 @@ class FillWorld {
   virtual size_t AddPart(size_t type, const Pose3& world_from_body) = 0;
   virtual void RemovePart(size_t body) = 0;
   virtual void Step() = 0;
+  // Linear and angular damping (per second, 0..1) of every part from now on.
+  virtual void SetDamping(double damping) = 0;
   virtual BodyState State(size_t body) const = 0;
   virtual ContactDepths DeepestContacts() = 0;
 };
