@@ -27,11 +27,9 @@ StatusOr<FillResult> FillBin(const BinSpec& bin, const std::vector<PartType>& pa
                              const std::atomic<bool>* cancel) {
   RETURN_IF_ERROR(CheckFillInput(bin, parts, options));
   const auto start = std::chrono::steady_clock::now();
-  std::vector<PartGeometry> geometry;
-  geometry.reserve(parts.size());
+  const std::vector<PartGeometry> geometry = MakePartGeometries(parts, options.max_hull_vertices);
   for (size_t i = 0; i < parts.size(); ++i) {
-    geometry.push_back(MakePartGeometry(parts[i], options.max_hull_vertices));
-    if (!(geometry.back().mass_kg > 0)) {
+    if (!(geometry[i].mass_kg > 0)) {
       return Status(StatusCode::kInvalidArgument, "parts[" + std::to_string(i) + "].mass_kg",
                     "the mesh encloses no volume: give a mass");
     }

@@ -27,6 +27,9 @@ struct BinSpec {
 
 enum class PartCollision {
   kConvexHull,  // the convex hull of the mesh, reduced to at most FillOptions::max_hull_vertices
+  // A compound of convex pieces (HACD), each reduced like the hull; a part's concave notches stay
+  // open. Computed once per distinct mesh in a fill.
+  kConvexDecomposition,
 };
 
 struct PartType {

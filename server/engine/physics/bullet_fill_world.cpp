@@ -20,14 +20,18 @@ class BulletFillWorld final : public FillWorld {
     bin_ = MakeBinBodies(bin, options.friction, options.collision_margin_m);
     for (auto& wall : bin_.bodies) world_.addRigidBody(wall.get());
     for (const PartGeometry& part : geometry) {
-      auto shape = std::make_unique<btConvexHullShape>();
-      for (const auto& p : part.hull) shape->addPoint(ToBullet(p), false);
-      shape->recalcLocalAabb();
-      shape->setMargin(btScalar(options.collision_margin_m));
-      if (options.polyhedral_contacts) shape->initializePolyhedralFeatures();
-      btVector3 inertia(0, 0, 0);
-      shape->calculateLocalInertia(btScalar(part.mass_kg), inertia);
-      shapes_.push_back({std::move(shape), btScalar(part.mass_kg), inertia});
+      TypeShape type{HullShape(part.hull), {}, btScalar(part.mass_kg), btVector3(0, 0, 0)};
+      // The hull's inertia for either shape: a compound's own is that of its bounding box.
+      type.shape->calculateLocalInertia(type.mass, type.inertia);
+      if (!part.pieces.empty()) {
+        auto compound = std::make_unique<btCompoundShape>(true, static_cast<int>(part.pieces.size()));
+        for (const auto& piece : part.pieces) {
+          type.pieces.push_back(HullShape(piece));
+          compound->addChildShape(btTransform::getIdentity(), type.pieces.back().get());
+        }
+        type.shape = std::move(compound);
+      }
+      shapes_.push_back(std::move(type));
     }
   }
 
@@ -85,10 +89,20 @@ class BulletFillWorld final : public FillWorld {
 
  private:
   struct TypeShape {
-    std::unique_ptr<btConvexHullShape> shape;
+    std::unique_ptr<btCollisionShape> shape;  // the hull, or the compound of the pieces
+    std::vector<std::unique_ptr<btCollisionShape>> pieces;
     btScalar mass;
     btVector3 inertia;
   };
+
+  std::unique_ptr<btCollisionShape> HullShape(const std::vector<Eigen::Vector3d>& points) const {
+    auto shape = std::make_unique<btConvexHullShape>();
+    for (const auto& p : points) shape->addPoint(ToBullet(p), false);
+    shape->recalcLocalAabb();
+    shape->setMargin(btScalar(options_.collision_margin_m));
+    if (options_.polyhedral_contacts) shape->initializePolyhedralFeatures();
+    return shape;
+  }
 
   const FillOptions options_;
   btDefaultCollisionConfiguration configuration_;

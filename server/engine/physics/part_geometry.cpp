@@ -6,6 +6,8 @@
 #include <cmath>
 #include <limits>
 
+#include "physics/convex_decomposition.h"
+
 namespace vscan::physics {
 namespace {
 
@@ -100,6 +102,28 @@ PartGeometry MakePartGeometry(const PartType& part, int max_hull_vertices) {
   out.mass_kg = part.mass_kg.value_or(part.density_kg_per_m3 * volume);
   out.hull = FarthestPoints(ExactHull(part.mesh, out.centre), max_hull_vertices);
   for (const auto& p : out.hull) out.radius = std::max(out.radius, p.norm());
+  if (part.collision == PartCollision::kConvexDecomposition) {
+    out.pieces = ConvexPieces(part.mesh, out.centre, max_hull_vertices);
+  }
+  return out;
+}
+
+std::vector<PartGeometry> MakePartGeometries(const std::vector<PartType>& parts, int max_hull_vertices) {
+  std::vector<PartGeometry> out;
+  out.reserve(parts.size());
+  for (size_t i = 0; i < parts.size(); ++i) {
+    PartType hull_only = parts[i];
+    size_t same = 0;
+    const auto same_mesh = [&](size_t j) {
+      return parts[j].collision == PartCollision::kConvexDecomposition && parts[j].mesh.vertices == parts[i].mesh.vertices &&
+             parts[j].mesh.triangles == parts[i].mesh.triangles;
+    };
+    while (same < i && !same_mesh(same)) ++same;
+    const bool reuse = parts[i].collision == PartCollision::kConvexDecomposition && same < i;
+    if (reuse) hull_only.collision = PartCollision::kConvexHull;
+    out.push_back(MakePartGeometry(reuse ? hull_only : parts[i], max_hull_vertices));
+    if (reuse) out.back().pieces = out[same].pieces;  // same mesh, same centre: the same pieces
+  }
   return out;
 }
 

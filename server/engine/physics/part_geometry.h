@@ -1,6 +1,7 @@
 #pragma once
-// What the fill needs of a part's mesh: its centre of mass, mass, a reduced convex hull and the
-// radius of the sphere about its centre of mass that holds the hull.
+// What the fill needs of a part's mesh: its centre of mass, mass, a reduced convex hull, the
+// radius of the sphere about its centre of mass that holds the hull, and for
+// PartCollision::kConvexDecomposition its convex pieces.
 
 #include <vector>
 
@@ -15,11 +16,16 @@ struct PartGeometry {
   double mass_kg = 0.0;
   std::vector<Eigen::Vector3d> hull;  // hull points relative to the centre (the body frame)
   double radius = 0.0;                // largest |hull point|
+  // kConvexDecomposition only: each piece's hull points relative to the centre; empty otherwise.
+  std::vector<std::vector<Eigen::Vector3d>> pieces;
 };
 
 // The body frame is the part frame moved to the centre of mass: world_from_part =
 // world_from_body * Translation(-centre).
 PartGeometry MakePartGeometry(const PartType& part, int max_hull_vertices);
+
+// The geometry of every part type; a convex decomposition is computed once per distinct mesh.
+std::vector<PartGeometry> MakePartGeometries(const std::vector<PartType>& parts, int max_hull_vertices);
 
 // The hull's vertices (exact, before reduction), relative to `centre`.
 std::vector<Eigen::Vector3d> ExactHull(const TriangleMesh& mesh, const Eigen::Vector3d& centre);
