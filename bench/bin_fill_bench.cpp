@@ -1,0 +1,238 @@
+// Fills a 30 x 20 x 15 cm bin with 50 fixture parts (angle blocks and pins) with FillBin and with
+// a plain PyBullet-like Bullet world under the same spawn and settle rules, over several seeds;
+// then scans each settled bin of ours at 1280 x 1024.
+// Usage: bin_fill_bench [seeds=3]
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <ctime>
+#include <fstream>
+#include <functional>
+#include <limits>
+#include <map>
+#include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bin_fill_plain_world.h"
+#include "geometry/mesh_import.h"
+#include "physics/bin_fill.h"
+#include "physics/fill_loop.h"
+#include "physics/part_geometry.h"
+#include "raycast/raycast_scene.h"
+#include "raycast/scanner.h"
+#include "sensor/camera.h"
+
+namespace vscan::bench {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double Since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
+
+// CPU seconds of this thread: a fill runs on one thread, and other loads on the machine stretch
+// its wall time but not this.
+double ThreadCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
+
+physics::PartType LoadPart(const std::string& file, double metres_per_unit, const std::string& name, size_t count) {
+  std::ifstream in(std::string(VSCAN_DATA_DIR) + "/parts/" + file, std::ios::binary);
+  std::stringstream bytes;
+  bytes << in.rdbuf();
+  auto mesh = geometry::ImportMesh(bytes.str(), geometry::MeshFileFormat::kStl, metres_per_unit);
+  if (!mesh.ok()) {
+    std::fprintf(stderr, "%s: %s\n", file.c_str(), mesh.status().ToString().c_str());
+    std::exit(1);
+  }
+  physics::PartType part;
+  part.name = name;
+  part.mesh = std::move(*mesh);
+  part.count = count;
+  return part;
+}
+
+struct Run {
+  physics::FillResult fill;
+  double wall_s = 0.0;
+  double cpu_s = 0.0;
+};
+
+Run FillOurs(const physics::BinSpec& bin, const std::vector<physics::PartType>& parts,
+             const physics::FillOptions& options) {
+  const auto start = Clock::now();
+  const double cpu_start = ThreadCpuSeconds();
+  auto result = physics::FillBin(bin, parts, options);
+  if (!result.ok()) {
+    std::fprintf(stderr, "FillBin: %s\n", result.status().ToString().c_str());
+    std::exit(1);
+  }
+  return {std::move(*result), Since(start), ThreadCpuSeconds() - cpu_start};
+}
+
+Run FillPlain(const physics::BinSpec& bin, const std::vector<physics::PartType>& parts,
+              const physics::FillOptions& options) {
+  const auto start = Clock::now();
+  const double cpu_start = ThreadCpuSeconds();
+  std::vector<physics::PartGeometry> geometry;
+  for (const auto& part : parts) {
+    geometry.push_back(physics::MakePartGeometry(part, std::numeric_limits<int>::max()));
+  }
+  auto world = MakePlainFillWorld(bin, parts, geometry, options);
+  Run run{physics::RunFill(bin, parts, geometry, options, *world, nullptr), 0.0, 0.0};
+  run.wall_s = Since(start);
+  run.cpu_s = ThreadCpuSeconds() - cpu_start;
+  return run;
+}
+
+TriangleMesh Box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
+  TriangleMesh mesh;
+  for (int i = 0; i < 8; ++i) {
+    mesh.vertices.emplace_back(Eigen::Vector3d((i & 1) ? hi.x() : lo.x(), (i & 2) ? hi.y() : lo.y(),
+                                               (i & 4) ? hi.z() : lo.z())
+                                   .cast<float>());
+  }
+  mesh.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                    {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  return mesh;
+}
+
+// The bin's floor and walls as meshes in the bin frame.
+std::vector<std::shared_ptr<const TriangleMesh>> BinMeshes(const physics::BinSpec& bin) {
+  const Eigen::Vector3d s = bin.inner_size;
+  const double w = bin.wall_thickness;
+  const Eigen::Vector3d outer(0.5 * s.x() + w, 0.5 * s.y() + w, s.z());
+  return {
+      std::make_shared<const TriangleMesh>(Box({-outer.x(), -outer.y(), -w}, {outer.x(), outer.y(), 0})),
+      std::make_shared<const TriangleMesh>(Box({0.5 * s.x(), -outer.y(), 0}, outer)),
+      std::make_shared<const TriangleMesh>(Box({-outer.x(), -outer.y(), 0}, {-0.5 * s.x(), outer.y(), s.z()})),
+      std::make_shared<const TriangleMesh>(Box({-0.5 * s.x(), 0.5 * s.y(), 0}, {0.5 * s.x(), outer.y(), s.z()})),
+      std::make_shared<const TriangleMesh>(Box({-0.5 * s.x(), -outer.y(), 0}, {0.5 * s.x(), -0.5 * s.y(), s.z()})),
+  };
+}
+
+struct ScanTiming {
+  double wall_s = 0.0;
+  size_t points = 0;
+};
+
+// Builds the Embree scene of the settled bin and casts one 1280 x 1024 scan from above it.
+ScanTiming ScanBin(const physics::BinSpec& bin, const std::vector<std::shared_ptr<const TriangleMesh>>& part_meshes,
+                   const physics::FillResult& fill) {
+  const auto start = Clock::now();
+  std::vector<raycast::SceneInstance> instances;
+  uint32_t id = 1;
+  for (const auto& wall : BinMeshes(bin)) instances.push_back({wall, bin.world_from_bin, 1.0, id++});
+  for (const physics::PlacedPart& part : fill.parts) {
+    instances.push_back({part_meshes[part.type], part.world_from_part, 1.0, id++});
+  }
+  auto scene = raycast::RaycastScene::Build(instances);
+  if (!scene.ok()) {
+    std::fprintf(stderr, "scene: %s\n", scene.status().ToString().c_str());
+    std::exit(1);
+  }
+  const sensor::PinholeCamera camera = sensor::CameraFromFov(1280, 1024, 50, 0.05, 3.0);
+  const Eigen::Vector3d centre = bin.world_from_bin * Eigen::Vector3d(0, 0, 0.5 * bin.inner_size.z());
+  const Pose3 sensor_pose =
+      *PoseFromLookAt(centre + Eigen::Vector3d(0, 0, 0.55), centre, Eigen::Vector3d::UnitY(), "sensor");
+  auto cloud = raycast::Scan(**scene, camera, sensor_pose, raycast::ScanOptions{});
+  if (!cloud.ok()) {
+    std::fprintf(stderr, "scan: %s\n", cloud.status().ToString().c_str());
+    std::exit(1);
+  }
+  return {Since(start), cloud->size()};
+}
+
+double Median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+struct Summary {
+  std::vector<double> per_minute, per_cpu_minute, simulated_s, steps, wall_s;
+  double max_penetration_m = 0.0;
+  size_t outside = 0, placed = 0;
+  std::map<std::string, int> ends;
+
+  void Add(const Run& run) {
+    per_minute.push_back(60.0 / run.wall_s);
+    per_cpu_minute.push_back(60.0 / run.cpu_s);
+    wall_s.push_back(run.wall_s);
+    simulated_s.push_back(run.fill.simulated_s);
+    steps.push_back(static_cast<double>(run.fill.steps));
+    max_penetration_m = std::max(
+        {max_penetration_m, run.fill.max_part_part_penetration_m, run.fill.max_part_bin_penetration_m});
+    outside += run.fill.outside.size();
+    placed += run.fill.parts.size();
+    ++ends[physics::FillEndName(run.fill.end)];
+  }
+
+  void Print(const char* name) const {
+    std::string ends_text;
+    for (const auto& [end, count] : ends) ends_text += end + "=" + std::to_string(count) + " ";
+    std::printf("%-6s fills/min median %6.1f min %6.1f max %6.1f | per CPU minute median %6.1f | sim s median %5.2f | steps median %6.0f | "
+                "max penetration %.2f mm | parts in bins %zu, outside %zu | %s\n",
+                name, Median(per_minute), *std::min_element(per_minute.begin(), per_minute.end()),
+                *std::max_element(per_minute.begin(), per_minute.end()), Median(per_cpu_minute), Median(simulated_s), Median(steps),
+                max_penetration_m * 1e3, placed, outside, ends_text.c_str());
+  }
+};
+
+}  // namespace
+}  // namespace vscan::bench
+
+int main(int argc, char** argv) {
+  using namespace vscan;
+  using namespace vscan::bench;
+  const int seeds = argc > 1 ? std::max(1, std::atoi(argv[1])) : 3;
+  physics::BinSpec bin;
+  bin.inner_size = Eigen::Vector3d(0.30, 0.20, 0.15);
+  bin.wall_thickness = 0.01;
+  // angle_block is in inches; round (5.08 x 60.96 units, longer than the bin in any plain unit) is
+  // scaled to a 6.6 mm x 79 mm pin; plate_holes (203 x 305 mm) does not fit the bin.
+  const std::vector<physics::PartType> parts = {LoadPart("angle_block.STL", 0.0254, "angle_block", 25),
+                                                LoadPart("round.stl", 0.0013, "round", 25)};
+  std::vector<std::shared_ptr<const TriangleMesh>> part_meshes;
+  for (const auto& part : parts) part_meshes.push_back(std::make_shared<const TriangleMesh>(part.mesh));
+  std::printf("bin 30 x 20 x 15 cm, 25 angle blocks (3.4 x 2.5 x 3.4 cm) + 25 pins (6.6 mm x 79 mm), %d seeds\n",
+              seeds);
+
+  Summary ours, plain;
+  std::vector<double> with_scan, scan_s;
+  for (int seed = 1; seed <= seeds; ++seed) {
+    physics::FillOptions options;
+    options.seed = static_cast<uint64_t>(seed);
+    const Run our_run = FillOurs(bin, parts, options);
+    const ScanTiming scan = ScanBin(bin, part_meshes, our_run.fill);
+    const Run plain_run = FillPlain(bin, parts, options);
+    std::printf("seed %d  ours %.3f s (CPU %.3f s, set-up %.3f, steps %.3f) %s sim %.2f s, %zu in, %zu out, pen %.2f/%.2f mm | "
+                "scan %.3f s %zu points | plain %.3f s (CPU %.3f s) %s sim %.2f s, %zu in, %zu out, pen %.2f/%.2f mm\n",
+                seed, our_run.wall_s, our_run.cpu_s, our_run.fill.setup_wall_s, our_run.fill.step_wall_s,
+                physics::FillEndName(our_run.fill.end), our_run.fill.simulated_s, our_run.fill.parts.size(),
+                our_run.fill.outside.size(), our_run.fill.max_part_part_penetration_m * 1e3,
+                our_run.fill.max_part_bin_penetration_m * 1e3, scan.wall_s, scan.points, plain_run.wall_s, plain_run.cpu_s,
+                physics::FillEndName(plain_run.fill.end), plain_run.fill.simulated_s, plain_run.fill.parts.size(),
+                plain_run.fill.outside.size(), plain_run.fill.max_part_part_penetration_m * 1e3,
+                plain_run.fill.max_part_bin_penetration_m * 1e3);
+    std::fflush(stdout);
+    ours.Add(our_run);
+    plain.Add(plain_run);
+    with_scan.push_back(60.0 / (our_run.wall_s + scan.wall_s));
+    scan_s.push_back(scan.wall_s);
+  }
+  ours.Print("ours");
+  plain.Print("plain");
+  std::printf("ratio of median fills per minute (ours / plain): %.2f wall, %.2f CPU\n",
+              Median(ours.per_minute) / Median(plain.per_minute),
+              Median(ours.per_cpu_minute) / Median(plain.per_cpu_minute));
+  std::printf("fill + 1280x1024 scan: bins/min median %.1f min %.1f max %.1f (scan median %.3f s)\n",
+              Median(with_scan), *std::min_element(with_scan.begin(), with_scan.end()),
+              *std::max_element(with_scan.begin(), with_scan.end()), Median(scan_s));
+  return 0;
+}

@@ -1,0 +1,44 @@
+#include "physics/bin_fill.h"
+
+#include <chrono>
+
+#include "physics/bullet_fill_world.h"
+#include "physics/fill_checks.h"
+#include "physics/fill_loop.h"
+#include "physics/part_geometry.h"
+
+namespace vscan::physics {
+
+const char* FillEndName(FillEnd end) {
+  switch (end) {
+    case FillEnd::kSettled:
+      return "settled";
+    case FillEnd::kTimeBound:
+      return "time_bound";
+    case FillEnd::kFull:
+      return "full";
+    case FillEnd::kCancelled:
+      return "cancelled";
+  }
+  return "unknown";
+}
+
+StatusOr<FillResult> FillBin(const BinSpec& bin, const std::vector<PartType>& parts, const FillOptions& options,
+                             const std::atomic<bool>* cancel) {
+  RETURN_IF_ERROR(CheckFillInput(bin, parts, options));
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<PartGeometry> geometry = MakePartGeometries(parts, options.max_hull_vertices);
+  for (size_t i = 0; i < parts.size(); ++i) {
+    if (!(geometry[i].mass_kg > 0)) {
+      return Status(StatusCode::kInvalidArgument, "parts[" + std::to_string(i) + "].mass_kg",
+                    "the mesh encloses no volume: give a mass");
+    }
+  }
+  const auto world = MakeBulletFillWorld(bin, geometry, options);
+  const double setup_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  FillResult result = RunFill(bin, parts, geometry, options, *world, cancel);
+  result.setup_wall_s = setup_s;
+  return result;
+}
+
+}  // namespace vscan::physics

@@ -1,0 +1,123 @@
+#pragma once
+// Fills an open bin with rigid parts dropped from above it (Bullet, kept inside the .cpp files).
+// Deterministic for one seed on one build: one single-threaded world, fixed time steps.
+
+#include <atomic>
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "vscan/common/mesh.h"
+#include "vscan/common/pose.h"
+#include "vscan/common/status.h"
+
+namespace vscan::physics {
+
+// An open box: the bin frame has the floor's inner surface at z = 0, centred in x and y; the rim
+// is at z = inner_size.z().
+struct BinSpec {
+  Eigen::Vector3d inner_size = Eigen::Vector3d(0.30, 0.20, 0.15);  // metres
+  double wall_thickness = 0.01;                                    // metres, walls and floor
+  Pose3 world_from_bin = Pose3::Identity();
+};
+
+enum class PartCollision {
+  kConvexHull,  // the convex hull of the mesh, reduced to at most FillOptions::max_hull_vertices
+  // A compound of convex pieces (HACD), each reduced like the hull; a part's concave notches stay
+  // open. Computed once per distinct mesh in a fill.
+  kConvexDecomposition,
+};
+
+struct PartType {
+  std::string name;
+  TriangleMesh mesh;  // metres, in the part's frame
+  size_t count = 0;
+  std::optional<double> mass_kg;  // when unset: density times the mesh's enclosed volume
+  double density_kg_per_m3 = 2700.0;
+  PartCollision collision = PartCollision::kConvexHull;
+};
+
+struct FillOptions {
+  uint64_t seed = 1;
+  double time_step_s = 1.0 / 240.0;  // one step; within [1e-4, 0.05]
+  int substeps = 1;                  // internal Bullet steps per step (time_step_s / substeps each)
+  int solver_iterations = 10;
+  // Hull points kept per part: the farthest-point subset of the hull's vertices.
+  int max_hull_vertices = 24;
+  double collision_margin_m = 0.0005;
+  double friction = 0.6;
+  double restitution = 0.0;
+  // Rolling and spinning resistance (metres of lever): without it round parts roll for ever.
+  double rolling_friction_m = 0.002;
+  double linear_damping = 0.05;
+  double angular_damping = 0.3;
+  // Contacts from the hulls' faces (Bullet's polyhedral clipping): a full manifold every step,
+  // so parts resting on a face do not rock.
+  bool polyhedral_contacts = true;
+  // A part is at rest once it has stayed within settle_move_m and settle_turn_rad of where it
+  // was settle_steps steps ago (its pose, not its speed: a pile's solver jitter has speed but goes
+  // nowhere); the fill is settled when every part is.
+  double settle_move_m = 0.001;
+  double settle_turn_rad = 0.02;
+  int settle_steps = 24;
+  // Bullet puts a pile to sleep when all its parts stay under these for 2 s (its deactivation
+  // time); a sleeping part has no speed, so it counts as at rest. Zero turns sleeping off.
+  double sleep_linear_m_per_s = 0.05;
+  double sleep_angular_rad_per_s = 0.5;
+  // Once the last drop has fallen below the rim (or is full), every part gets this damping, which
+  // takes out the solver's jitter in a pile without moving the parts much: the settle phase.
+  double settle_damping = 0.9;
+  double max_simulated_s = 60.0;
+  // Spawn: up to parts_per_drop parts at once, each at rim + drop_clearance_m above its lowest
+  // point, at seeded positions inside the footprint and seeded uniform orientations. The next
+  // drop comes when the last one has fallen below the rim or after drop_interval_s.
+  int parts_per_drop = 4;
+  double drop_clearance_m = 0.02;
+  double drop_interval_s = 1.0;
+  int spawn_attempts = 24;
+  // A part at rest reaching more than this above the rim makes the bin full.
+  double rim_tolerance_m = 0.005;
+};
+
+struct PlacedPart {
+  size_t type = 0;      // index into the parts given to FillBin
+  size_t instance = 0;  // 0 .. count-1 within its type, in spawn order
+  Pose3 world_from_part = Pose3::Identity();
+};
+
+enum class FillEnd {
+  kSettled,    // every part spawned and at rest
+  kTimeBound,  // max_simulated_s reached first
+  kFull,       // a part could not be spawned clear of the others, or came to rest above the rim
+  kCancelled,
+};
+
+const char* FillEndName(FillEnd end);
+
+struct FillResult {
+  std::vector<PlacedPart> parts;    // in the bin at the end (not those outside)
+  std::vector<PlacedPart> outside;  // ended outside the bin's inner box and were removed
+  size_t spawned = 0;
+  FillEnd end = FillEnd::kSettled;
+  std::string message;
+  double simulated_s = 0.0;
+  uint64_t steps = 0;
+  double setup_wall_s = 0.0;  // shapes and world
+  double step_wall_s = 0.0;   // stepping, spawning and the final contact pass
+  // Deepest overlap in Bullet's contact manifolds after a final collision pass (metres, >= 0).
+  double max_part_part_penetration_m = 0.0;
+  double max_part_bin_penetration_m = 0.0;
+};
+
+inline constexpr size_t kMaxFillParts = 500;
+
+// INVALID_ARGUMENT naming the field ("bin.inner_size", "parts[1].count", "options.time_step_s")
+// for bad input. A set cancel flag ends the run as kCancelled with the parts placed so far.
+StatusOr<FillResult> FillBin(const BinSpec& bin, const std::vector<PartType>& parts, const FillOptions& options,
+                             const std::atomic<bool>* cancel = nullptr);
+
+}  // namespace vscan::physics

@@ -1,0 +1,17 @@
+#pragma once
+// Approximate convex decomposition of a closed mesh (Bullet's HACD, kept inside the .cpp).
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "vscan/common/mesh.h"
+
+namespace vscan::physics {
+
+// The convex pieces of the mesh, each as the points of its hull relative to `centre` (at most
+// max_vertices_per_piece each). A mesh HACD cannot split comes back as one piece: its hull.
+std::vector<std::vector<Eigen::Vector3d>> ConvexPieces(const TriangleMesh& mesh, const Eigen::Vector3d& centre,
+                                                       int max_vertices_per_piece);
+
+}  // namespace vscan::physics
