@@ -193,11 +193,18 @@ TEST(BinFill, AScanOfTheBinCarriesGroundTruthThatAgreesWithIndependentCounts) {
   ASSERT_GE(outcome.objects.size(), 10u);
   EXPECT_EQ(outcome.objects[0].label, "bin");
 
-  // Parts high in the pile are seen more than parts low in it.
+  // Parts high in the pile are seen more than parts low in it (heights of the parts' centroids).
+  std::map<std::string, Eigen::Vector3d> centroid_by_mesh;
+  for (size_t t = 0; t < plan->parts.size(); ++t) {
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    for (const Eigen::Vector3f& v : plan->parts[t].mesh.vertices) sum += v.cast<double>();
+    centroid_by_mesh[plan->request.parts[t].mesh_id] = sum / static_cast<double>(plan->parts[t].mesh.vertices.size());
+  }
   std::vector<std::pair<double, double>> height_and_fraction;
   for (const ObjectTruth& object : outcome.objects) {
     if (object.label == "bin") continue;
-    height_and_fraction.emplace_back(object.world_from_object.translation().z(), object.visible_fraction);
+    const Eigen::Vector3d centroid = object.world_from_object * centroid_by_mesh.at(object.mesh_id);
+    height_and_fraction.emplace_back(centroid.z(), object.visible_fraction);
   }
   std::sort(height_and_fraction.begin(), height_and_fraction.end());
   const size_t third = height_and_fraction.size() / 3;
