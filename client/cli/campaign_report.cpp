@@ -122,7 +122,9 @@ std::string DescribeJob(const v1::Job& job) {
   std::string out = job.job_id() + "  " + Pad(JobStateName(job.state()), 11, false) + "  " +
                     std::to_string(job.steps_done()) + "/" + std::to_string(job.steps_total()) + " steps  " +
                     std::to_string(job.artifacts_size()) + " artifacts  " + FormatTime(job.create_time());
-  const std::string& name = job.kind() == "model" ? job.model().name() : job.campaign().name();
+  const std::string& name = job.kind() == "model"      ? job.model().name()
+                            : job.kind() == "bin_fill" ? job.bin_fill().name()
+                                                       : job.campaign().name();
   if (!name.empty()) out += "  '" + name + "'";
   if (!job.message().empty()) out += "  " + job.message();
   return out;

@@ -26,6 +26,8 @@ void AddRobotCommands(CLI::App& app, Context& ctx);
 void AddCampaignCommands(CLI::App& app, Context& ctx);
 void AddSensorsCommand(CLI::App& app, Context& ctx);
 void AddCloudCommands(CLI::App& app, Context& ctx);
+// `vscan bin fill|scan|...`: bin fills and scans of them with ground truth.
+void AddBinCommands(CLI::App& app, Context& ctx);
 // `vscan align|reconstruct|evaluate` and the `vscan model` group.
 void AddModelCommands(CLI::App& app, Context& ctx);
 

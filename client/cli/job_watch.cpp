@@ -18,6 +18,7 @@ std::string Counter(const v1::Job& job) {
 
 // The command that picks the watch up again.
 std::string WatchCommand(const v1::Job& job) {
+  if (job.kind() == "bin_fill") return "vscan bin watch " + job.job_id();
   return (job.kind() == "model" ? "vscan model watch " : "vscan campaign watch ") + job.job_id();
 }
 

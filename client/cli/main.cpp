@@ -48,6 +48,7 @@ int main(int argc, char** argv) {
   vscan::cli::AddRenderCommand(app, ctx);
   vscan::cli::AddRobotCommands(app, ctx);
   vscan::cli::AddCampaignCommands(app, ctx);
+  vscan::cli::AddBinCommands(app, ctx);
   vscan::cli::AddCloudCommands(app, ctx);
   vscan::cli::AddModelCommands(app, ctx);
   vscan::cli::AddSensorsCommand(app, ctx);

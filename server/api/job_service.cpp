@@ -5,11 +5,13 @@
 
 #include <spdlog/spdlog.h>
 
+#include "api/bin_fill_spec.h"
 #include "api/campaign_spec.h"
 #include "api/job_convert.h"
 #include "api/job_recorder.h"
 #include "api/model_campaigns.h"
 #include "api/model_spec.h"
+#include "service/bin_fill_run.h"
 #include "service/campaign_run.h"
 #include "service/model_run.h"
 #include "api/unary.h"
@@ -106,10 +108,29 @@ Status JobService::Submit(const std::string& job_id, std::function<void(jobs::Jo
   return Status::Ok();
 }
 
-grpc::ServerUnaryReactor* JobService::StartBinFill(grpc::CallbackServerContext* ctx, const v1::StartBinFillRequest*,
-                                                   v1::StartBinFillResponse*) {
-  return RunUnary(ctx, context_.options.token, "StartBinFill", [&]() -> Status {
-    return Unimplemented("StartBinFill: bin fills are not supported by this server version");
+grpc::ServerUnaryReactor* JobService::StartBinFill(grpc::CallbackServerContext* ctx,
+                                                   const v1::StartBinFillRequest* request,
+                                                   v1::StartBinFillResponse* response) {
+  return RunBlockingUnary(ctx, context_.options.token, "StartBinFill", context_.call_workers, [=, this]() -> Status {
+    if (!request->has_spec()) return InvalidArgument("spec: required");
+    ASSIGN_OR_RETURN(service::BinFillPlan validated, ValidateBinFill(request->spec(), context_, request->validate_only()));
+    if (request->validate_only()) return Status::Ok();
+    const uint32_t max_queued = context_.options.limits.max_queued_jobs;
+    std::lock_guard admit(admit_mutex_);
+    if (runner_.queued() >= max_queued) {
+      return ResourceExhausted("spec: " + std::to_string(max_queued) + " jobs already wait to run; retry later");
+    }
+    const auto total = static_cast<uint32_t>(validated.parts_total());
+    ASSIGN_OR_RETURN(v1::Job job, tracker_.CreateBinFill(request->spec(), total));
+    const std::string job_id = job.job_id();
+    auto plan = std::make_shared<const service::BinFillPlan>(std::move(validated));
+    RETURN_IF_ERROR(Submit(job_id, [this, job_id, plan](jobs::JobControl& control) {
+      TrackedJobRecorder recorder(tracker_, job_id);
+      service::RunBinFill(context_, recorder, job_id, *plan, control);
+    }));
+    spdlog::info("job {}: bin fill of {} parts into scene {} queued", job_id, total, plan->request.scene_id);
+    *response->mutable_job() = std::move(job);
+    return Status::Ok();
   });
 }
 

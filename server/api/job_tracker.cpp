@@ -101,6 +101,10 @@ StatusOr<v1::Job> JobTracker::CreateModel(const v1::ModelSpec& spec, uint32_t st
   return Create("model", spec.name(), spec.SerializeAsString(), steps_total);
 }
 
+StatusOr<v1::Job> JobTracker::CreateBinFill(const v1::BinFillSpec& spec, uint32_t steps_total) {
+  return Create("bin_fill", spec.name(), spec.SerializeAsString(), steps_total);
+}
+
 StatusOr<v1::Job> JobTracker::Create(const std::string& kind, const std::string& name, std::string spec,
                                      uint32_t steps_total) {
   store::JobRecord record;

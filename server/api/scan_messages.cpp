@@ -40,6 +40,19 @@ void FillScanHeader(const ScanPlan& plan, uint64_t scene_revision, v1::ScanHeade
   header->set_rays(plan.camera.pixel_count());
 }
 
+void ObjectTruthToProto(const service::ObjectTruth& object, v1::ObjectTruth* out) {
+  out->set_object_id(object.object_id);
+  out->set_instance_id(object.instance_id);
+  out->set_mesh_id(object.mesh_id);
+  out->set_label(object.label);
+  out->set_scale(object.scale);
+  vscan::ToProto(object.world_from_object, out->mutable_world_from_object());
+  vscan::ToProto(object.sensor_from_object, out->mutable_sensor_from_object());
+  out->set_visible_points(object.visible_points);
+  out->set_unoccluded_points(object.unoccluded_points);
+  out->set_visible_fraction(object.visible_fraction);
+}
+
 void FillScanStatistics(const raycast::ScanStats& stats, const capture::MeasureStats& m, v1::ScanStatistics* s) {
   s->set_rays(stats.rays);
   s->set_points(stats.points);

@@ -6,6 +6,7 @@
 #include "api/scan_request.h"
 #include "capture/measure_scan.h"
 #include "raycast/scanner.h"
+#include "service/scan_ground_truth.h"
 #include "vscan/v1/scan.pb.h"
 
 namespace vscan::api {
@@ -15,6 +16,8 @@ namespace vscan::api {
 void FillScanHeader(const ScanPlan& plan, uint64_t scene_revision, v1::ScanHeader* header);
 
 // The cast's and the measurement model's figures; the caller adds what was streamed and total_ms.
+void ObjectTruthToProto(const service::ObjectTruth& object, v1::ObjectTruth* out);
+
 void FillScanStatistics(const raycast::ScanStats& stats, const capture::MeasureStats& measure,
                         v1::ScanStatistics* out);
 

@@ -81,6 +81,7 @@ StatusOr<ScanPlan> ParseScanRequest(const v1::ScanRequest& request, const servic
   plan.measurement.seed = request.seed();
 
   ASSIGN_OR_RETURN(plan.frame, FrameFromProto(request.frame()));
+  plan.ground_truth = request.ground_truth();
 
   if (request.chunk_bytes() != 0) {
     if (request.chunk_bytes() < kMinChunkBytes || request.chunk_bytes() > kMaxChunkBytes) {

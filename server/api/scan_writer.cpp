@@ -55,6 +55,7 @@ void ScanWriter::Finish(const service::ScanOutcome& outcome, double total_ms) {
   s->set_streamed_points(points);
   s->set_chunk_count(chunks);
   s->set_total_ms(total_ms);
+  for (const service::ObjectTruth& object : outcome.objects) ObjectTruthToProto(object, s->add_objects());
   outbox_.Push(std::move(message));
 }
 

@@ -54,6 +54,25 @@ StatusOr<store::MeshRecord> SceneRegistry::AddMesh(std::string_view file_bytes, 
   return stored;
 }
 
+StatusOr<store::Catalogue::AddedObjects> SceneRegistry::AddObjectsWithMesh(const std::string& scene_id,
+                                                                           const TriangleMesh& mesh,
+                                                                           const std::string& mesh_name,
+                                                                           std::vector<store::ObjectRecord> objects) {
+  // Pinned until the rows naming it are stored.
+  ASSIGN_OR_RETURN(const store::BlobPin pin, blobs_.PutPinned(geometry::EncodeMesh(mesh)));
+  store::MeshRecord record;
+  record.name = mesh_name;
+  record.sha256 = pin.sha256();
+  record.vertex_count = mesh.vertices.size();
+  record.triangle_count = mesh.triangles.size();
+  Eigen::Vector3f lo, hi;
+  mesh.Bounds(lo, hi);
+  record.bounds_min = lo.cast<double>();
+  record.bounds_max = hi.cast<double>();
+  record.source_unit = store::LengthUnit::kMetre;
+  return catalogue_.AddObjects(scene_id, std::move(objects), &record);
+}
+
 Status SceneRegistry::DeleteMesh(const std::string& mesh_id) {
   ASSIGN_OR_RETURN(auto deleted, catalogue_.DeleteMesh(mesh_id));
   const auto& [sha, unshared] = deleted;

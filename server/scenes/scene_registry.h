@@ -53,6 +53,11 @@ class SceneRegistry {
   // Parses, normalises to metres, stores the geometry blob durably, then records the mesh.
   StatusOr<store::MeshRecord> AddMesh(std::string_view file_bytes, const MeshUpload& upload);
   Status DeleteMesh(const std::string& mesh_id);
+  // Stores a mesh the server built (metres) and records it with objects in scene_id, in one
+  // transaction and one revision; objects with an empty mesh_id use the new mesh.
+  StatusOr<store::Catalogue::AddedObjects> AddObjectsWithMesh(const std::string& scene_id, const TriangleMesh& mesh,
+                                                              const std::string& mesh_name,
+                                                              std::vector<store::ObjectRecord> objects);
   StatusOr<std::shared_ptr<const TriangleMesh>> LoadMesh(const std::string& mesh_id);
 
   // Reads the scene and returns its Embree scene, built or from the cache.

@@ -39,6 +39,8 @@ struct ScanPlan {
   capture::MeasurementSpec measurement;
   // Set for robot-held scans; world_from_sensor is then the pose the arm reached.
   std::optional<RobotPlacement> robot;
+  // Each scene object in view with its true pose and visible fraction (the whole-cloud path).
+  bool ground_truth = false;
 };
 
 }  // namespace vscan::service

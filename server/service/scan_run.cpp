@@ -6,7 +6,8 @@
 namespace vscan::service {
 
 bool StreamsRows(const ScanPlan& plan, const ServerOptions& options) {
-  return plan.backend == ScanBackend::kRaycast && !plan.measurement.any() && !options.whole_cloud_scans;
+  return plan.backend == ScanBackend::kRaycast && !plan.measurement.any() && !plan.ground_truth &&
+         !options.whole_cloud_scans;
 }
 
 Status RunScan(ServiceContext& context, const ScanPlan& plan, const std::atomic<bool>* cancel, ScanConsumer& out,
@@ -22,8 +23,20 @@ Status RunScan(ServiceContext& context, const ScanPlan& plan, const std::atomic<
     options.cancel = cancel;
     return raycast::ScanRows(*target.raycast, plan.camera, plan.world_from_sensor, options, out, &outcome->stats);
   }
-  ASSIGN_OR_RETURN(const PointCloud cloud,
-                   RunScanBackend(plan, target, context.raster, cancel, &outcome->stats, &outcome->measure));
+  if (!plan.ground_truth) {
+    ASSIGN_OR_RETURN(const PointCloud cloud,
+                     RunScanBackend(plan, target, context.raster, cancel, &outcome->stats, &outcome->measure));
+    out.Begin(target.scene.revision, cloud.size());
+    return out.Cloud(cloud);
+  }
+  ScanPlan counted = plan;
+  counted.fields = FieldsForGroundTruth(plan.fields, plan.measurement.include_rejected);
+  counted.measurement.fields = counted.fields;
+  ASSIGN_OR_RETURN(PointCloud cloud,
+                   RunScanBackend(counted, target, context.raster, cancel, &outcome->stats, &outcome->measure));
+  ASSIGN_OR_RETURN(outcome->objects,
+                   ObjectGroundTruth(target, plan.camera, plan.world_from_sensor, cloud, cancel));
+  KeepFields(cloud, plan.fields);
   out.Begin(target.scene.revision, cloud.size());
   return out.Cloud(cloud);
 }

@@ -10,6 +10,7 @@
 #include "capture/measure_scan.h"
 #include "raycast/row_sink.h"
 #include "raycast/scanner.h"
+#include "service/scan_ground_truth.h"
 #include "service/scan_plan.h"
 #include "service/service_context.h"
 
@@ -29,6 +30,8 @@ struct ScanOutcome {
   raycast::ScanStats stats;       // rows cast, rays, points (filled as far as the scan got)
   capture::MeasureStats measure;  // all zero on the clean path
   bool streamed = false;
+  // With plan.ground_truth: the scene objects in view.
+  std::vector<ObjectTruth> objects;
 };
 
 // Whether plan's points can leave row by row as they are cast (the clean ray caster).

@@ -150,6 +150,28 @@ Status ObjectNotFound(const std::string& scene_id, const std::string& object_id)
   return NotFound("object_id", "no object '" + object_id + "' in scene '" + scene_id + "'");
 }
 
+Status InsertMeshRow(sqlite3* db, const MeshRecord& mesh) {
+  ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db, Sql("INSERT INTO meshes (", kMeshColumns,
+                                                           ") VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, "
+                                                           "?10, ?11, ?12, ?13, ?14)")));
+  s.Bind(1, mesh.mesh_id).Bind(2, mesh.name).Bind(3, mesh.sha256);
+  s.Bind(4, static_cast<int64_t>(mesh.vertex_count)).Bind(5, static_cast<int64_t>(mesh.triangle_count));
+  for (int i = 0; i < 3; ++i) {
+    s.Bind(6 + i, mesh.bounds_min[i]).Bind(9 + i, mesh.bounds_max[i]);
+  }
+  s.Bind(12, StoredCode(kLengthUnitCodes, mesh.source_unit)).Bind(13, mesh.source_scale).Bind(14, mesh.create_time_ms);
+  return s.Run();
+}
+
+Status InsertObjectRow(sqlite3* db, const ObjectRecord& object) {
+  ASSIGN_OR_RETURN(Statement insert, Statement::Prepare(db, Sql("INSERT INTO objects (", kObjectColumns,
+                                                                ") VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)")));
+  insert.Bind(1, object.object_id).Bind(2, object.scene_id).Bind(3, object.mesh_id).Bind(4, object.label);
+  insert.BindBlob(5, EncodePose(object.pose)).Bind(6, object.scale).Bind(7, int64_t{object.on_table});
+  insert.Bind(8, int64_t{object.instance_id});
+  return insert.Run();
+}
+
 // Bumps the scene's revision and update time; NOT_FOUND when the scene does not exist.
 StatusOr<uint64_t> BumpRevision(sqlite3* db, const std::string& scene_id) {
   ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db,
@@ -198,18 +220,7 @@ StatusOr<MeshRecord> Catalogue::InsertMesh(MeshRecord mesh) {
   std::lock_guard lock(mutex_);
   mesh.mesh_id = NewId("msh_");
   mesh.create_time_ms = NowMs();
-  RETURN_IF_ERROR(sqlite::InTransaction(db_, true, [&]() -> Status {
-    ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_, Sql("INSERT INTO meshes (", kMeshColumns,
-                                                              ") VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, "
-                                                              "?10, ?11, ?12, ?13, ?14)")));
-    s.Bind(1, mesh.mesh_id).Bind(2, mesh.name).Bind(3, mesh.sha256);
-    s.Bind(4, static_cast<int64_t>(mesh.vertex_count)).Bind(5, static_cast<int64_t>(mesh.triangle_count));
-    for (int i = 0; i < 3; ++i) {
-      s.Bind(6 + i, mesh.bounds_min[i]).Bind(9 + i, mesh.bounds_max[i]);
-    }
-    s.Bind(12, StoredCode(kLengthUnitCodes, mesh.source_unit)).Bind(13, mesh.source_scale).Bind(14, mesh.create_time_ms);
-    return s.Run();
-  }));
+  RETURN_IF_ERROR(sqlite::InTransaction(db_, true, [&]() -> Status { return InsertMeshRow(db_, mesh); }));
   return mesh;
 }
 
@@ -355,15 +366,49 @@ StatusOr<std::pair<ObjectRecord, uint64_t>> Catalogue::AddObject(ObjectRecord ob
     RETURN_IF_ERROR(scene.Run());
 
     RETURN_IF_ERROR(CheckPlacement(db_, object.mesh_id, object.pose, object.scale));
-
-    ASSIGN_OR_RETURN(Statement insert, Statement::Prepare(db_, Sql("INSERT INTO objects (", kObjectColumns,
-                                                                   ") VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)")));
-    insert.Bind(1, object.object_id).Bind(2, object.scene_id).Bind(3, object.mesh_id).Bind(4, object.label);
-    insert.BindBlob(5, EncodePose(object.pose)).Bind(6, object.scale).Bind(7, int64_t{object.on_table});
-    insert.Bind(8, int64_t{object.instance_id});
-    return insert.Run();
+    return InsertObjectRow(db_, object);
   }));
   return std::make_pair(std::move(object), revision);
+}
+
+StatusOr<Catalogue::AddedObjects> Catalogue::AddObjects(const std::string& scene_id, std::vector<ObjectRecord> objects,
+                                                        const MeshRecord* new_mesh) {
+  for (const ObjectRecord& object : objects) {
+    RETURN_IF_ERROR(CheckPose(object.pose));
+    RETURN_IF_ERROR(CheckScale(object.scale));
+  }
+  std::lock_guard lock(mutex_);
+  AddedObjects added;
+  RETURN_IF_ERROR(sqlite::InTransaction(db_, true, [&]() -> Status {
+    ASSIGN_OR_RETURN(Statement scene, Statement::Prepare(db_,
+                                                         "UPDATE scenes SET revision = revision + 1, "
+                                                         "next_instance_id = next_instance_id + ?1, update_time_ms = ?2 "
+                                                         "WHERE scene_id = ?3 RETURNING revision, next_instance_id - ?1"));
+    scene.Bind(1, static_cast<int64_t>(objects.size())).Bind(2, NowMs()).Bind(3, scene_id);
+    ASSIGN_OR_RETURN(bool found, scene.Step());
+    if (!found) return SceneNotFound(scene_id);
+    added.revision = static_cast<uint64_t>(scene.Int(0));
+    auto instance_id = static_cast<uint32_t>(scene.Int(1));
+    RETURN_IF_ERROR(scene.Run());
+    if (new_mesh) {
+      MeshRecord mesh = *new_mesh;
+      mesh.mesh_id = NewId("msh_");
+      mesh.create_time_ms = NowMs();
+      RETURN_IF_ERROR(InsertMeshRow(db_, mesh));
+      added.new_mesh_id = mesh.mesh_id;
+    }
+    for (ObjectRecord& object : objects) {
+      object.object_id = NewId("obj_");
+      object.scene_id = scene_id;
+      if (object.mesh_id.empty()) object.mesh_id = added.new_mesh_id;
+      object.instance_id = instance_id++;
+      RETURN_IF_ERROR(CheckPlacement(db_, object.mesh_id, object.pose, object.scale));
+      RETURN_IF_ERROR(InsertObjectRow(db_, object));
+    }
+    return Status::Ok();
+  }));
+  added.objects = std::move(objects);
+  return added;
 }
 
 StatusOr<std::pair<ObjectRecord, uint64_t>> Catalogue::MoveObject(const std::string& scene_id,

@@ -88,6 +88,17 @@ class Catalogue {
   // Objects. ids "obj_" + 16 hex; instance_id is the scene's next free number from 1.
   // NOT_FOUND for unknown scene or mesh (message names scene_id or mesh_id).
   StatusOr<std::pair<ObjectRecord, uint64_t>> AddObject(ObjectRecord object);
+  // Adds every object to scene_id in one transaction and one new revision (each object's
+  // scene_id is set). With new_mesh, that mesh is recorded in the same transaction (its id
+  // generated) and the objects with an empty mesh_id use it. Returns the objects as stored,
+  // the new mesh's id (empty without one) and the revision.
+  struct AddedObjects {
+    std::vector<ObjectRecord> objects;
+    std::string new_mesh_id;
+    uint64_t revision = 0;
+  };
+  StatusOr<AddedObjects> AddObjects(const std::string& scene_id, std::vector<ObjectRecord> objects,
+                                    const MeshRecord* new_mesh = nullptr);
   // Replaces pose and, when scale is set, the scale. Returns the object and new revision.
   StatusOr<std::pair<ObjectRecord, uint64_t>> MoveObject(const std::string& scene_id, const std::string& object_id,
                                                          const Eigen::Matrix4d& pose, std::optional<double> scale);

@@ -469,7 +469,7 @@ class CampaignTest(unittest.TestCase):
         self.assertCode(C.FAILED_PRECONDITION, lambda: start(tsdf), "spec.reconstruction.method")
         self.assertEqual(len(self.client.list_jobs()), before)
 
-        self.assertCode(C.UNIMPLEMENTED, lambda: jobs.StartBinFill(job_pb2.StartBinFillRequest()), "StartBinFill")
+        self.assertCode(C.INVALID_ARGUMENT, lambda: jobs.StartBinFill(job_pb2.StartBinFillRequest()), "spec")
         self.assertCode(C.INVALID_ARGUMENT, lambda: jobs.GetJob(job_pb2.GetJobRequest()), "job_id")
         self.assertCode(C.NOT_FOUND, lambda: jobs.GetJob(job_pb2.GetJobRequest(job_id="job_0000000000000000")),
                         "job_id")

@@ -40,9 +40,14 @@ class ServiceTest(ServerTestCase):
         for name in (b"vscan.v1.SceneService", b"vscan.v1.ScanService", b"vscan.v1.RobotService"):
             self.assertIn(name, reply)
 
-    def test_bin_fill_answers_unimplemented(self):
+    def test_bin_fill_is_served_and_checks_its_spec(self):
         jobs = job_pb2_grpc.JobServiceStub(self.channel)
-        self.assertCode(C.UNIMPLEMENTED, lambda: jobs.StartBinFill(job_pb2.StartBinFillRequest()), "StartBinFill")
+        self.assertCode(C.INVALID_ARGUMENT, lambda: jobs.StartBinFill(job_pb2.StartBinFillRequest()), "spec")
+        spec = job_pb2.BinFillSpec(scene_id="scn_0000000000000000")
+        spec.bin.inner_size.x, spec.bin.inner_size.y, spec.bin.inner_size.z = 0.3, 0.2, 0.1
+        spec.parts.add(mesh_id="msh_0000000000000000", count=1)
+        self.assertCode(C.NOT_FOUND, lambda: jobs.StartBinFill(job_pb2.StartBinFillRequest(spec=spec)),
+                        "spec.scene_id")
 
     def test_robot_service_is_served(self):
         robots = robot_pb2_grpc.RobotServiceStub(self.channel)

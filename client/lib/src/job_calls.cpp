@@ -46,6 +46,22 @@ Status Client::ValidateModel(const v1::ModelSpec& spec) {
   return UnaryCall(*this, *stub, &Stub::StartModel, request).status();
 }
 
+StatusOr<v1::Job> Client::StartBinFill(const v1::BinFillSpec& spec) {
+  auto stub = JobStub(*this);
+  v1::StartBinFillRequest request;
+  *request.mutable_spec() = spec;
+  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *stub, &Stub::StartBinFill, request));
+  return response.job();
+}
+
+Status Client::ValidateBinFill(const v1::BinFillSpec& spec) {
+  auto stub = JobStub(*this);
+  v1::StartBinFillRequest request;
+  *request.mutable_spec() = spec;
+  request.set_validate_only(true);
+  return UnaryCall(*this, *stub, &Stub::StartBinFill, request).status();
+}
+
 StatusOr<v1::Job> Client::GetJob(const std::string& job_id) {
   auto stub = JobStub(*this);
   v1::GetJobRequest request;

@@ -13,15 +13,19 @@
         for scan in c.watch_alignments(job.job_id):
             print(scan.index, scan.fitness)
         report = c.model_report(job.job_id)   # model.json as a dict
+        job, report = c.bin_fill(scene.scene_id, (0.3, 0.2, 0.15), [bin_part(mesh.mesh_id, 20)])
+        truth = c.scan(scene.scene_id, eye=(0, 0, 0.6), target=(0, 0, 0), up=(0, 1, 0),
+                       ground_truth=True).objects
 
 The generated stubs (vscan.v1) must be importable: set VSCAN_PY_STUBS to <build>/python.
 """
 
+from .bins import bin_fill_spec, bin_part
 from .client import Client
 from .clouds import CloudPoints, parse_ply
 from .errors import VscanError
 from .models import alignment_options, evaluation_options, model_spec, reconstruction_options
 from .scan_result import ScanResult
 
-__all__ = ["Client", "CloudPoints", "ScanResult", "VscanError", "alignment_options", "evaluation_options",
+__all__ = ["Client", "bin_fill_spec", "bin_part", "CloudPoints", "ScanResult", "VscanError", "alignment_options", "evaluation_options",
            "model_spec", "parse_ply", "reconstruction_options"]

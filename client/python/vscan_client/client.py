@@ -6,6 +6,7 @@ import grpc
 
 from . import convert
 from ._stubs import robot_pb2_grpc, scan_pb2, scan_pb2_grpc, scene_pb2, scene_pb2_grpc, sensor_pb2
+from .bins import BinCalls
 from .clouds import CloudCalls
 from .errors import VscanError, from_rpc_error
 from .jobs import JobCalls
@@ -40,7 +41,7 @@ def _decode_health_response(data):
     return "UNKNOWN"
 
 
-class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls):
+class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls, BinCalls):
     """Talks to one vscand. Failed calls raise VscanError.
 
     address: "host:port". token: bearer token sent with every call. root_cert: PEM file of the
@@ -202,7 +203,7 @@ class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls):
              near=0.05, far=10.0, fields=None, frame="world", intrinsics=None, pose_matrix=None,
              backend="raycast", seed=0, table_angle_deg=None, chunk_bytes=None, lighting=None, noise=None,
              preset=None, progress=None, mount_id=None, joints=None, encoder_noise=False,
-             include_rejected=False, normal_estimation=None, sensor=None):
+             include_rejected=False, normal_estimation=None, sensor=None, ground_truth=False):
         """Scans a scene and returns a ScanResult with numpy arrays.
 
         Place the camera with eye/target/up, a 4x4 world_from_sensor pose_matrix, or on a robot:
@@ -215,7 +216,8 @@ class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls):
         at their clean positions; normal_estimation is (k, max_distance) for "estimated_normal".
         sensor, a sensor_pb2.SensorSpec (e.g. a structured-light scanner), replaces preset and the
         camera arguments. progress(points, total) is called after each chunk (total 0: not known
-        until the scan ends, as for streamed ray-cast scans).
+        until the scan ends, as for streamed ray-cast scans). ground_truth fills result.objects:
+        each scene object in view with its true poses and visible fraction (ObjectTruth messages).
         """
         request = scan_pb2.ScanRequest(scene_id=scene_id, seed=int(seed), frame=convert.frame(frame),
                                        backend=convert.backend(backend))
@@ -257,6 +259,7 @@ class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls):
         if noise is not None:
             request.noise.CopyFrom(noise)
         request.include_rejected = bool(include_rejected)
+        request.ground_truth = bool(ground_truth)
         if normal_estimation is not None:
             k, max_distance = normal_estimation
             request.normal_estimation.k = int(k)

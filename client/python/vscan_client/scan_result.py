@@ -32,6 +32,11 @@ class ScanResult:
     def __len__(self):
         return int(self.positions.shape[0])
 
+    @property
+    def objects(self):
+        """With ground_truth: the scene objects in view (scan_pb2.ObjectTruth), by instance id."""
+        return list(self.stats.objects)
+
 
 # chunk attribute, header field, dtype, values per point
 _LAYOUT = (

@@ -104,6 +104,10 @@ class Client {
   StatusOr<v1::Job> StartModel(const v1::ModelSpec& spec);
   // StartModel with validate_only: the server's verdict on spec; nothing is started.
   Status ValidateModel(const v1::ModelSpec& spec);
+  // A bin fill: parts dropped into an open bin, then placed in the scene where they settled.
+  StatusOr<v1::Job> StartBinFill(const v1::BinFillSpec& spec);
+  // StartBinFill with validate_only: an empty scene_id is not looked up; mesh ids are.
+  Status ValidateBinFill(const v1::BinFillSpec& spec);
   StatusOr<v1::Job> GetJob(const std::string& job_id);
   // Every job, following page tokens.
   StatusOr<std::vector<v1::Job>> ListJobs();

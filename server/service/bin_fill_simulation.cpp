@@ -1,0 +1,23 @@
+#include "service/bin_fill_simulation.h"
+
+#include <chrono>
+
+#include "physics/bullet_fill_world.h"
+#include "physics/fill_loop.h"
+
+namespace vscan::service {
+
+physics::FillResult SimulateBinFill(const BinFillPlan& plan, const std::atomic<bool>* cancel,
+                                    ProgressFillWorld::Observer observer) {
+  const physics::BinSpec& bin = plan.request.bin;
+  const physics::FillOptions& options = plan.request.options;
+  const auto start = std::chrono::steady_clock::now();
+  ProgressFillWorld world(physics::MakeBulletFillWorld(bin, plan.geometry, options), options.time_step_s,
+                          options.sleep_linear_m_per_s, options.sleep_angular_rad_per_s, std::move(observer));
+  const double setup_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  physics::FillResult result = physics::RunFill(bin, plan.parts, plan.geometry, options, world, cancel);
+  result.setup_wall_s = setup_s;
+  return result;
+}
+
+}  // namespace vscan::service

@@ -1,0 +1,247 @@
+"""Bin fills against a real vscand: `vscan bin fill` of a small plan, `vscan bin scan` with ground truth,
+bad specs refused naming their field, and what a restart keeps."""
+
+import json
+import math
+import os
+import subprocess
+import tempfile
+import time
+import unittest
+
+import numpy as np
+
+from harness import DATA, VSCAN, Server
+from test_cli import read_ply
+
+import grpc  # noqa: E402
+from vscan.v1 import job_pb2, job_pb2_grpc, scene_pb2, scene_pb2_grpc  # noqa: E402
+from vscan_client import Client, VscanError, bin_part  # noqa: E402
+
+C = grpc.StatusCode
+
+PLAN = """\
+name: small-bin
+scene: bins-test
+bin:
+  inner_size: [0.20, 0.15, 0.10]
+  pose: {{xyz: [0.1, 0.0, 0.0], rpy_deg: [0, 0, 30]}}
+parts:
+  - mesh: {parts}/angle_block.STL
+    unit: in
+    count: {blocks}
+  - mesh: {parts}/round.stl
+    unit: in
+    scale: 0.05
+    count: {pins}
+seed: 3
+physics: {{max_simulated_s: {seconds}}}
+"""
+
+
+def write_plan(directory, name="plan.yaml", blocks=4, pins=4, seconds=20):
+    path = os.path.join(directory, name)
+    with open(path, "w") as f:
+        f.write(PLAN.format(parts=os.path.join(DATA, "parts"), blocks=blocks, pins=pins, seconds=seconds))
+    return path
+
+
+def vscan(server, *args, timeout=300):
+    return subprocess.run([VSCAN, "--server", server.address, *args], capture_output=True, text=True,
+                          timeout=timeout)
+
+
+def matrix(values):
+    return np.array(values, dtype=float).reshape(4, 4)
+
+
+class BinCliTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.server = Server().start()
+        cls.tmp = tempfile.TemporaryDirectory(prefix="vscan-bins-")
+        cls.plan = write_plan(cls.tmp.name)
+        cls.out_dir = os.path.join(cls.tmp.name, "fill")
+        cls.fill = vscan(cls.server, "--json", "bin", "fill", cls.plan, "-o", cls.out_dir)
+        cls.client = Client(cls.server.address)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.client.close()
+        cls.server.cleanup()
+        cls.tmp.cleanup()
+
+    def filled(self):
+        self.assertEqual(self.fill.returncode, 0, self.fill.stderr + self.server.log())
+        return json.loads(self.fill.stdout)
+
+    def test_fill_puts_the_bin_and_its_parts_into_the_scene(self):
+        out = self.filled()
+        self.assertEqual(out["job"]["state"], "JOB_STATE_SUCCEEDED")
+        with open(os.path.join(self.out_dir, "bin.json")) as f:
+            report = json.load(f)
+        self.assertEqual(report["parts"], out["bin"]["parts"])
+        self.assertEqual(report["end"], out["bin"]["end"])
+        self.assertTrue(report["applied"])
+        self.assertIn(report["end"], ("settled", "full", "time_bound"))
+        self.assertEqual(report["spawned"], 8)
+        self.assertEqual(report["in_bin"] + len(report["outside"]), 8)
+        self.assertEqual(report["seed"], 3)
+        self.assertEqual([t["source_unit"] for t in report["types"]], ["in", "in"])
+
+        scene = self.client.get_scene(out["sceneId"])
+        self.assertEqual(scene.name, "bins-test")
+        self.assertEqual(scene.revision, report["scene_revision"])
+        objects = {o.object_id: o for o in scene.objects}
+        self.assertEqual(len(objects), 1 + report["in_bin"])
+        bin_object = objects[report["bin"]["object_id"]]
+        self.assertEqual(bin_object.label, "small-bin")
+        self.assertEqual(bin_object.instance_id, report["bin"]["instance_id"])
+        for part in report["parts"]:
+            placed = objects[part["object_id"]]
+            self.assertEqual(placed.label, f"{part['name']}#{part['instance'] + 1}")
+            self.assertEqual(placed.instance_id, part["instance_id"])
+            np.testing.assert_allclose(matrix(placed.pose.matrix.values), matrix(part["world_from_part"]), atol=1e-9)
+        # The bin frame turns 30 degrees about z at x = 0.1, as the plan says.
+        world_from_bin = matrix(report["bin"]["world_from_bin"])
+        np.testing.assert_allclose(world_from_bin[:3, 3], [0.1, 0.0, 0.0], atol=1e-12)
+        self.assertAlmostEqual(math.degrees(math.atan2(world_from_bin[1, 0], world_from_bin[0, 0])), 30.0)
+        np.testing.assert_allclose(matrix(bin_object.pose.matrix.values), world_from_bin, atol=1e-12)
+
+    def test_scan_writes_instance_ids_that_match_the_ground_truth(self):
+        job_id = self.filled()["job"]["jobId"]
+        cloud = os.path.join(self.tmp.name, "scan.ply")
+        out = vscan(self.server, "bin", "scan", job_id, "-o", cloud)
+        self.assertEqual(out.returncode, 0, out.stderr + self.server.log())
+        with open(os.path.join(self.tmp.name, "scan.gt.json")) as f:
+            truth = json.load(f)
+        points = read_ply(cloud)
+        self.assertEqual(len(points["x"]), truth["points"])
+        by_instance = {o["instance_id"]: o for o in truth["objects"]}
+        ids, counts = np.unique(points["instance"], return_counts=True)
+        for instance, count in zip(ids, counts):
+            self.assertIn(int(instance), by_instance)
+            self.assertEqual(int(by_instance[int(instance)]["visible_points"]), int(count))
+        for o in truth["objects"]:
+            self.assertGreaterEqual(o["visible_fraction"], 0.0)
+            self.assertLessEqual(o["visible_fraction"], 1.0)
+            world = matrix(o["world_from_object"]["values"])
+            sensor = matrix(o["sensor_from_object"]["values"])
+            np.testing.assert_allclose(matrix(truth["world_from_sensor"]) @ sensor, world, atol=1e-5)
+        report = self.client.bin_report(job_id)
+        seen_parts = {o["object_id"] for o in truth["objects"]} - {report["bin"]["object_id"]}
+        self.assertTrue(seen_parts <= {p["object_id"] for p in report["parts"]})
+        self.assertGreater(len(seen_parts), 0)
+
+    def test_bad_specs_are_refused_naming_the_field_and_change_nothing(self):
+        scene_id = self.filled()["sceneId"]
+        before = self.client.get_scene(scene_id)
+        jobs_before = len(self.client.list_jobs())
+        mesh_id = self.client.bin_report(self.filled()["job"]["jobId"])["types"][0]["mesh_id"]
+        stub = job_pb2_grpc.JobServiceStub(self.server.channel())
+
+        def start(inner_size=(0.2, 0.15, 0.1), counts=(3,), mesh=mesh_id, validate_only=False):
+            spec = job_pb2.BinFillSpec(scene_id=scene_id)
+            spec.bin.inner_size.x, spec.bin.inner_size.y, spec.bin.inner_size.z = inner_size
+            for count in counts:
+                spec.parts.add(mesh_id=mesh, count=count)
+            return lambda: stub.StartBinFill(job_pb2.StartBinFillRequest(spec=spec, validate_only=validate_only))
+
+        cases = [
+            (start(inner_size=(math.nan, 0.15, 0.1)), C.INVALID_ARGUMENT, "spec.bin.inner_size"),
+            (start(inner_size=(1e19, 0.15, 0.1)), C.INVALID_ARGUMENT, "spec.bin.inner_size"),
+            (start(inner_size=(0.2, 1e-20, 0.1)), C.INVALID_ARGUMENT, "spec.bin.inner_size"),
+            (start(counts=(0,)), C.INVALID_ARGUMENT, "spec.parts[0].count"),
+            (start(counts=(300, 201)), C.INVALID_ARGUMENT, "spec.parts[1].count"),
+            (start(mesh="msh_0000000000000000"), C.NOT_FOUND, "spec.parts[0].mesh_id"),
+            (start(mesh="msh_0000000000000000", validate_only=True), C.NOT_FOUND, "spec.parts[0].mesh_id"),
+        ]
+        for call, code, field in cases:
+            with self.assertRaises(grpc.RpcError) as caught:
+                call()
+            self.assertEqual(caught.exception.code(), code, caught.exception.details())
+            self.assertTrue(caught.exception.details().startswith(field), caught.exception.details())
+        with self.assertRaises(VscanError) as caught:
+            self.client.start_bin_fill(scene_id, (0.2, 0.15, 0.1), [bin_part(mesh_id, 1, scale=1e-20)])
+        self.assertIn("spec.parts[0].scale", str(caught.exception))
+        self.assertEqual(self.client.get_scene(scene_id), before)
+        self.assertEqual(len(self.client.list_jobs()), jobs_before)
+        start(validate_only=True)()  # a good spec checks out and starts nothing
+        self.assertEqual(len(self.client.list_jobs()), jobs_before)
+
+    def test_parts_can_collide_as_their_convex_decomposition(self):
+        scene_id = self.filled()["sceneId"]
+        mesh_id = self.client.bin_report(self.filled()["job"]["jobId"])["types"][0]["mesh_id"]
+        job, report = self.client.bin_fill(scene_id, (0.12, 0.1, 0.08),
+                                           [bin_part(mesh_id, 4, collision="convex_decomposition")],
+                                           seed=5, max_simulated_s=20, bin_position=(1.0, 0.0, 0.0), timeout=240)
+        self.assertEqual(job.state, job_pb2.JOB_STATE_SUCCEEDED, self.server.log())
+        self.assertEqual(report["types"][0]["collision"], "convex_decomposition")
+        self.assertEqual(report["in_bin"], 4)
+        self.assertLess(report["max_part_part_penetration_m"], 0.002)
+        with self.assertRaises(ValueError):
+            bin_part(mesh_id, 1, collision="sphere")
+
+    def test_plan_errors_name_the_plan_line(self):
+        too_many = write_plan(self.tmp.name, "too_many.yaml", blocks=300, pins=300)
+        out = vscan(self.server, "bin", "fill", too_many)
+        self.assertEqual(out.returncode, 2, out.stderr)
+        self.assertIn("too_many.yaml:13: parts[1].count", out.stderr)
+        zero = write_plan(self.tmp.name, "zero.yaml", blocks=0)
+        out = vscan(self.server, "bin", "fill", zero)
+        self.assertEqual(out.returncode, 2, out.stderr)
+        self.assertIn("zero.yaml:9: parts[0].count", out.stderr)
+
+    def test_render_colours_a_scan_by_instance(self):
+        job_id = self.filled()["job"]["jobId"]
+        cloud = os.path.join(self.tmp.name, "render.ply")
+        self.assertEqual(vscan(self.server, "bin", "scan", job_id, "-o", cloud).returncode, 0)
+        png = os.path.join(self.tmp.name, "render.png")
+        out = vscan(self.server, "render", cloud, "-o", png, "--color", "instance")
+        self.assertEqual(out.returncode, 0, out.stderr)
+        with open(png, "rb") as f:
+            self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
+
+
+class BinRestartTest(unittest.TestCase):
+    def test_a_restart_keeps_a_finished_fill_and_interrupts_a_running_one(self):
+        server = Server().start()
+        tmp = tempfile.TemporaryDirectory(prefix="vscan-bins-restart-")
+        try:
+            out = vscan(server, "--json", "bin", "fill", write_plan(tmp.name), "-o", os.path.join(tmp.name, "a"))
+            self.assertEqual(out.returncode, 0, out.stderr + server.log())
+            done = json.loads(out.stdout)
+            with Client(server.address) as client:
+                scene_before = client.get_scene(done["sceneId"])
+                # A long fill into a scene of its own, killed once it has reported progress.
+                big = write_plan(tmp.name, "big.yaml", blocks=40, pins=40, seconds=300)
+                with open(big) as f:
+                    text = f.read().replace("scene: bins-test", "scene: bins-restart")
+                with open(big, "w") as f:
+                    f.write(text)
+                started = vscan(server, "--json", "bin", "fill", big, "--detach")
+                self.assertEqual(started.returncode, 0, started.stderr + server.log())
+                running = json.loads(started.stdout)
+                deadline = time.time() + 120
+                while "simulated" not in client.get_job(running["job"]["jobId"]).message:
+                    self.assertLess(time.time(), deadline, server.log())
+                    time.sleep(0.2)
+                busy_before = client.get_scene(running["sceneId"])
+            server.kill9()
+            server.start()
+            with Client(server.address) as client:
+                finished = client.get_job(done["job"]["jobId"])
+                self.assertEqual(finished.state, job_pb2.JOB_STATE_SUCCEEDED)
+                self.assertEqual(client.get_scene(done["sceneId"]), scene_before)
+                self.assertEqual(client.bin_report(finished.job_id)["scene_revision"], scene_before.revision)
+                stopped = client.get_job(running["job"]["jobId"])
+                self.assertEqual(stopped.state, job_pb2.JOB_STATE_INTERRUPTED)
+                self.assertEqual(client.get_scene(running["sceneId"]), busy_before)
+                self.assertEqual(len(busy_before.objects), 0)
+        finally:
+            server.cleanup()
+            tmp.cleanup()
+
+
+if __name__ == "__main__":
+    unittest.main()
