@@ -30,6 +30,9 @@ for p in "${PACKAGES[@]}"; do
   fi
 done
 if ! command -v npm >/dev/null 2>&1; then missing+=(npm); fi
+# kubectl renders deploy/kustomize in the tests; any kubectl will do, so an existing one is kept
+# (Debian's kubernetes-client would collide with it on /usr/bin/kubectl).
+if ! command -v kubectl >/dev/null 2>&1; then missing+=(kubernetes-client); fi
 
 if [ ${#missing[@]} -gt 0 ]; then
   echo "install-deps: installing ${#missing[@]} packages: ${missing[*]}"

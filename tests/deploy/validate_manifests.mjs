@@ -7,6 +7,7 @@ import assert from "node:assert/strict";
 import { readdirSync, readFileSync } from "node:fs";
 import { join } from "node:path";
 import { parseAllDocuments, parse } from "yaml";
+import { argAfter, expectRejected, validateAgainstSchema } from "./manifest_checks.mjs";
 
 function loadManifests(dir) {
   const manifests = [];
@@ -17,29 +18,6 @@ function loadManifests(dir) {
     }
   }
   return manifests;
-}
-
-// "batch/v1" -> kubernetes-models/batch/v1, "v1" -> kubernetes-models/v1.
-async function validateAgainstSchema({ file, object }) {
-  const models = await import(`kubernetes-models/${object.apiVersion}`);
-  const Model = models[object.kind];
-  if (Model === undefined) throw new Error(`${file}: no kind ${object.kind} in ${object.apiVersion}`);
-  new Model(object).validate();
-}
-
-async function expectRejected(object, what) {
-  try {
-    await validateAgainstSchema({ file: what, object });
-  } catch {
-    return;
-  }
-  throw new Error(`the schema accepted ${what}: validation is not running`);
-}
-
-function argAfter(args, flag) {
-  const at = args.indexOf(flag);
-  assert.ok(at >= 0 && at + 1 < args.length, `${flag} is missing from ${args.join(" ")}`);
-  return args[at + 1];
 }
 
 // Where a container sees the file or directory `path`: the volume mounted above it.
