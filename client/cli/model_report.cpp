@@ -228,6 +228,7 @@ std::string FormatScanAlignment(const v1::ScanAlignment& alignment) {
     line += ", rot err " + Format("%.3f", alignment.rotation_error_deg()) + " deg, trans err " +
             Mm(alignment.translation_error_m()) + " mm";
   }
+  if (alignment.union_points() > 0) line += ", union " + std::to_string(alignment.union_points()) + " points";
   return line;
 }
 

@@ -60,6 +60,7 @@ Status ToProto(const store::JobRecord& job, v1::Job* out) {
 void ToProto(const service::ScanAlignmentRecord& scan, v1::ScanAlignment* out) {
   out->set_cloud_id(scan.cloud_id);
   out->set_name(scan.name);
+  out->set_union_points(scan.union_points);
   out->set_index(scan.index);
   out->set_aligned(scan.aligned);
   out->set_reason(scan.reason);

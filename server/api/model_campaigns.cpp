@@ -18,6 +18,7 @@ StatusOr<service::CampaignRecord> CatalogueCampaignRecords::Get(const std::strin
   }
   record.scene_id = spec.scene_id();
   record.mount_id = spec.mount_id();
+  record.encoder_noise = spec.apply_encoder_noise();
   for (const store::ArtifactRecord& artifact : job.artifacts) {
     if (artifact.info.empty()) continue;
     v1::ScanArtifactInfo info;
@@ -30,6 +31,8 @@ StatusOr<service::CampaignRecord> CatalogueCampaignRecords::Get(const std::strin
       auto pose = PoseFromProto(info.commanded_sensor_pose(), "commanded_sensor_pose");
       if (pose.ok()) scan.commanded_world_from_sensor = *pose;
     }
+    const auto& joints = info.commanded_joint_positions();
+    scan.commanded_joints = Eigen::Map<const Eigen::VectorXd>(joints.data(), joints.size());
     record.scans.push_back(std::move(scan));
   }
   return record;

@@ -9,6 +9,7 @@
 #include "service/campaign_summary.h"
 #include "service/cloud_store.h"
 #include "service/model_run.h"
+#include "service/pose_prior.h"
 #include "vscan/common/cloud_io.h"
 
 namespace vscan::service {
@@ -175,6 +176,10 @@ class CampaignRun {
     model.commanded_world_from_sensor = record.arm.commanded_pose;
     const auto& scene = plan_.model->scene;
     if (scene && scene->table.enabled) model.table = scene->table;
+    if (auto mounted = context_.robots.Mount(plan_.mount_id); mounted.ok()) {
+      auto information = CommandedPoseInformation(*mounted, record.arm.commanded, plan_.apply_encoder_noise);
+      if (information.ok()) model.initial_information = *information;
+    }
     return model;
   }
 

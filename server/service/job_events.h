@@ -24,6 +24,8 @@ struct ScanAlignmentRecord {
   Pose3 model_from_sensor = Pose3::Identity();
   double fitness = 0;
   double inlier_rmse = 0;
+  // Points in the union (one per alignment voxel) once this scan was merged: the union growing.
+  uint64_t union_points = 0;
   // Against the true pose, when the server knows it.
   bool has_error = false;
   double rotation_error_deg = 0;

@@ -163,13 +163,17 @@ class ModelAligner::Impl {
     initial_[scan.index] = start;
     started_[scan.index] = true;
     ASSIGN_OR_RETURN(const registration::ViewAlignment view,
-                     aligner_->Add(registration::ViewScan{std::move(scan.points), start}, cancel_));
+                     aligner_->Add(registration::ViewScan{std::move(scan.points), start,
+                                                          scan.features ? std::nullopt : scan.initial_information},
+                                   cancel_));
+    any_prior_ = any_prior_ || (!scan.features && scan.initial_information);
     added_.push_back(scan.index);
     if (!anchored_ && view.aligned) {
       anchored_ = true;
       out_.in_model_frame = !scan.features;
     }
     Fill(record, view);
+    record.union_points = aligner_->UnionSize();
     if (out_.in_model_frame && out_.truth[scan.index]) {
       SetErrors(record, *out_.truth[scan.index], start, Pose3::Identity());
     }
@@ -190,7 +194,8 @@ class ModelAligner::Impl {
     if (views.size() != added_.size()) return Internal("alignment: the pose graph returned a different scan count");
     for (size_t k = 0; k < views.size(); ++k) Fill(out_.scans[added_[k]], views[k]);
     const double reach = Median(ranges_);
-    if (out_.in_model_frame) PlaceOnKnownPoses(reach);
+    // The pose graph already weighed the known poses by their firmness when it had them.
+    if (out_.in_model_frame && !(any_prior_ && settings_.pose_graph)) PlaceOnKnownPoses(reach);
     // Errors against the truth; a set in its own frame is first laid onto the truth as a whole.
     std::vector<Pose3> from, to;
     for (size_t i = 0; i < out_.scans.size(); ++i) {
@@ -258,6 +263,7 @@ class ModelAligner::Impl {
   bool anchored_ = false;
   bool any_known_ = false;
   bool any_features_ = false;
+  bool any_prior_ = false;  // some scan's initial pose came with its firmness
   size_t done_ = 0;
 };
 

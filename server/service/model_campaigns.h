@@ -7,6 +7,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "store/stored_enums.h"
 #include "vscan/common/pose.h"
 #include "vscan/common/status.h"
@@ -16,6 +18,7 @@ namespace vscan::service {
 struct CampaignScanRecord {
   std::string name;  // the artifact's (and the cloud's) name
   std::optional<Pose3> commanded_world_from_sensor;
+  Eigen::VectorXd commanded_joints;  // empty when not recorded
 };
 
 struct CampaignRecord {
@@ -24,6 +27,7 @@ struct CampaignRecord {
   store::JobState state = store::JobState::kQueued;
   std::string scene_id;
   std::string mount_id;
+  bool encoder_noise = false;  // the campaign applied the mount's encoder noise
   std::vector<CampaignScanRecord> scans;  // in the order they were captured
 };
 

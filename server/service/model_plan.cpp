@@ -5,6 +5,7 @@
 #include <map>
 #include <set>
 
+#include "service/pose_prior.h"
 #include "vscan/common/physical_limits.h"
 #include "vscan/common/point_cloud.h"
 
@@ -84,11 +85,19 @@ class CampaignCache {
   std::map<std::string, CampaignRecord> cache_;
 };
 
-std::optional<Pose3> CommandedPose(const CampaignRecord& campaign, const std::string& name) {
+// Where the campaign told the arm to put the sensor for this scan, and how firmly the arm knew it
+// (while its mount exists).
+void SetCommandedPose(ServiceContext& context, const CampaignRecord& campaign, ModelCloud& cloud) {
   for (const CampaignScanRecord& scan : campaign.scans) {
-    if (scan.name == name) return scan.commanded_world_from_sensor;
+    if (scan.name != cloud.record.name) continue;
+    cloud.commanded_world_from_sensor = scan.commanded_world_from_sensor;
+    if (!scan.commanded_world_from_sensor || scan.commanded_joints.size() == 0) return;
+    auto mounted = context.robots.Mount(campaign.mount_id);
+    if (!mounted.ok()) return;
+    auto information = CommandedPoseInformation(*mounted, scan.commanded_joints, campaign.encoder_noise);
+    if (information.ok()) cloud.initial_information = *information;
+    return;
   }
-  return std::nullopt;
 }
 
 StatusOr<std::vector<ModelCloud>> CloudsById(ServiceContext& context, CampaignCache& campaigns,
@@ -108,7 +117,7 @@ StatusOr<std::vector<ModelCloud>> CloudsById(ServiceContext& context, CampaignCa
     if (cloud.record.origin == store::CloudOrigin::kCampaignScan && !cloud.record.job_id.empty()) {
       auto campaign = campaigns.Get(cloud.record.job_id);
       if (campaign.ok()) {
-        cloud.commanded_world_from_sensor = CommandedPose(**campaign, cloud.record.name);
+        SetCommandedPose(context, **campaign, cloud);
       } else if (campaign.status().code() != StatusCode::kNotFound) {
         return campaign.status();
       }
@@ -149,8 +158,8 @@ StatusOr<std::vector<ModelCloud>> CampaignClouds(ServiceContext& context, Campai
   for (store::CloudRecord& record : records) {
     ModelCloud cloud;
     cloud.label = kField;
-    cloud.commanded_world_from_sensor = CommandedPose(campaign, record.name);
     cloud.record = std::move(record);
+    SetCommandedPose(context, campaign, cloud);
     clouds.push_back(std::move(cloud));
   }
   return clouds;

@@ -72,6 +72,9 @@ struct ModelCloud {
   std::optional<store::TableRecord> table;
   // Where the arm was told to put the sensor (world frame), for a campaign's scan.
   std::optional<Pose3> commanded_world_from_sensor;
+  // How firmly that pose is known (the arm's encoder noise), as information over its right
+  // perturbation (w, t); the pose graph weighs it.
+  std::optional<Eigen::Matrix<double, 6, 6>> initial_information;
 };
 
 struct ModelPlan {

@@ -59,6 +59,7 @@ ModelScan ModelScanFromPoints(const ModelPlan& plan, const ModelCloud& cloud, si
     scan.features = true;
   } else if (cloud.commanded_world_from_sensor) {
     scan.initial_model_from_sensor = model_from_world * *cloud.commanded_world_from_sensor;
+    scan.initial_information = cloud.initial_information;
   } else if (world_from_sensor) {
     scan.initial_model_from_sensor = model_from_world * *world_from_sensor;
   } else {

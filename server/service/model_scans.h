@@ -32,6 +32,8 @@ struct ModelScan {
   // The initial pose is unknown: alignment finds it from features.
   bool features = false;
   Pose3 initial_model_from_sensor = Pose3::Identity();
+  // How firmly the initial pose is known, when it is (ModelCloud::initial_information).
+  std::optional<Eigen::Matrix<double, 6, 6>> initial_information;
   std::optional<Pose3> true_model_from_sensor;
 };
 

@@ -91,6 +91,7 @@ struct GraphNodes {
 
 struct ScanRecord {
   Pose3 initial = Pose3::Identity();
+  std::optional<Matrix6d> prior;  // information of the initial pose
   ViewAlignment alignment;
   // Thinned, sensor frame; empty when there were too few.
   std::vector<Eigen::Vector3f> points;
@@ -187,8 +188,15 @@ StatusOr<ViewAlignment> MultiviewAligner::Add(ViewScan scan, const std::atomic<b
   if (!scan.initial_model_from_sensor.matrix().allFinite()) {
     return InvalidArgument("scan.initial_model_from_sensor", "must be finite");
   }
+  if (scan.initial_information) {
+    const Matrix6d& info = *scan.initial_information;
+    if (!info.allFinite() || !info.isApprox(info.transpose(), 1e-9) || info.diagonal().minCoeff() <= 0) {
+      return InvalidArgument("scan.initial_information", "must be finite, symmetric and positive on its diagonal");
+    }
+  }
   ScanRecord record;
   record.initial = scan.initial_model_from_sensor;
+  record.prior = scan.initial_information;
   record.alignment.model_from_sensor = record.initial;
   record.points = ThinToVoxelCentroids(scan.points, s.options.voxel_size);
   scan.points = {};
@@ -225,6 +233,8 @@ StatusOr<ViewAlignment> MultiviewAligner::Add(ViewScan scan, const std::atomic<b
 }
 
 std::vector<Eigen::Vector3f> MultiviewAligner::UnionPoints() const { return state_->merged.points(); }
+
+size_t MultiviewAligner::UnionSize() const { return state_->merged.size(); }
 
 size_t MultiviewAligner::size() const { return state_->scans.size(); }
 
@@ -326,10 +336,27 @@ Status MultiviewAligner::State::RunPoseGraph(const std::atomic<bool>* cancel) {
     if (!edge.ok()) return edge.status();
     if (*edge) edges.push_back(**edge);
   }
+  // Scans whose initial pose is known to some firmness hang from a fixed model-frame node by it;
+  // the graph then needs no anchor scan held where it started.
+  std::vector<Pose3> poses = g.poses;
+  size_t fixed = g.anchor;
+  const size_t model_node = poses.size();
+  for (size_t k = 0; k < g.scan.size(); ++k) {
+    const ScanRecord& scan = scans[g.scan[k]];
+    if (!scan.prior) continue;
+    PoseGraphEdge prior;
+    prior.from = model_node;
+    prior.to = k;
+    prior.measured = scan.initial;
+    prior.information = *scan.prior;
+    edges.push_back(prior);
+    fixed = model_node;
+  }
+  if (fixed == model_node) poses.push_back(Pose3::Identity());
   PoseGraphOptions graph_options;
   graph_options.cancel = cancel;
   ASSIGN_OR_RETURN(const PoseGraphResult graph,
-                   OptimizePoseGraph(g.poses, edges, std::span<const size_t>(&g.anchor, 1), graph_options));
+                   OptimizePoseGraph(std::move(poses), edges, std::span<const size_t>(&fixed, 1), graph_options));
   for (size_t k = 0; k < g.scan.size(); ++k) scans[g.scan[k]].alignment.model_from_sensor = graph.poses[k];
   merged.Clear();
   for (const ScanRecord& scan : scans) {

@@ -7,12 +7,14 @@
 #include <atomic>
 #include <cstddef>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "registration/point_to_plane_icp.h"
+#include "registration/pose_graph.h"
 #include "vscan/common/pose.h"
 #include "vscan/common/status.h"
 
@@ -47,6 +49,10 @@ struct MultiviewOptions {
 struct ViewScan {
   std::vector<Eigen::Vector3f> points;  // sensor frame; non-finite points are ignored
   Pose3 initial_model_from_sensor = Pose3::Identity();
+  // How firmly the initial pose is known, when it is (a robot's encoder noise): the information
+  // (inverse covariance) over its right perturbation (w, t), as PoseGraphEdge weighs errors. The
+  // pose graph then pulls the scan towards its initial pose as firmly, and no scan is held fixed.
+  std::optional<Matrix6d> initial_information;
 };
 
 // fitness, inlier_rmse and iterations are those of the scan's ICP against the union when it was
@@ -78,6 +84,8 @@ class MultiviewAligner {
   // The points aligned so far, thinned, in the model frame (e.g. for feature matching of a scan
   // whose pose is unknown).
   std::vector<Eigen::Vector3f> UnionPoints() const;
+  // How many points (one per voxel) the union holds now.
+  size_t UnionSize() const;
 
   // Tries once more each scan that was not aligned (against the whole union, which may now cover
   // it), runs the pose graph (when enabled) over the aligned scans, rebuilds the union at the final

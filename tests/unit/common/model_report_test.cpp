@@ -137,6 +137,10 @@ TEST(ModelReport, ScanAlignmentLine) {
   scan.set_translation_error_m(0.00008);
   EXPECT_EQ(FormatScanAlignment(scan),
             "scan 4 cld_x: fitness 0.912, rmse 0.210 mm, rot err 0.012 deg, trans err 0.080 mm");
+  scan.set_union_points(48213);
+  EXPECT_EQ(FormatScanAlignment(scan),
+            "scan 4 cld_x: fitness 0.912, rmse 0.210 mm, rot err 0.012 deg, trans err 0.080 mm, union 48213 points");
+  scan.clear_union_points();
   scan.set_aligned(false);
   scan.set_reason("no overlap with the scans aligned so far");
   EXPECT_EQ(FormatScanAlignment(scan), "scan 4 cld_x: NOT aligned: no overlap with the scans aligned so far");

@@ -67,6 +67,36 @@ TEST(GroundTruth, PlaneShiftedByTwiceTauScoresZero) {
   EXPECT_GE(e.completeness.median, 2 * kTau - 1e-6);
 }
 
+// Mean distance from a sphere of radius r to the same sphere shifted by d: the distance of the
+// point at cos(angle) = t from the shift is |sqrt(r^2 + d^2 - 2 r d t) - r|, t uniform on [-1, 1].
+double MeanDistanceToShiftedSphere(double r, double d) {
+  constexpr int kSteps = 200'000;
+  double sum = 0;
+  for (int i = 0; i < kSteps; ++i) {
+    const double t = -1.0 + (i + 0.5) * 2.0 / kSteps;
+    sum += std::abs(std::sqrt(r * r + d * d - 2 * r * d * t) - r);
+  }
+  return sum / kSteps;
+}
+
+TEST(GroundTruth, SphereShiftedByAKnownDistanceScoresTauOverTheShift) {
+  const TriangleMesh sphere = test::MakeIcosphere(Eigen::Vector3d::Zero(), kRadius, 5);
+  const GroundTruth truth = Prepare(sphere);
+  const double shift = 4 * kTau;
+  std::vector<Eigen::Vector3f> points = SampleSurface(sphere, 400'000, 7);
+  for (auto& p : points) p.x() += static_cast<float>(shift);
+  const Evaluation e = truth.EvaluatePoints(points);
+  // |distance| <= tau on a band of the sphere whose share of its area is exactly tau / shift, both
+  // ways: precision = recall = F = 1/4.
+  EXPECT_NEAR(e.precision, kTau / shift, 0.01);
+  EXPECT_NEAR(e.recall, kTau / shift, 0.01);
+  EXPECT_NEAR(e.f_score, kTau / shift, 0.01);
+  const double mean = MeanDistanceToShiftedSphere(kRadius, shift);
+  EXPECT_NEAR(e.accuracy.mean, mean, 0.02 * mean);
+  EXPECT_NEAR(e.completeness.mean, mean, 0.02 * mean);
+  EXPECT_NEAR(e.chamfer, mean, 0.02 * mean);
+}
+
 TEST(GroundTruth, HalfASphereHasHalfTheRecallAndFullPrecision) {
   const TriangleMesh sphere = test::MakeIcosphere(Eigen::Vector3d::Zero(), kRadius, 4);
   const GroundTruth truth = Prepare(sphere);

@@ -60,7 +60,7 @@ StatusOr<std::string> StoredJob::RecordArtifact(const std::string& name, const s
   ASSIGN_OR_RETURN(const store::ArtifactRecord stored,
                    world_.jobs().AddArtifact(artifact, Progress(update), row ? &*row : nullptr));
   artifacts[name] = bytes;
-  if (scan) scans.push_back({name, scan->arm.commanded_pose});
+  if (scan) scans.push_back({name, scan->arm.commanded_pose, scan->arm.commanded});
   return stored.artifact_id;
 }
 
@@ -152,6 +152,7 @@ std::unique_ptr<StoredJob> ModelWorld::RunCampaignJob(const CampaignPlan& plan, 
   record.kind = "campaign";
   record.scene_id = plan.scene_id;
   record.mount_id = plan.mount_id;
+  record.encoder_noise = plan.apply_encoder_noise;
   record.scans = job->scans;
   campaigns.Add(record);
   return job;

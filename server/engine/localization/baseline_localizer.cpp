@@ -1,0 +1,357 @@
+#include "localization/baseline_localizer.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <memory>
+#include <numbers>
+#include <optional>
+#include <string>
+#include <utility>
+
+#include "localization/model_samples.h"
+#include "localization/ppf_voting.h"
+#include "localization/support_plane.h"
+#include "normals/normal_estimation.h"
+#include "registration/point_to_plane_icp.h"
+#include "registration/voxel_thinning.h"
+#include "spatial/kd_tree.h"
+
+namespace vscan::localization {
+namespace {
+
+// Fewer remaining scan points than this cannot hold another instance worth a search.
+constexpr size_t kMinSearchPoints = 100;
+// Parts are compared at this many voxels across their bounding box's diagonal by default.
+constexpr double kVoxelsPerDiagonal = 50;
+// ... and at least this many across its middle extent, so that a long thin part (a rod) is not
+// reduced to a line.
+constexpr double kVoxelsPerMiddleExtent = 10;
+// A voted pose is within about one bin of the truth; ICP pairs points up to two bins apart.
+constexpr double kIcpReachInPpfSteps = 2;
+// Votes for poses within this many PPF steps and angle steps are pooled.
+constexpr double kClusterDistanceInSteps = 2;
+constexpr double kClusterAngleInSteps = 2.5;
+constexpr uint64_t kSeed = 1;
+// Candidates refined and checked per search, best-voted first, before the search gives up.
+constexpr size_t kCandidatesTried = 5;
+// A candidate with more of its surface than this on a found instance's is that instance again.
+constexpr double kMaxSharedSurface = 0.3;
+// Searches that only clear leftovers of found instances are bounded by this many per instance.
+constexpr size_t kSearchesPerInstance = 3;
+
+bool Positive(double v) { return std::isfinite(v) && v > 0; }
+
+Status Validate(const LocalizerOptions& o, size_t points, size_t normals) {
+  if (normals != 0 && normals != points) {
+    return InvalidArgument("scan_normals", "must be empty or one per point, got " + std::to_string(normals) +
+                                               " for " + std::to_string(points) + " points");
+  }
+  if (!(std::isfinite(o.voxel_size) && o.voxel_size >= 0)) {
+    return InvalidArgument("localizer.voxel_size", "must be >= 0");
+  }
+  if (o.model_samples < 1000) return InvalidArgument("localizer.model_samples", "must be >= 1000");
+  if (!(Positive(o.ppf_step_voxels) && o.ppf_step_voxels >= 1)) {
+    return InvalidArgument("localizer.ppf_step_voxels", "must be >= 1");
+  }
+  if (!(o.ppf_angle_step_deg >= 1 && o.ppf_angle_step_deg <= 45)) {
+    return InvalidArgument("localizer.ppf_angle_step_deg", "must be in [1, 45]");
+  }
+  if (o.scene_reference_stride < 1) return InvalidArgument("localizer.scene_reference_stride", "must be >= 1");
+  if (!Positive(o.plane_distance_voxels)) return InvalidArgument("localizer.plane_distance_voxels", "must be > 0");
+  if (!(o.min_plane_share > 0 && o.min_plane_share <= 1)) {
+    return InvalidArgument("localizer.min_plane_share", "must be in (0, 1]");
+  }
+  if (!Positive(o.explained_distance_voxels)) {
+    return InvalidArgument("localizer.explained_distance_voxels", "must be > 0");
+  }
+  if (!(o.max_normal_angle_deg > 0 && o.max_normal_angle_deg <= 180)) {
+    return InvalidArgument("localizer.max_normal_angle_deg", "must be in (0, 180]");
+  }
+  if (!Positive(o.inlier_distance_voxels)) return InvalidArgument("localizer.inlier_distance_voxels", "must be > 0");
+  if (!(o.min_score >= 0 && o.min_score <= 1)) return InvalidArgument("localizer.min_score", "must be in [0, 1]");
+  if (o.max_instances < 1) return InvalidArgument("localizer.max_instances", "must be >= 1");
+  if (!o.viewpoint.allFinite()) return InvalidArgument("localizer.viewpoint", "must be finite");
+  return Status::Ok();
+}
+
+bool IsCancelled(const std::atomic<bool>* cancel) {
+  return cancel != nullptr && cancel->load(std::memory_order_relaxed);
+}
+
+struct OrientedPoints {
+  std::vector<Eigen::Vector3f> points;
+  std::vector<Eigen::Vector3f> normals;
+};
+
+// The voxel centroids, each with the normal of its nearest original point.
+OrientedPoints Thin(const OrientedPoints& cloud, double voxel) {
+  OrientedPoints thin;
+  thin.points = registration::ThinToVoxelCentroids(cloud.points, voxel);
+  const spatial::KdTree tree(cloud.points);
+  std::array<spatial::Neighbor, 1> nearest{};
+  thin.normals.reserve(thin.points.size());
+  for (const auto& p : thin.points) {
+    tree.Knn(p, std::numeric_limits<float>::infinity(), nearest);
+    thin.normals.push_back(cloud.normals[tree.original_index(nearest[0].slot)]);
+  }
+  return thin;
+}
+
+// Keeps the points (and their normals) not marked.
+void RemoveMarked(const std::vector<bool>& marked, OrientedPoints& cloud) {
+  size_t kept = 0;
+  for (size_t i = 0; i < cloud.points.size(); ++i) {
+    if (marked[i]) continue;
+    cloud.points[kept] = cloud.points[i];
+    cloud.normals[kept] = cloud.normals[i];
+    ++kept;
+  }
+  cloud.points.resize(kept);
+  cloud.normals.resize(kept);
+}
+
+// The scan with a unit normal per point facing the sensor: its own, or estimated and turned
+// towards the viewpoint (points without a normal are dropped).
+StatusOr<OrientedPoints> WithNormals(std::span<const Eigen::Vector3f> points, std::span<const Eigen::Vector3f> normals,
+                                     double voxel, const LocalizerOptions& options,
+                                     const std::atomic<bool>* cancel) {
+  OrientedPoints scan;
+  if (!normals.empty()) {
+    for (size_t i = 0; i < points.size(); ++i) {
+      if (!points[i].allFinite() || !normals[i].allFinite()) continue;
+      scan.points.push_back(points[i]);
+      scan.normals.push_back(normals[i].normalized());
+    }
+    return scan;
+  }
+  normals::NormalOptions normal_options;
+  normal_options.max_distance = static_cast<float>(3 * voxel);
+  normal_options.viewpoint = options.viewpoint.cast<float>();
+  normal_options.cancel = cancel;
+  ASSIGN_OR_RETURN(const std::vector<Eigen::Vector3f> estimated, normals::EstimateNormals(points, normal_options));
+  for (size_t i = 0; i < points.size(); ++i) {
+    if (!points[i].allFinite() || !estimated[i].allFinite()) continue;
+    scan.points.push_back(points[i]);
+    scan.normals.push_back(estimated[i]);
+  }
+  return scan;
+}
+
+// Marks the points near the part placed by world_from_part and, with max_normal_cos > -1, facing
+// the same way as its surface there.
+std::vector<bool> NearPart(const OrientedPoints& model, const Pose3& world_from_part, const OrientedPoints& scan,
+                           double distance, double min_cos) {
+  std::vector<Eigen::Vector3f> placed(model.points.size());
+  for (size_t i = 0; i < placed.size(); ++i) {
+    placed[i] = (world_from_part * model.points[i].cast<double>()).cast<float>();
+  }
+  const spatial::KdTree tree(placed);
+  const Eigen::Matrix3f rotation = world_from_part.linear().cast<float>();
+  const auto max_sq = static_cast<float>(distance * distance);
+  std::array<spatial::Neighbor, 1> nearest{};
+  std::vector<bool> near(scan.points.size(), false);
+  for (size_t i = 0; i < scan.points.size(); ++i) {
+    if (tree.Knn(scan.points[i], max_sq, nearest) == 0) continue;
+    const Eigen::Vector3f part_normal = rotation * model.normals[tree.original_index(nearest[0].slot)];
+    near[i] = part_normal.dot(scan.normals[i]) >= min_cos;
+  }
+  return near;
+}
+
+// The share of the part's samples, placed, with a point of `cloud` within distance.
+double InlierShare(const OrientedPoints& model, const Pose3& pose, const spatial::KdTree& cloud, double distance) {
+  const auto max_sq = static_cast<float>(distance * distance);
+  std::array<spatial::Neighbor, 1> nearest{};
+  size_t inliers = 0;
+  for (const auto& p : model.points) {
+    if (cloud.Knn((pose * p.cast<double>()).cast<float>(), max_sq, nearest) == 1) ++inliers;
+  }
+  return static_cast<double>(inliers) / static_cast<double>(model.points.size());
+}
+
+// The share of the part's samples, placed, with a scan point within distance whose normal is
+// within acos(min_cos) of the part's there: the verification score.
+double ExplainedShare(const OrientedPoints& model, const Pose3& pose, const OrientedPoints& scan,
+                      const spatial::KdTree& scan_tree, double distance, double min_cos) {
+  const auto max_sq = static_cast<float>(distance * distance);
+  const Eigen::Matrix3f rotation = pose.linear().cast<float>();
+  std::array<spatial::Neighbor, 1> nearest{};
+  size_t inliers = 0;
+  for (size_t i = 0; i < model.points.size(); ++i) {
+    if (scan_tree.Knn((pose * model.points[i].cast<double>()).cast<float>(), max_sq, nearest) == 0) continue;
+    const Eigen::Vector3f& scan_normal = scan.normals[scan_tree.original_index(nearest[0].slot)];
+    if ((rotation * model.normals[i]).dot(scan_normal) >= min_cos) ++inliers;
+  }
+  return static_cast<double>(inliers) / static_cast<double>(model.points.size());
+}
+
+// Point-to-plane ICP of the scan points within reach of the part placed at `start` onto the part's
+// surface.
+StatusOr<Pose3> Refine(const OrientedPoints& model, const OrientedPoints& scan, const Pose3& start, double reach) {
+  const std::vector<bool> near = NearPart(model, start, scan, reach, -1);
+  OrientedPoints source;
+  for (size_t i = 0; i < near.size(); ++i) {
+    if (!near[i]) continue;
+    source.points.push_back(scan.points[i]);
+    source.normals.push_back(scan.normals[i]);
+  }
+  registration::IcpOptions icp;
+  icp.max_correspondence_distance = reach;
+  if (source.points.size() < icp.min_correspondences) return start;
+  ASSIGN_OR_RETURN(const registration::IcpResult fit,
+                   registration::PointToPlaneIcp(source.points, model.points, model.normals, start.inverse(), icp,
+                                                 source.normals));
+  // A degenerate stop keeps the pose reached so far: the directions the view leaves free (a face
+  // seen alone can slide within itself) stay as voted, the others are refined.
+  return fit.stop == registration::IcpStop::kTooFewCorrespondences ? start : fit.target_from_source.inverse();
+}
+
+// A wide pass from the voted pose, then a tight one that leaves out the scan points of neighbours
+// the wide pass may have drawn in.
+StatusOr<Pose3> RefineVoted(const OrientedPoints& model, const OrientedPoints& scan, const Pose3& voted,
+                            double wide_reach, double tight_reach) {
+  ASSIGN_OR_RETURN(const Pose3 coarse, Refine(model, scan, voted, wide_reach));
+  return Refine(model, scan, coarse, tight_reach);
+}
+
+// The surface of the instances accepted so far, for telling a new candidate from one of them.
+class AcceptedSurface {
+ public:
+  void Add(const OrientedPoints& model, const Pose3& world_from_part) {
+    for (const auto& p : model.points) points_.push_back((world_from_part * p.cast<double>()).cast<float>());
+    tree_ = std::make_unique<spatial::KdTree>(points_);
+  }
+
+  // The share of the model's points, placed, within distance of an accepted instance's surface.
+  double SharedShare(const OrientedPoints& model, const Pose3& world_from_part, double distance) const {
+    if (!tree_) return 0;
+    return InlierShare(model, world_from_part, *tree_, distance);
+  }
+
+ private:
+  std::vector<Eigen::Vector3f> points_;
+  std::unique_ptr<spatial::KdTree> tree_;
+};
+
+double DefaultVoxel(const TriangleMesh& part) {
+  Eigen::Vector3f lo, hi;
+  part.Bounds(lo, hi);
+  Eigen::Vector3f extents = hi - lo;
+  std::sort(extents.data(), extents.data() + 3);
+  return std::min(static_cast<double>(extents.norm()) / kVoxelsPerDiagonal,
+                  static_cast<double>(extents[1]) / kVoxelsPerMiddleExtent);
+}
+
+}  // namespace
+
+StatusOr<LocalizationResult> LocalizeInstances(const TriangleMesh& part, std::span<const Eigen::Vector3f> scan_points,
+                                               std::span<const Eigen::Vector3f> scan_normals,
+                                               const LocalizerOptions& options, const std::atomic<bool>* cancel) {
+  RETURN_IF_ERROR(Validate(options, scan_points.size(), scan_normals.size()));
+  const ModelSamples samples = SampleModel(part, options.model_samples, kSeed);
+  if (samples.points.empty()) return InvalidArgument("part", "has no surface");
+  if (IsCancelled(cancel)) return Cancelled("localization cancelled");
+
+  LocalizationResult result;
+  const double voxel = options.voxel_size > 0 ? options.voxel_size : DefaultVoxel(part);
+  result.voxel_size = voxel;
+  const double ppf_step = options.ppf_step_voxels * voxel;
+  const OrientedPoints all_samples{samples.points, samples.normals};
+  const OrientedPoints model = Thin(all_samples, voxel);
+  const OrientedPoints ppf_model_points = Thin(all_samples, ppf_step);
+  PpfSettings settings;
+  settings.distance_step = ppf_step;
+  settings.angle_step_rad = options.ppf_angle_step_deg * std::numbers::pi / 180;
+  settings.scene_reference_stride = options.scene_reference_stride;
+  settings.cluster_distance = kClusterDistanceInSteps * ppf_step;
+  settings.cluster_angle_rad = kClusterAngleInSteps * settings.angle_step_rad;
+  const PpfModel ppf(ppf_model_points.points, ppf_model_points.normals, settings);
+
+
+  ASSIGN_OR_RETURN(OrientedPoints scan, WithNormals(scan_points, scan_normals, voxel, options, cancel));
+  if (options.remove_support_plane) {
+    const double distance = options.plane_distance_voxels * voxel;
+    if (auto plane = FindDominantPlane(scan.points, distance, options.min_plane_share, kSeed)) {
+      std::vector<bool> on_plane(scan.points.size());
+      for (size_t i = 0; i < scan.points.size(); ++i) on_plane[i] = plane->Distance(scan.points[i]) <= distance;
+      RemoveMarked(on_plane, scan);
+      result.support_plane_points = plane->inliers;
+    }
+  }
+
+  // Instances are verified against every scan point but the plate's, whichever instance they are
+  // removed with.
+  const OrientedPoints parts_scan = scan;
+  const spatial::KdTree parts_tree(parts_scan.points);
+  const double min_cos = std::cos(options.max_normal_angle_deg * std::numbers::pi / 180);
+  const double explained_distance = options.explained_distance_voxels * voxel;
+  AcceptedSurface accepted_surface;
+  for (size_t search = 0;; ++search) {
+    if (IsCancelled(cancel)) return Cancelled("localization cancelled");
+    if (result.instances.size() >= options.max_instances) {
+      result.stop_reason = "max_instances reached";
+      break;
+    }
+    if (scan.points.size() < kMinSearchPoints) {
+      result.stop_reason = "too few scan points left";
+      break;
+    }
+    if (search >= kSearchesPerInstance * options.max_instances) {
+      result.stop_reason = "search limit reached";
+      break;
+    }
+    const OrientedPoints scene = Thin(scan, ppf_step);
+    const std::vector<PoseCandidate> candidates = ppf.Vote(scene.points, scene.normals, cancel);
+    if (IsCancelled(cancel)) return Cancelled("localization cancelled");
+    std::optional<LocalizedInstance> accepted;
+    bool absorbed = false;
+    std::vector<bool> explained;
+    std::string rejected;
+    for (size_t c = 0; c < candidates.size() && c < kCandidatesTried && !accepted && !absorbed; ++c) {
+      ASSIGN_OR_RETURN(const Pose3 refined, RefineVoted(all_samples, scan, candidates[c].scene_from_part,
+                                                        kIcpReachInPpfSteps * ppf_step, explained_distance));
+      LocalizedInstance instance;
+      instance.world_from_part = refined;
+      explained = NearPart(all_samples, refined, scan, explained_distance, min_cos);
+      for (const bool e : explained) instance.explained_points += e ? 1 : 0;
+      if (accepted_surface.SharedShare(model, refined, explained_distance) > kMaxSharedSurface) {
+        // A found instance again, on scan points its removal left behind: they are its, not new.
+        absorbed = instance.explained_points > 0;
+        continue;
+      }
+      instance.score = ExplainedShare(model, refined, parts_scan, parts_tree, options.inlier_distance_voxels * voxel,
+                                      min_cos);
+      if (instance.explained_points >= options.min_explained_points && instance.score >= options.min_score) {
+        accepted = instance;
+      } else if (rejected.empty()) {
+        rejected = "the best candidate explains " + std::to_string(instance.explained_points) +
+                   " points with score " + std::to_string(instance.score);
+      }
+    }
+    if (absorbed) {
+      RemoveMarked(explained, scan);
+      continue;
+    }
+    if (!accepted) {
+      result.stop_reason = candidates.empty() ? "no pose candidates"
+                           : rejected.empty() ? "every candidate repeats a found instance"
+                                              : rejected;
+      break;
+    }
+    RemoveMarked(explained, scan);
+    accepted_surface.Add(model, accepted->world_from_part);
+    result.instances.push_back(*accepted);
+  }
+  return result;
+}
+
+StatusOr<LocalizationResult> LocalizeInstances(const TriangleMesh& part, const PointCloud& scan,
+                                               const LocalizerOptions& options, const std::atomic<bool>* cancel) {
+  const std::span<const Eigen::Vector3f> normals =
+      scan.Has(kFieldNormal) ? std::span<const Eigen::Vector3f>(scan.normals) : std::span<const Eigen::Vector3f>();
+  return LocalizeInstances(part, scan.positions, normals, options, cancel);
+}
+
+}  // namespace vscan::localization

@@ -1,0 +1,84 @@
+#pragma once
+// A baseline localizer: finds instances of one part in a scan one after another. The plate the
+// parts stand on is removed; then, repeatedly, point-pair-feature voting (ppf_voting.h) proposes
+// the best-voted pose among the scan points not yet explained, point-to-plane ICP refines it, and
+// the scan points the placed part explains are removed. Method, defaults and limits:
+// docs/LOCALIZATION.md.
+
+#include <atomic>
+#include <cstddef>
+#include <span>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "vscan/common/mesh.h"
+#include "vscan/common/point_cloud.h"
+#include "vscan/common/pose.h"
+#include "vscan/common/status.h"
+
+namespace vscan::localization {
+
+struct LocalizerOptions {
+  // The fine length (metres) the other lengths are counted in; 0 picks the diagonal of the part's
+  // bounding box / 50, or its middle extent / 10 when that is smaller (a long thin part).
+  double voxel_size = 0;
+  // Points sampled on the part's surface (with its outward normals).
+  size_t model_samples = 20000;
+  // Point-pair features: both clouds are thinned to this edge (in voxels; 2.5 is 5% of the
+  // diagonal, Drost et al.'s choice), which also bins the pair distances; angles are binned by
+  // ppf_angle_step_deg; every scene_reference_stride-th thinned scan point votes.
+  double ppf_step_voxels = 2.5;
+  double ppf_angle_step_deg = 12;
+  unsigned scene_reference_stride = 5;
+  // Before the search, the points within plane_distance_voxels of the dominant plane are removed
+  // when that plane holds at least min_plane_share of the scan: the plate the parts stand on.
+  bool remove_support_plane = true;
+  double plane_distance_voxels = 1.5;
+  double min_plane_share = 0.3;
+  // Scan points within this distance of the placed part (and, when the scan has normals, with a
+  // normal within max_normal_angle_deg of the part's there) are explained by it and removed.
+  double explained_distance_voxels = 2;
+  double max_normal_angle_deg = 60;
+  // The score of an instance: the share of the part's samples, placed, with a scan point (the
+  // plate's left out) within this distance whose normal is within max_normal_angle_deg of the
+  // part's there. A scan sees one side, so about half is the most a single view gives.
+  double inlier_distance_voxels = 1.5;
+  // An instance must explain at least this many scan points and score at least min_score, or the
+  // search stops.
+  size_t min_explained_points = 100;
+  double min_score = 0.15;
+  size_t max_instances = 10;
+  // Only for a scan without normals: estimated normals are turned towards this point (the
+  // sensor's position; the origin for a scan in the sensor frame).
+  Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();
+};
+
+struct LocalizedInstance {
+  Pose3 world_from_part = Pose3::Identity();
+  double score = 0;  // see LocalizerOptions::inlier_distance_voxels
+  size_t explained_points = 0;
+};
+
+struct LocalizationResult {
+  std::vector<LocalizedInstance> instances;  // in the order found
+  double voxel_size = 0;                     // the one used
+  size_t support_plane_points = 0;           // removed as the plate's
+  std::string stop_reason;                   // why the search ended
+};
+
+// scan_points in the world frame; scan_normals empty or one per point, facing the sensor.
+// InvalidArgument for a part without area, normals of the wrong count or options out of range
+// (naming "localizer.<option>"); Cancelled when cancel turns true (polled between searches).
+StatusOr<LocalizationResult> LocalizeInstances(const TriangleMesh& part, std::span<const Eigen::Vector3f> scan_points,
+                                               std::span<const Eigen::Vector3f> scan_normals,
+                                               const LocalizerOptions& options = {},
+                                               const std::atomic<bool>* cancel = nullptr);
+
+// The same on a scan cloud: its positions, and its normals when it has them.
+StatusOr<LocalizationResult> LocalizeInstances(const TriangleMesh& part, const PointCloud& scan,
+                                               const LocalizerOptions& options = {},
+                                               const std::atomic<bool>* cancel = nullptr);
+
+}  // namespace vscan::localization

@@ -1,0 +1,75 @@
+#include "localization/pose_errors.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_reduce.h>
+
+#include "spatial/kd_tree.h"
+
+namespace vscan::localization {
+namespace {
+
+Eigen::Vector3d Placed(const Pose3& pose, const Eigen::Vector3f& v) { return pose * v.cast<double>(); }
+
+}  // namespace
+
+double Diameter(std::span<const Eigen::Vector3f> vertices) {
+  const size_t n = vertices.size();
+  const double max_sq = tbb::parallel_reduce(
+      tbb::blocked_range<size_t>(0, n), 0.0,
+      [&](const tbb::blocked_range<size_t>& rows, double best) {
+        for (size_t i = rows.begin(); i != rows.end(); ++i) {
+          const Eigen::Vector3d a = vertices[i].cast<double>();
+          for (size_t j = i + 1; j < n; ++j) best = std::max(best, (vertices[j].cast<double>() - a).squaredNorm());
+        }
+        return best;
+      },
+      [](double a, double b) { return std::max(a, b); });
+  return std::sqrt(max_sq);
+}
+
+double AddError(std::span<const Eigen::Vector3f> vertices, const Pose3& estimate, const Pose3& truth) {
+  if (vertices.empty()) return 0;
+  double sum = 0;
+  for (const auto& v : vertices) sum += (Placed(estimate, v) - Placed(truth, v)).norm();
+  return sum / static_cast<double>(vertices.size());
+}
+
+double AddSError(std::span<const Eigen::Vector3f> vertices, const Pose3& estimate, const Pose3& truth) {
+  if (vertices.empty()) return 0;
+  // Distances are taken in the truth's part frame, where both clouds keep the vertices' precision.
+  const Pose3 truth_from_estimate = truth.inverse() * estimate;
+  const spatial::KdTree tree(vertices);
+  std::array<spatial::Neighbor, 1> nearest{};
+  double sum = 0;
+  for (const auto& v : vertices) {
+    const Eigen::Vector3f q = (truth_from_estimate * v.cast<double>()).cast<float>();
+    tree.Knn(q, std::numeric_limits<float>::infinity(), nearest);
+    sum += (q - tree.point(nearest[0].slot)).cast<double>().norm();
+  }
+  return sum / static_cast<double>(vertices.size());
+}
+
+double MssdError(std::span<const Eigen::Vector3f> vertices, const Pose3& estimate, const Pose3& truth,
+                 std::span<const Pose3> symmetries) {
+  const Pose3 identity = Pose3::Identity();
+  const std::span<const Pose3> transforms = symmetries.empty() ? std::span<const Pose3>(&identity, 1) : symmetries;
+  double best = std::numeric_limits<double>::infinity();
+  for (const Pose3& s : transforms) {
+    const Pose3 symmetric_truth = truth * s;
+    double worst_sq = 0;
+    for (const auto& v : vertices) {
+      worst_sq = std::max(worst_sq, (Placed(estimate, v) - Placed(symmetric_truth, v)).squaredNorm());
+      if (worst_sq >= best * best) break;  // this transform cannot beat the best one
+    }
+    best = std::min(best, std::sqrt(worst_sq));
+  }
+  return vertices.empty() ? 0 : best;
+}
+
+}  // namespace vscan::localization

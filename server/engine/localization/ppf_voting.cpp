@@ -1,0 +1,139 @@
+#include "localization/ppf_voting.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <Eigen/Geometry>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+namespace vscan::localization {
+namespace {
+
+constexpr double kTwoPi = 2 * std::numbers::pi;
+
+float AngleBetween(const Eigen::Vector3f& a, const Eigen::Vector3f& b) {
+  return std::atan2(a.cross(b).norm(), a.dot(b));
+}
+
+// The rigid transform that moves p to the origin and turns n onto +x.
+Eigen::Isometry3f LocalFrame(const Eigen::Vector3f& p, const Eigen::Vector3f& n) {
+  Eigen::Isometry3f frame = Eigen::Isometry3f::Identity();
+  frame.linear() = Eigen::Quaternionf::FromTwoVectors(n, Eigen::Vector3f::UnitX()).toRotationMatrix();
+  frame.translation() = -(frame.linear() * p);
+  return frame;
+}
+
+// The angle of q (in a reference's local frame) about +x, measured from +y.
+float AlphaOf(const Eigen::Vector3f& q) { return std::atan2(q.z(), q.y()); }
+
+struct ReferenceVote {
+  Pose3 pose = Pose3::Identity();
+  uint32_t votes = 0;
+};
+
+double RotationAngle(const Pose3& a, const Pose3& b) {
+  return Eigen::AngleAxisd(a.linear().transpose() * b.linear()).angle();
+}
+
+}  // namespace
+
+PpfModel::PpfModel(std::span<const Eigen::Vector3f> points, std::span<const Eigen::Vector3f> normals,
+                   const PpfSettings& settings)
+    : settings_(settings), points_(points.begin(), points.end()), normals_(normals.begin(), normals.end()) {
+  for (size_t i = 0; i < points_.size(); ++i) {
+    for (size_t j = i + 1; j < points_.size(); ++j) max_distance_ = std::max(max_distance_, (points_[j] - points_[i]).norm());
+  }
+  for (size_t i = 0; i < points_.size(); ++i) {
+    const Eigen::Isometry3f frame = LocalFrame(points_[i], normals_[i]);
+    for (size_t j = 0; j < points_.size(); ++j) {
+      if (i == j) continue;
+      const auto key = Key(points_[i], normals_[i], points_[j], normals_[j]);
+      if (key) entries_.push_back({*key, static_cast<uint32_t>(i), AlphaOf(frame * points_[j])});
+    }
+  }
+  std::sort(entries_.begin(), entries_.end(), [](const Entry& a, const Entry& b) { return a.key < b.key; });
+}
+
+std::optional<uint64_t> PpfModel::Key(const Eigen::Vector3f& p1, const Eigen::Vector3f& n1, const Eigen::Vector3f& p2,
+                                      const Eigen::Vector3f& n2) const {
+  const Eigen::Vector3f d = p2 - p1;
+  const float distance = d.norm();
+  if (distance <= 0 || distance > max_distance_) return std::nullopt;
+  const auto step = static_cast<float>(settings_.angle_step_rad);
+  const float normals_angle = AngleBetween(n1, n2);
+  if (normals_angle < step) return std::nullopt;
+  const auto bin = [&](float angle) { return static_cast<uint64_t>(angle / step); };
+  const auto distance_bin = static_cast<uint64_t>(distance / static_cast<float>(settings_.distance_step));
+  return (distance_bin << 48) | (bin(AngleBetween(n1, d)) << 32) | (bin(AngleBetween(n2, d)) << 16) |
+         bin(normals_angle);
+}
+
+std::vector<PoseCandidate> PpfModel::Vote(std::span<const Eigen::Vector3f> points,
+                                          std::span<const Eigen::Vector3f> normals,
+                                          const std::atomic<bool>* cancel) const {
+  const auto alpha_bins = static_cast<size_t>(std::ceil(kTwoPi / settings_.angle_step_rad));
+  const size_t stride = std::max(1u, settings_.scene_reference_stride);
+  const size_t references = (points.size() + stride - 1) / stride;
+  const float max_sq = max_distance_ * max_distance_;
+  std::vector<ReferenceVote> best(references);
+
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, references, 8), [&](const tbb::blocked_range<size_t>& range) {
+    std::vector<uint32_t> accumulator(points_.size() * alpha_bins);
+    for (size_t r = range.begin(); r != range.end(); ++r) {
+      if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) return;
+      const size_t s = r * stride;
+      const Eigen::Isometry3f frame = LocalFrame(points[s], normals[s]);
+      std::fill(accumulator.begin(), accumulator.end(), 0u);
+      for (size_t j = 0; j < points.size(); ++j) {
+        if (j == s || (points[j] - points[s]).squaredNorm() > max_sq) continue;
+        const auto key = Key(points[s], normals[s], points[j], normals[j]);
+        if (!key) continue;
+        const float alpha_scene = AlphaOf(frame * points[j]);
+        auto it = std::lower_bound(entries_.begin(), entries_.end(), *key,
+                                   [](const Entry& e, uint64_t k) { return e.key < k; });
+        for (; it != entries_.end() && it->key == *key; ++it) {
+          double alpha = it->alpha - alpha_scene;
+          if (alpha < 0) alpha += kTwoPi;
+          const auto bin = std::min(alpha_bins - 1, static_cast<size_t>(alpha / settings_.angle_step_rad));
+          ++accumulator[it->reference * alpha_bins + bin];
+        }
+      }
+      const auto peak = std::max_element(accumulator.begin(), accumulator.end());
+      if (*peak == 0) continue;
+      const auto index = static_cast<size_t>(peak - accumulator.begin());
+      const size_t model_reference = index / alpha_bins;
+      const double alpha = (static_cast<double>(index % alpha_bins) + 0.5) * settings_.angle_step_rad;
+      // Scene point = frame^-1 * Rx(-alpha) * model frame * model point.
+      const Eigen::Isometry3d model_frame = LocalFrame(points_[model_reference], normals_[model_reference]).cast<double>();
+      Pose3 pose = frame.cast<double>().inverse() * Eigen::AngleAxisd(-alpha, Eigen::Vector3d::UnitX()) * model_frame;
+      best[r] = {pose, *peak};
+    }
+  });
+  if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) return {};
+
+  // Clusters seeded by the strongest poses; a pose joins the first cluster it lies close to.
+  std::vector<size_t> order(references);
+  for (size_t r = 0; r < references; ++r) order[r] = r;
+  std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return best[a].votes > best[b].votes; });
+  std::vector<PoseCandidate> clusters;
+  for (const size_t r : order) {
+    if (best[r].votes == 0) break;
+    bool joined = false;
+    for (auto& c : clusters) {
+      if ((c.scene_from_part.translation() - best[r].pose.translation()).norm() <= settings_.cluster_distance &&
+          RotationAngle(c.scene_from_part, best[r].pose) <= settings_.cluster_angle_rad) {
+        c.votes += best[r].votes;
+        joined = true;
+        break;
+      }
+    }
+    if (!joined) clusters.push_back({best[r].pose, best[r].votes});
+  }
+  std::stable_sort(clusters.begin(), clusters.end(),
+                   [](const PoseCandidate& a, const PoseCandidate& b) { return a.votes > b.votes; });
+  return clusters;
+}
+
+}  // namespace vscan::localization

@@ -1,0 +1,67 @@
+#pragma once
+// Point-pair-feature voting (Drost, Ulrich, Navab, Ilic, "Model Globally, Match Locally: Efficient
+// and Robust 3D Object Recognition", CVPR 2010): scene point pairs look up the model pairs with
+// the same quantized feature, each vote fixes a pose, and the poses the most pairs agree on are the
+// candidates.
+
+#include <atomic>
+#include <cstdint>
+#include <optional>
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "vscan/common/pose.h"
+
+namespace vscan::localization {
+
+struct PpfSettings {
+  // Pair distances are binned by this (metres), the three angles and the rotation about the
+  // reference normal by angle_step_rad.
+  double distance_step = 0.002;
+  double angle_step_rad = 0.2094;  // 12 degrees
+  // Every n-th scene point is a reference point that votes.
+  unsigned scene_reference_stride = 5;
+  // Poses this close (metres, radians) count as one candidate.
+  double cluster_distance = 0.005;
+  double cluster_angle_rad = 0.5236;  // 30 degrees
+};
+
+struct PoseCandidate {
+  Pose3 scene_from_part = Pose3::Identity();
+  uint32_t votes = 0;  // summed over the reference points whose best pose fell in the cluster
+};
+
+// The model's pair table, built once (quadratic in the model's points) and searched per scene.
+// Pairs whose normals are parallel to within one angle step are left out, in the model and the
+// scene alike: on a flat face every such pair looks the same and they would swamp the table.
+class PpfModel {
+ public:
+  // Points and unit outward normals in the part frame, of equal length.
+  PpfModel(std::span<const Eigen::Vector3f> points, std::span<const Eigen::Vector3f> normals,
+           const PpfSettings& settings);
+
+  // Candidates by decreasing votes. The scene's normals must face out of its surfaces as the
+  // model's do. Polls cancel between reference points (an empty list when it is set).
+  std::vector<PoseCandidate> Vote(std::span<const Eigen::Vector3f> points, std::span<const Eigen::Vector3f> normals,
+                                  const std::atomic<bool>* cancel = nullptr) const;
+
+  size_t pair_count() const { return entries_.size(); }
+
+ private:
+  struct Entry {
+    uint64_t key;
+    uint32_t reference;
+    float alpha;  // the pair's angle about the reference normal, in the reference's local frame
+  };
+  std::optional<uint64_t> Key(const Eigen::Vector3f& p1, const Eigen::Vector3f& n1, const Eigen::Vector3f& p2,
+                              const Eigen::Vector3f& n2) const;
+
+  PpfSettings settings_;
+  std::vector<Eigen::Vector3f> points_, normals_;
+  float max_distance_ = 0;
+  std::vector<Entry> entries_;  // sorted by key
+};
+
+}  // namespace vscan::localization

@@ -1,0 +1,67 @@
+#pragma once
+// One captured view as the dataset writer takes it: the camera, its depth and instance images, the
+// cloud, and the true pose of every part in the bin. Producers (the bin scan) fill it; the writer
+// turns it into a scene directory (docs/DATASETS.md).
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "vscan/common/mesh.h"
+#include "vscan/common/point_cloud.h"
+#include "vscan/common/pose.h"
+
+namespace vscan::service::dataset {
+
+// Pinhole intrinsics in pixels; pixel (u, v) has its centre at (u + 0.5, v + 0.5) as in OpenCV.
+struct CameraIntrinsics {
+  double fx = 0;
+  double fy = 0;
+  double cx = 0;
+  double cy = 0;
+  uint32_t width = 0;
+  uint32_t height = 0;
+};
+
+// A pixel rectangle: left column, top row, width and height in pixels (BOP's [x, y, w, h]).
+struct ImageBox {
+  int32_t x = -1;
+  int32_t y = -1;
+  int32_t width = 0;
+  int32_t height = 0;
+};
+
+struct GroundTruthObject {
+  uint32_t obj_id = 0;       // part type, 1-based: the key of models_info.json
+  uint32_t instance_id = 0;  // the value this part has in the instance image and the cloud
+  Pose3 world_from_object = Pose3::Identity();
+  double visible_fraction = 0;  // visible pixels over the pixels of the part alone in the view
+  uint64_t visible_pixels = 0;  // must equal its pixel count in the instance image
+  ImageBox full_box;            // the box of the part alone in the view (occlusion ignored); width 0 when outside
+};
+
+struct DatasetFrame {
+  CameraIntrinsics camera;
+  Pose3 world_from_camera = Pose3::Identity();  // camera axes: x right, y down, z forward
+  // Row-major width * height: depth along the optical axis in metres, 0 or NaN where nothing was measured.
+  std::vector<float> depth_m;
+  // Row-major width * height: the instance seen at each pixel, 0 for none.
+  std::vector<uint32_t> instance_ids;
+  PointCloud cloud;  // world frame; positions, and normals and instance ids when present are written
+  std::vector<GroundTruthObject> objects;
+};
+
+// A part type for models/models_info.json.
+struct PartModel {
+  uint32_t obj_id = 0;
+  TriangleMesh mesh;  // metres, in the part's own frame
+  std::vector<Pose3> discrete_symmetries;  // object_from_object transforms that leave the part unchanged
+  struct ContinuousSymmetry {
+    Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
+    Eigen::Vector3d offset_m = Eigen::Vector3d::Zero();  // a point on the axis
+  };
+  std::vector<ContinuousSymmetry> continuous_symmetries;
+};
+
+}  // namespace vscan::service::dataset

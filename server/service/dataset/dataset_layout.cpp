@@ -1,0 +1,21 @@
+#include "service/dataset/dataset_layout.h"
+
+#include <cstdio>
+
+namespace vscan::service::dataset {
+
+std::string SixDigits(uint64_t n) {
+  char buffer[24];
+  std::snprintf(buffer, sizeof(buffer), "%06llu", static_cast<unsigned long long>(n));
+  return buffer;
+}
+
+std::filesystem::path SceneDir(const std::filesystem::path& root, uint64_t scene_id) {
+  return root / kScenesDir / SixDigits(scene_id);
+}
+
+std::filesystem::path PartialSceneDir(const std::filesystem::path& root, uint64_t scene_id) {
+  return root / kScenesDir / (SixDigits(scene_id) + kPartialSuffix);
+}
+
+}  // namespace vscan::service::dataset

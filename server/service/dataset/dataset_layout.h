@@ -1,0 +1,27 @@
+#pragma once
+// Where things live under a dataset root (docs/DATASETS.md, "Layout").
+
+#include <cstdint>
+#include <filesystem>
+#include <string>
+
+namespace vscan::service::dataset {
+
+// Bumped whenever a file or field changes meaning.
+inline constexpr uint64_t kLayoutVersion = 1;
+
+inline constexpr const char* kManifestFile = "dataset.json";
+inline constexpr const char* kSceneIndexFile = "scenes.json";
+inline constexpr const char* kModelsInfoFile = "models/models_info.json";
+inline constexpr const char* kScenesDir = "scenes";
+// Inside a scene directory: its identity and every file with its size and CRC-32.
+inline constexpr const char* kSceneRecordFile = "scene_files.json";
+// A scene being written lives in "<scene_id>.partial" until it is complete.
+inline constexpr const char* kPartialSuffix = ".partial";
+
+// Six digits, zero-padded: "000042".
+std::string SixDigits(uint64_t n);
+std::filesystem::path SceneDir(const std::filesystem::path& root, uint64_t scene_id);
+std::filesystem::path PartialSceneDir(const std::filesystem::path& root, uint64_t scene_id);
+
+}  // namespace vscan::service::dataset

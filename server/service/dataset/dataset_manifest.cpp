@@ -1,0 +1,77 @@
+#include "service/dataset/dataset_manifest.h"
+
+#include "service/dataset/dataset_layout.h"
+#include "service/dataset/durable_file.h"
+#include "service/json_writer.h"
+
+namespace vscan::service::dataset {
+namespace {
+
+void Names(JsonWriter& json, const std::vector<std::string>& names) {
+  json.Open('[');
+  for (const std::string& name : names) json.Value(name);
+  json.Close(']');
+}
+
+}  // namespace
+
+std::string DatasetManifestJson(const DatasetPlan& plan) {
+  JsonWriter json;
+  json.Open('{');
+  json.Key("format").Value("vscan-dataset");
+  json.Key("layout_version").Value(kLayoutVersion);
+  json.Key("scene_order").Value("seed, bin, sensor");
+  json.Key("scene_count").Value(SceneCount(plan));
+  json.Key("plan").Open('{');
+  json.Key("name").Value(plan.name);
+  json.Key("bins");
+  Names(json, plan.bins);
+  json.Key("seeds").Open('[');
+  for (const uint64_t seed : plan.seeds) json.Value(seed);
+  json.Close(']');
+  json.Key("sensors");
+  Names(json, plan.sensors);
+  json.Key("depth_scale_mm").Value(plan.depth_scale_mm);
+  json.Close('}').Close('}');
+  return json.str() + "\n";
+}
+
+std::string SceneIndexJson(const DatasetPlan& plan, const std::vector<uint32_t>& record_crc32) {
+  JsonWriter json;
+  json.Open('{');
+  json.Key("layout_version").Value(kLayoutVersion);
+  json.Key("scene_count").Value(SceneCount(plan));
+  json.Key("scenes").Open('[');
+  for (uint64_t id = 0; id < SceneCount(plan); ++id) {
+    const SceneKey key = SceneAt(plan, id);
+    json.Open('{');
+    json.Key("scene_id").Value(id);
+    json.Key("seed").Value(key.seed);
+    json.Key("bin").Value(plan.bins[key.bin_index]);
+    json.Key("sensor").Value(plan.sensors[key.sensor_index]);
+    json.Key("record_crc32").Value(uint64_t{record_crc32[id]});
+    json.Close('}');
+  }
+  json.Close(']').Close('}');
+  return json.str() + "\n";
+}
+
+Status EnsureRootFile(const std::filesystem::path& root, const std::string& relative, const std::string& bytes,
+                      const std::string& writer) {
+  const std::filesystem::path path = root / relative;
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec)) {
+    ASSIGN_OR_RETURN(const std::string present, ReadWholeFile(path));
+    if (present != bytes) {
+      return FailedPrecondition(path.string() + " differs from this plan's: the directory holds another dataset");
+    }
+    return Status::Ok();
+  }
+  std::filesystem::create_directories(path.parent_path(), ec);
+  if (ec) return Internal("cannot create " + path.parent_path().string() + ": " + ec.message());
+  const std::filesystem::path temporary = path.string() + ".tmp-" + writer;
+  RETURN_IF_ERROR(WriteFileDurably(temporary, bytes));
+  return RenameDurably(temporary, path);
+}
+
+}  // namespace vscan::service::dataset

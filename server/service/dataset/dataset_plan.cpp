@@ -1,0 +1,92 @@
+#include "service/dataset/dataset_plan.h"
+
+#include <cmath>
+#include <set>
+
+namespace vscan::service::dataset {
+namespace {
+
+Status CheckNames(const std::vector<std::string>& names, const std::string& field) {
+  if (names.empty()) return InvalidArgument(field, "lists nothing");
+  std::set<std::string> seen;
+  for (size_t i = 0; i < names.size(); ++i) {
+    const std::string path = field + "[" + std::to_string(i) + "]";
+    const std::string& name = names[i];
+    if (name.empty()) return InvalidArgument(path, "is empty");
+    for (const char c : name) {
+      if (c < 0x21 || c > 0x7e || c == '/' || c == '"' || c == '\\') {
+        return InvalidArgument(path, "'" + name + "' holds a character other than printable ASCII without / \" \\");
+      }
+    }
+    if (!seen.insert(name).second) return InvalidArgument(path, "'" + name + "' appears twice");
+  }
+  return Status::Ok();
+}
+
+}  // namespace
+
+std::vector<uint64_t> SeedRange(uint64_t first, uint64_t count) {
+  std::vector<uint64_t> seeds(count);
+  for (uint64_t i = 0; i < count; ++i) seeds[i] = first + i;
+  return seeds;
+}
+
+Status CheckPlan(const DatasetPlan& plan) {
+  RETURN_IF_ERROR(CheckNames(plan.bins, "bins"));
+  RETURN_IF_ERROR(CheckNames(plan.sensors, "sensors"));
+  if (plan.seeds.empty()) return InvalidArgument("seeds", "lists nothing");
+  std::set<uint64_t> seen;
+  for (size_t i = 0; i < plan.seeds.size(); ++i) {
+    if (!seen.insert(plan.seeds[i]).second) {
+      return InvalidArgument("seeds[" + std::to_string(i) + "]", std::to_string(plan.seeds[i]) + " appears twice");
+    }
+  }
+  if (!std::isfinite(plan.depth_scale_mm) || plan.depth_scale_mm <= 0) {
+    return InvalidArgument("depth_scale_mm", "must be a positive number of millimetres");
+  }
+  const double scenes = double(plan.seeds.size()) * double(plan.bins.size()) * double(plan.sensors.size());
+  if (scenes > double(kMaxScenes)) {
+    return InvalidArgument("seeds", "seeds x bins x sensors must be at most " + std::to_string(kMaxScenes) +
+                                        " scenes, the plan makes " + std::to_string(uint64_t(scenes)));
+  }
+  return Status::Ok();
+}
+
+Status CheckShard(uint32_t shard_index, uint32_t shard_count) {
+  if (shard_count == 0) return InvalidArgument("shard_count", "must be at least 1");
+  if (shard_index >= shard_count) {
+    return InvalidArgument("shard_index", std::to_string(shard_index) + " is not below the shard count " +
+                                              std::to_string(shard_count));
+  }
+  return Status::Ok();
+}
+
+uint64_t SceneCount(const DatasetPlan& plan) {
+  return uint64_t{plan.seeds.size()} * plan.bins.size() * plan.sensors.size();
+}
+
+SceneKey SceneAt(const DatasetPlan& plan, uint64_t scene_id) {
+  SceneKey key;
+  key.scene_id = scene_id;
+  key.sensor_index = scene_id % plan.sensors.size();
+  const uint64_t seed_and_bin = scene_id / plan.sensors.size();
+  key.bin_index = seed_and_bin % plan.bins.size();
+  key.seed_index = seed_and_bin / plan.bins.size();
+  key.seed = plan.seeds[key.seed_index];
+  return key;
+}
+
+uint32_t ShardOfScene(const DatasetPlan& plan, uint64_t scene_id, uint32_t shard_count) {
+  return static_cast<uint32_t>(SceneAt(plan, scene_id).seed_index % shard_count);
+}
+
+std::vector<uint64_t> ScenesOfShard(const DatasetPlan& plan, uint32_t shard_index, uint32_t shard_count) {
+  const uint64_t per_seed = uint64_t{plan.bins.size()} * plan.sensors.size();
+  std::vector<uint64_t> scenes;
+  for (uint64_t seed_index = shard_index; seed_index < plan.seeds.size(); seed_index += shard_count) {
+    for (uint64_t j = 0; j < per_seed; ++j) scenes.push_back(seed_index * per_seed + j);
+  }
+  return scenes;
+}
+
+}  // namespace vscan::service::dataset

@@ -1,0 +1,49 @@
+#pragma once
+// What a dataset holds: every bin fill, under every seed, seen by every sensor. Scene k is one
+// (seed, bin, sensor) triple; scenes are numbered seed-major, then bin, then sensor.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "vscan/common/status.h"
+
+namespace vscan::service::dataset {
+
+struct DatasetPlan {
+  std::string name;
+  std::vector<std::string> bins;     // bin fills by name; the job that fills bins resolves them
+  std::vector<uint64_t> seeds;       // distinct, in the order scenes take them
+  std::vector<std::string> sensors;  // sensor names
+  double depth_scale_mm = 0.1;       // millimetres per unit of the 16-bit depth images
+};
+
+struct SceneKey {
+  uint64_t scene_id = 0;
+  size_t seed_index = 0;
+  size_t bin_index = 0;
+  size_t sensor_index = 0;
+  uint64_t seed = 0;
+};
+
+// Six digits name a scene directory.
+inline constexpr uint64_t kMaxScenes = 1'000'000;
+
+// first, first + 1, ..., first + count - 1.
+std::vector<uint64_t> SeedRange(uint64_t first, uint64_t count);
+
+// Non-empty lists, distinct names and seeds, names usable as they are in JSON and paths (printable
+// ASCII without '/'), a finite positive depth scale and at most kMaxScenes scenes.
+Status CheckPlan(const DatasetPlan& plan);
+// shard_count >= 1 and shard_index < shard_count.
+Status CheckShard(uint32_t shard_index, uint32_t shard_count);
+
+uint64_t SceneCount(const DatasetPlan& plan);
+// scene_id < SceneCount(plan).
+SceneKey SceneAt(const DatasetPlan& plan, uint64_t scene_id);
+// Seeds are dealt round-robin: seed i goes to shard i mod shard_count, with every bin and sensor.
+uint32_t ShardOfScene(const DatasetPlan& plan, uint64_t scene_id, uint32_t shard_count);
+// The scenes of one shard in ascending order (none when the shard has no seed).
+std::vector<uint64_t> ScenesOfShard(const DatasetPlan& plan, uint32_t shard_index, uint32_t shard_count);
+
+}  // namespace vscan::service::dataset

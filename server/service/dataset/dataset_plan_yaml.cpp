@@ -1,0 +1,100 @@
+#include "service/dataset/dataset_plan_yaml.h"
+
+#include <set>
+
+#include <yaml-cpp/yaml.h>
+
+namespace vscan::service::dataset {
+namespace {
+
+Status Refuse(const std::string& source, const std::string& key, const std::string& what) {
+  return InvalidArgument(source + ": " + key + ": " + what);
+}
+
+StatusOr<std::vector<std::string>> Names(const YAML::Node& node, const std::string& source, const std::string& key) {
+  if (!node.IsSequence()) return Refuse(source, key, "must be a list of names");
+  std::vector<std::string> names;
+  for (const YAML::Node& item : node) {
+    if (!item.IsScalar()) return Refuse(source, key, "must be a list of names");
+    names.push_back(item.Scalar());
+  }
+  return names;
+}
+
+StatusOr<uint64_t> Count(const YAML::Node& node, const std::string& source, const std::string& key) {
+  uint64_t value = 0;
+  if (!node.IsScalar() || !YAML::convert<uint64_t>::decode(node, value)) {
+    return Refuse(source, key, "must be a non-negative whole number");
+  }
+  return value;
+}
+
+StatusOr<std::vector<uint64_t>> Seeds(const YAML::Node& node, const std::string& source) {
+  if (node.IsSequence()) {
+    std::vector<uint64_t> seeds;
+    for (size_t i = 0; i < node.size(); ++i) {
+      ASSIGN_OR_RETURN(const uint64_t seed, Count(node[i], source, "seeds[" + std::to_string(i) + "]"));
+      seeds.push_back(seed);
+    }
+    return seeds;
+  }
+  if (!node.IsMap()) return Refuse(source, "seeds", "must be a list of seeds or {first, count}");
+  for (const auto& entry : node) {
+    const std::string key = entry.first.Scalar();
+    if (key != "first" && key != "count") return Refuse(source, "seeds." + key, "is not a key (first, count)");
+  }
+  if (!node["first"] || !node["count"]) return Refuse(source, "seeds", "needs both first and count");
+  ASSIGN_OR_RETURN(const uint64_t first, Count(node["first"], source, "seeds.first"));
+  ASSIGN_OR_RETURN(const uint64_t count, Count(node["count"], source, "seeds.count"));
+  if (count > kMaxScenes) return Refuse(source, "seeds.count", "must be at most " + std::to_string(kMaxScenes));
+  if (first + count < first) return Refuse(source, "seeds", "the range passes the largest seed");
+  return SeedRange(first, count);
+}
+
+StatusOr<DatasetPlan> PlanFromNode(const YAML::Node& root, const std::string& source) {
+  if (!root.IsMap()) return InvalidArgument(source + ": the plan must be a mapping");
+  static const std::set<std::string> kKeys = {"name", "bins", "seeds", "sensors", "depth_scale_mm"};
+  for (const auto& entry : root) {
+    if (!kKeys.contains(entry.first.Scalar())) {
+      return Refuse(source, entry.first.Scalar(), "is not a key (name, bins, seeds, sensors, depth_scale_mm)");
+    }
+  }
+  for (const char* key : {"bins", "seeds", "sensors"}) {
+    if (!root[key]) return Refuse(source, key, "is missing");
+  }
+  DatasetPlan plan;
+  if (root["name"]) {
+    if (!root["name"].IsScalar()) return Refuse(source, "name", "must be text");
+    plan.name = root["name"].Scalar();
+  }
+  ASSIGN_OR_RETURN(plan.bins, Names(root["bins"], source, "bins"));
+  ASSIGN_OR_RETURN(plan.seeds, Seeds(root["seeds"], source));
+  ASSIGN_OR_RETURN(plan.sensors, Names(root["sensors"], source, "sensors"));
+  if (root["depth_scale_mm"]) {
+    if (!root["depth_scale_mm"].IsScalar() ||
+        !YAML::convert<double>::decode(root["depth_scale_mm"], plan.depth_scale_mm)) {
+      return Refuse(source, "depth_scale_mm", "must be a number");
+    }
+  }
+  const Status checked = CheckPlan(plan);
+  if (!checked.ok()) return Refuse(source, checked.field(), std::string(checked.text()));
+  return plan;
+}
+
+}  // namespace
+
+StatusOr<DatasetPlan> ParseDatasetPlanYaml(std::string_view text, const std::string& source) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(std::string(text));
+  } catch (const YAML::Exception& e) {
+    return InvalidArgument(source + ": not YAML: " + e.what());
+  }
+  try {
+    return PlanFromNode(root, source);
+  } catch (const YAML::Exception& e) {
+    return InvalidArgument(source + ": " + e.what());
+  }
+}
+
+}  // namespace vscan::service::dataset

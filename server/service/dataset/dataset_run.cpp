@@ -1,0 +1,70 @@
+#include "service/dataset/dataset_run.h"
+
+#include "service/dataset/dataset_layout.h"
+#include "service/dataset/dataset_manifest.h"
+#include "service/dataset/dataset_merge.h"
+#include "service/dataset/models_info.h"
+#include "service/dataset/scene_writer.h"
+
+namespace vscan::service::dataset {
+namespace {
+
+Status PrepareRoot(const std::filesystem::path& root, const DatasetPlan& plan, const std::vector<PartModel>& parts,
+                   uint32_t shard_index) {
+  std::error_code ec;
+  std::filesystem::create_directories(root / kScenesDir, ec);
+  if (ec) return Internal("cannot create " + (root / kScenesDir).string() + ": " + ec.message());
+  const std::string writer = "shard-" + std::to_string(shard_index);
+  RETURN_IF_ERROR(EnsureRootFile(root, kManifestFile, DatasetManifestJson(plan), writer));
+  ASSIGN_OR_RETURN(const std::string models_info, ModelsInfoJson(parts));
+  return EnsureRootFile(root, kModelsInfoFile, models_info, writer);
+}
+
+}  // namespace
+
+StatusOr<DatasetProgress> RunDatasetShard(const std::filesystem::path& root, const DatasetPlan& plan,
+                                          const std::vector<PartModel>& parts, const FrameSource& source,
+                                          const ShardRun& run) {
+  RETURN_IF_ERROR(CheckPlan(plan));
+  RETURN_IF_ERROR(CheckShard(run.shard_index, run.shard_count));
+  RETURN_IF_ERROR(PrepareRoot(root, plan, parts, run.shard_index));
+  DatasetProgress progress;
+  std::vector<uint64_t> missing;
+  for (const uint64_t id : ScenesOfShard(plan, run.shard_index, run.shard_count)) {
+    ++progress.total;
+    std::error_code ec;
+    if (std::filesystem::exists(SceneDir(root, id), ec)) {
+      ++progress.skipped;
+      continue;
+    }
+    std::filesystem::remove_all(PartialSceneDir(root, id), ec);
+    if (ec) return Internal("cannot remove " + PartialSceneDir(root, id).string() + ": " + ec.message());
+    missing.push_back(id);
+  }
+  progress.done = progress.skipped;
+  if (run.on_progress) run.on_progress(progress);
+  for (const uint64_t id : missing) {
+    if (run.stop_requested && run.stop_requested()) return Cancelled("the dataset run was stopped");
+    const SceneKey key = SceneAt(plan, id);
+    StatusOr<DatasetFrame> frame = source(key);
+    if (!frame.ok()) return frame.status().WithFieldPrefix("scenes[" + std::to_string(id) + "]");
+    const Status written = WriteScene(root, plan, key, *frame);
+    if (!written.ok()) return written.WithFieldPrefix("scenes[" + std::to_string(id) + "]");
+    ++progress.written;
+    ++progress.done;
+    if (run.on_progress) run.on_progress(progress);
+  }
+  return progress;
+}
+
+StatusOr<DatasetProgress> WriteDataset(const std::filesystem::path& root, const DatasetPlan& plan,
+                                       const std::vector<PartModel>& parts, const FrameSource& source,
+                                       const std::function<void(const DatasetProgress&)>& on_progress) {
+  ShardRun run;
+  run.on_progress = on_progress;
+  ASSIGN_OR_RETURN(const DatasetProgress progress, RunDatasetShard(root, plan, parts, source, run));
+  RETURN_IF_ERROR(MergeDataset(root, plan));
+  return progress;
+}
+
+}  // namespace vscan::service::dataset

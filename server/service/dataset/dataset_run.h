@@ -1,0 +1,47 @@
+#pragma once
+// Runs the scenes of one shard of a plan into a dataset root, skipping scenes already written, so
+// a restarted run picks up where it stopped. One process writing a whole dataset is shard 0 of 1
+// followed by the merge (WriteDataset).
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <vector>
+
+#include "service/dataset/dataset_frame.h"
+#include "service/dataset/dataset_plan.h"
+#include "vscan/common/status.h"
+
+namespace vscan::service::dataset {
+
+// Captures the view of one scene (bin fill under the seed, seen by the sensor).
+using FrameSource = std::function<StatusOr<DatasetFrame>(const SceneKey&)>;
+
+struct DatasetProgress {
+  uint64_t total = 0;    // scenes of the shard
+  uint64_t done = 0;     // skipped + written
+  uint64_t skipped = 0;  // found complete when the run started
+  uint64_t written = 0;  // written by this run
+};
+
+struct ShardRun {
+  uint32_t shard_index = 0;
+  uint32_t shard_count = 1;
+  // Called once after the finished scenes are counted, then after every scene written.
+  std::function<void(const DatasetProgress&)> on_progress;
+  // Asked before each scene; true stops the run with Cancelled (finished scenes stay).
+  std::function<bool()> stop_requested;
+};
+
+// Writes dataset.json and models/models_info.json (or checks that they match), removes partial
+// directories of this shard's scenes, then writes every missing scene of the shard in order.
+StatusOr<DatasetProgress> RunDatasetShard(const std::filesystem::path& root, const DatasetPlan& plan,
+                                          const std::vector<PartModel>& parts, const FrameSource& source,
+                                          const ShardRun& run);
+
+// The whole plan in one process: shard 0 of 1, then MergeDataset.
+StatusOr<DatasetProgress> WriteDataset(const std::filesystem::path& root, const DatasetPlan& plan,
+                                       const std::vector<PartModel>& parts, const FrameSource& source,
+                                       const std::function<void(const DatasetProgress&)>& on_progress);
+
+}  // namespace vscan::service::dataset

@@ -1,0 +1,21 @@
+#pragma once
+// Files that survive a crash once written: data and directory entries are flushed to the disk
+// before the caller goes on, so a rename that publishes them never points at missing bytes.
+
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+#include "vscan/common/status.h"
+
+namespace vscan::service::dataset {
+
+// Creates or replaces path with bytes and flushes it.
+Status WriteFileDurably(const std::filesystem::path& path, std::string_view bytes);
+// Flushes the directory's entries (after a create, rename or remove inside it).
+Status SyncDirectory(const std::filesystem::path& dir);
+// Replaces `to` by `from` in one step and flushes the directory holding `to`.
+Status RenameDurably(const std::filesystem::path& from, const std::filesystem::path& to);
+StatusOr<std::string> ReadWholeFile(const std::filesystem::path& path);
+
+}  // namespace vscan::service::dataset

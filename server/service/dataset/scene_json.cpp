@@ -1,0 +1,91 @@
+#include "service/dataset/scene_json.h"
+
+#include "service/json_writer.h"
+
+namespace vscan::service::dataset {
+namespace {
+
+constexpr double kMillimetresPerMetre = 1000.0;
+
+void Rotation(JsonWriter& json, const Pose3& pose) {
+  json.Open('[');
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) json.Value(pose.linear()(r, c));
+  }
+  json.Close(']');
+}
+
+void TranslationMm(JsonWriter& json, const Pose3& pose) {
+  json.Vector(pose.translation() * kMillimetresPerMetre);
+}
+
+void Box(JsonWriter& json, const ImageBox& box) {
+  json.Open('[');
+  for (const int32_t v : {box.x, box.y, box.width, box.height}) {
+    json.Value(double(v));
+  }
+  json.Close(']');
+}
+
+}  // namespace
+
+std::string SceneCameraJson(const DatasetFrame& frame, double depth_scale_mm) {
+  const CameraIntrinsics& k = frame.camera;
+  const Pose3 camera_from_world = frame.world_from_camera.inverse();
+  JsonWriter json;
+  json.Open('{').Key("0").Open('{');
+  // BOP and OpenCV put pixel (u, v)'s centre at (u, v), vscan at (u + 0.5, v + 0.5).
+  const double cx = k.cx - 0.5, cy = k.cy - 0.5;
+  json.Key("cam_K").Open('[');
+  for (const double v : {k.fx, 0.0, cx, 0.0, k.fy, cy, 0.0, 0.0, 1.0}) json.Value(v);
+  json.Close(']');
+  json.Key("depth_scale").Value(depth_scale_mm);
+  json.Key("width").Value(uint64_t{k.width});
+  json.Key("height").Value(uint64_t{k.height});
+  json.Key("cam_R_w2c");
+  Rotation(json, camera_from_world);
+  json.Key("cam_t_w2c");
+  TranslationMm(json, camera_from_world);
+  json.Key("world_from_camera").Matrix(frame.world_from_camera);
+  json.Close('}').Close('}');
+  return json.str() + "\n";
+}
+
+std::string SceneGtJson(const DatasetFrame& frame) {
+  const Pose3 camera_from_world = frame.world_from_camera.inverse();
+  JsonWriter json;
+  json.Open('{').Key("0").Open('[');
+  for (const GroundTruthObject& object : frame.objects) {
+    const Pose3 camera_from_object = camera_from_world * object.world_from_object;
+    json.Open('{');
+    json.Key("obj_id").Value(uint64_t{object.obj_id});
+    json.Key("instance_id").Value(uint64_t{object.instance_id});
+    json.Key("cam_R_m2c");
+    Rotation(json, camera_from_object);
+    json.Key("cam_t_m2c");
+    TranslationMm(json, camera_from_object);
+    json.Close('}');
+  }
+  json.Close(']').Close('}');
+  return json.str() + "\n";
+}
+
+std::string SceneGtInfoJson(const DatasetFrame& frame, const std::vector<VisibleStats>& visible) {
+  JsonWriter json;
+  json.Open('{').Key("0").Open('[');
+  for (size_t i = 0; i < frame.objects.size(); ++i) {
+    json.Open('{');
+    json.Key("bbox_obj");
+    Box(json, frame.objects[i].full_box);
+    json.Key("bbox_visib");
+    Box(json, visible[i].box);
+    json.Key("px_count_valid").Value(visible[i].with_depth);
+    json.Key("px_count_visib").Value(visible[i].pixels);
+    json.Key("visib_fract").Value(frame.objects[i].visible_fraction);
+    json.Close('}');
+  }
+  json.Close(']').Close('}');
+  return json.str() + "\n";
+}
+
+}  // namespace vscan::service::dataset

@@ -1,0 +1,22 @@
+#pragma once
+// The JSON files of one scene in BOP's form: each maps the image id ("0", one image per scene) to
+// the camera, the ground-truth poses, or what each ground-truth object shows. Poses in
+// millimetres, rotations as row-major 3x3 lists.
+
+#include <string>
+#include <vector>
+
+#include "service/dataset/dataset_frame.h"
+#include "service/dataset/scene_images.h"
+
+namespace vscan::service::dataset {
+
+// cam_K (pixel centres at whole coordinates, as BOP and OpenCV have them: the frame's cx - 0.5),
+// depth_scale, width, height, cam_R_w2c, cam_t_w2c and world_from_camera (row-major 4x4, metres).
+std::string SceneCameraJson(const DatasetFrame& frame, double depth_scale_mm);
+// obj_id, instance_id, cam_R_m2c, cam_t_m2c per object, in the frame's order.
+std::string SceneGtJson(const DatasetFrame& frame);
+// bbox_obj, bbox_visib, px_count_valid, px_count_visib, visib_fract per object.
+std::string SceneGtInfoJson(const DatasetFrame& frame, const std::vector<VisibleStats>& visible);
+
+}  // namespace vscan::service::dataset

@@ -1,0 +1,112 @@
+// Validates every manifest in a directory against the Kubernetes schema (kubernetes-models, offline)
+// and checks that the dataset manifests fit together: the Indexed Job's shard count, the volume and
+// ConfigMap they mount, the plan path and the dataset directory the shards and the merge share.
+// Usage: node validate_manifests.mjs <manifest directory>
+
+import assert from "node:assert/strict";
+import { readdirSync, readFileSync } from "node:fs";
+import { join } from "node:path";
+import { parseAllDocuments, parse } from "yaml";
+
+function loadManifests(dir) {
+  const manifests = [];
+  for (const file of readdirSync(dir).filter((f) => f.endsWith(".yaml")).sort()) {
+    for (const doc of parseAllDocuments(readFileSync(join(dir, file), "utf8"))) {
+      if (doc.errors.length > 0) throw new Error(`${file}: ${doc.errors[0].message}`);
+      if (doc.contents !== null) manifests.push({ file, object: doc.toJS() });
+    }
+  }
+  return manifests;
+}
+
+// "batch/v1" -> kubernetes-models/batch/v1, "v1" -> kubernetes-models/v1.
+async function validateAgainstSchema({ file, object }) {
+  const models = await import(`kubernetes-models/${object.apiVersion}`);
+  const Model = models[object.kind];
+  if (Model === undefined) throw new Error(`${file}: no kind ${object.kind} in ${object.apiVersion}`);
+  new Model(object).validate();
+}
+
+async function expectRejected(object, what) {
+  try {
+    await validateAgainstSchema({ file: what, object });
+  } catch {
+    return;
+  }
+  throw new Error(`the schema accepted ${what}: validation is not running`);
+}
+
+function argAfter(args, flag) {
+  const at = args.indexOf(flag);
+  assert.ok(at >= 0 && at + 1 < args.length, `${flag} is missing from ${args.join(" ")}`);
+  return args[at + 1];
+}
+
+// Where a container sees the file or directory `path`: the volume mounted above it.
+function volumeFor(pod, container, path) {
+  const mount = container.volumeMounts.find((m) => path.startsWith(m.mountPath + "/"));
+  assert.ok(mount, `${path} is under no volume mount of ${container.name}`);
+  return { volume: pod.volumes.find((v) => v.name === mount.name), rest: path.slice(mount.mountPath.length + 1) };
+}
+
+function checkDataset(manifests) {
+  const byKind = (kind) => manifests.map((m) => m.object).filter((o) => o.kind === kind);
+  const claims = new Set(byKind("PersistentVolumeClaim").map((o) => o.metadata.name));
+  const configMaps = new Map(byKind("ConfigMap").map((o) => [o.metadata.name, o]));
+  const jobs = byKind("Job");
+  const shards = jobs.filter((j) => j.spec.completionMode === "Indexed");
+  assert.equal(shards.length, 1, "one Indexed Job writes the shards");
+  const merges = jobs.filter((j) => j.spec.template.spec.containers[0].args.includes("merge"));
+  assert.equal(merges.length, 1, "one Job merges");
+
+  const shardJob = shards[0];
+  const shardArgs = shardJob.spec.template.spec.containers[0].args;
+  assert.equal(argAfter(shardArgs, "--shard-index"), "$(JOB_COMPLETION_INDEX)");
+  assert.equal(Number(argAfter(shardArgs, "--shard-count")), shardJob.spec.completions,
+    "--shard-count must equal completions, or seeds are lost or written twice");
+  assert.ok(shardJob.spec.parallelism >= 1 && shardJob.spec.parallelism <= shardJob.spec.completions);
+  assert.equal(shardJob.spec.template.spec.restartPolicy, "Never");
+
+  const outs = new Set();
+  for (const job of [shardJob, merges[0]]) {
+    const pod = job.spec.template.spec;
+    const container = pod.containers[0];
+    const planPath = argAfter(container.args, "--plan");
+    const plan = volumeFor(pod, container, planPath);
+    assert.ok(plan.volume.configMap, `${job.metadata.name}: --plan must come from a ConfigMap`);
+    const configMap = configMaps.get(plan.volume.configMap.name);
+    assert.ok(configMap, `${job.metadata.name}: ConfigMap ${plan.volume.configMap.name} is not among the manifests`);
+    const planText = configMap.data[plan.rest];
+    assert.ok(planText, `ConfigMap ${configMap.metadata.name} has no key ${plan.rest}`);
+    const parsed = parse(planText);
+    for (const key of ["bins", "seeds", "sensors"]) assert.ok(parsed[key], `the plan has no ${key}`);
+
+    const out = argAfter(container.args, "--out");
+    const data = volumeFor(pod, container, out);
+    assert.ok(data.volume.persistentVolumeClaim, `${job.metadata.name}: --out must be on a PersistentVolumeClaim`);
+    assert.ok(claims.has(data.volume.persistentVolumeClaim.claimName),
+      `${job.metadata.name}: claim ${data.volume.persistentVolumeClaim.claimName} is not among the manifests`);
+    outs.add(`${data.volume.persistentVolumeClaim.claimName}:${data.rest}`);
+  }
+  assert.equal(outs.size, 1, "the shards and the merge must write the same directory of the same claim");
+  for (const claim of byKind("PersistentVolumeClaim")) {
+    assert.ok(claim.spec.accessModes.includes("ReadWriteMany"), "pods on several nodes write the dataset at once");
+  }
+  return shardJob;
+}
+
+const dir = process.argv[2];
+const manifests = loadManifests(dir);
+assert.ok(manifests.length >= 4, `expected the volume, plan, shard and merge manifests in ${dir}`);
+for (const manifest of manifests) await validateAgainstSchema(manifest);
+const shardJob = checkDataset(manifests);
+
+const broken = structuredClone(shardJob);
+broken.spec.completionMode = "Sharded";
+await expectRejected(broken, "completionMode Sharded");
+const numericMount = structuredClone(shardJob);
+numericMount.spec.template.spec.containers[0].volumeMounts[0].mountPath = 42;
+await expectRejected(numericMount, "a numeric mountPath");
+
+const names = manifests.map((m) => `${m.object.kind}/${m.object.metadata.name}`);
+console.log(`${manifests.length} manifests valid: ${names.join(", ")}`);

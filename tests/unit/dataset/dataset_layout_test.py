@@ -1,0 +1,243 @@
+"""Reads a written dataset without vscan's code: its own PNG decoder (zlib and the PNG filters),
+json, numpy and a PLY header parse, and checks the files against each other and the geometry of
+the synthetic bin (a floor 0.8 m below a camera looking straight down, two boxes on it)."""
+
+import json
+import os
+import struct
+import subprocess
+import tempfile
+import unittest
+import zlib
+
+import numpy as np
+
+FIXTURE = os.environ.get("VSCAN_DATASET_FIXTURE", "")
+CAMERA_HEIGHT_MM = 800.0
+# Half a depth unit of quantisation plus float rounding of the back-projection.
+SURFACE_TOLERANCE_MM = 0.2
+
+
+def read_png(path):
+    """8-bit or 16-bit greyscale, non-interlaced PNG as a 2-D numpy array and its bit depth."""
+    with open(path, "rb") as f:
+        data = f.read()
+    assert data[:8] == b"\x89PNG\r\n\x1a\n", path
+    at, idat, header = 8, b"", None
+    while at < len(data):
+        (length,) = struct.unpack(">I", data[at:at + 4])
+        kind, body = data[at + 4:at + 8], data[at + 8:at + 8 + length]
+        at += 12 + length
+        if kind == b"IHDR":
+            header = struct.unpack(">IIBBBBB", body)
+        elif kind == b"IDAT":
+            idat += body
+    width, height, depth, colour, _, _, interlace = header
+    assert colour == 0 and interlace == 0 and depth in (8, 16), (path, header)
+    bpp = depth // 8
+    stride = width * bpp
+    raw = zlib.decompress(idat)
+    rows, previous = [], bytearray(stride)
+    for y in range(height):
+        kind = raw[y * (stride + 1)]
+        line = bytearray(raw[y * (stride + 1) + 1:(y + 1) * (stride + 1)])
+        for i in range(stride):
+            left = line[i - bpp] if i >= bpp else 0
+            up = previous[i]
+            up_left = previous[i - bpp] if i >= bpp else 0
+            if kind == 1:
+                line[i] = (line[i] + left) & 0xFF
+            elif kind == 2:
+                line[i] = (line[i] + up) & 0xFF
+            elif kind == 3:
+                line[i] = (line[i] + (left + up) // 2) & 0xFF
+            elif kind == 4:
+                p = left + up - up_left
+                pa, pb, pc = abs(p - left), abs(p - up), abs(p - up_left)
+                pred = left if pa <= pb and pa <= pc else (up if pb <= pc else up_left)
+                line[i] = (line[i] + pred) & 0xFF
+        rows.append(bytes(line))
+        previous = line
+    dtype = ">u2" if depth == 16 else "u1"
+    return np.frombuffer(b"".join(rows), dtype=dtype).reshape(height, width).astype(np.int64), depth
+
+
+def read_ply(path):
+    with open(path, "rb") as f:
+        data = f.read()
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    header = data[:end].decode().splitlines()
+    assert "format binary_little_endian 1.0" in header
+    count = int(next(line for line in header if line.startswith("element vertex")).split()[2])
+    kinds = {"float": "<f4", "uint": "<u4", "uchar": "u1", "double": "<f8"}
+    fields = [(line.split()[2], kinds[line.split()[1]]) for line in header if line.startswith("property")]
+    return np.frombuffer(data[end:], dtype=np.dtype(fields), count=count)
+
+
+def load(path):
+    with open(path) as f:
+        return json.load(f)
+
+
+class DatasetLayoutTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        cls.root = cls.tmp.name
+        subprocess.run([FIXTURE, cls.root], check=True)
+        cls.manifest = load(os.path.join(cls.root, "dataset.json"))
+        cls.index = load(os.path.join(cls.root, "scenes.json"))
+        cls.models = load(os.path.join(cls.root, "models", "models_info.json"))
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+
+    def scene_dirs(self):
+        for entry in self.index["scenes"]:
+            yield entry, os.path.join(self.root, "scenes", "%06d" % entry["scene_id"])
+
+    def test_index_follows_the_plan_seed_then_bin_then_sensor(self):
+        plan = self.manifest["plan"]
+        self.assertEqual(self.manifest["layout_version"], 1)
+        expected = [(s, b, c) for s in plan["seeds"] for b in plan["bins"] for c in plan["sensors"]]
+        got = [(e["seed"], e["bin"], e["sensor"]) for e in self.index["scenes"]]
+        self.assertEqual(got, expected)
+        self.assertEqual([e["scene_id"] for e in self.index["scenes"]], list(range(len(expected))))
+        self.assertEqual(sorted(os.listdir(os.path.join(self.root, "scenes"))),
+                         ["%06d" % i for i in range(len(expected))])
+
+    def test_records_match_the_files_on_disk(self):
+        for entry, scene in self.scene_dirs():
+            with open(os.path.join(scene, "scene_files.json"), "rb") as f:
+                record_bytes = f.read()
+            self.assertEqual(zlib.crc32(record_bytes), entry["record_crc32"])
+            record = json.loads(record_bytes)
+            self.assertEqual((record["seed"], record["bin"], record["sensor"]),
+                             (entry["seed"], entry["bin"], entry["sensor"]))
+            on_disk = sorted(os.path.relpath(os.path.join(d, n), scene)
+                             for d, _, names in os.walk(scene) for n in names if n != "scene_files.json")
+            self.assertEqual([f["path"] for f in record["files"]], on_disk)
+            for listed in record["files"]:
+                with open(os.path.join(scene, listed["path"]), "rb") as f:
+                    data = f.read()
+                self.assertEqual(len(data), listed["bytes"], listed["path"])
+                self.assertEqual(zlib.crc32(data), listed["crc32"], listed["path"])
+
+    def test_camera_pose_and_its_inverse_agree(self):
+        for _, scene in self.scene_dirs():
+            camera = load(os.path.join(scene, "scene_camera.json"))["0"]
+            world_from_camera = np.array(camera["world_from_camera"]).reshape(4, 4)
+            r_w2c = np.array(camera["cam_R_w2c"]).reshape(3, 3)
+            t_w2c = np.array(camera["cam_t_w2c"])
+            np.testing.assert_allclose(r_w2c @ world_from_camera[:3, :3], np.eye(3), atol=1e-12)
+            np.testing.assert_allclose(r_w2c @ (world_from_camera[:3, 3] * 1000.0) + t_w2c, 0, atol=1e-9)
+            self.assertAlmostEqual(world_from_camera[2, 3] * 1000.0, CAMERA_HEIGHT_MM)
+
+    def test_depth_of_the_floor_is_the_camera_height(self):
+        for _, scene in self.scene_dirs():
+            camera = load(os.path.join(scene, "scene_camera.json"))["0"]
+            depth, bits = read_png(os.path.join(scene, "depth", "000000.png"))
+            instances, _ = read_png(os.path.join(scene, "instances", "000000.png"))
+            self.assertEqual(bits, 16)
+            self.assertEqual(depth.shape, (camera["height"], camera["width"]))
+            floor = (instances == 0) & (depth > 0)
+            self.assertGreater(floor.sum(), 100)
+            np.testing.assert_allclose(depth[floor] * camera["depth_scale"], CAMERA_HEIGHT_MM, atol=1e-9)
+            self.assertGreater((depth == 0).sum(), 0)
+
+    def test_masks_boxes_and_counts_agree_with_the_instance_image(self):
+        occluded = 0
+        for _, scene in self.scene_dirs():
+            gt = load(os.path.join(scene, "scene_gt.json"))["0"]
+            info = load(os.path.join(scene, "scene_gt_info.json"))["0"]
+            depth, _ = read_png(os.path.join(scene, "depth", "000000.png"))
+            instances, _ = read_png(os.path.join(scene, "instances", "000000.png"))
+            self.assertEqual(len(gt), len(info))
+            self.assertEqual(instances.max(), len(gt))
+            for i, entry in enumerate(info):
+                mask, bits = read_png(os.path.join(scene, "mask_visib", "000000_%06d.png" % i))
+                self.assertEqual(bits, 8)
+                self.assertTrue(np.array_equal(mask == 255, instances == i + 1))
+                self.assertTrue(set(np.unique(mask)) <= {0, 255})
+                ys, xs = np.nonzero(mask)
+                self.assertEqual(entry["px_count_visib"], len(xs))
+                self.assertEqual(entry["px_count_valid"], int(((mask == 255) & (depth > 0)).sum()))
+                box = [xs.min(), ys.min(), xs.max() - xs.min() + 1, ys.max() - ys.min() + 1]
+                self.assertEqual(entry["bbox_visib"], box)
+                bx, by, bw, bh = entry["bbox_obj"]
+                self.assertTrue(bx <= box[0] and by <= box[1])
+                self.assertTrue(bx + bw >= box[0] + box[2] and by + bh >= box[1] + box[3])
+                self.assertTrue(0 < entry["visib_fract"] <= 1)
+                occluded += entry["visib_fract"] < 1
+        self.assertGreater(occluded, 0, "the taller box should hide part of the other in some scene")
+
+    def test_every_masked_pixel_back_projects_onto_its_part(self):
+        for _, scene in self.scene_dirs():
+            camera = load(os.path.join(scene, "scene_camera.json"))["0"]
+            k = np.array(camera["cam_K"]).reshape(3, 3)
+            gt = load(os.path.join(scene, "scene_gt.json"))["0"]
+            depth, _ = read_png(os.path.join(scene, "depth", "000000.png"))
+            instances, _ = read_png(os.path.join(scene, "instances", "000000.png"))
+            for i, pose in enumerate(gt):
+                model = self.models[str(pose["obj_id"])]
+                lo = np.array([model["min_x"], model["min_y"], model["min_z"]])
+                hi = lo + np.array([model["size_x"], model["size_y"], model["size_z"]])
+                ys, xs = np.nonzero(instances == i + 1)
+                z = depth[ys, xs] * camera["depth_scale"]
+                in_camera = np.stack([(xs - k[0, 2]) / k[0, 0] * z, (ys - k[1, 2]) / k[1, 1] * z, z], axis=1)
+                r = np.array(pose["cam_R_m2c"]).reshape(3, 3)
+                t = np.array(pose["cam_t_m2c"])
+                in_model = (in_camera - t) @ r
+                self.assertTrue(np.all(in_model >= lo - SURFACE_TOLERANCE_MM), scene)
+                self.assertTrue(np.all(in_model <= hi + SURFACE_TOLERANCE_MM), scene)
+                # On a face: some coordinate sits at a bound of the box.
+                on_face = ((np.abs(in_model - lo) <= SURFACE_TOLERANCE_MM) |
+                           (np.abs(in_model - hi) <= SURFACE_TOLERANCE_MM))
+                self.assertTrue(np.all(on_face.any(axis=1)), scene)
+
+    def test_cloud_holds_one_point_per_measured_pixel_with_its_instance(self):
+        for _, scene in self.scene_dirs():
+            gt = load(os.path.join(scene, "scene_gt.json"))["0"]
+            info = load(os.path.join(scene, "scene_gt_info.json"))["0"]
+            depth, _ = read_png(os.path.join(scene, "depth", "000000.png"))
+            cloud = read_ply(os.path.join(scene, "cloud", "000000.ply"))
+            self.assertEqual(set(cloud.dtype.names), {"x", "y", "z", "nx", "ny", "nz", "instance"})
+            self.assertEqual(len(cloud), int((depth > 0).sum()))
+            for pose, entry in zip(gt, info):
+                self.assertEqual(int((cloud["instance"] == pose["instance_id"]).sum()), entry["px_count_visib"])
+
+    def test_models_info_in_millimetres_with_symmetries(self):
+        self.assertEqual(sorted(self.models), ["1", "2"])
+        self.assertAlmostEqual(self.models["1"]["diameter"], 2 * (80**2 + 50**2 + 30**2) ** 0.5, places=3)
+        self.assertAlmostEqual(self.models["2"]["size_z"], 140.0, places=3)
+        self.assertEqual(len(self.models["1"]["symmetries_discrete"]), 1)
+        self.assertEqual(len(self.models["2"]["symmetries_discrete"]), 3)
+        quarter = np.array(self.models["2"]["symmetries_discrete"][0]).reshape(4, 4)
+        np.testing.assert_allclose(quarter[:3, :3], [[0, -1, 0], [1, 0, 0], [0, 0, 1]], atol=1e-12)
+
+
+class ShardedDatasetTest(unittest.TestCase):
+    def test_two_shard_processes_and_a_merge_write_what_one_process_writes(self):
+        with tempfile.TemporaryDirectory() as one, tempfile.TemporaryDirectory() as sharded:
+            subprocess.run([FIXTURE, one], check=True)
+            for index in ("1", "0"):
+                subprocess.run([FIXTURE, sharded, index, "2"], check=True)
+            subprocess.run([FIXTURE, sharded, "merge"], check=True)
+
+            def tree(root):
+                files = {}
+                for d, _, names in os.walk(root):
+                    for n in names:
+                        with open(os.path.join(d, n), "rb") as f:
+                            files[os.path.relpath(os.path.join(d, n), root)] = f.read()
+                return files
+
+            expected, actual = tree(one), tree(sharded)
+            self.assertEqual(sorted(expected), sorted(actual))
+            for path in expected:
+                self.assertEqual(expected[path], actual[path], path)
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -1,0 +1,119 @@
+// Scene numbering, shards by seed, and the plan file.
+
+#include <gtest/gtest.h>
+
+#include <set>
+
+#include "service/dataset/dataset_plan.h"
+#include "service/dataset/dataset_plan_yaml.h"
+
+namespace vscan::service::dataset {
+namespace {
+
+DatasetPlan ThreeByTwoByTwo() {
+  DatasetPlan plan;
+  plan.bins = {"small", "large"};
+  plan.seeds = {40, 41, 42};
+  plan.sensors = {"near", "far"};
+  return plan;
+}
+
+TEST(DatasetPlan, ScenesRunSeedThenBinThenSensor) {
+  const DatasetPlan plan = ThreeByTwoByTwo();
+  ASSERT_TRUE(CheckPlan(plan).ok());
+  ASSERT_EQ(SceneCount(plan), 12u);
+  uint64_t id = 0;
+  for (size_t seed = 0; seed < 3; ++seed) {
+    for (size_t bin = 0; bin < 2; ++bin) {
+      for (size_t sensor = 0; sensor < 2; ++sensor, ++id) {
+        const SceneKey key = SceneAt(plan, id);
+        EXPECT_EQ(key.scene_id, id);
+        EXPECT_EQ(key.seed_index, seed);
+        EXPECT_EQ(key.seed, plan.seeds[seed]);
+        EXPECT_EQ(key.bin_index, bin);
+        EXPECT_EQ(key.sensor_index, sensor);
+      }
+    }
+  }
+}
+
+TEST(DatasetPlan, ShardsSplitTheScenesBySeed) {
+  const DatasetPlan plan = ThreeByTwoByTwo();
+  for (uint32_t shards = 1; shards <= 5; ++shards) {
+    std::multiset<uint64_t> all;
+    for (uint32_t shard = 0; shard < shards; ++shard) {
+      std::set<size_t> seeds_here;
+      for (const uint64_t id : ScenesOfShard(plan, shard, shards)) {
+        EXPECT_EQ(ShardOfScene(plan, id, shards), shard);
+        seeds_here.insert(SceneAt(plan, id).seed_index);
+        all.insert(id);
+      }
+      // A seed on this shard brings every bin and sensor with it.
+      EXPECT_EQ(ScenesOfShard(plan, shard, shards).size(), seeds_here.size() * 4);
+    }
+    ASSERT_EQ(all.size(), SceneCount(plan)) << shards << " shards";
+    EXPECT_EQ(std::set<uint64_t>(all.begin(), all.end()).size(), SceneCount(plan)) << "a scene on two shards";
+  }
+  EXPECT_EQ(ScenesOfShard(plan, 1, 2), (std::vector<uint64_t>{4, 5, 6, 7}));
+  EXPECT_TRUE(ScenesOfShard(plan, 4, 5).empty());
+}
+
+TEST(DatasetPlan, RefusesRepeatsEmptiesAndBadShards) {
+  DatasetPlan plan = ThreeByTwoByTwo();
+  plan.seeds = {1, 2, 1};
+  EXPECT_EQ(CheckPlan(plan).field(), "seeds[2]");
+  plan = ThreeByTwoByTwo();
+  plan.sensors = {"a", "a"};
+  EXPECT_EQ(CheckPlan(plan).field(), "sensors[1]");
+  plan = ThreeByTwoByTwo();
+  plan.bins = {"with/slash"};
+  EXPECT_EQ(CheckPlan(plan).field(), "bins[0]");
+  plan = ThreeByTwoByTwo();
+  plan.bins.clear();
+  EXPECT_EQ(CheckPlan(plan).field(), "bins");
+  plan = ThreeByTwoByTwo();
+  plan.depth_scale_mm = 0;
+  EXPECT_EQ(CheckPlan(plan).field(), "depth_scale_mm");
+  plan = ThreeByTwoByTwo();
+  plan.seeds = SeedRange(0, kMaxScenes / 2);
+  EXPECT_EQ(CheckPlan(plan).field(), "seeds");
+  EXPECT_FALSE(CheckShard(0, 0).ok());
+  EXPECT_FALSE(CheckShard(3, 3).ok());
+  EXPECT_TRUE(CheckShard(2, 3).ok());
+}
+
+TEST(DatasetPlanYaml, ReadsARangeOfSeeds) {
+  StatusOr<DatasetPlan> plan = ParseDatasetPlanYaml(
+      "name: demo\nbins: [small, large]\nseeds: {first: 100, count: 3}\nsensors: [near]\ndepth_scale_mm: 0.05\n",
+      "plan.yaml");
+  ASSERT_TRUE(plan.ok()) << plan.status().ToString();
+  EXPECT_EQ(plan->name, "demo");
+  EXPECT_EQ(plan->bins, (std::vector<std::string>{"small", "large"}));
+  EXPECT_EQ(plan->seeds, (std::vector<uint64_t>{100, 101, 102}));
+  EXPECT_EQ(plan->sensors, (std::vector<std::string>{"near"}));
+  EXPECT_DOUBLE_EQ(plan->depth_scale_mm, 0.05);
+}
+
+TEST(DatasetPlanYaml, ReadsAListOfSeedsAndDefaultsTheScale) {
+  StatusOr<DatasetPlan> plan = ParseDatasetPlanYaml("bins: [b]\nseeds: [9, 3, 5]\nsensors: [s]\n", "plan.yaml");
+  ASSERT_TRUE(plan.ok()) << plan.status().ToString();
+  EXPECT_EQ(plan->seeds, (std::vector<uint64_t>{9, 3, 5}));
+  EXPECT_DOUBLE_EQ(plan->depth_scale_mm, 0.1);
+}
+
+TEST(DatasetPlanYaml, NamesTheKeyItRefuses) {
+  const auto message = [](const std::string& text) {
+    return ParseDatasetPlanYaml(text, "p.yaml").status().message();
+  };
+  EXPECT_EQ(message("bins: [b]\nseeds: [1]\nsensors: [s]\ncolour: red\n"),
+            "p.yaml: colour: is not a key (name, bins, seeds, sensors, depth_scale_mm)");
+  EXPECT_EQ(message("bins: [b]\nsensors: [s]\n"), "p.yaml: seeds: is missing");
+  EXPECT_EQ(message("bins: [b]\nseeds: {first: 1}\nsensors: [s]\n"), "p.yaml: seeds: needs both first and count");
+  EXPECT_EQ(message("bins: [b]\nseeds: [1, -2]\nsensors: [s]\n"),
+            "p.yaml: seeds[1]: must be a non-negative whole number");
+  EXPECT_EQ(message("bins: [b, b]\nseeds: [1]\nsensors: [s]\n"), "p.yaml: bins[1]: 'b' appears twice");
+  EXPECT_EQ(ParseDatasetPlanYaml("bins: [", "p.yaml").status().code(), StatusCode::kInvalidArgument);
+}
+
+}  // namespace
+}  // namespace vscan::service::dataset

@@ -1,0 +1,198 @@
+// Shard runs: a restarted run skips finished scenes and replaces half-written ones, two shards
+// merged give the same bytes as one process, and the merge refuses an incomplete or damaged root.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <map>
+
+#include "service/dataset/dataset_layout.h"
+#include "service/dataset/dataset_merge.h"
+#include "service/dataset/dataset_run.h"
+#include "service/dataset/durable_file.h"
+#include "synthetic_bin.h"
+#include "vscan_test/temp_dir.h"
+
+namespace vscan::service::dataset {
+namespace {
+
+DatasetPlan SmallPlan() { return test::SyntheticPlan(); }
+
+// Every file under root by relative path, with its bytes.
+std::map<std::string, std::string> Tree(const std::filesystem::path& root) {
+  std::map<std::string, std::string> files;
+  for (const auto& entry : std::filesystem::recursive_directory_iterator(root)) {
+    if (!entry.is_regular_file()) continue;
+    StatusOr<std::string> bytes = ReadWholeFile(entry.path());
+    EXPECT_TRUE(bytes.ok());
+    files[entry.path().lexically_relative(root).generic_string()] = bytes.ok() ? *bytes : "";
+  }
+  return files;
+}
+
+// Counts the frames it hands out.
+struct CountingSource {
+  FrameSource Source() {
+    return [this](const SceneKey& key) -> StatusOr<DatasetFrame> {
+      scenes.push_back(key.scene_id);
+      return test::SyntheticFrame(key);
+    };
+  }
+  std::vector<uint64_t> scenes;
+};
+
+StatusOr<DatasetProgress> RunShard(const std::filesystem::path& root, const DatasetPlan& plan, uint32_t index,
+                                   uint32_t count, const FrameSource& source) {
+  ShardRun run;
+  run.shard_index = index;
+  run.shard_count = count;
+  return RunDatasetShard(root, plan, test::SyntheticParts(), source, run);
+}
+
+TEST(DatasetRun, TwoShardsMergedMatchOneProcessByteForByte) {
+  const DatasetPlan plan = SmallPlan();
+  test::TempDir one, sharded;
+  CountingSource all;
+  ASSERT_TRUE(WriteDataset(one.path(), plan, test::SyntheticParts(), all.Source(), nullptr).ok());
+  EXPECT_EQ(all.scenes.size(), SceneCount(plan));
+
+  CountingSource first, second;
+  StatusOr<DatasetProgress> shard1 = RunShard(sharded.path(), plan, 1, 2, second.Source());
+  ASSERT_TRUE(shard1.ok()) << shard1.status().ToString();
+  EXPECT_EQ(MergeDataset(sharded.path(), plan).code(), StatusCode::kFailedPrecondition) << "shard 0 has not run";
+  StatusOr<DatasetProgress> shard0 = RunShard(sharded.path(), plan, 0, 2, first.Source());
+  ASSERT_TRUE(shard0.ok()) << shard0.status().ToString();
+  EXPECT_EQ(first.scenes, (std::vector<uint64_t>{0, 1, 2, 3, 8, 9, 10, 11}));
+  EXPECT_EQ(second.scenes, (std::vector<uint64_t>{4, 5, 6, 7}));
+  const Status merged = MergeDataset(sharded.path(), plan);
+  ASSERT_TRUE(merged.ok()) << merged.ToString();
+
+  const auto expected = Tree(one.path());
+  const auto actual = Tree(sharded.path());
+  EXPECT_TRUE(expected.contains("scenes.json"));
+  EXPECT_TRUE(expected.contains("dataset.json"));
+  EXPECT_TRUE(expected.contains("models/models_info.json"));
+  EXPECT_TRUE(expected.contains("scenes/000011/depth/000000.png"));
+  ASSERT_EQ(expected.size(), actual.size());
+  for (const auto& [path, bytes] : expected) {
+    const auto found = actual.find(path);
+    ASSERT_NE(found, actual.end()) << path;
+    EXPECT_TRUE(found->second == bytes) << path << " differs";
+  }
+}
+
+TEST(DatasetRun, ARestartedRunSkipsFinishedScenesAndRedoesHalfWrittenOnes) {
+  const DatasetPlan plan = SmallPlan();
+  test::TempDir root;
+  CountingSource source;
+  ShardRun run;
+  run.stop_requested = [&source] { return source.scenes.size() == 5; };
+  StatusOr<DatasetProgress> stopped = RunDatasetShard(root.path(), plan, test::SyntheticParts(), source.Source(), run);
+  EXPECT_EQ(stopped.status().code(), StatusCode::kCancelled);
+  // A crash while scene 5 was being written leaves its partial directory behind.
+  std::filesystem::create_directories(PartialSceneDir(root.path(), 5) / "depth");
+  ASSERT_TRUE(WriteFileDurably(PartialSceneDir(root.path(), 5) / "depth/000000.png", "cut short").ok());
+
+  CountingSource again;
+  std::vector<DatasetProgress> reports;
+  run.stop_requested = nullptr;
+  run.on_progress = [&reports](const DatasetProgress& p) { reports.push_back(p); };
+  StatusOr<DatasetProgress> resumed = RunDatasetShard(root.path(), plan, test::SyntheticParts(), again.Source(), run);
+  ASSERT_TRUE(resumed.ok()) << resumed.status().ToString();
+  EXPECT_EQ(again.scenes, (std::vector<uint64_t>{5, 6, 7, 8, 9, 10, 11}));
+  EXPECT_EQ(resumed->skipped, 5u);
+  EXPECT_EQ(resumed->written, 7u);
+  EXPECT_EQ(resumed->done, 12u);
+  EXPECT_EQ(resumed->total, 12u);
+  ASSERT_EQ(reports.size(), 8u);
+  for (size_t i = 0; i < reports.size(); ++i) {
+    EXPECT_EQ(reports[i].done, 5 + i);
+    EXPECT_EQ(reports[i].total, 12u);
+  }
+  EXPECT_FALSE(std::filesystem::exists(PartialSceneDir(root.path(), 5)));
+  ASSERT_TRUE(MergeDataset(root.path(), plan).ok());
+
+  CountingSource idle;
+  StatusOr<DatasetProgress> nothing_left = RunShard(root.path(), plan, 0, 1, idle.Source());
+  ASSERT_TRUE(nothing_left.ok());
+  EXPECT_TRUE(idle.scenes.empty());
+  EXPECT_EQ(nothing_left->skipped, 12u);
+}
+
+TEST(DatasetRun, ARootOfAnotherPlanIsRefused) {
+  test::TempDir root;
+  CountingSource source;
+  ASSERT_TRUE(RunShard(root.path(), SmallPlan(), 0, 2, source.Source()).ok());
+  DatasetPlan other = SmallPlan();
+  other.seeds = SeedRange(12, 3);
+  EXPECT_EQ(RunShard(root.path(), other, 1, 2, source.Source()).status().code(), StatusCode::kFailedPrecondition);
+  EXPECT_EQ(MergeDataset(root.path(), other).code(), StatusCode::kFailedPrecondition);
+}
+
+TEST(DatasetRun, AFailingSourceNamesItsScene) {
+  test::TempDir root;
+  const FrameSource failing = [](const SceneKey& key) -> StatusOr<DatasetFrame> {
+    if (key.scene_id == 2) return Unavailable("the scanner is gone");
+    return test::SyntheticFrame(key);
+  };
+  const Status status = RunShard(root.path(), SmallPlan(), 0, 1, failing).status();
+  EXPECT_EQ(status.code(), StatusCode::kUnavailable);
+  EXPECT_EQ(status.field(), "scenes[2]");
+  EXPECT_TRUE(std::filesystem::exists(SceneDir(root.path(), 1)));
+  EXPECT_FALSE(std::filesystem::exists(SceneDir(root.path(), 2)));
+}
+
+class MergeRefusalTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    CountingSource source;
+    ASSERT_TRUE(WriteDataset(root_.path(), plan_, test::SyntheticParts(), source.Source(), nullptr).ok());
+  }
+  std::filesystem::path Scene(uint64_t id) const { return SceneDir(root_.path(), id); }
+
+  test::TempDir root_;
+  DatasetPlan plan_ = SmallPlan();
+};
+
+TEST_F(MergeRefusalTest, AMissingSceneIsNamed) {
+  std::filesystem::remove_all(Scene(7));
+  const Status status = MergeDataset(root_.path(), plan_);
+  EXPECT_EQ(status.code(), StatusCode::kFailedPrecondition);
+  EXPECT_EQ(status.message(), "1 of 12 scenes are missing: 000007");
+}
+
+TEST_F(MergeRefusalTest, ALeftoverPartialDirectoryIsRefused) {
+  std::filesystem::create_directories(PartialSceneDir(root_.path(), 3));
+  const Status status = MergeDataset(root_.path(), plan_);
+  EXPECT_EQ(status.code(), StatusCode::kFailedPrecondition);
+  EXPECT_NE(status.message().find("000003.partial"), std::string::npos) << status.message();
+}
+
+TEST_F(MergeRefusalTest, AChangedByteIsDataLoss) {
+  const auto path = Scene(4) / "depth/000000.png";
+  StatusOr<std::string> bytes = ReadWholeFile(path);
+  ASSERT_TRUE(bytes.ok());
+  std::string damaged = *bytes;
+  damaged[damaged.size() / 2] ^= 0x01;
+  ASSERT_TRUE(WriteFileDurably(path, damaged).ok());
+  EXPECT_EQ(MergeDataset(root_.path(), plan_).code(), StatusCode::kDataLoss);
+}
+
+TEST_F(MergeRefusalTest, AMissingOrExtraFileIsDataLoss) {
+  std::filesystem::remove(Scene(2) / "mask_visib/000000_000001.png");
+  EXPECT_EQ(MergeDataset(root_.path(), plan_).code(), StatusCode::kDataLoss);
+  test::TempDir other;
+  CountingSource source;
+  ASSERT_TRUE(WriteDataset(other.path(), plan_, test::SyntheticParts(), source.Source(), nullptr).ok());
+  ASSERT_TRUE(WriteFileDurably(SceneDir(other.path(), 0) / "notes.txt", "extra").ok());
+  EXPECT_EQ(MergeDataset(other.path(), plan_).code(), StatusCode::kDataLoss);
+}
+
+TEST_F(MergeRefusalTest, AnotherScenesDirectoryUnderThisNameIsDataLoss) {
+  std::filesystem::remove_all(Scene(1));
+  std::filesystem::copy(Scene(0), Scene(1), std::filesystem::copy_options::recursive);
+  EXPECT_EQ(MergeDataset(root_.path(), plan_).code(), StatusCode::kDataLoss);
+}
+
+}  // namespace
+}  // namespace vscan::service::dataset

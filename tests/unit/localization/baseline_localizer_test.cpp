@@ -1,0 +1,147 @@
+#include "localization/baseline_localizer.h"
+
+#include <algorithm>
+#include <atomic>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "localization/bop_scoring.h"
+#include "localization/pose_errors.h"
+#include "parts_scene.h"
+
+namespace vscan::localization {
+namespace {
+
+using testing::AngleBlock;
+using testing::FixturePart;
+using testing::LoadPart;
+using testing::LyingParts;
+using testing::PlacedPart;
+using testing::ScanFloor;
+using testing::ScanParts;
+using testing::StandingPoses;
+using testing::SymmetriesOf;
+
+struct Scored {
+  LocalizationResult found;
+  ScanScore score;
+};
+
+Scored LocalizeAndScore(const std::vector<Pose3>& truth_poses) {
+  const PointCloud scan = ScanParts(truth_poses, 0.2);
+  EXPECT_GT(scan.size(), 10000u);
+  auto found = LocalizeInstances(*AngleBlock(), scan);
+  EXPECT_TRUE(found.ok()) << found.status().ToString();
+  if (!found.ok()) return {};
+  std::vector<PartDefinition> parts{{1, AngleBlock()->vertices, {}}};
+  std::vector<TrueInstance> truth;
+  for (const Pose3& pose : truth_poses) truth.push_back({1, pose, 1.0});
+  std::vector<EstimatedInstance> estimates;
+  for (const auto& instance : found->instances) estimates.push_back({1, instance.world_from_part, instance.score});
+  auto score = ScoreScan(parts, truth, estimates);
+  EXPECT_TRUE(score.ok()) << score.status().ToString();
+  return {*found, score.ok() ? *score : ScanScore{}};
+}
+
+TEST(BaselineLocalizer, FindsThreeCopiesOnAPlate) {
+  const std::vector<Pose3> truth = StandingPoses(3);
+  const Scored result = LocalizeAndScore(truth);
+  EXPECT_EQ(result.found.instances.size(), 3u) << result.found.stop_reason;
+  ASSERT_EQ(result.score.parts.size(), 1u);
+  const PartScore& part = result.score.parts[0];
+  EXPECT_EQ(part.add_recall, 1.0);
+  EXPECT_EQ(part.mssd_average_recall, 1.0);
+  // Noise-free: well under a millimetre of ADD against a 10% threshold of about 5 mm.
+  for (const InstanceResult& instance : part.instances) {
+    EXPECT_TRUE(instance.estimate_index.has_value());
+    EXPECT_LT(instance.add_error, 0.0005);
+  }
+  for (const auto& instance : result.found.instances) {
+    EXPECT_GT(instance.score, 0.2);
+    EXPECT_GT(instance.explained_points, 1000u);
+  }
+}
+
+// Localizes every kind of part the floor holds and scores all of them together.
+ScanScore LocalizeFloor(const std::vector<PlacedPart>& placed, const PointCloud& scan) {
+  std::vector<PartDefinition> parts;
+  std::vector<TrueInstance> truth;
+  std::vector<EstimatedInstance> estimates;
+  for (const PlacedPart& p : placed) {
+    const auto id = static_cast<uint32_t>(p.part) + 1;
+    truth.push_back({id, p.world_from_part, 1.0});
+    if (std::any_of(parts.begin(), parts.end(), [&](const PartDefinition& d) { return d.part_id == id; })) continue;
+    parts.push_back({id, LoadPart(p.part)->vertices, SymmetriesOf(p.part)});
+    auto found = LocalizeInstances(*LoadPart(p.part), scan);
+    EXPECT_TRUE(found.ok()) << found.status().ToString();
+    if (!found.ok()) continue;
+    for (const auto& instance : found->instances) estimates.push_back({id, instance.world_from_part, instance.score});
+  }
+  auto score = ScoreScan(parts, truth, estimates);
+  EXPECT_TRUE(score.ok()) << score.status().ToString();
+  return score.ok() ? *score : ScanScore{};
+}
+
+TEST(BaselineLocalizer, FindsAngleBlocksLyingOnAFloor) {
+  const std::vector<PlacedPart> placed = LyingParts({{FixturePart::kAngleBlock, 5}}, 0.2, 1);
+  ASSERT_EQ(placed.size(), 5u);
+  const ScanScore score = LocalizeFloor(placed, ScanFloor(placed, 0.2, 640, 480));
+  ASSERT_TRUE(score.add_recall.has_value());
+  EXPECT_GE(*score.add_recall, 0.8);
+  EXPECT_GE(*score.mssd_average_recall, 0.7);
+}
+
+TEST(BaselineLocalizer, FindsTubesLyingOnAFloorUpToTheirSymmetry) {
+  const std::vector<PlacedPart> placed = LyingParts({{FixturePart::kRound, 3}}, 1.0, 2);
+  ASSERT_EQ(placed.size(), 3u);
+  const ScanScore score = LocalizeFloor(placed, ScanFloor(placed, 1.0, 640, 480));
+  ASSERT_EQ(score.parts.size(), 1u);
+  EXPECT_TRUE(score.parts[0].uses_add_s);
+  ASSERT_TRUE(score.add_recall.has_value());
+  EXPECT_GE(*score.add_recall, 0.8);
+}
+
+TEST(BaselineLocalizer, FindsNoTubeAmongPlates) {
+  const std::vector<PlacedPart> plates = LyingParts({{FixturePart::kPlateHoles, 3}}, 1.0, 3);
+  ASSERT_EQ(plates.size(), 3u);
+  auto found = LocalizeInstances(*LoadPart(FixturePart::kRound), ScanFloor(plates, 1.0, 640, 480));
+  ASSERT_TRUE(found.ok()) << found.status().ToString();
+  EXPECT_TRUE(found->instances.empty()) << found->instances.size() << " tubes found, the first scoring "
+                                        << found->instances.front().score;
+}
+
+TEST(BaselineLocalizer, FindsNothingOnAnEmptyPlate) {
+  const PointCloud scan = ScanParts({}, 0.2);
+  auto found = LocalizeInstances(*AngleBlock(), scan.positions, scan.normals);
+  ASSERT_TRUE(found.ok()) << found.status().ToString();
+  EXPECT_TRUE(found->instances.empty());
+  EXPECT_FALSE(found->stop_reason.empty());
+}
+
+TEST(BaselineLocalizer, StopsAtMaxInstances) {
+  const PointCloud scan = ScanParts(StandingPoses(2), 0.2);
+  LocalizerOptions options;
+  options.max_instances = 1;
+  auto found = LocalizeInstances(*AngleBlock(), scan.positions, {}, options);
+  ASSERT_TRUE(found.ok()) << found.status().ToString();
+  EXPECT_EQ(found->instances.size(), 1u);
+  EXPECT_EQ(found->stop_reason, "max_instances reached");
+}
+
+TEST(BaselineLocalizer, RejectsBadInputsAndHonoursCancel) {
+  const std::vector<Eigen::Vector3f> points(200, Eigen::Vector3f::Zero());
+  const std::vector<Eigen::Vector3f> normals(3, Eigen::Vector3f::UnitZ());
+  EXPECT_EQ(LocalizeInstances(*AngleBlock(), points, normals).status().field(), "scan_normals");
+  LocalizerOptions options;
+  options.min_score = 2;
+  EXPECT_EQ(LocalizeInstances(*AngleBlock(), points, {}, options).status().field(), "localizer.min_score");
+  options = {};
+  options.ppf_step_voxels = 0.5;
+  EXPECT_EQ(LocalizeInstances(*AngleBlock(), points, {}, options).status().field(), "localizer.ppf_step_voxels");
+  std::atomic<bool> cancel{true};
+  EXPECT_EQ(LocalizeInstances(*AngleBlock(), points, {}, {}, &cancel).status().code(), StatusCode::kCancelled);
+}
+
+}  // namespace
+}  // namespace vscan::localization
