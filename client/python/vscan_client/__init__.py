@@ -13,6 +13,7 @@
         for scan in c.watch_alignments(job.job_id):
             print(scan.index, scan.fitness)
         report = c.model_report(job.job_id)   # model.json as a dict
+        found = c.localize(mesh.mesh_id, cloud_id=cloud.cloud_id)
 
 The generated stubs (vscan.v1) must be importable: set VSCAN_PY_STUBS to <build>/python.
 """
@@ -20,8 +21,10 @@ The generated stubs (vscan.v1) must be importable: set VSCAN_PY_STUBS to <build>
 from .client import Client
 from .clouds import CloudPoints, parse_ply
 from .errors import VscanError
+from .localization import part_symmetry, pose_matrix, scored_part, truth_from_objects
 from .models import alignment_options, evaluation_options, model_spec, reconstruction_options
 from .scan_result import ScanResult
 
 __all__ = ["Client", "CloudPoints", "ScanResult", "VscanError", "alignment_options", "evaluation_options",
-           "model_spec", "parse_ply", "reconstruction_options"]
+           "model_spec", "parse_ply", "part_symmetry", "pose_matrix", "reconstruction_options", "scored_part",
+           "truth_from_objects"]

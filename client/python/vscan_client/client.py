@@ -9,6 +9,7 @@ from ._stubs import robot_pb2_grpc, scan_pb2, scan_pb2_grpc, scene_pb2, scene_pb
 from .clouds import CloudCalls
 from .errors import VscanError, from_rpc_error
 from .jobs import JobCalls
+from .localization import LocalizationCalls
 from .models import ModelCalls
 from .robots import RobotCalls
 from .scan_result import ScanAssembler
@@ -40,7 +41,7 @@ def _decode_health_response(data):
     return "UNKNOWN"
 
 
-class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls):
+class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls, LocalizationCalls):
     """Talks to one vscand. Failed calls raise VscanError.
 
     address: "host:port". token: bearer token sent with every call. root_cert: PEM file of the
