@@ -53,7 +53,7 @@ localization::ScanScore Score(testing::ServiceWorld& world, const std::string& m
   return score.ok() ? *score : localization::ScanScore{};
 }
 
-class LocalizeInService : public ::testing::Test {
+class LocalizationServiceRun : public ::testing::Test {
  protected:
   const std::string& block_id() const { return mesh_ids_[static_cast<size_t>(FixturePart::kAngleBlock)]; }
 
@@ -75,7 +75,7 @@ class LocalizeInService : public ::testing::Test {
   std::array<std::string, 3> mesh_ids_ = testing::StoreFixtureParts(world_);
 };
 
-TEST_F(LocalizeInService, FindsLyingAngleBlocksInAStoredScanWithItsNormals) {
+TEST_F(LocalizationServiceRun, FindsLyingAngleBlocksInAStoredScanWithItsNormals) {
   const auto placed = LyingParts({{FixturePart::kAngleBlock, 5}}, kFloorSide, 1);
   const PointCloud scan = ScanFloor(placed, kFloorSide, 640, 480);
   const LocalizeOutcome found = Run(Plan(StoreScan(world_, scan, true), NormalSource::kCloud));
@@ -91,7 +91,7 @@ TEST_F(LocalizeInService, FindsLyingAngleBlocksInAStoredScanWithItsNormals) {
 
 // Without normals in the cloud they are estimated and turned towards the stored sensor position:
 // the same search as with that position given, and a better one than with normals turned away.
-TEST_F(LocalizeInService, EstimatesNormalsTowardsTheStoredSensorPose) {
+TEST_F(LocalizationServiceRun, EstimatesNormalsTowardsTheStoredSensorPose) {
   const auto placed = LyingParts({{FixturePart::kAngleBlock, 5}}, kFloorSide, 1);
   const std::string cloud = StoreScan(world_, ScanFloor(placed, kFloorSide, 320, 240), false);
 
@@ -116,7 +116,7 @@ TEST_F(LocalizeInService, EstimatesNormalsTowardsTheStoredSensorPose) {
   EXPECT_LT(*turned_away.add_recall, *score.add_recall);
 }
 
-TEST_F(LocalizeInService, RefusesUnknownMeshesAndCloudsAndMissingNormals) {
+TEST_F(LocalizationServiceRun, RefusesUnknownMeshesAndCloudsAndMissingNormals) {
   LocalizePlan plan = Plan("cld_0000000000000000", NormalSource::kAuto);
   const auto no_cloud = RunLocalize(world_.context(), plan, nullptr);
   EXPECT_EQ(no_cloud.status().code(), StatusCode::kNotFound);
@@ -136,7 +136,7 @@ TEST_F(LocalizeInService, RefusesUnknownMeshesAndCloudsAndMissingNormals) {
   EXPECT_TRUE(no_mesh.status().message().starts_with("mesh_id")) << no_mesh.status().message();
 }
 
-TEST_F(LocalizeInService, StopsWhenCancelled) {
+TEST_F(LocalizationServiceRun, StopsWhenCancelled) {
   const auto placed = LyingParts({{FixturePart::kAngleBlock, 3}}, kFloorSide, 1);
   const std::atomic<bool> cancel{true};
   const auto found = RunLocalize(

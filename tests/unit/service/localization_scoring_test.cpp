@@ -42,7 +42,7 @@ std::vector<Pose3> ThreeBlocks() {
           Turned(1.0, Eigen::Vector3d(1, 1, 0), {0, 0.3, 0.05})};
 }
 
-class ScorePosesInService : public ::testing::Test {
+class LocalizationServiceScoring : public ::testing::Test {
  protected:
   const std::string& id(FixturePart part) const { return mesh_ids_[static_cast<size_t>(part)]; }
 
@@ -50,7 +50,7 @@ class ScorePosesInService : public ::testing::Test {
   std::array<std::string, 3> mesh_ids_ = testing::StoreFixtureParts(world_);
 };
 
-TEST_F(ScorePosesInService, ExactEstimatesScorePerfectly) {
+TEST_F(LocalizationServiceScoring, ExactEstimatesScorePerfectly) {
   ScoringPlan plan;
   plan.parts.push_back({id(FixturePart::kAngleBlock), 1, std::nullopt});
   for (const Pose3& pose : ThreeBlocks()) {
@@ -76,7 +76,7 @@ TEST_F(ScorePosesInService, ExactEstimatesScorePerfectly) {
 
 // A translation moves every vertex by its length, so ADD and MSSD both equal it: 3 mm is within
 // 10% of the block's 54 mm diameter, 20 mm is not but is within the larger MSSD thresholds.
-TEST_F(ScorePosesInService, KnownOffsetsGiveTheirErrorsAndAMissBeyondTheThreshold) {
+TEST_F(LocalizationServiceScoring, KnownOffsetsGiveTheirErrorsAndAMissBeyondTheThreshold) {
   const std::vector<Pose3> blocks = ThreeBlocks();
   const double offsets[] = {0, 0.003, 0.020};
   const Eigen::Vector3d directions[] = {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitX(),
@@ -120,7 +120,7 @@ TEST_F(ScorePosesInService, KnownOffsetsGiveTheirErrorsAndAMissBeyondTheThreshol
 
 // The tube flipped end for end and turned 50 degrees about its axis lies where it lay: correct
 // under ADD-S and MSSD over its symmetries, far off under ADD, by the errors computed here.
-TEST_F(ScorePosesInService, ATubeTurnedOntoItselfIsRightOnlyUpToItsSymmetries) {
+TEST_F(LocalizationServiceScoring, ATubeTurnedOntoItselfIsRightOnlyUpToItsSymmetries) {
   const localization::PartSymmetries symmetries = SymmetriesOf(FixturePart::kRound);
   const Pose3 onto_itself = symmetries.discrete.at(0) * Turned(50 * std::numbers::pi / 180, Eigen::Vector3d::UnitZ(),
                                                                 Eigen::Vector3d::Zero());
@@ -174,7 +174,7 @@ TEST_F(ScorePosesInService, ATubeTurnedOntoItselfIsRightOnlyUpToItsSymmetries) {
   EXPECT_NEAR(loose->parts[1].instances[0].mssd_error, largest_shift, 1e-6);
 }
 
-TEST_F(ScorePosesInService, AScaleShrinksThePart) {
+TEST_F(LocalizationServiceScoring, AScaleShrinksThePart) {
   ScoringPlan plan;
   plan.parts.push_back({id(FixturePart::kAngleBlock), 1, std::nullopt});
   plan.parts.push_back({id(FixturePart::kAngleBlock), 0.5, std::nullopt});
@@ -187,7 +187,7 @@ TEST_F(ScorePosesInService, AScaleShrinksThePart) {
 }
 
 // No estimate is an answer, not an error: every valid instance is missed.
-TEST_F(ScorePosesInService, AnEmptyEstimateListMissesEveryInstance) {
+TEST_F(LocalizationServiceScoring, AnEmptyEstimateListMissesEveryInstance) {
   ScoringPlan plan;
   plan.parts.push_back({id(FixturePart::kAngleBlock), 1, std::nullopt});
   for (const Pose3& pose : ThreeBlocks()) plan.truth.push_back({0, pose, 1.0});
@@ -204,7 +204,7 @@ void ExpectRefused(const StatusOr<localization::ScanScore>& score, StatusCode co
   EXPECT_TRUE(score.status().message().starts_with(field + ":")) << score.status().message();
 }
 
-TEST_F(ScorePosesInService, RefusesBadPosesUnknownPartsAndUnknownMeshes) {
+TEST_F(LocalizationServiceScoring, RefusesBadPosesUnknownPartsAndUnknownMeshes) {
   ScoringPlan good;
   good.parts.push_back({id(FixturePart::kAngleBlock), 1, std::nullopt});
   good.truth.push_back({0, Pose3::Identity(), 1.0});
