@@ -30,5 +30,7 @@ void AddCloudCommands(CLI::App& app, Context& ctx);
 void AddBinCommands(CLI::App& app, Context& ctx);
 // `vscan align|reconstruct|evaluate` and the `vscan model` group.
 void AddModelCommands(CLI::App& app, Context& ctx);
+// `localize` and `score` under group (cmd_localize.cpp).
+void AddLocalizationCommands(CLI::App& group, Context& ctx);
 
 }  // namespace vscan::cli

@@ -51,6 +51,7 @@ int main(int argc, char** argv) {
   vscan::cli::AddBinCommands(app, ctx);
   vscan::cli::AddCloudCommands(app, ctx);
   vscan::cli::AddModelCommands(app, ctx);
+  vscan::cli::AddLocalizationCommands(app, ctx);
   vscan::cli::AddSensorsCommand(app, ctx);
   app.footer(kFooter);
 

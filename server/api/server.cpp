@@ -18,6 +18,7 @@
 
 #include "api/callback_queue_ticker.h"
 #include "api/cloud_service.h"
+#include "api/localization_service.h"
 #include "guards/data_dir_lock.h"
 #include "api/job_service.h"
 #include "api/job_tracker.h"
@@ -115,6 +116,7 @@ struct Server::Impl {
   std::unique_ptr<ScanService> scan_service;
   std::unique_ptr<RobotService> robot_service;
   std::unique_ptr<CloudService> cloud_service;
+  std::unique_ptr<LocalizationService> localization_service;
   std::unique_ptr<store::JobCatalogue> job_catalogue;
   std::unique_ptr<JobTracker> job_tracker;
   std::unique_ptr<jobs::JobRunner> job_runner;
@@ -172,6 +174,7 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& op
   impl->scan_service = std::make_unique<ScanService>(*impl->context, impl->stalled_readers.get());
   impl->robot_service = std::make_unique<RobotService>(*impl->context);
   impl->cloud_service = std::make_unique<CloudService>(*impl->context);
+  impl->localization_service = std::make_unique<LocalizationService>(*impl->context);
   impl->job_catalogue = std::make_unique<store::JobCatalogue>(impl->database);
   ASSIGN_OR_RETURN(const int interrupted, impl->job_catalogue->InterruptUnfinished("server stopped while the job ran"));
   if (interrupted > 0) spdlog::warn("{} jobs were left unfinished by the last run; marked INTERRUPTED", interrupted);
@@ -197,6 +200,7 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& op
   builder.RegisterService(impl->robot_service.get());
   builder.RegisterService(impl->job_service.get());
   builder.RegisterService(impl->cloud_service.get());
+  builder.RegisterService(impl->localization_service.get());
   builder.SetMaxReceiveMessageSize(4 << 20);
   impl->server = builder.BuildAndStart();
   if (!impl->server || impl->port == 0) {

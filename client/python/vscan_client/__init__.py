@@ -16,6 +16,7 @@
         job, report = c.bin_fill(scene.scene_id, (0.3, 0.2, 0.15), [bin_part(mesh.mesh_id, 20)])
         truth = c.scan(scene.scene_id, eye=(0, 0, 0.6), target=(0, 0, 0), up=(0, 1, 0),
                        ground_truth=True).objects
+        found = c.localize(mesh.mesh_id, cloud_id=cloud.cloud_id)
 
 The generated stubs (vscan.v1) must be importable: set VSCAN_PY_STUBS to <build>/python.
 """
@@ -24,8 +25,10 @@ from .bins import bin_fill_spec, bin_part
 from .client import Client
 from .clouds import CloudPoints, parse_ply
 from .errors import VscanError
+from .localization import part_symmetry, pose_matrix, scored_part, truth_from_objects
 from .models import alignment_options, evaluation_options, model_spec, reconstruction_options
 from .scan_result import ScanResult
 
-__all__ = ["Client", "bin_fill_spec", "bin_part", "CloudPoints", "ScanResult", "VscanError", "alignment_options", "evaluation_options",
-           "model_spec", "parse_ply", "reconstruction_options"]
+__all__ = ["Client", "bin_fill_spec", "bin_part", "CloudPoints", "ScanResult", "VscanError", "alignment_options",
+           "evaluation_options", "model_spec", "parse_ply", "part_symmetry", "pose_matrix", "reconstruction_options",
+           "scored_part", "truth_from_objects"]

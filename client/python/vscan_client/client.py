@@ -10,6 +10,7 @@ from .bins import BinCalls
 from .clouds import CloudCalls
 from .errors import VscanError, from_rpc_error
 from .jobs import JobCalls
+from .localization import LocalizationCalls
 from .models import ModelCalls
 from .robots import RobotCalls
 from .scan_result import ScanAssembler
@@ -41,7 +42,7 @@ def _decode_health_response(data):
     return "UNKNOWN"
 
 
-class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls, BinCalls):
+class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls, BinCalls, LocalizationCalls):
     """Talks to one vscand. Failed calls raise VscanError.
 
     address: "host:port". token: bearer token sent with every call. root_cert: PEM file of the

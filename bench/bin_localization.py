@@ -1,0 +1,176 @@
+#!/usr/bin/env python3
+"""The baseline localizer on filled bins, as a user runs it: through a running vscand, K bins of the
+fixture parts (different seeds) are filled, each is scanned from above at 1280x1024 clean and with
+a sensor preset's noise, every part type is localized in each stored scan and the estimates are
+scored with ScorePoses. Prints ADD(-S) recall and BOP's MSSD average recall per part and overall,
+clean and noisy, and the localize time per scan.
+
+    VSCAN_PY_STUBS=build/release/python /usr/bin/python3 bench/bin_localization.py \\
+        --server 127.0.0.1:50051 --bins 3 --json bin_localization.json
+"""
+
+import argparse
+import json
+import os
+import sys
+import time
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "tests", "integration"))  # bin_scenes: fill, scan, write
+sys.path.insert(0, os.path.join(HERE, "..", "client", "python"))
+if os.environ.get("VSCAN_PY_STUBS"):
+    sys.path.insert(0, os.environ["VSCAN_PY_STUBS"])
+
+import grpc  # noqa: E402
+from bin_scenes import FIXTURE_PARTS, fill_bin, preset_noise, scan_bin, upload_part  # noqa: E402
+from vscan.v1 import (cloud_pb2, cloud_pb2_grpc, common_pb2, localization_pb2,  # noqa: E402
+                      localization_pb2_grpc, scan_pb2_grpc, scene_pb2, scene_pb2_grpc)
+
+INNER = (0.24, 0.18, 0.10)
+COUNTS = {"angle_block": 6, "round": 6, "plate_holes": 3}
+# The tube's axis is its z axis (0 to 61 cm in the file): any turn about it, and a half turn about x
+# through its middle.
+TUBE_LENGTH_M = 0.6096
+
+
+def symmetry(name, scale):
+    if name != "round":
+        return None
+    length = TUBE_LENGTH_M * scale
+    flip = [1, 0, 0, 0, 0, -1, 0, 0, 0, 0, -1, length, 0, 0, 0, 1]
+    return localization_pb2.PartSymmetry(
+        continuous=[localization_pb2.ContinuousSymmetry(axis=common_pb2.Vector3(z=1), point=common_pb2.Vector3())],
+        discrete=[common_pb2.Pose(matrix=common_pb2.Matrix4(values=flip))])
+
+
+def upload_scan(clouds, positions, normals, world_from_sensor, name):
+    header = ("ply\nformat binary_little_endian 1.0\n"
+              f"element vertex {len(positions)}\n"
+              "property float x\nproperty float y\nproperty float z\n"
+              "property float enx\nproperty float eny\nproperty float enz\nend_header\n").encode()
+    data = header + np.hstack([positions, normals]).astype("<f4").tobytes()
+    pose = common_pb2.Pose(matrix=common_pb2.Matrix4(values=list(world_from_sensor)))
+
+    def requests():
+        yield cloud_pb2.UploadCloudRequest(header=cloud_pb2.CloudHeader(
+            name=name, format=cloud_pb2.CLOUD_FORMAT_PLY, sensor_pose=pose, size_bytes=len(data)))
+        for i in range(0, len(data), 1 << 20):
+            yield cloud_pb2.UploadCloudRequest(chunk=data[i:i + (1 << 20)])
+    return clouds.UploadCloud(requests(), timeout=120).cloud.cloud_id
+
+
+class Tally:
+    """Valid instances, ADD(-S) hits and MSSD hits per threshold, pooled over scans."""
+
+    def __init__(self):
+        self.valid, self.add_correct, self.mssd_correct = 0, 0, None
+
+    def add(self, part):
+        self.valid += part.valid_instances
+        self.add_correct += part.add_correct
+        hits = np.array(part.mssd_recalls) * part.valid_instances
+        self.mssd_correct = hits if self.mssd_correct is None else self.mssd_correct + hits
+
+    def recall(self):
+        return self.add_correct / self.valid if self.valid else None
+
+    def mssd_ar(self):
+        return float(np.mean(self.mssd_correct / self.valid)) if self.valid else None
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("--server", default="127.0.0.1:50051")
+    parser.add_argument("--bins", type=int, default=3)
+    parser.add_argument("--first-seed", type=int, default=1)
+    parser.add_argument("--width", type=int, default=1280)
+    parser.add_argument("--height", type=int, default=1024)
+    parser.add_argument("--hfov", type=float, default=48.8, help="the phoxi-m-class camera's")
+    parser.add_argument("--distance", type=float, default=0.65, help="sensor above the bin floor, m")
+    parser.add_argument("--preset", default="phoxi-m-class", help="sensor preset whose noise the noisy scans get")
+    parser.add_argument("--json", help="write every figure here")
+    args = parser.parse_args()
+
+    channel = grpc.insecure_channel(args.server, options=[("grpc.max_receive_message_length", 64 << 20)])
+    scenes = scene_pb2_grpc.SceneServiceStub(channel)
+    scans = scan_pb2_grpc.ScanServiceStub(channel)
+    clouds = cloud_pb2_grpc.CloudServiceStub(channel)
+    localizer = localization_pb2_grpc.LocalizationServiceStub(channel)
+    noise = preset_noise(scans, args.preset)
+    parts = {name: upload_part(scenes, name) for name in FIXTURE_PARTS}
+    names = list(parts)
+    scored_parts = [localization_pb2.ScoredPart(mesh_id=parts[n][0], scale=parts[n][1], symmetry=symmetry(n, parts[n][1]))
+                    for n in names]
+
+    tallies = {(c, n): Tally() for c in ("clean", "noisy") for n in names + ["all"]}
+    times = {"clean": [], "noisy": []}
+    runs = []
+    for k in range(args.bins):
+        seed = args.first_seed + k
+        scene = scenes.CreateScene(scene_pb2.CreateSceneRequest(name=f"bench-bin-{seed}"), timeout=30).scene
+        job = fill_bin(channel, scene.scene_id, [(parts[n][0], parts[n][1], COUNTS[n]) for n in names], seed,
+                       inner_size=INNER)
+        for condition in ("clean", "noisy"):
+            positions, normals, header, stats = scan_bin(
+                scans, scene.scene_id, args.width, args.height, args.distance, hfov_deg=args.hfov,
+                noise=noise if condition == "noisy" else None, seed=seed, inner_size=INNER[:2])
+            cloud_id = upload_scan(clouds, positions, normals, header.sensor_pose.values, f"bin-{seed}-{condition}")
+            request = localization_pb2.ScorePosesRequest(parts=scored_parts)
+            index = {(p.mesh_id, p.scale): i for i, p in enumerate(scored_parts)}
+            for o in stats.objects:
+                part = index.get((o.mesh_id, o.scale))
+                if part is not None:
+                    request.truth.add(part=part, world_from_part=common_pb2.Pose(matrix=o.world_from_object),
+                                      visible_fraction=o.visible_fraction, instance_id=o.instance_id)
+            scan_ms = 0.0
+            for i, name in enumerate(names):
+                mesh_id, scale = parts[name]
+                start = time.monotonic()
+                found = localizer.Localize(localization_pb2.LocalizeRequest(
+                    cloud_id=cloud_id, mesh_id=mesh_id, scale=scale,
+                    options=localization_pb2.LocalizeOptions(max_instances=COUNTS[name])), timeout=900)
+                wall_ms = (time.monotonic() - start) * 1000
+                scan_ms += found.localize_ms
+                for e in found.estimates:
+                    request.estimates.add(part=i, world_from_part=common_pb2.Pose(matrix=e.world_from_part),
+                                          score=e.score)
+                runs.append({"seed": seed, "condition": condition, "part": name, "found": len(found.estimates),
+                             "localize_ms": found.localize_ms, "wall_ms": wall_ms, "points": found.points,
+                             "stop": found.stop_reason})
+            score = localizer.ScorePoses(request, timeout=300)
+            times[condition].append(scan_ms)
+            for part in score.parts:
+                tallies[(condition, names[part.part])].add(part)
+                tallies[(condition, "all")].add(part)
+            print(f"bin seed {seed} {condition}: {len(positions)} points, {len(request.truth)} parts in view, "
+                  f"ADD(-S) recall {score.add_recall:.3f}, MSSD AR {score.mssd_average_recall:.3f}, "
+                  f"localize {scan_ms / 1000:.1f} s", flush=True)
+            clouds.DeleteCloud(cloud_pb2.DeleteCloudRequest(cloud_id=cloud_id), timeout=30)
+        scenes.DeleteScene(scene_pb2.DeleteSceneRequest(scene_id=scene.scene_id), timeout=30)
+
+    def fmt(v):
+        return "-" if v is None else f"{v:.3f}"
+    print(f"\n{args.bins} bins, {args.width}x{args.height}, sensor {args.distance} m above the floor; "
+          f"noisy: {args.preset} noise")
+    print("| part | valid instances | ADD(-S) recall clean | MSSD AR clean | ADD(-S) recall noisy | MSSD AR noisy |")
+    print("|---|---|---|---|---|---|")
+    summary = {}
+    for name in names + ["all"]:
+        c, n = tallies[("clean", name)], tallies[("noisy", name)]
+        summary[name] = {"valid_clean": c.valid, "valid_noisy": n.valid, "add_recall_clean": c.recall(),
+                         "mssd_ar_clean": c.mssd_ar(), "add_recall_noisy": n.recall(), "mssd_ar_noisy": n.mssd_ar()}
+        print(f"| {name} | {c.valid} / {n.valid} | {fmt(c.recall())} | {fmt(c.mssd_ar())} | {fmt(n.recall())} | "
+              f"{fmt(n.mssd_ar())} |")
+    for condition in ("clean", "noisy"):
+        t = np.array(times[condition]) / 1000
+        print(f"localize time per scan ({len(names)} part types), {condition}: median {np.median(t):.1f} s, "
+              f"max {t.max():.1f} s")
+    if args.json:
+        with open(args.json, "w") as f:
+            json.dump({"args": vars(args), "summary": summary, "runs": runs, "scan_localize_ms": times}, f, indent=1)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,237 @@
+"""LocalizationService through a real vscand: a bin of angle blocks filled and scanned with ground
+truth, localized and scored with the CLI (vscan localize, vscan score, BOP results CSV) and the
+Python client; refusals named by field; a deadline stops a search.
+
+The localizer's recall on a filled bin is measured in BENCHMARKS.md (on this bin it finds 3 of the
+6 blocks); here a correct pipeline is told apart by poses that agree with the truth to a few
+millimetres at most, which a mistake of frame, unit or matrix order could not give."""
+
+import csv
+import json
+import math
+import os
+import subprocess
+import tempfile
+
+import grpc
+import numpy as np
+
+from harness import VSCAN, ServerTestCase, scene_pb2  # first: puts the stubs on sys.path
+from bin_scenes import fill_bin, height_for, scan_bin, upload_part, write_ground_truth, write_ply
+from vscan.v1 import common_pb2, localization_pb2, localization_pb2_grpc
+from vscan_client import Client, truth_from_objects
+
+INNER = (0.16, 0.12, 0.08)
+
+
+def matrix(values):
+    return common_pb2.Pose(matrix=common_pb2.Matrix4(values=list(values)))
+
+
+IDENTITY = [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]
+# Of the six blocks, at least this many found and matched with an ADD error below EXACT metres (5%
+# of the block's 51 mm diameter).
+MIN_EXACT = 2
+EXACT = 0.0025
+
+
+class LocalizationTest(ServerTestCase):
+    @classmethod
+    def setUpClass(cls):
+        super().setUpClass()
+        cls.stub = localization_pb2_grpc.LocalizationServiceStub(cls.channel)
+        cls.tmp = tempfile.TemporaryDirectory(prefix="vscan-localize-")
+        cls.mesh_id, _ = upload_part(cls.scenes, "angle_block")
+        scene = cls.scenes.CreateScene(scene_pb2.CreateSceneRequest(name="bin"), timeout=30).scene
+        cls.job = fill_bin(cls.channel, scene.scene_id, [(cls.mesh_id, 1.0, 6)], seed=3, inner_size=INNER)
+        height = height_for(INNER, 50, 320, 240)
+        cls.positions, cls.normals, header, cls.stats = scan_bin(cls.scans, scene.scene_id, 320, 240, height,
+                                                                 hfov_deg=50, inner_size=INNER)
+        cls.cloud = os.path.join(cls.tmp.name, "bin.ply")
+        cls.truth = os.path.join(cls.tmp.name, "bin.gt.json")
+        write_ply(cls.cloud, cls.positions, cls.normals)
+        write_ground_truth(cls.truth, cls.job.job_id, header, cls.stats, cls.cloud, len(cls.positions))
+        cls.estimates = None
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.tmp.cleanup()
+        super().tearDownClass()
+
+    def cli(self, *args):
+        done = subprocess.run([VSCAN, "--server", self.server.address, *args], capture_output=True, text=True,
+                              timeout=300)
+        self.assertEqual(done.returncode, 0, done.stderr + done.stdout)
+        return done.stdout
+
+    def localize_file(self):
+        """estimates.json of `vscan localize` on the bin's PLY; the search runs once per class."""
+        cls = type(self)
+        if cls.estimates is None:
+            path = os.path.join(self.tmp.name, "estimates.json")
+            self.cli("localize", "--cloud", self.cloud, "--mesh", self.mesh_id, "--max", "8", "--out", path)
+            cls.estimates = path
+        return cls.estimates
+
+    def assertExactMatches(self, matches, error=lambda m: m["addError"], matched=lambda m: "estimateIndex" in m):
+        exact = [m for m in matches if matched(m) and error(m) < EXACT]
+        self.assertGreaterEqual(len(exact), MIN_EXACT, matches)
+
+    def test_cli_localizes_and_scores_a_noise_free_bin(self):
+        estimates = self.localize_file()
+        with open(estimates) as f:
+            found = json.load(f)
+        self.assertEqual(found["frame"], "world")
+        self.assertGreater(found["localize_ms"], 0)
+        self.assertGreaterEqual(len(found["estimates"]), MIN_EXACT)
+        self.assertTrue(all(e["mesh_id"] == self.mesh_id and len(e["world_from_part"]) == 16
+                            for e in found["estimates"]))
+        report = json.loads(self.cli("--json", "score", "--truth", self.truth, "--estimates", estimates))
+        self.assertEqual(len(report["parts"]), 1)
+        part = report["parts"][0]
+        self.assertEqual(part["meshId"], self.mesh_id)
+        self.assertFalse(part["usesAddS"])
+        # The bin itself is left out: only the angle blocks seen above the visibility cut count.
+        seen = sum(1 for o in self.stats.objects if o.mesh_id == self.mesh_id and o.visible_fraction >= 0.1)
+        self.assertEqual(int(report["validInstances"]), seen)
+        self.assertEqual(len(part["matches"]), seen)
+        self.assertExactMatches(part["matches"])
+        self.assertAlmostEqual(report["addRecall"], int(part["addCorrect"]) / seen, places=12)
+        self.assertGreaterEqual(report["mssdAverageRecall"], MIN_EXACT / seen - 1e-12)
+        text = self.cli("score", "--truth", self.truth, "--estimates", estimates)
+        self.assertIn("ADD(-S)", text)
+        self.assertIn(self.mesh_id, text)
+
+    def test_bop_results_csv_scores_as_the_json_does(self):
+        estimates = self.localize_file()
+        with open(estimates) as f:
+            found = json.load(f)["estimates"]
+        with open(self.truth) as f:
+            world_from_sensor = np.array(json.load(f)["world_from_sensor"]).reshape(4, 4)
+        sensor_from_world = np.linalg.inv(world_from_sensor)
+        path = os.path.join(self.tmp.name, "results.csv")
+        with open(path, "w", newline="") as f:
+            writer = csv.writer(f)
+            writer.writerow(["scene_id", "im_id", "obj_id", "score", "R", "t", "time"])
+            for e in found:
+                pose = sensor_from_world @ np.array(e["world_from_part"]).reshape(4, 4)
+                writer.writerow([1, 0, 7, e["score"], " ".join(f"{v:.12g}" for v in pose[:3, :3].ravel()),
+                                 " ".join(f"{v * 1000:.12g}" for v in pose[:3, 3]), -1])
+        from_json = json.loads(self.cli("--json", "score", "--truth", self.truth, "--estimates", estimates))
+        from_csv = json.loads(self.cli("--json", "score", "--truth", self.truth, "--estimates", path,
+                                       "--bop-obj", f"7={self.mesh_id}"))
+        self.assertGreater(from_json["addRecall"], 0)
+        self.assertEqual(from_csv["addRecall"], from_json["addRecall"])
+        self.assertAlmostEqual(from_csv["mssdAverageRecall"], from_json["mssdAverageRecall"], places=9)
+        # Millimetres and the camera frame, undone: the same estimates matched with the same errors.
+        for a, b in zip(from_csv["parts"][0]["matches"], from_json["parts"][0]["matches"]):
+            self.assertEqual(a.get("estimateIndex"), b.get("estimateIndex"))
+            self.assertAlmostEqual(a["addError"], b["addError"], places=7)
+
+    def test_python_client_localizes_sent_points_and_scores_them(self):
+        self.assertLessEqual(len(self.positions), 131072)
+        with Client(self.server.address) as client:
+            # The scan's estimated normals sent along and used as they are.
+            found = client.localize(self.mesh_id, points=self.positions, normals=self.normals, max_instances=8,
+                                    normal_source="cloud")
+            self.assertEqual(found.points, len(self.positions))
+            parts = [(self.mesh_id, 1.0)]
+            truth = truth_from_objects(self.stats.objects, parts)
+            estimates = [(0, e.world_from_part.values, e.score) for e in found.estimates]
+            score = client.score_poses(parts, truth, estimates)
+            self.assertTrue(score.HasField("add_recall"))
+            self.assertExactMatches(score.parts[0].matches, error=lambda m: m.add_error,
+                                    matched=lambda m: m.HasField("estimate_index"))
+            # The true poses as estimates: every valid instance matched with zero error.
+            exact = client.score_poses(parts, truth, [(t.part, t.world_from_part.matrix.values, 1) for t in truth])
+            self.assertEqual(exact.add_recall, 1.0)
+            self.assertEqual(exact.mssd_average_recall, 1.0)
+            self.assertTrue(all(m.HasField("estimate_index") and m.add_error < 1e-6 for m in exact.parts[0].matches))
+            # No estimates: an answer, every valid instance missed.
+            none = client.score_poses(parts, truth, [])
+            self.assertEqual(none.add_recall, 0.0)
+            self.assertFalse(any(m.HasField("estimate_index") for m in none.parts[0].matches))
+
+    def test_a_deadline_stops_a_search_and_the_server_carries_on(self):
+        request = localization_pb2.LocalizeRequest(mesh_id=self.mesh_id)
+        request.points.positions = self.positions[:100000].astype("<f4").tobytes()
+        request.options.viewpoint.z = 1
+        with self.assertRaises(grpc.RpcError) as ctx:
+            self.stub.Localize(request, timeout=0.05)
+        self.assertEqual(ctx.exception.code(), grpc.StatusCode.DEADLINE_EXCEEDED)
+        score = self.stub.ScorePoses(localization_pb2.ScorePosesRequest(
+            parts=[localization_pb2.ScoredPart(mesh_id=self.mesh_id)]), timeout=30)
+        self.assertFalse(score.HasField("add_recall"))
+
+    def test_refusals_name_their_field(self):
+        invalid, not_found = grpc.StatusCode.INVALID_ARGUMENT, grpc.StatusCode.NOT_FOUND
+        localize = localization_pb2.LocalizeRequest
+
+        def points(values):
+            return localization_pb2.InlinePoints(positions=np.asarray(values, "<f4").tobytes())
+        self.assertCode(invalid, lambda: self.stub.Localize(localize(mesh_id=self.mesh_id)), "source")
+        self.assertCode(not_found, lambda: self.stub.Localize(localize(cloud_id="cld_0000000000000000",
+                                                                       mesh_id=self.mesh_id)), "cloud_id")
+        self.assertCode(not_found, lambda: self.stub.Localize(localize(points=points([[0, 0, 0]]),
+                                                                       mesh_id="msh_0000000000000000")), "mesh_id")
+        self.assertCode(invalid, lambda: self.stub.Localize(localize(points=points([[0, 0, 0], [math.nan, 0, 0]]),
+                                                                     mesh_id=self.mesh_id)), "points.positions[1]")
+        self.assertCode(invalid, lambda: self.stub.Localize(localize(
+            points=localization_pb2.InlinePoints(positions=b"\0" * 13), mesh_id=self.mesh_id)), "points.positions")
+        self.assertCode(grpc.StatusCode.RESOURCE_EXHAUSTED, lambda: self.stub.Localize(localize(
+            points=points(np.zeros((131073, 3))), mesh_id=self.mesh_id)), "points.positions")
+        self.assertCode(invalid, lambda: self.stub.Localize(localize(
+            points=points([[0, 0, 0]]), mesh_id=self.mesh_id,
+            options=localization_pb2.LocalizeOptions(max_instances=101))), "options.max_instances")
+        self.assertCode(invalid, lambda: self.stub.Localize(localize(
+            points=points([[0, 0, 0]]), mesh_id=self.mesh_id,
+            options=localization_pb2.LocalizeOptions(min_score=1.5))), "options.min_score")
+        self.assertCode(grpc.StatusCode.FAILED_PRECONDITION, lambda: self.stub.Localize(localize(
+            points=points([[0, 0, 0]]), mesh_id=self.mesh_id,
+            options=localization_pb2.LocalizeOptions(normal_source=localization_pb2.NORMAL_SOURCE_CLOUD))),
+            "options.normal_source")
+
+        part = localization_pb2.ScoredPart(mesh_id=self.mesh_id)
+        score = localization_pb2.ScorePosesRequest
+        skewed = [1, 0.2, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]
+        self.assertCode(invalid, lambda: self.stub.ScorePoses(score()), "parts")
+        self.assertCode(not_found, lambda: self.stub.ScorePoses(score(parts=[
+            part, localization_pb2.ScoredPart(mesh_id="msh_0000000000000000")])), "parts[1].mesh_id")
+        self.assertCode(invalid, lambda: self.stub.ScorePoses(score(parts=[part], truth=[
+            localization_pb2.TruePose(part=0, world_from_part=matrix(skewed))])), "truth[0].world_from_part.matrix")
+        nan_pose = IDENTITY[:7] + [math.nan] + IDENTITY[8:]
+        self.assertCode(invalid, lambda: self.stub.ScorePoses(score(parts=[part], estimates=[
+            localization_pb2.EstimatedPose(part=0, world_from_part=matrix(IDENTITY)),
+            localization_pb2.EstimatedPose(part=0, world_from_part=matrix(nan_pose))])),
+            "estimates[1].world_from_part.matrix")
+        self.assertCode(invalid, lambda: self.stub.ScorePoses(score(parts=[part], estimates=[
+            localization_pb2.EstimatedPose(part=2, world_from_part=matrix(IDENTITY))])), "estimates[0].part")
+        self.assertCode(invalid, lambda: self.stub.ScorePoses(score(parts=[part], estimates=[
+            localization_pb2.EstimatedPose(part=0, world_from_part=matrix(IDENTITY), score=math.nan)])),
+            "estimates[0].score")
+        self.assertCode(invalid, lambda: self.stub.ScorePoses(score(parts=[part], truth=[
+            localization_pb2.TruePose(part=0, world_from_part=matrix(IDENTITY), visible_fraction=-1)])),
+            "truth[0].visible_fraction")
+        self.assertCode(invalid, lambda: self.stub.ScorePoses(score(parts=[part], estimates=[
+            localization_pb2.EstimatedPose(part=0, world_from_part=matrix(IDENTITY))] * 10001)), "estimates")
+        self.assertCode(invalid, lambda: self.stub.ScorePoses(score(
+            parts=[part], options=localization_pb2.ScoringOptions(add_threshold=0))), "options.add_threshold")
+        self.assertCode(invalid, lambda: self.stub.ScorePoses(score(parts=[localization_pb2.ScoredPart(
+            mesh_id=self.mesh_id, symmetry=localization_pb2.PartSymmetry(
+                continuous=[localization_pb2.ContinuousSymmetry()]))])), "parts[0].symmetry.continuous[0].axis")
+
+    def test_cli_refuses_a_missing_unit_and_a_bad_truth_file(self):
+        mesh_file = os.path.join(os.path.dirname(__file__), "..", "..", "data", "parts", "angle_block.STL")
+        done = subprocess.run([VSCAN, "--server", self.server.address, "localize", "--cloud", self.cloud, "--mesh",
+                               mesh_file, "--out", os.path.join(self.tmp.name, "x.json")],
+                              capture_output=True, text=True, timeout=60)
+        self.assertEqual(done.returncode, 2, done.stderr)
+        self.assertIn("--units", done.stderr)
+        bad = os.path.join(self.tmp.name, "bad.gt.json")
+        with open(bad, "w") as f:
+            json.dump({"objects": [{"mesh_id": self.mesh_id, "world_from_object": {"values": [1, 2, 3]}}]}, f)
+        estimates = self.localize_file()
+        done = subprocess.run([VSCAN, "--server", self.server.address, "score", "--truth", bad, "--estimates",
+                               estimates], capture_output=True, text=True, timeout=60)
+        self.assertEqual(done.returncode, 2, done.stderr)
+        self.assertIn("objects[0].world_from_object", done.stderr)
