@@ -28,5 +28,7 @@ void AddSensorsCommand(CLI::App& app, Context& ctx);
 void AddCloudCommands(CLI::App& app, Context& ctx);
 // `vscan align|reconstruct|evaluate` and the `vscan model` group.
 void AddModelCommands(CLI::App& app, Context& ctx);
+// `vscan dataset run|watch|cancel|download|list|delete` (cmd_dataset.cpp).
+void AddDatasetCommands(CLI::App& app, Context& ctx);
 
 }  // namespace vscan::cli

@@ -50,6 +50,7 @@ int main(int argc, char** argv) {
   vscan::cli::AddCampaignCommands(app, ctx);
   vscan::cli::AddCloudCommands(app, ctx);
   vscan::cli::AddModelCommands(app, ctx);
+  vscan::cli::AddDatasetCommands(app, ctx);
   vscan::cli::AddSensorsCommand(app, ctx);
   app.footer(kFooter);
 

@@ -7,6 +7,7 @@ import grpc
 from . import convert
 from ._stubs import robot_pb2_grpc, scan_pb2, scan_pb2_grpc, scene_pb2, scene_pb2_grpc, sensor_pb2
 from .clouds import CloudCalls
+from .datasets import DatasetCalls
 from .errors import VscanError, from_rpc_error
 from .jobs import JobCalls
 from .models import ModelCalls
@@ -40,7 +41,7 @@ def _decode_health_response(data):
     return "UNKNOWN"
 
 
-class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls):
+class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls, DatasetCalls):
     """Talks to one vscand. Failed calls raise VscanError.
 
     address: "host:port". token: bearer token sent with every call. root_cert: PEM file of the
