@@ -7,6 +7,7 @@
 #include <cstdlib>
 #include <iostream>
 #include <mutex>
+#include <optional>
 #include <thread>
 
 #include <CLI/CLI.hpp>
@@ -15,6 +16,7 @@
 #include <spdlog/spdlog.h>
 
 #include "api/server.h"
+#include "dataset_oneshot.h"
 #include "vscan/common/logging.h"
 
 namespace {
@@ -120,6 +122,8 @@ int main(int argc, char** argv) {
   app.add_option("--job-retention-check-seconds", options.job_retention_check_s,
                  "How often job retention is applied (besides once at start)")
       ->capture_default_str()->check(CLI::Range(1, 86400));
+  vscan::DatasetOneShot one_shot;
+  vscan::AddDatasetOneShotOptions(app, one_shot);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -128,6 +132,7 @@ int main(int argc, char** argv) {
   options.limits.max_upload_bytes = max_upload_mib << 20;
 
   vscan::SetupLogging("vscand", log_level);
+  if (const std::optional<int> exit_status = vscan::RunDatasetOneShot(one_shot)) return *exit_status;
   if (!token_file.empty()) {
     std::ifstream in(token_file);
     std::getline(in, options.token);

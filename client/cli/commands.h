@@ -32,5 +32,7 @@ void AddBinCommands(CLI::App& app, Context& ctx);
 void AddModelCommands(CLI::App& app, Context& ctx);
 // `localize` and `score` under group (cmd_localize.cpp).
 void AddLocalizationCommands(CLI::App& group, Context& ctx);
+// `vscan dataset run|watch|cancel|download|list|delete` (cmd_dataset.cpp).
+void AddDatasetCommands(CLI::App& app, Context& ctx);
 
 }  // namespace vscan::cli

@@ -52,6 +52,7 @@ int main(int argc, char** argv) {
   vscan::cli::AddCloudCommands(app, ctx);
   vscan::cli::AddModelCommands(app, ctx);
   vscan::cli::AddLocalizationCommands(app, ctx);
+  vscan::cli::AddDatasetCommands(app, ctx);
   vscan::cli::AddSensorsCommand(app, ctx);
   app.footer(kFooter);
 

@@ -53,6 +53,9 @@ Status ToProto(const store::JobRecord& job, v1::Job* out) {
   if (job.kind == "bin_fill" && !out->mutable_bin_fill()->ParseFromString(job.spec)) {
     return DataLoss("job catalogue: job '" + job.job_id + "' has an unreadable bin fill spec");
   }
+  if (job.kind == "dataset" && !out->mutable_dataset()->ParseFromString(job.spec)) {
+    return DataLoss("job catalogue: job '" + job.job_id + "' has an unreadable dataset spec");
+  }
   for (const store::ArtifactRecord& artifact : job.artifacts) RETURN_IF_ERROR(ToProto(artifact, out->add_artifacts()));
   return Status::Ok();
 }

@@ -24,6 +24,9 @@ class JobService final : public v1::JobService::CallbackService {
                                        v1::StartModelResponse* response) override;
   grpc::ServerUnaryReactor* StartBinFill(grpc::CallbackServerContext* ctx, const v1::StartBinFillRequest* request,
                                          v1::StartBinFillResponse* response) override;
+  // In dataset_job_service.cpp.
+  grpc::ServerUnaryReactor* StartDataset(grpc::CallbackServerContext* ctx, const v1::StartDatasetRequest* request,
+                                         v1::StartDatasetResponse* response) override;
   grpc::ServerUnaryReactor* GetJob(grpc::CallbackServerContext* ctx, const v1::GetJobRequest* request,
                                    v1::GetJobResponse* response) override;
   grpc::ServerUnaryReactor* ListJobs(grpc::CallbackServerContext* ctx, const v1::ListJobsRequest* request,

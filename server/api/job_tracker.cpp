@@ -105,6 +105,11 @@ StatusOr<v1::Job> JobTracker::CreateBinFill(const v1::BinFillSpec& spec, uint32_
   return Create("bin_fill", spec.name(), spec.SerializeAsString(), steps_total);
 }
 
+StatusOr<v1::Job> JobTracker::CreateDataset(const v1::DatasetSpec& spec, const std::string& name,
+                                            uint32_t steps_total) {
+  return Create("dataset", name, spec.SerializeAsString(), steps_total);
+}
+
 StatusOr<v1::Job> JobTracker::Create(const std::string& kind, const std::string& name, std::string spec,
                                      uint32_t steps_total) {
   store::JobRecord record;

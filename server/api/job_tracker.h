@@ -89,6 +89,7 @@ class JobTracker {
   StatusOr<v1::Job> CreateCampaign(const v1::CampaignSpec& spec, uint32_t steps_total);
   StatusOr<v1::Job> CreateModel(const v1::ModelSpec& spec, uint32_t steps_total);
   StatusOr<v1::Job> CreateBinFill(const v1::BinFillSpec& spec, uint32_t steps_total);
+  StatusOr<v1::Job> CreateDataset(const v1::DatasetSpec& spec, const std::string& name, uint32_t steps_total);
   // The job as it is: from memory while live, else from the catalogue.
   StatusOr<v1::Job> Get(const std::string& job_id);
   // Null once the job has ended (ended but not null while its end could not be stored).

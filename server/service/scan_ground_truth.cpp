@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <optional>
 
@@ -63,6 +64,19 @@ sensor::PinholeCamera Crop(const sensor::PinholeCamera& camera, const PixelBox& 
   return crop;
 }
 
+// The box around the pixels of a cloud cast with kFieldPixel (row-major indices of an image width wide).
+PixelBox CoveredPixels(const PointCloud& cloud, uint32_t width) {
+  PixelBox covered{std::numeric_limits<uint32_t>::max(), std::numeric_limits<uint32_t>::max(), 0, 0};
+  for (const uint32_t pixel : cloud.pixels) {
+    const uint32_t u = pixel % width, v = pixel / width;
+    covered.u0 = std::min(covered.u0, u);
+    covered.v0 = std::min(covered.v0, v);
+    covered.u1 = std::max(covered.u1, u + 1);
+    covered.v1 = std::max(covered.v1, v + 1);
+  }
+  return covered;
+}
+
 bool Counts(const PointCloud& cloud, size_t i) {
   if (!cloud.Has(kFieldStatus)) return true;
   const auto status = static_cast<PointStatus>(cloud.statuses[i]);
@@ -98,10 +112,11 @@ StatusOr<std::vector<ObjectTruth>> ObjectGroundTruth(const scenes::ScanTarget& t
     if (!box) continue;
     ASSIGN_OR_RETURN(const auto alone, raycast::RaycastScene::Build(std::span(&instance, 1)));
     raycast::ScanOptions options;
-    options.fields = kFieldPosition;
+    options.fields = kFieldPosition | kFieldPixel;
     options.cancel = cancel;
     raycast::ScanStats stats;
-    RETURN_IF_ERROR(raycast::Scan(*alone, Crop(camera, *box), world_from_sensor, options, &stats).status());
+    const sensor::PinholeCamera crop = Crop(camera, *box);
+    ASSIGN_OR_RETURN(const PointCloud alone_cloud, raycast::Scan(*alone, crop, world_from_sensor, options, &stats));
     const auto seen = visible.find(object.instance_id);
     const uint64_t visible_points = seen == visible.end() ? 0 : seen->second;
     if (stats.points == 0 && visible_points == 0) continue;
@@ -117,6 +132,13 @@ StatusOr<std::vector<ObjectTruth>> ObjectGroundTruth(const scenes::ScanTarget& t
     truth.unoccluded_points = stats.points;
     truth.visible_fraction =
         stats.points > 0 ? static_cast<double>(visible_points) / static_cast<double>(stats.points) : 0.0;
+    if (!alone_cloud.pixels.empty()) {
+      const PixelBox covered = CoveredPixels(alone_cloud, crop.width);
+      truth.alone_u0 = box->u0 + covered.u0;
+      truth.alone_v0 = box->v0 + covered.v0;
+      truth.alone_u1 = box->u0 + covered.u1;
+      truth.alone_v1 = box->v0 + covered.v1;
+    }
     out.push_back(std::move(truth));
   }
   return out;

@@ -26,6 +26,8 @@ struct ObjectTruth {
   uint64_t visible_points = 0;      // the scan's measurements with this instance id
   uint64_t unoccluded_points = 0;   // clean hits of the object cast alone
   double visible_fraction = 0.0;    // visible over unoccluded (0 when unoccluded is 0)
+  // The pixels [u0, u1) x [v0, v1) the object covers cast alone; all 0 when it covers none.
+  uint32_t alone_u0 = 0, alone_v0 = 0, alone_u1 = 0, alone_v1 = 0;
 };
 
 // The fields a scan with ground truth must carry to be counted: the asked ones plus instance ids

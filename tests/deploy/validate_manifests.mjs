@@ -1,6 +1,7 @@
 // Validates every manifest in a directory against the Kubernetes schema (kubernetes-models, offline)
 // and checks that the dataset manifests fit together: the Indexed Job's shard count, the volume and
-// ConfigMap they mount, the plan path and the dataset directory the shards and the merge share.
+// ConfigMap they mount, the plan path (its bins described, meshes at absolute paths) and the dataset
+// directory the shards and the merge share; both run vscand in one-shot mode.
 // Usage: node validate_manifests.mjs <manifest directory>
 
 import assert from "node:assert/strict";
@@ -34,7 +35,7 @@ function checkDataset(manifests) {
   const jobs = byKind("Job");
   const shards = jobs.filter((j) => j.spec.completionMode === "Indexed");
   assert.equal(shards.length, 1, "one Indexed Job writes the shards");
-  const merges = jobs.filter((j) => j.spec.template.spec.containers[0].args.includes("merge"));
+  const merges = jobs.filter((j) => j.spec.template.spec.containers[0].args.includes("--dataset-merge"));
   assert.equal(merges.length, 1, "one Job merges");
 
   const shardJob = shards[0];
@@ -46,10 +47,11 @@ function checkDataset(manifests) {
   assert.equal(shardJob.spec.template.spec.restartPolicy, "Never");
 
   const outs = new Set();
-  for (const job of [shardJob, merges[0]]) {
+  for (const [job, planFlag] of [[shardJob, "--dataset-shard"], [merges[0], "--dataset-merge"]]) {
     const pod = job.spec.template.spec;
     const container = pod.containers[0];
-    const planPath = argAfter(container.args, "--plan");
+    assert.deepEqual(container.command, ["vscand"], `${job.metadata.name}: the pods run vscand in one-shot mode`);
+    const planPath = argAfter(container.args, planFlag);
     const plan = volumeFor(pod, container, planPath);
     assert.ok(plan.volume.configMap, `${job.metadata.name}: --plan must come from a ConfigMap`);
     const configMap = configMaps.get(plan.volume.configMap.name);
@@ -58,6 +60,12 @@ function checkDataset(manifests) {
     assert.ok(planText, `ConfigMap ${configMap.metadata.name} has no key ${plan.rest}`);
     const parsed = parse(planText);
     for (const key of ["bins", "seeds", "sensors"]) assert.ok(parsed[key], `the plan has no ${key}`);
+    for (const bin of parsed.bins) {
+      assert.ok(bin.box && bin.parts, `bin ${bin.name ?? bin}: the pods fill bins, so each needs its box and parts`);
+      for (const part of bin.parts) {
+        assert.ok(part.mesh?.startsWith("/"), `bin ${bin.name}: ${part.mesh} must be an absolute path in the image`);
+      }
+    }
 
     const out = argAfter(container.args, "--out");
     const data = volumeFor(pod, container, out);

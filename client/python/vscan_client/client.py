@@ -8,6 +8,7 @@ from . import convert
 from ._stubs import robot_pb2_grpc, scan_pb2, scan_pb2_grpc, scene_pb2, scene_pb2_grpc, sensor_pb2
 from .bins import BinCalls
 from .clouds import CloudCalls
+from .datasets import DatasetCalls
 from .errors import VscanError, from_rpc_error
 from .jobs import JobCalls
 from .localization import LocalizationCalls
@@ -42,7 +43,7 @@ def _decode_health_response(data):
     return "UNKNOWN"
 
 
-class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls, BinCalls, LocalizationCalls):
+class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls, BinCalls, LocalizationCalls, DatasetCalls):
     """Talks to one vscand. Failed calls raise VscanError.
 
     address: "host:port". token: bearer token sent with every call. root_cert: PEM file of the

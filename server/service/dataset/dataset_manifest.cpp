@@ -13,6 +13,43 @@ void Names(JsonWriter& json, const std::vector<std::string>& names) {
   json.Close(']');
 }
 
+// What each bin is filled with and how each sensor scans, when the plan says: two plans that name
+// the same bins but fill them differently are two datasets.
+void Fills(JsonWriter& json, const DatasetPlan& plan) {
+  json.Key("bin_fills").Open('[');
+  for (const DatasetBinFill& fill : plan.bin_fills) {
+    json.Open('{');
+    json.Key("inner_size_m").Open('[');
+    for (int axis = 0; axis < 3; ++axis) json.Value(fill.inner_size_m[axis]);
+    json.Close(']');
+    json.Key("wall_m").Value(fill.wall_thickness_m);
+    json.Key("max_simulated_s").Value(fill.max_simulated_s);
+    json.Key("parts").Open('[');
+    for (const DatasetPart& part : fill.parts) {
+      json.Open('{');
+      json.Key("mesh").Value(part.mesh_file);
+      json.Key("mesh_id").Value(part.mesh_id);
+      json.Key("unit").Value(part.unit);
+      json.Key("scale").Value(part.scale);
+      json.Key("count").Value(uint64_t{part.count});
+      json.Key("name").Value(part.name);
+      json.Close('}');
+    }
+    json.Close(']').Close('}');
+  }
+  json.Close(']');
+  json.Key("sensor_setups").Open('[');
+  for (const DatasetSensor& sensor : plan.sensor_setups) {
+    json.Open('{');
+    json.Key("preset").Value(sensor.preset);
+    json.Key("width").Value(uint64_t{sensor.width});
+    json.Key("height").Value(uint64_t{sensor.height});
+    json.Close('}');
+  }
+  json.Close(']');
+  json.Key("camera_height_m").Value(plan.camera_height_m);
+}
+
 }  // namespace
 
 std::string DatasetManifestJson(const DatasetPlan& plan) {
@@ -32,6 +69,7 @@ std::string DatasetManifestJson(const DatasetPlan& plan) {
   json.Key("sensors");
   Names(json, plan.sensors);
   json.Key("depth_scale_mm").Value(plan.depth_scale_mm);
+  if (!plan.bin_fills.empty()) Fills(json, plan);
   json.Close('}').Close('}');
   return json.str() + "\n";
 }

@@ -44,6 +44,21 @@ Status CheckPlan(const DatasetPlan& plan) {
   if (!std::isfinite(plan.depth_scale_mm) || plan.depth_scale_mm <= 0) {
     return InvalidArgument("depth_scale_mm", "must be a positive number of millimetres");
   }
+  if (!plan.bin_fills.empty()) {
+    if (plan.bin_fills.size() != plan.bins.size()) return InvalidArgument("bins", "describe every bin's fill or none");
+    for (size_t i = 0; i < plan.bin_fills.size(); ++i) {
+      RETURN_IF_ERROR(CheckBinFill(plan.bin_fills[i], "bins[" + std::to_string(i) + "]"));
+    }
+  }
+  if (!plan.sensor_setups.empty()) {
+    if (plan.sensor_setups.size() != plan.sensors.size()) return InvalidArgument("sensors", "one setup per sensor");
+    for (size_t i = 0; i < plan.sensor_setups.size(); ++i) {
+      RETURN_IF_ERROR(CheckSensor(plan.sensor_setups[i], "sensors[" + std::to_string(i) + "]"));
+    }
+  }
+  if (!std::isfinite(plan.camera_height_m) || plan.camera_height_m <= 0 || plan.camera_height_m > 100) {
+    return InvalidArgument("camera_height_m", "must be within (0, 100] m");
+  }
   const double scenes = double(plan.seeds.size()) * double(plan.bins.size()) * double(plan.sensors.size());
   if (scenes > double(kMaxScenes)) {
     return InvalidArgument("seeds", "seeds x bins x sensors must be at most " + std::to_string(kMaxScenes) +

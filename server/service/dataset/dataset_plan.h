@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "service/dataset/dataset_bins.h"
 #include "vscan/common/status.h"
 
 namespace vscan::service::dataset {
@@ -16,6 +17,11 @@ struct DatasetPlan {
   std::vector<uint64_t> seeds;       // distinct, in the order scenes take them
   std::vector<std::string> sensors;  // sensor names
   double depth_scale_mm = 0.1;       // millimetres per unit of the 16-bit depth images
+  // Empty, or one per bin: what the bin is filled with (the engine's frame source needs it).
+  std::vector<DatasetBinFill> bin_fills;
+  // Empty, or one per sensor: its preset and resolution.
+  std::vector<DatasetSensor> sensor_setups;
+  double camera_height_m = 0.6;  // above each bin's floor, looking straight down at its centre
 };
 
 struct SceneKey {

@@ -4,6 +4,8 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "service/dataset/dataset_bins_yaml.h"
+
 namespace vscan::service::dataset {
 namespace {
 
@@ -11,14 +13,30 @@ Status Refuse(const std::string& source, const std::string& key, const std::stri
   return InvalidArgument(source + ": " + key + ": " + what);
 }
 
-StatusOr<std::vector<std::string>> Names(const YAML::Node& node, const std::string& source, const std::string& key) {
-  if (!node.IsSequence()) return Refuse(source, key, "must be a list of names");
-  std::vector<std::string> names;
-  for (const YAML::Node& item : node) {
-    if (!item.IsScalar()) return Refuse(source, key, "must be a list of names");
-    names.push_back(item.Scalar());
+// Bare names, or mappings that describe each bin's fill: every bin one way.
+Status ReadBins(const YAML::Node& node, const std::string& source, DatasetPlan& plan) {
+  if (!node.IsSequence()) return Refuse(source, "bins", "must be a list of bins");
+  for (size_t i = 0; i < node.size(); ++i) {
+    const std::string key = "bins[" + std::to_string(i) + "]";
+    ASSIGN_OR_RETURN(BinEntry entry, ReadBinEntry(node[i], source, key));
+    if (entry.fill.has_value() != (i == 0 ? node[0].IsMap() : !plan.bin_fills.empty())) {
+      return Refuse(source, key, "describe every bin's fill or none");
+    }
+    plan.bins.push_back(std::move(entry.name));
+    if (entry.fill) plan.bin_fills.push_back(std::move(*entry.fill));
   }
-  return names;
+  return Status::Ok();
+}
+
+// Preset names, or mappings with a name, a preset and a resolution; a bare name is a preset.
+Status ReadSensors(const YAML::Node& node, const std::string& source, DatasetPlan& plan) {
+  if (!node.IsSequence()) return Refuse(source, "sensors", "must be a list of sensors");
+  for (size_t i = 0; i < node.size(); ++i) {
+    ASSIGN_OR_RETURN(SensorEntry entry, ReadSensorEntry(node[i], source, "sensors[" + std::to_string(i) + "]"));
+    plan.sensor_setups.push_back(entry.setup ? *entry.setup : DatasetSensor{entry.name, 0, 0});
+    plan.sensors.push_back(std::move(entry.name));
+  }
+  return Status::Ok();
 }
 
 StatusOr<uint64_t> Count(const YAML::Node& node, const std::string& source, const std::string& key) {
@@ -53,10 +71,11 @@ StatusOr<std::vector<uint64_t>> Seeds(const YAML::Node& node, const std::string&
 
 StatusOr<DatasetPlan> PlanFromNode(const YAML::Node& root, const std::string& source) {
   if (!root.IsMap()) return InvalidArgument(source + ": the plan must be a mapping");
-  static const std::set<std::string> kKeys = {"name", "bins", "seeds", "sensors", "depth_scale_mm"};
+  static const std::set<std::string> kKeys = {"name", "bins", "seeds", "sensors", "depth_scale_mm", "camera_height_m"};
   for (const auto& entry : root) {
     if (!kKeys.contains(entry.first.Scalar())) {
-      return Refuse(source, entry.first.Scalar(), "is not a key (name, bins, seeds, sensors, depth_scale_mm)");
+      return Refuse(source, entry.first.Scalar(),
+                    "is not a key (name, bins, seeds, sensors, depth_scale_mm, camera_height_m)");
     }
   }
   for (const char* key : {"bins", "seeds", "sensors"}) {
@@ -67,13 +86,19 @@ StatusOr<DatasetPlan> PlanFromNode(const YAML::Node& root, const std::string& so
     if (!root["name"].IsScalar()) return Refuse(source, "name", "must be text");
     plan.name = root["name"].Scalar();
   }
-  ASSIGN_OR_RETURN(plan.bins, Names(root["bins"], source, "bins"));
+  RETURN_IF_ERROR(ReadBins(root["bins"], source, plan));
   ASSIGN_OR_RETURN(plan.seeds, Seeds(root["seeds"], source));
-  ASSIGN_OR_RETURN(plan.sensors, Names(root["sensors"], source, "sensors"));
+  RETURN_IF_ERROR(ReadSensors(root["sensors"], source, plan));
   if (root["depth_scale_mm"]) {
     if (!root["depth_scale_mm"].IsScalar() ||
         !YAML::convert<double>::decode(root["depth_scale_mm"], plan.depth_scale_mm)) {
       return Refuse(source, "depth_scale_mm", "must be a number");
+    }
+  }
+  if (root["camera_height_m"]) {
+    if (!root["camera_height_m"].IsScalar() ||
+        !YAML::convert<double>::decode(root["camera_height_m"], plan.camera_height_m)) {
+      return Refuse(source, "camera_height_m", "must be a number");
     }
   }
   const Status checked = CheckPlan(plan);

@@ -1,10 +1,11 @@
 #pragma once
 // A dataset plan from its YAML file (docs/DATASETS.md, "The plan file"):
 //   name: demo
-//   bins: [small-bin, large-bin]
+//   bins: [small-bin, large-bin]    # or mappings describing each fill: name, box, parts
 //   seeds: {first: 100, count: 8}   # or a list: [3, 5, 8]
-//   sensors: [zivid-2-m70]
+//   sensors: [kinect-v2-class]      # preset names, or {name, preset, width, height}
 //   depth_scale_mm: 0.1             # optional
+//   camera_height_m: 0.6            # optional
 
 #include <string>
 #include <string_view>

@@ -106,13 +106,64 @@ TEST(DatasetPlanYaml, NamesTheKeyItRefuses) {
     return ParseDatasetPlanYaml(text, "p.yaml").status().message();
   };
   EXPECT_EQ(message("bins: [b]\nseeds: [1]\nsensors: [s]\ncolour: red\n"),
-            "p.yaml: colour: is not a key (name, bins, seeds, sensors, depth_scale_mm)");
+            "p.yaml: colour: is not a key (name, bins, seeds, sensors, depth_scale_mm, camera_height_m)");
   EXPECT_EQ(message("bins: [b]\nsensors: [s]\n"), "p.yaml: seeds: is missing");
   EXPECT_EQ(message("bins: [b]\nseeds: {first: 1}\nsensors: [s]\n"), "p.yaml: seeds: needs both first and count");
   EXPECT_EQ(message("bins: [b]\nseeds: [1, -2]\nsensors: [s]\n"),
             "p.yaml: seeds[1]: must be a non-negative whole number");
   EXPECT_EQ(message("bins: [b, b]\nseeds: [1]\nsensors: [s]\n"), "p.yaml: bins[1]: 'b' appears twice");
   EXPECT_EQ(ParseDatasetPlanYaml("bins: [", "p.yaml").status().code(), StatusCode::kInvalidArgument);
+}
+
+TEST(DatasetPlanYaml, ReadsBinFillsAndSensorSetups) {
+  StatusOr<DatasetPlan> plan = ParseDatasetPlanYaml(
+      "bins:\n"
+      "  - name: mixed\n"
+      "    box: {inner_size_m: [0.3, 0.2, 0.1], wall_m: 0.02}\n"
+      "    parts:\n"
+      "      - {mesh: parts/block.stl, unit: in, count: 3}\n"
+      "      - {mesh_id: m-1, count: 2, scale: 0.5, name: rod}\n"
+      "seeds: [4]\n"
+      "sensors: [kinect-v2-class, {name: small, preset: ideal-vga, width: 160, height: 120}]\n"
+      "camera_height_m: 0.8\n",
+      "plan.yaml");
+  ASSERT_TRUE(plan.ok()) << plan.status().ToString();
+  EXPECT_EQ(plan->bins, (std::vector<std::string>{"mixed"}));
+  ASSERT_EQ(plan->bin_fills.size(), 1u);
+  const DatasetBinFill& fill = plan->bin_fills[0];
+  EXPECT_EQ(fill.inner_size_m, Eigen::Vector3d(0.3, 0.2, 0.1));
+  EXPECT_EQ(fill.wall_thickness_m, 0.02);
+  ASSERT_EQ(fill.parts.size(), 2u);
+  EXPECT_EQ(fill.parts[0].mesh_file, "parts/block.stl");
+  EXPECT_EQ(fill.parts[0].unit, "in");
+  EXPECT_EQ(fill.parts[0].name, "block");
+  EXPECT_EQ(fill.parts[1].mesh_id, "m-1");
+  EXPECT_EQ(fill.parts[1].scale, 0.5);
+  EXPECT_EQ(plan->sensors, (std::vector<std::string>{"kinect-v2-class", "small"}));
+  ASSERT_EQ(plan->sensor_setups.size(), 2u);
+  EXPECT_EQ(plan->sensor_setups[0].preset, "kinect-v2-class");
+  EXPECT_EQ(plan->sensor_setups[1].preset, "ideal-vga");
+  EXPECT_EQ(plan->sensor_setups[1].width, 160u);
+  EXPECT_EQ(plan->camera_height_m, 0.8);
+}
+
+TEST(DatasetPlanYaml, NamesTheBinKeyItRefuses) {
+  const auto message = [](const std::string& bins) {
+    return ParseDatasetPlanYaml("bins:\n" + bins + "seeds: [1]\nsensors: [s]\n", "p.yaml").status().message();
+  };
+  const std::string box = "    box: {inner_size_m: [0.3, 0.2, 0.1]}\n";
+  EXPECT_EQ(message("  - name: a\n" + box + "    parts: [{mesh: a.stl, count: 0}]\n"),
+            "p.yaml: bins[0].parts[0].count: must be at least 1");
+  EXPECT_EQ(message("  - name: a\n" + box + "    parts: [{mesh: a.stl, unit: yd, count: 1}]\n"),
+            "p.yaml: bins[0].parts[0].unit: 'yd' is not m, cm, mm, in or ft");
+  EXPECT_EQ(message("  - name: a\n" + box + "    parts: [{count: 1}]\n"),
+            "p.yaml: bins[0].parts[0]: needs mesh (a file) or mesh_id (a stored mesh), one of them");
+  EXPECT_EQ(message("  - name: a\n    box: {inner_size_m: [0.3, 0.2, 0]}\n    parts: [{mesh: a.stl, count: 1}]\n"),
+            "p.yaml: bins[0].box.inner_size_m: each size must be within [0.001, 100] m");
+  EXPECT_EQ(message("  - name: a\n" + box + "    parts: [{mesh: a.stl, count: 1}]\n  - b\n"),
+            "p.yaml: bins[1]: describe every bin's fill or none");
+  EXPECT_EQ(message("  - name: a\n" + box + "    parts: [{mesh: a.stl, count: 1, colour: red}]\n"),
+            "p.yaml: bins[0].parts[0].colour: is not a key (mesh, mesh_id, unit, scale, count, name)");
 }
 
 }  // namespace

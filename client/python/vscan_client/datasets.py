@@ -1,0 +1,88 @@
+"""Dataset jobs of the Client (StartDataset): every bin of a plan filled under every seed and seen by
+every sensor, written by the server in the layout of docs/DATASETS.md and returned as dataset.tar."""
+
+import io
+import os
+import tarfile
+
+import grpc
+
+from ._stubs import sensor_pb2  # noqa: F401  (puts the generated stubs on sys.path)
+from .errors import VscanError
+
+from vscan.v1 import job_pb2  # noqa: E402
+
+DATASET_TAR = "dataset.tar"
+
+
+def plan_mesh_files(plan_text):
+    """{mesh path as the plan writes it: unit} for every part that names a mesh file (needs PyYAML)."""
+    import yaml
+
+    files = {}
+    for bin_entry in (yaml.safe_load(plan_text) or {}).get("bins") or []:
+        if not isinstance(bin_entry, dict):
+            continue
+        for part in bin_entry.get("parts") or []:
+            if isinstance(part, dict) and "mesh" in part:
+                unit = part.get("unit", "m")
+                if files.setdefault(part["mesh"], unit) != unit:
+                    raise ValueError(f"{part['mesh']} is given in two units")
+    return files
+
+
+class DatasetCalls:
+    """Mixed into Client; uses its job and mesh calls."""
+
+    def _dataset_spec(self, plan_path, resume_job_id):
+        with open(plan_path) as f:
+            text = f.read()
+        spec = job_pb2.DatasetSpec(plan_yaml=text, resume_job_id=resume_job_id or "")
+        plan_dir = os.path.dirname(os.path.abspath(plan_path))
+        for path, unit in plan_mesh_files(text).items():
+            spec.mesh_ids[path] = self.upload_mesh(os.path.join(plan_dir, path), unit).mesh_id
+        return spec
+
+    def start_dataset(self, plan_path, resume_job_id=None):
+        """Uploads the plan's mesh files and starts a dataset job; returns its Job (QUEUED, kind
+        "dataset"). resume_job_id continues the directory of that ended dataset job."""
+        spec = self._dataset_spec(plan_path, resume_job_id)
+        return self._call(self._jobs.StartDataset, job_pb2.StartDatasetRequest(spec=spec)).job
+
+    def validate_dataset(self, plan_path):
+        """Checks the plan as start_dataset would (its meshes are uploaded) and starts nothing."""
+        spec = self._dataset_spec(plan_path, None)
+        self._call(self._jobs.StartDataset, job_pb2.StartDatasetRequest(spec=spec, validate_only=True))
+
+    def run_dataset(self, plan_path, resume_job_id=None, directory=None, timeout=None):
+        """start_dataset, then follows the job until it ends and returns it (GetJob); with directory,
+        a job that succeeded is downloaded there. Watch a job with watch_job (one event per scene)
+        and cancel it with cancel_job; the scenes it finished stay for resume_job_id."""
+        job = self.wait_job(self.start_dataset(plan_path, resume_job_id).job_id, timeout=timeout)
+        if directory is not None and job.state == job_pb2.JOB_STATE_SUCCEEDED:
+            self.download_dataset(job.job_id, directory)
+        return job
+
+    def download_dataset(self, job_id, directory):
+        """Extracts the finished job's dataset.tar into directory; returns the paths written."""
+        for artifact in self.get_job(job_id).artifacts:
+            if artifact.name == DATASET_TAR:
+                _, data = self.read_artifact(job_id, artifact.artifact_id)
+                return _extract(data, directory)
+        raise VscanError(grpc.StatusCode.FAILED_PRECONDITION, f"job {job_id} has no {DATASET_TAR}")
+
+
+def _extract(data, directory):
+    """Writes the regular files of a dataset tar under directory, refusing names that leave it."""
+    paths = []
+    with tarfile.open(fileobj=io.BytesIO(data)) as tar:
+        for member in tar.getmembers():
+            parts = member.name.split("/")
+            if not member.isfile() or member.name.startswith("/") or ".." in parts:
+                raise VscanError(grpc.StatusCode.DATA_LOSS, f"{DATASET_TAR}: an unsafe entry '{member.name}'")
+            path = os.path.join(directory, *parts)
+            os.makedirs(os.path.dirname(path), exist_ok=True)
+            with open(path, "wb") as out:
+                out.write(tar.extractfile(member).read())
+            paths.append(path)
+    return paths

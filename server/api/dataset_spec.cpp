@@ -1,0 +1,85 @@
+#include "api/dataset_spec.h"
+
+#include "api/validate.h"
+#include "service/dataset/dataset_plan_yaml.h"
+
+namespace vscan::api {
+namespace {
+
+constexpr size_t kMaxPlanBytes = 1u << 20;
+
+service::DatasetMeshLoader StoredMeshes(const v1::DatasetSpec& spec, service::ServiceContext& context) {
+  return [&spec, &context](const service::dataset::DatasetPart& part,
+                           const std::string& field) -> StatusOr<TriangleMesh> {
+    std::string mesh_id = part.mesh_id;
+    std::string id_field = "spec.plan_yaml." + field + ".mesh_id";
+    if (mesh_id.empty()) {
+      const auto found = spec.mesh_ids().find(part.mesh_file);
+      if (found == spec.mesh_ids().end()) {
+        return InvalidArgument("spec.mesh_ids", "no stored mesh for '" + part.mesh_file + "' (" + field +
+                                                    ".mesh); upload the file and map its path to the mesh id");
+      }
+      mesh_id = found->second;
+      id_field = "spec.mesh_ids[" + part.mesh_file + "]";
+    }
+    const StatusOr<std::shared_ptr<const TriangleMesh>> mesh = context.registry.LoadMesh(mesh_id);
+    if (!mesh.ok() && mesh.status().code() == StatusCode::kNotFound) {
+      return NotFound(id_field, "no mesh '" + mesh_id + "'");
+    }
+    RETURN_IF_ERROR(mesh.status());
+    return **mesh;
+  };
+}
+
+// The job whose directory a resumed job writes (the first of a chain of resumptions).
+StatusOr<std::string> ResumedDirectory(const std::string& job_id, store::JobCatalogue& jobs) {
+  RETURN_IF_ERROR(RequireId(job_id, "spec.resume_job_id"));
+  const StatusOr<store::JobRecord> record = jobs.GetJob(job_id);
+  if (!record.ok() && record.status().code() == StatusCode::kNotFound) {
+    return NotFound("spec.resume_job_id", "no job '" + job_id + "'");
+  }
+  RETURN_IF_ERROR(record.status());
+  if (record->kind != "dataset") {
+    return FailedPrecondition("spec.resume_job_id", "job '" + job_id + "' is a " + record->kind + " job");
+  }
+  if (record->state == store::JobState::kQueued || record->state == store::JobState::kRunning) {
+    return FailedPrecondition("spec.resume_job_id", "job '" + job_id + "' has not ended; cancel it first");
+  }
+  v1::DatasetSpec earlier;
+  if (!earlier.ParseFromString(record->spec)) return DataLoss("job '" + job_id + "' has an unreadable dataset spec");
+  return earlier.resume_job_id().empty() ? job_id : earlier.resume_job_id();
+}
+
+}  // namespace
+
+StatusOr<ValidatedDataset> ValidateDataset(const v1::DatasetSpec& spec, service::ServiceContext& context,
+                                           store::JobCatalogue& jobs) {
+  if (spec.plan_yaml().empty()) return InvalidArgument("spec.plan_yaml", "required: the plan file's text");
+  if (spec.plan_yaml().size() > kMaxPlanBytes) return InvalidArgument("spec.plan_yaml", "longer than 1 MiB");
+  StatusOr<service::dataset::DatasetPlan> plan = service::dataset::ParseDatasetPlanYaml(spec.plan_yaml(), "plan");
+  if (!plan.ok()) {
+    // "plan: bins[0].box: ..." reads as a field of plan_yaml.
+    const std::string text = plan.status().message();
+    return InvalidArgument("spec.plan_yaml", text.rfind("plan: ", 0) == 0 ? text.substr(6) : text);
+  }
+  StatusOr<service::DatasetSetup> setup =
+      service::PrepareDataset(*plan, StoredMeshes(spec, context), context.options.limits.max_rays_per_scan);
+  if (!setup.ok()) {
+    const Status& error = setup.status();
+    return error.field().rfind("spec.", 0) == 0 ? error : error.WithFieldPrefix("spec.plan_yaml");
+  }
+  ValidatedDataset validated;
+  validated.spec = spec;
+  if (!spec.resume_job_id().empty()) {
+    ASSIGN_OR_RETURN(*validated.spec.mutable_resume_job_id(), ResumedDirectory(spec.resume_job_id(), jobs));
+  }
+  validated.setup = std::make_shared<const service::DatasetSetup>(std::move(setup).value());
+  return validated;
+}
+
+std::filesystem::path DatasetRootOf(const v1::DatasetSpec& spec, const std::string& job_id,
+                                    const service::ServerOptions& options) {
+  return service::DatasetJobRoot(options.data_dir, spec.resume_job_id().empty() ? job_id : spec.resume_job_id());
+}
+
+}  // namespace vscan::api

@@ -1,0 +1,27 @@
+#pragma once
+// A DatasetSpec checked and turned into a dataset job: the plan parsed and prepared (meshes
+// loaded from the store, presets found), the directory chosen, and a resumed job looked up, so
+// that a bad request creates no job. Errors name "spec.<field>", plan keys under
+// "spec.plan_yaml".
+
+#include "service/dataset_job_run.h"
+#include "service/service_context.h"
+#include "store/job_catalogue.h"
+#include "vscan/v1/job.pb.h"
+
+namespace vscan::api {
+
+struct ValidatedDataset {
+  std::shared_ptr<const service::DatasetSetup> setup;
+  // The spec as the job records it: resume_job_id names the job whose directory it writes.
+  v1::DatasetSpec spec;
+};
+
+StatusOr<ValidatedDataset> ValidateDataset(const v1::DatasetSpec& spec, service::ServiceContext& context,
+                                           store::JobCatalogue& jobs);
+
+// The directory a job with this (validated) spec writes.
+std::filesystem::path DatasetRootOf(const v1::DatasetSpec& spec, const std::string& job_id,
+                                    const service::ServerOptions& options);
+
+}  // namespace vscan::api

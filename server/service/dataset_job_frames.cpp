@@ -1,0 +1,164 @@
+#include "service/dataset_job_frames.h"
+
+#include <cmath>
+#include <map>
+#include <optional>
+
+#include <spdlog/spdlog.h>
+
+#include "raycast/raycast_scene.h"
+#include "service/raster_provider.h"
+#include "service/scan_backends.h"
+#include "service/scan_ground_truth.h"
+
+namespace vscan::service {
+namespace {
+
+constexpr uint32_t kBinInstance = 1;
+constexpr uint32_t kFirstPartInstance = 2;
+
+// One 64-bit noise seed per scene, from its seed, bin and sensor (splitmix64 steps).
+uint64_t SceneNoiseSeed(const dataset::SceneKey& key) {
+  uint64_t x = key.seed;
+  for (const uint64_t more : {uint64_t{key.bin_index}, uint64_t{key.sensor_index}}) {
+    x += 0x9e3779b97f4a7c15ull + more;
+    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+    x ^= x >> 31;
+  }
+  return x;
+}
+
+// The settled bin as a scan target: the bin (instance 1) and each part (2, 3, ...), only the
+// parts listed as scene objects, so that only they get ground truth.
+struct FilledBin {
+  scenes::ScanTarget target;
+  std::vector<uint32_t> obj_ids;  // per part instance, from kFirstPartInstance on
+};
+
+StatusOr<FilledBin> FillAndBuild(const DatasetBinSetup& bin, uint64_t seed, const std::atomic<bool>* cancel) {
+  physics::FillOptions options = bin.options;
+  options.seed = seed;
+  ASSIGN_OR_RETURN(const physics::FillResult result, physics::FillBin(bin.spec, bin.parts, options, cancel));
+  if (result.end == physics::FillEnd::kCancelled) return Cancelled("dataset cancelled");
+  size_t asked = 0;
+  for (const physics::PartType& part : bin.parts) asked += part.count;
+  if (result.parts.size() < asked) {
+    spdlog::warn("seed {}: {} of {} parts in the bin ({}: {})", seed, result.parts.size(), asked,
+                 physics::FillEndName(result.end), result.message);
+  }
+  std::vector<std::shared_ptr<const TriangleMesh>> meshes;
+  for (const physics::PartType& part : bin.parts) meshes.push_back(std::make_shared<const TriangleMesh>(part.mesh));
+  auto instances = std::make_shared<std::vector<raycast::SceneInstance>>();
+  instances->push_back({bin.bin_mesh, bin.spec.world_from_bin, 1.0, kBinInstance});
+  FilledBin filled;
+  filled.target.scene.revision = 1;
+  for (size_t k = 0; k < result.parts.size(); ++k) {
+    const physics::PlacedPart& placed = result.parts[k];
+    const auto instance_id = static_cast<uint32_t>(kFirstPartInstance + k);
+    instances->push_back({meshes[placed.type], placed.world_from_part, 1.0, instance_id});
+    store::ObjectRecord object;
+    object.object_id = std::to_string(instance_id);
+    object.label = bin.parts[placed.type].name + "#" + std::to_string(placed.instance + 1);
+    object.pose = placed.world_from_part.matrix();
+    object.instance_id = instance_id;
+    filled.target.scene.objects.push_back(std::move(object));
+    filled.obj_ids.push_back(bin.obj_ids[placed.type]);
+  }
+  ASSIGN_OR_RETURN(filled.target.raycast, raycast::RaycastScene::Build(*instances));
+  filled.target.instances = std::move(instances);
+  return filled;
+}
+
+dataset::ImageBox AloneBox(const ObjectTruth& truth) {
+  if (truth.alone_u1 <= truth.alone_u0) return {};
+  return {static_cast<int32_t>(truth.alone_u0), static_cast<int32_t>(truth.alone_v0),
+          static_cast<int32_t>(truth.alone_u1 - truth.alone_u0), static_cast<int32_t>(truth.alone_v1 - truth.alone_v0)};
+}
+
+// The scan as images: each returned point's depth along the optical axis and its instance at its
+// pixel; the cloud keeps positions, normals and instance ids.
+void FillImages(const PointCloud& cloud, const Pose3& world_from_camera, dataset::DatasetFrame& frame) {
+  const size_t pixels = size_t{frame.camera.width} * frame.camera.height;
+  frame.depth_m.assign(pixels, 0.0f);
+  frame.instance_ids.assign(pixels, 0);
+  const Eigen::Isometry3f camera_from_world = world_from_camera.inverse().cast<float>();
+  for (size_t i = 0; i < cloud.size(); ++i) {
+    const uint32_t pixel = cloud.pixels[i];
+    frame.depth_m[pixel] = (camera_from_world * cloud.positions[i]).z();
+    frame.instance_ids[pixel] = cloud.instance_ids[i];
+  }
+  frame.cloud.fields = kFieldPosition | kFieldNormal | kFieldInstanceId;
+  frame.cloud.positions = cloud.positions;
+  frame.cloud.normals = cloud.normals;
+  frame.cloud.instance_ids = cloud.instance_ids;
+}
+
+StatusOr<dataset::DatasetFrame> ScanFilledBin(const FilledBin& filled, const DatasetSensorSetup& sensor,
+                                              const Pose3& world_from_camera, uint64_t noise_seed,
+                                              RasterProvider& raster, const std::atomic<bool>* cancel) {
+  ScanPlan plan;
+  plan.camera = sensor.camera;
+  plan.world_from_sensor = world_from_camera;
+  plan.fields = kFieldPosition | kFieldNormal | kFieldInstanceId | kFieldPixel;
+  plan.measurement = sensor.measurement;
+  plan.measurement.fields = plan.fields;
+  plan.measurement.seed = noise_seed;
+  plan.ground_truth = true;
+  raycast::ScanStats stats;
+  ASSIGN_OR_RETURN(const PointCloud cloud, RunScanBackend(plan, filled.target, raster, cancel, &stats));
+  ASSIGN_OR_RETURN(const std::vector<ObjectTruth> truths,
+                   ObjectGroundTruth(filled.target, plan.camera, world_from_camera, cloud, cancel));
+  dataset::DatasetFrame frame;
+  frame.camera = {sensor.camera.fx, sensor.camera.fy, sensor.camera.cx, sensor.camera.cy, sensor.camera.width,
+                  sensor.camera.height};
+  frame.world_from_camera = world_from_camera;
+  FillImages(cloud, world_from_camera, frame);
+  for (const ObjectTruth& truth : truths) {
+    dataset::GroundTruthObject object;
+    object.obj_id = filled.obj_ids[truth.instance_id - kFirstPartInstance];
+    object.instance_id = truth.instance_id;
+    object.world_from_object = truth.world_from_object;
+    object.visible_fraction = truth.visible_fraction;
+    object.visible_pixels = truth.visible_points;
+    object.full_box = AloneBox(truth);
+    frame.objects.push_back(object);
+  }
+  return frame;
+}
+
+}  // namespace
+
+Pose3 DatasetCameraPose(const DatasetBinSetup& bin, double camera_height_m) {
+  Pose3 bin_from_camera = Pose3::Identity();
+  bin_from_camera.linear() << 1, 0, 0, 0, -1, 0, 0, 0, -1;
+  bin_from_camera.translation() = Eigen::Vector3d(0, 0, camera_height_m);
+  return bin.spec.world_from_bin * bin_from_camera;
+}
+
+dataset::FrameSource BinFrameSource(std::shared_ptr<const DatasetSetup> setup, const std::atomic<bool>* cancel) {
+  struct State {
+    std::shared_ptr<const DatasetSetup> setup;
+    RasterProvider raster;  // never started: the dataset scans by ray casting
+    std::optional<std::pair<size_t, size_t>> filled_key;  // (seed index, bin index)
+    std::shared_ptr<const FilledBin> filled;
+  };
+  auto state = std::make_shared<State>();
+  state->setup = std::move(setup);
+  return [state, cancel](const dataset::SceneKey& key) -> StatusOr<dataset::DatasetFrame> {
+    const DatasetSetup& setup = *state->setup;
+    const DatasetBinSetup& bin = setup.bins[key.bin_index];
+    const std::pair<size_t, size_t> fill_key{key.seed_index, key.bin_index};
+    if (state->filled_key != fill_key) {
+      state->filled.reset();
+      ASSIGN_OR_RETURN(FilledBin filled, FillAndBuild(bin, key.seed, cancel));
+      state->filled = std::make_shared<const FilledBin>(std::move(filled));
+      state->filled_key = fill_key;
+    }
+    return ScanFilledBin(*state->filled, setup.sensors[key.sensor_index],
+                         DatasetCameraPose(bin, setup.plan.camera_height_m), SceneNoiseSeed(key), state->raster,
+                         cancel);
+  };
+}
+
+}  // namespace vscan::service

@@ -1,0 +1,23 @@
+#pragma once
+// The frames of a dataset from the engine: for a scene (seed, bin, sensor) the bin is filled under
+// the seed, its open box and settled parts become a scene in memory, and the sensor scans it from
+// the plan's camera height straight down (ray casting, the preset's measurement model seeded by
+// the scene), with the scan's ground truth per part. Deterministic for a scene on one build.
+
+#include <atomic>
+#include <memory>
+
+#include "service/dataset/dataset_run.h"
+#include "service/dataset_job_setup.h"
+
+namespace vscan::service {
+
+// world_from_camera for a bin: above the floor's centre at the plan's height, x along the bin's x,
+// looking down its -z.
+Pose3 DatasetCameraPose(const DatasetBinSetup& bin, double camera_height_m);
+
+// Keeps the latest fill, so that the sensors of one (seed, bin) share it. cancel, when set, stops
+// the fill and the scan with CANCELLED. Not for concurrent calls.
+dataset::FrameSource BinFrameSource(std::shared_ptr<const DatasetSetup> setup, const std::atomic<bool>* cancel);
+
+}  // namespace vscan::service

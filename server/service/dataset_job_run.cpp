@@ -1,0 +1,149 @@
+#include "service/dataset_job_run.h"
+
+#include <mutex>
+#include <set>
+
+#include <spdlog/spdlog.h>
+
+#include "service/campaign_run.h"
+#include "service/dataset/dataset_merge.h"
+#include "service/dataset_job_frames.h"
+#include "service/dataset_job_tar.h"
+
+namespace vscan::service {
+namespace {
+
+// Datasets up to this size also become one artifact; larger ones stay in the data directory only.
+constexpr uint64_t kMaxTarArtifactBytes = 1ull << 30;
+
+// One writer per dataset directory: a second job resuming the same directory fails at once.
+class BusyRoots {
+ public:
+  bool Claim(const std::filesystem::path& root) {
+    std::lock_guard lock(mutex_);
+    return roots_.insert(root.string()).second;
+  }
+  void Release(const std::filesystem::path& root) {
+    std::lock_guard lock(mutex_);
+    roots_.erase(root.string());
+  }
+
+ private:
+  std::mutex mutex_;
+  std::set<std::string> roots_;
+};
+
+BusyRoots& Busy() {
+  static BusyRoots busy;
+  return busy;
+}
+
+class DatasetJobRun {
+ public:
+  DatasetJobRun(JobRecorder& recorder, const std::string& job_id, const DatasetJob& job, jobs::JobControl& control)
+      : recorder_(recorder), job_id_(job_id), job_(job), control_(control) {}
+
+  void Run() {
+    if (!Busy().Claim(job_.root)) {
+      Finish(FailedPrecondition("another job is writing " + job_.root.string()), {});
+      return;
+    }
+    const StatusOr<dataset::DatasetProgress> written = Write();
+    Busy().Release(job_.root);
+    Finish(written.status(), written.ok() ? *written : last_);
+  }
+
+ private:
+  StatusOr<dataset::DatasetProgress> Write() {
+    const dataset::DatasetPlan& plan = job_.setup->plan;
+    RETURN_IF_ERROR(Event("writing " + std::to_string(dataset::SceneCount(plan)) + " scenes into " +
+                          job_.root.string()));
+    dataset::ShardRun run;
+    bool first = true;
+    Status reported = Status::Ok();
+    run.on_progress = [&](const dataset::DatasetProgress& progress) {
+      last_ = progress;
+      if (!reported.ok()) return;
+      reported = Event(first ? std::to_string(progress.skipped) + " of " + std::to_string(progress.total) +
+                                   " scenes already written; " + std::to_string(progress.total - progress.done) +
+                                   " to write"
+                             : "scene " + std::to_string(progress.done) + " of " + std::to_string(progress.total) +
+                                   " written");
+      first = false;
+    };
+    // A failed event (the catalogue) stops the run as surely as a cancel.
+    run.stop_requested = [&] { return control_.stop_requested() || !reported.ok(); };
+    std::error_code ec;
+    std::filesystem::create_directories(job_.root, ec);
+    if (ec) return Internal("cannot create " + job_.root.string() + ": " + ec.message());
+    StatusOr<dataset::DatasetProgress> progress = dataset::RunDatasetShard(
+        job_.root, plan, job_.setup->parts, BinFrameSource(job_.setup, control_.flag()), run);
+    RETURN_IF_ERROR(reported);
+    if (!progress.ok()) return progress.status();
+    RETURN_IF_ERROR(dataset::MergeDataset(job_.root, plan));
+    RETURN_IF_ERROR(Event("every scene checked; scenes.json written"));
+    StatusOr<std::string> tar = TarDirectory(job_.root, kMaxTarArtifactBytes);
+    if (!tar.ok()) {
+      spdlog::warn("job {}: no dataset.tar: {}", job_id_, tar.status().ToString());
+      return progress;
+    }
+    RETURN_IF_ERROR(recorder_.RecordArtifact("dataset.tar", "application/x-tar", *tar, nullptr, nullptr,
+                                             Update("dataset.tar stored"))
+                        .status());
+    return progress;
+  }
+
+  void Finish(const Status& status, const dataset::DatasetProgress& progress) {
+    store::JobState state = store::JobState::kSucceeded;
+    std::string message;
+    if (status.ok()) {
+      message = std::to_string(progress.total) + " scenes in " + job_.root.string() + " (" +
+                std::to_string(progress.written) + " written, " + std::to_string(progress.skipped) +
+                " found finished)";
+    } else if (control_.stop_requested()) {
+      state = StoppedState(control_.reason());
+      message = std::string(state == store::JobState::kCancelled ? "cancelled" : "server stopped while the job ran") +
+                " after " + std::to_string(progress.done) + " of " + std::to_string(progress.total) +
+                " scenes; they stay in " + job_.root.string();
+    } else {
+      state = store::JobState::kFailed;
+      message = status.message();
+    }
+    steps_done_ = static_cast<uint32_t>(progress.done);
+    const Status ended = recorder_.End(Update(message, state));
+    if (!ended.ok()) spdlog::error("job {}: cannot record its end: {}", job_id_, ended.ToString());
+    spdlog::info("job {}: dataset {}", job_id_, message);
+  }
+
+  JobEventUpdate Update(const std::string& message, store::JobState state = store::JobState::kRunning) const {
+    JobEventUpdate update;
+    update.state = state;
+    update.message = message;
+    update.steps_done = steps_done_;
+    return update;
+  }
+
+  Status Event(const std::string& message) {
+    steps_done_ = static_cast<uint32_t>(last_.done);
+    return recorder_.Record(Update(message));
+  }
+
+  JobRecorder& recorder_;
+  const std::string job_id_;
+  const DatasetJob& job_;
+  jobs::JobControl& control_;
+  dataset::DatasetProgress last_;
+  uint32_t steps_done_ = 0;
+};
+
+}  // namespace
+
+std::filesystem::path DatasetJobRoot(const std::string& data_dir, const std::string& directory_job_id) {
+  return std::filesystem::path(data_dir) / "datasets" / directory_job_id;
+}
+
+void RunDatasetJob(JobRecorder& recorder, const std::string& job_id, const DatasetJob& job, jobs::JobControl& control) {
+  DatasetJobRun(recorder, job_id, job, control).Run();
+}
+
+}  // namespace vscan::service

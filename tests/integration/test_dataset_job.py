@@ -1,0 +1,223 @@
+"""Dataset jobs on a real vscand through the CLI: run and watch, the layout complete, the same bytes
+as the one-shot shard mode, a job killed (kill -9) or cancelled mid-way resumed without touching its
+finished scenes, the Python client's calls, and bad plans refused naming the key without creating a
+job."""
+
+import json
+import os
+import subprocess
+import tempfile
+import time
+import unittest
+
+import grpc
+from harness import SOURCE_DIR, VSCAN, VSCAND, Server
+from vscan.v1 import job_pb2
+
+PARTS = os.path.join(SOURCE_DIR, "data", "parts")
+
+
+def plan_text(seeds):
+    return f"""name: job-bins
+bins:
+  - name: blocks
+    box: {{inner_size_m: [0.20, 0.15, 0.10]}}
+    parts:
+      - {{mesh: {PARTS}/angle_block.STL, unit: in, count: 4}}
+    max_simulated_s: 4
+  - name: rods
+    box: {{inner_size_m: [0.25, 0.20, 0.10]}}
+    parts:
+      - {{mesh: {PARTS}/round.stl, unit: cm, scale: 0.25, count: 2}}
+      - {{mesh: {PARTS}/angle_block.STL, unit: in, count: 1}}
+    max_simulated_s: 4
+seeds: {{first: 1, count: {seeds}}}
+sensors:
+  - {{name: tof, preset: kinect-v2-class, width: 256, height: 212}}
+"""
+
+
+def tree(root):
+    files = {}
+    for base, _, names in os.walk(root):
+        for name in names:
+            path = os.path.join(base, name)
+            with open(path, "rb") as f:
+                files[os.path.relpath(path, root)] = f.read()
+    return files
+
+
+def stamps(scene_dir):
+    out = {}
+    for base, _, names in os.walk(scene_dir):
+        for name in names:
+            st = os.stat(os.path.join(base, name))
+            out[os.path.join(base, name)] = (st.st_ino, st.st_mtime_ns)
+    return out
+
+
+class DatasetJobTest(unittest.TestCase):
+    def setUp(self):
+        self.tmp = tempfile.TemporaryDirectory(prefix="vscan-dsjob-")
+        self.server = Server(data_dir=self.tmp.name).start()
+
+    def tearDown(self):
+        self.server.stop()
+        self.tmp.cleanup()
+
+    def vscan(self, *args, timeout=300):
+        return subprocess.run([VSCAN, "--server", self.server.address, *args], capture_output=True, text=True,
+                              timeout=timeout)
+
+    def write_plan(self, name, text):
+        path = os.path.join(self.tmp.name, name)
+        with open(path, "w") as f:
+            f.write(text)
+        return path
+
+    def dataset_dir(self, job_id):
+        return os.path.join(self.tmp.name, "store", "datasets", job_id)
+
+    def job(self, job_id):
+        got = self.vscan("--json", "campaign", "get", job_id)
+        self.assertEqual(got.returncode, 0, got.stderr)
+        return json.loads(got.stdout)
+
+    def test_run_watch_download_equals_the_one_shot_shards(self):
+        plan = self.write_plan("plan.yaml", plan_text(2))
+        run = self.vscan("dataset", "run", plan, "--watch")
+        self.assertEqual(run.returncode, 0, run.stderr + self.server.log())
+        job_id = run.stdout.split("started dataset job ")[1].split()[0] if "started" in run.stdout else None
+        if job_id is None:
+            job_id = run.stderr.split("started dataset job ")[1].split()[0]
+        self.assertIn("4 of 4", run.stdout + run.stderr)
+        served = self.dataset_dir(job_id)
+        self.assertTrue(os.path.exists(os.path.join(served, "scenes.json")))
+        downloaded = os.path.join(self.tmp.name, "downloaded")
+        got = self.vscan("dataset", "download", job_id, downloaded)
+        self.assertEqual(got.returncode, 0, got.stderr)
+        one_shot = os.path.join(self.tmp.name, "one-shot")
+        for args in (["--dataset-shard", plan, "--shard-index", "1", "--shard-count", "2"],
+                     ["--dataset-shard", plan, "--shard-index", "0", "--shard-count", "2"], ["--dataset-merge", plan]):
+            done = subprocess.run([VSCAND, "--log-level", "warn", *args, "--out", one_shot], capture_output=True,
+                                  text=True, timeout=300)
+            self.assertEqual(done.returncode, 0, done.stderr)
+        served_files, downloaded_files, one_shot_files = tree(served), tree(downloaded), tree(one_shot)
+        self.assertEqual(len(served_files), len(one_shot_files))
+        self.assertEqual(served_files, downloaded_files)
+        self.assertEqual(served_files, one_shot_files)
+
+    def test_killed_job_resumes_keeping_finished_scenes(self):
+        plan = self.write_plan("plan.yaml", plan_text(12))
+        started = self.vscan("--json", "dataset", "run", plan)
+        self.assertEqual(started.returncode, 0, started.stderr)
+        job_id = json.loads(started.stdout)["job"]["jobId"]
+        deadline = time.time() + 120
+        while self.job(job_id).get("stepsDone", 0) < 3:
+            self.assertLess(time.time(), deadline, "the job made no progress")
+            time.sleep(0.02)
+        self.server.kill9()
+        scenes = os.path.join(self.dataset_dir(job_id), "scenes")
+        finished = sorted(n for n in os.listdir(scenes) if not n.endswith(".partial"))
+        self.assertGreaterEqual(len(finished), 3)
+        self.assertLess(len(finished), 24, "the job ended before the kill; the plan is too small")
+        before = {}
+        for name in finished:
+            before.update(stamps(os.path.join(scenes, name)))
+        self.server.start()
+        self.assertEqual(self.job(job_id)["state"], "JOB_STATE_INTERRUPTED")
+        resumed = self.vscan("dataset", "run", plan, "--resume", job_id, "--watch")
+        self.assertEqual(resumed.returncode, 0, resumed.stderr + self.server.log())
+        self.assertIn(f"{len(finished)} of 24 scenes already written", resumed.stdout + resumed.stderr)
+        after = stamps(scenes)
+        for path, stamp in before.items():
+            self.assertEqual(after[path], stamp, path)
+        self.assertEqual(len(os.listdir(scenes)), 24)
+        with open(os.path.join(self.dataset_dir(job_id), "scenes.json")) as f:
+            self.assertEqual(json.load(f)["scene_count"], 24)
+        merged = subprocess.run([VSCAND, "--dataset-merge", plan, "--out", self.dataset_dir(job_id)],
+                                capture_output=True, text=True, timeout=300)
+        self.assertEqual(merged.returncode, 0, merged.stderr)
+
+    def finished_scenes(self, job_id):
+        scenes = os.path.join(self.dataset_dir(job_id), "scenes")
+        return sorted(n for n in os.listdir(scenes) if not n.endswith(".partial"))
+
+    def test_cancelled_job_resumes_skipping_finished_scenes(self):
+        plan = self.write_plan("plan.yaml", plan_text(12))
+        started = self.vscan("--json", "dataset", "run", plan)
+        self.assertEqual(started.returncode, 0, started.stderr)
+        job_id = json.loads(started.stdout)["job"]["jobId"]
+        deadline = time.time() + 120
+        while self.job(job_id).get("stepsDone", 0) < 2:
+            self.assertLess(time.time(), deadline, "the job made no progress")
+            time.sleep(0.02)
+        cancelled = self.vscan("dataset", "cancel", job_id)
+        self.assertEqual(cancelled.returncode, 0, cancelled.stderr)
+        watched = self.vscan("--json", "dataset", "watch", job_id)
+        self.assertEqual(json.loads(watched.stdout)["job"]["state"], "JOB_STATE_CANCELLED")
+        scenes = os.path.join(self.dataset_dir(job_id), "scenes")
+        self.assertEqual([n for n in os.listdir(scenes) if n.endswith(".partial")], [])
+        finished = self.finished_scenes(job_id)
+        self.assertGreaterEqual(len(finished), 2)
+        self.assertLess(len(finished), 24, "the job ended before the cancel; the plan is too small")
+        before = {}
+        for name in finished:
+            before.update(stamps(os.path.join(scenes, name)))
+        resumed = self.vscan("dataset", "run", plan, "--resume", job_id, "--watch")
+        self.assertEqual(resumed.returncode, 0, resumed.stderr + self.server.log())
+        self.assertIn(f"{len(finished)} of 24 scenes already written", resumed.stdout + resumed.stderr)
+        after = stamps(scenes)
+        for path, stamp in before.items():
+            self.assertEqual(after[path], stamp, path)
+        self.assertEqual(len(self.finished_scenes(job_id)), 24)
+
+    def test_python_client_runs_watches_and_cancels(self):
+        from vscan_client import Client, VscanError
+
+        plan = self.write_plan("plan.yaml", plan_text(12))
+        with Client(self.server.address) as client:
+            job = client.start_dataset(plan)
+            self.assertEqual(job.kind, "dataset")
+            self.assertEqual(job.steps_total, 24)
+            messages = []
+            for update in client.watch_job(job.job_id):
+                messages.append(update.event.message)
+                if update.job.steps_done >= 1:
+                    client.cancel_job(job.job_id)
+                    break
+            self.assertIn("scene 1 of 24 written", messages)
+            self.assertEqual(client.wait_job(job.job_id).state, job_pb2.JOB_STATE_CANCELLED)
+            downloaded = os.path.join(self.tmp.name, "downloaded")
+            resumed = client.run_dataset(plan, resume_job_id=job.job_id, directory=downloaded)
+            self.assertEqual(resumed.state, job_pb2.JOB_STATE_SUCCEEDED, resumed.message)
+            self.assertEqual(resumed.steps_done, 24)
+            self.assertEqual(tree(downloaded), tree(self.dataset_dir(job.job_id)))
+            with self.assertRaises(VscanError) as refused:
+                client.validate_dataset(self.write_plan("bad.yaml", plan_text(2).replace("count: 4", "count: 0")))
+            self.assertEqual(refused.exception.code, grpc.StatusCode.INVALID_ARGUMENT)
+            self.assertIn("bins[0].parts[0].count", refused.exception.message)
+
+    def test_bad_plans_are_refused_naming_the_key(self):
+        good = plan_text(2)
+        cases = [
+            (good.replace("unit: in, count: 4", "unit: in, count: 0"), "spec.plan_yaml: bins[0].parts[0].count"),
+            (good.replace("preset: kinect-v2-class", "preset: no-such-camera"), "spec.plan_yaml.sensors[0].preset"),
+            (good.replace("seeds:", "colour: red\nseeds:"), "spec.plan_yaml: colour"),
+            (good.replace("inner_size_m: [0.20, 0.15, 0.10]", "inner_size_m: [0.20, 0.15, -1]"),
+             "spec.plan_yaml: bins[0].box.inner_size_m"),
+        ]
+        for text, key in cases:
+            refused = self.vscan("dataset", "run", self.write_plan("bad.yaml", text))
+            self.assertEqual(refused.returncode, 3, refused.stderr)
+            self.assertIn(key, refused.stderr)
+        resumed = self.vscan("dataset", "run", self.write_plan("ok.yaml", good), "--resume", "job_missing")
+        self.assertEqual(resumed.returncode, 3)
+        self.assertIn("spec.resume_job_id", resumed.stderr)
+        listed = self.vscan("--json", "dataset", "list")
+        self.assertEqual(listed.returncode, 0, listed.stderr)
+        self.assertEqual(json.loads(listed.stdout).get("jobs", []), [])
+
+
+if __name__ == "__main__":
+    unittest.main()
