@@ -199,9 +199,10 @@ StatusOr<service::ScoringPlan> ParseScorePosesRequest(const v1::ScorePosesReques
     ASSIGN_OR_RETURN(out.part_id, PartIndex(truth.part(), request.parts_size(), field + ".part"));
     ASSIGN_OR_RETURN(out.world_from_part, RigidPose(truth.world_from_part(), field + ".world_from_part"));
     if (truth.has_visible_fraction()) {
-      // Measurement artefacts can put a few more points on an object than it gives alone (above 1).
+      // Measurement artefacts can put a few more points on an object than it gives alone (above 1);
+      // such an object is fully visible.
       RETURN_IF_ERROR(CheckFraction(truth.visible_fraction(), 0, 1e3, false, field + ".visible_fraction"));
-      out.visible_fraction = truth.visible_fraction();
+      out.visible_fraction = std::min(truth.visible_fraction(), 1.0);
     }
     plan.truth.push_back(out);
   }

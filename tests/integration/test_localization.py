@@ -98,7 +98,7 @@ class LocalizationTest(ServerTestCase):
         self.assertExactMatches(part["matches"])
         self.assertAlmostEqual(report["addRecall"], int(part["addCorrect"]) / seen, places=12)
         self.assertGreaterEqual(report["mssdAverageRecall"], MIN_EXACT / seen - 1e-12)
-        text = self.cli("score", "--truth", self.truth, "--estimates", estimates)
+        text = self.cli("bin", "score", "--truth", self.truth, "--estimates", estimates)
         self.assertIn("ADD(-S)", text)
         self.assertIn(self.mesh_id, text)
 
@@ -147,6 +147,11 @@ class LocalizationTest(ServerTestCase):
             self.assertEqual(exact.add_recall, 1.0)
             self.assertEqual(exact.mssd_average_recall, 1.0)
             self.assertTrue(all(m.HasField("estimate_index") and m.add_error < 1e-6 for m in exact.parts[0].matches))
+            # A scan can count a few more points on an object than it gives alone: still fully visible.
+            over = [localization_pb2.TruePose(part=t.part, world_from_part=t.world_from_part, visible_fraction=1.02)
+                    for t in truth[:1]]
+            counted = client.score_poses(parts, over, [(0, over[0].world_from_part.matrix.values, 1)])
+            self.assertEqual(counted.add_recall, 1.0)
             # No estimates: an answer, every valid instance missed.
             none = client.score_poses(parts, truth, [])
             self.assertEqual(none.add_recall, 0.0)
