@@ -136,7 +136,7 @@ void AddGet(CLI::App& group, Context& ctx) {
 }  // namespace
 
 void AddBinCommands(CLI::App& app, Context& ctx) {
-  auto* group = app.add_subcommand("bin", "Bin picking scenes: fill a bin with parts, scan it with ground truth");
+  auto* group = app.add_subcommand("bin", "Bin picking scenes: fill a bin with parts, scan it with ground truth, localize and score");
   group->require_subcommand(1);
   AddFill(*group, ctx);
   AddWatch(*group, ctx);
@@ -146,6 +146,7 @@ void AddBinCommands(CLI::App& app, Context& ctx) {
   AddJobDelete(*group, ctx, "Delete an ended bin fill job and its bin.json (the scene keeps its objects)");
   AddJobArtifacts(*group, ctx);
   AddBinScan(*group, ctx);
+  AddLocalizationCommands(*group, ctx);  // also at the top level, for clouds that are not bins
 }
 
 }  // namespace vscan::cli
