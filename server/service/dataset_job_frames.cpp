@@ -1,8 +1,12 @@
 #include "service/dataset_job_frames.h"
 
+#include <algorithm>
 #include <cmath>
+#include <future>
 #include <map>
+#include <mutex>
 #include <optional>
+#include <thread>
 
 #include <spdlog/spdlog.h>
 
@@ -16,6 +20,8 @@ namespace {
 
 constexpr uint32_t kBinInstance = 1;
 constexpr uint32_t kFirstPartInstance = 2;
+// Fills kept for the sensors of one (seed, bin) and the frames being captured ahead.
+constexpr size_t kFillsKept = 16;
 
 // One 64-bit noise seed per scene, from its seed, bin and sensor (splitmix64 steps).
 uint64_t SceneNoiseSeed(const dataset::SceneKey& key) {
@@ -137,28 +143,48 @@ Pose3 DatasetCameraPose(const DatasetBinSetup& bin, double camera_height_m) {
 }
 
 dataset::FrameSource BinFrameSource(std::shared_ptr<const DatasetSetup> setup, const std::atomic<bool>* cancel) {
+  using Fill = StatusOr<std::shared_ptr<const FilledBin>>;
+  using FillKey = std::pair<size_t, size_t>;  // (seed index, bin index)
   struct State {
     std::shared_ptr<const DatasetSetup> setup;
     RasterProvider raster;  // never started: the dataset scans by ray casting
-    std::optional<std::pair<size_t, size_t>> filled_key;  // (seed index, bin index)
-    std::shared_ptr<const FilledBin> filled;
+    std::mutex mutex;
+    std::map<FillKey, std::shared_future<Fill>> fills;  // the latest few, each filled once
   };
   auto state = std::make_shared<State>();
   state->setup = std::move(setup);
   return [state, cancel](const dataset::SceneKey& key) -> StatusOr<dataset::DatasetFrame> {
     const DatasetSetup& setup = *state->setup;
     const DatasetBinSetup& bin = setup.bins[key.bin_index];
-    const std::pair<size_t, size_t> fill_key{key.seed_index, key.bin_index};
-    if (state->filled_key != fill_key) {
-      state->filled.reset();
-      ASSIGN_OR_RETURN(FilledBin filled, FillAndBuild(bin, key.seed, cancel));
-      state->filled = std::make_shared<const FilledBin>(std::move(filled));
-      state->filled_key = fill_key;
+    const FillKey fill_key{key.seed_index, key.bin_index};
+    std::shared_future<Fill> fill;
+    std::optional<std::promise<Fill>> to_fill;
+    {
+      const std::lock_guard lock(state->mutex);
+      auto found = state->fills.find(fill_key);
+      if (found == state->fills.end()) {
+        to_fill.emplace();
+        found = state->fills.emplace(fill_key, to_fill->get_future().share()).first;
+        // Scenes come in ascending order, so the oldest fill is the one no scene needs any more.
+        if (state->fills.size() > kFillsKept) state->fills.erase(state->fills.begin());
+      }
+      fill = found->second;
     }
-    return ScanFilledBin(*state->filled, setup.sensors[key.sensor_index],
-                         DatasetCameraPose(bin, setup.plan.camera_height_m), SceneNoiseSeed(key), state->raster,
-                         cancel);
+    if (to_fill) {
+      StatusOr<FilledBin> filled = FillAndBuild(bin, key.seed, cancel);
+      to_fill->set_value(filled.ok() ? Fill(std::make_shared<const FilledBin>(std::move(*filled)))
+                                     : Fill(filled.status()));
+    }
+    const Fill& filled = fill.get();
+    if (!filled.ok()) return filled.status();
+    return ScanFilledBin(**filled, setup.sensors[key.sensor_index], DatasetCameraPose(bin, setup.plan.camera_height_m),
+                         SceneNoiseSeed(key), state->raster, cancel);
   };
+}
+
+size_t DatasetFramesAhead() {
+  const unsigned cores = std::thread::hardware_concurrency();
+  return cores <= 1 ? 0 : std::min<size_t>(cores - 1, 7);
 }
 
 }  // namespace vscan::service

@@ -16,8 +16,11 @@ namespace vscan::service {
 // looking down its -z.
 Pose3 DatasetCameraPose(const DatasetBinSetup& bin, double camera_height_m);
 
-// Keeps the latest fill, so that the sensors of one (seed, bin) share it. cancel, when set, stops
-// the fill and the scan with CANCELLED. Not for concurrent calls.
+// Keeps the latest fills, so that the sensors of one (seed, bin) share one; safe for concurrent
+// calls (ShardRun::frames_ahead). cancel, when set, stops the fill and the scan with CANCELLED.
 dataset::FrameSource BinFrameSource(std::shared_ptr<const DatasetSetup> setup, const std::atomic<bool>* cancel);
+
+// Frames to capture ahead of the one being written: one per further core (at most 7).
+size_t DatasetFramesAhead();
 
 }  // namespace vscan::service

@@ -59,6 +59,7 @@ class DatasetJobRun {
     RETURN_IF_ERROR(Event("writing " + std::to_string(dataset::SceneCount(plan)) + " scenes into " +
                           job_.root.string()));
     dataset::ShardRun run;
+    run.frames_ahead = DatasetFramesAhead();
     bool first = true;
     Status reported = Status::Ok();
     run.on_progress = [&](const dataset::DatasetProgress& progress) {

@@ -30,6 +30,7 @@ StatusOr<dataset::DatasetProgress> RunDatasetShardFromFile(
   run.shard_index = shard_index;
   run.shard_count = shard_count;
   run.on_progress = on_progress;
+  run.frames_ahead = DatasetFramesAhead();
   return dataset::RunDatasetShard(root, plan, shared->parts, BinFrameSource(shared, nullptr), run);
 }
 

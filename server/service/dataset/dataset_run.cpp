@@ -1,5 +1,8 @@
 #include "service/dataset/dataset_run.h"
 
+#include <deque>
+#include <future>
+
 #include "service/dataset/dataset_layout.h"
 #include "service/dataset/dataset_manifest.h"
 #include "service/dataset/dataset_merge.h"
@@ -43,12 +46,22 @@ StatusOr<DatasetProgress> RunDatasetShard(const std::filesystem::path& root, con
   }
   progress.done = progress.skipped;
   if (run.on_progress) run.on_progress(progress);
-  for (const uint64_t id : missing) {
-    if (run.stop_requested && run.stop_requested()) return Cancelled("the dataset run was stopped");
-    const SceneKey key = SceneAt(plan, id);
-    StatusOr<DatasetFrame> frame = source(key);
+  // Frames in flight, oldest first; a frame is written once it and every frame before it are done.
+  std::deque<std::pair<uint64_t, std::future<StatusOr<DatasetFrame>>>> in_flight;
+  size_t next = 0;
+  while (next < missing.size() || !in_flight.empty()) {
+    while (next < missing.size() && in_flight.size() <= run.frames_ahead) {
+      if (run.stop_requested && run.stop_requested()) return Cancelled("the dataset run was stopped");
+      const uint64_t id = missing[next++];
+      const SceneKey key = SceneAt(plan, id);
+      const auto policy = run.frames_ahead == 0 ? std::launch::deferred : std::launch::async;
+      in_flight.emplace_back(id, std::async(policy, [&source, key] { return source(key); }));
+    }
+    const uint64_t id = in_flight.front().first;
+    StatusOr<DatasetFrame> frame = in_flight.front().second.get();
+    in_flight.pop_front();
     if (!frame.ok()) return frame.status().WithFieldPrefix("scenes[" + std::to_string(id) + "]");
-    const Status written = WriteScene(root, plan, key, *frame);
+    const Status written = WriteScene(root, plan, SceneAt(plan, id), *frame);
     if (!written.ok()) return written.WithFieldPrefix("scenes[" + std::to_string(id) + "]");
     ++progress.written;
     ++progress.done;

@@ -14,7 +14,8 @@
 
 namespace vscan::service::dataset {
 
-// Captures the view of one scene (bin fill under the seed, seen by the sensor).
+// Captures the view of one scene (bin fill under the seed, seen by the sensor). With
+// ShardRun::frames_ahead > 0 it is called from several threads at once.
 using FrameSource = std::function<StatusOr<DatasetFrame>(const SceneKey&)>;
 
 struct DatasetProgress {
@@ -31,6 +32,9 @@ struct ShardRun {
   std::function<void(const DatasetProgress&)> on_progress;
   // Asked before each scene; true stops the run with Cancelled (finished scenes stay).
   std::function<bool()> stop_requested;
+  // Frames captured concurrently ahead of the one being written (a fill steps its physics on one
+  // thread, so other cores fill the next bins); scenes are still written one by one, in order.
+  size_t frames_ahead = 0;
 };
 
 // Writes dataset.json and models/models_info.json (or checks that they match), removes partial

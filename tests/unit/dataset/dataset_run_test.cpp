@@ -3,8 +3,13 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <filesystem>
 #include <map>
+#include <mutex>
+#include <numeric>
+#include <set>
+#include <thread>
 
 #include "service/dataset/dataset_layout.h"
 #include "service/dataset/dataset_merge.h"
@@ -78,6 +83,53 @@ TEST(DatasetRun, TwoShardsMergedMatchOneProcessByteForByte) {
     const auto found = actual.find(path);
     ASSERT_NE(found, actual.end()) << path;
     EXPECT_TRUE(found->second == bytes) << path << " differs";
+  }
+}
+
+TEST(DatasetRun, FramesCapturedAheadOnOtherThreadsWriteTheSameBytesInOrder) {
+  const DatasetPlan plan = SmallPlan();
+  test::TempDir sequential, ahead;
+  ASSERT_TRUE(WriteDataset(sequential.path(), plan, test::SyntheticParts(), test::SyntheticFrame, nullptr).ok());
+
+  std::mutex mutex;
+  std::set<std::thread::id> threads;
+  std::vector<uint64_t> written;
+  ShardRun run;
+  run.frames_ahead = 3;
+  run.on_progress = [&](const DatasetProgress& p) { written.push_back(p.done); };
+  const FrameSource source = [&](const SceneKey& key) {
+    {
+      const std::lock_guard lock(mutex);
+      threads.insert(std::this_thread::get_id());
+    }
+    // Later scenes finish first, so the writer has to wait for the earlier ones.
+    std::this_thread::sleep_for(std::chrono::milliseconds(2 * (12 - key.scene_id % 12)));
+    return test::SyntheticFrame(key);
+  };
+  StatusOr<DatasetProgress> progress = RunDatasetShard(ahead.path(), plan, test::SyntheticParts(), source, run);
+  ASSERT_TRUE(progress.ok()) << progress.status().ToString();
+  ASSERT_TRUE(MergeDataset(ahead.path(), plan).ok());
+  EXPECT_GT(threads.size(), 1u);
+  std::vector<uint64_t> expected_done(SceneCount(plan) + 1);
+  std::iota(expected_done.begin(), expected_done.end(), 0);
+  EXPECT_EQ(written, expected_done);
+  EXPECT_EQ(Tree(ahead.path()), Tree(sequential.path()));
+}
+
+TEST(DatasetRun, AFailedFrameStopsTheRunBeforeAnyLaterSceneIsWritten) {
+  const DatasetPlan plan = SmallPlan();
+  test::TempDir root;
+  ShardRun run;
+  run.frames_ahead = 4;
+  const FrameSource source = [](const SceneKey& key) -> StatusOr<DatasetFrame> {
+    if (key.scene_id == 3) return Internal("the bin would not settle");
+    return test::SyntheticFrame(key);
+  };
+  StatusOr<DatasetProgress> progress = RunDatasetShard(root.path(), plan, test::SyntheticParts(), source, run);
+  EXPECT_EQ(progress.status().code(), StatusCode::kInternal);
+  EXPECT_NE(progress.status().ToString().find("scenes[3]"), std::string::npos) << progress.status().ToString();
+  for (uint64_t id = 0; id < SceneCount(plan); ++id) {
+    EXPECT_EQ(std::filesystem::exists(SceneDir(root.path(), id)), id < 3) << "scene " << id;
   }
 }
 
