@@ -8,6 +8,7 @@
 #include <iostream>
 #include <mutex>
 #include <optional>
+#include <string>
 #include <thread>
 
 #include <CLI/CLI.hpp>
@@ -64,6 +65,14 @@ class StopDeadline {
   bool done_ = false;
   std::thread thread_;
 };
+
+// What a client can send in "authorization: Bearer <token>" (RFC 6750's b64token and more).
+bool IsSendableToken(const std::string& token) {
+  for (const unsigned char c : token) {
+    if (c < 0x21 || c > 0x7e) return false;
+  }
+  return true;
+}
 
 }  // namespace
 
@@ -136,8 +145,14 @@ int main(int argc, char** argv) {
   if (!token_file.empty()) {
     std::ifstream in(token_file);
     std::getline(in, options.token);
+    // Files written on Windows or by hand end lines with "\r" or spaces that no client would send.
+    options.token.erase(options.token.find_last_not_of(" \t\r") + 1);
     if (options.token.empty()) {
       spdlog::error("--token-file: '{}' is missing or empty", token_file);
+      return kUsageError;
+    }
+    if (!IsSendableToken(options.token)) {
+      spdlog::error("--token-file: the token may hold only visible ASCII characters (no spaces)");
       return kUsageError;
     }
   }

@@ -13,6 +13,9 @@ client::Client* Context::GetClient() {
   client::ClientOptions options;
   options.bearer_token = global.token;
   options.tls_root_cert_path = global.ca_cert;
+  options.tls_client_cert_path = global.client_cert;
+  options.tls_client_key_path = global.client_key;
+  options.use_tls = global.tls;
   if (global.timeout) {
     // Rounded up, so that a deadline below a millisecond is still a deadline.
     const auto ms = std::chrono::milliseconds(static_cast<int64_t>(std::ceil(*global.timeout * 1000.0)));

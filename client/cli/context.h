@@ -24,6 +24,9 @@ struct GlobalOptions {
   std::string server = "127.0.0.1:50051";
   std::string token;
   std::string ca_cert;
+  std::string client_cert;
+  std::string client_key;
+  bool tls = false;
   bool json = false;
   bool quiet = false;
   // Seconds; when given it also bounds streaming calls.

@@ -18,12 +18,25 @@ Exit codes:
 
 Environment:
   VSCAN_SERVER  default for --server
-  VSCAN_TOKEN   default for --token)";
+  VSCAN_TOKEN   default for --token
+  VSCAN_CA_CERT, VSCAN_CLIENT_CERT, VSCAN_CLIENT_KEY
+                defaults for --ca-cert, --client-cert, --client-key)";
 
 void AddGlobalOptions(CLI::App& app, vscan::cli::GlobalOptions& g) {
   app.add_option("--server", g.server, "Server address host:port")->envname("VSCAN_SERVER")->capture_default_str();
   app.add_option("--token", g.token, "Bearer token sent with every call")->envname("VSCAN_TOKEN");
-  app.add_option("--ca-cert", g.ca_cert, "PEM root certificate; turns TLS on")->check(CLI::ExistingFile);
+  app.add_option("--ca-cert", g.ca_cert, "PEM file of the CA certificates to trust; turns TLS on")
+      ->envname("VSCAN_CA_CERT")
+      ->check(CLI::ExistingFile);
+  auto* cert = app.add_option("--client-cert", g.client_cert, "PEM client certificate for mutual TLS; turns TLS on")
+                   ->envname("VSCAN_CLIENT_CERT")
+                   ->check(CLI::ExistingFile);
+  auto* key = app.add_option("--client-key", g.client_key, "PEM private key of --client-cert")
+                  ->envname("VSCAN_CLIENT_KEY")
+                  ->check(CLI::ExistingFile);
+  cert->needs(key);
+  key->needs(cert);
+  app.add_flag("--tls", g.tls, "TLS with the system's CA certificates (implied by --ca-cert and --client-cert)");
   app.add_flag("--json", g.json, "Machine-readable output: one JSON object per command on stdout");
   app.add_option("--timeout", g.timeout, "Deadline in seconds for each call (default: 30 s, none for scans)")
       ->check(CLI::Range(1e-6, 1e7));

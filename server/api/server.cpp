@@ -46,10 +46,14 @@ StatusOr<std::string> ReadFile(const std::string& path, const char* flag) {
 }
 
 StatusOr<std::shared_ptr<grpc::ServerCredentials>> Credentials(const service::ServerOptions& options) {
-  if (options.tls_cert_file.empty() && options.tls_key_file.empty()) return grpc::InsecureServerCredentials();
-  if (options.tls_cert_file.empty() || options.tls_key_file.empty()) {
+  if (options.tls_cert_file.empty() != options.tls_key_file.empty()) {
     return InvalidArgument("--tls-cert and --tls-key go together");
   }
+  // Otherwise a server meant to require client certificates would quietly serve plaintext.
+  if (options.tls_cert_file.empty() && !options.tls_client_ca_file.empty()) {
+    return InvalidArgument("--tls-client-ca needs --tls-cert and --tls-key");
+  }
+  if (options.tls_cert_file.empty()) return grpc::InsecureServerCredentials();
   grpc::SslServerCredentialsOptions ssl;
   ASSIGN_OR_RETURN(std::string cert, ReadFile(options.tls_cert_file, "--tls-cert"));
   ASSIGN_OR_RETURN(std::string key, ReadFile(options.tls_key_file, "--tls-key"));
@@ -215,6 +219,11 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& op
   }
   spdlog::info("vscand listening on {} (port {}), data in {}", options.listen_address, impl->port,
                std::filesystem::absolute(data_dir).string());
+  spdlog::info("transport {}, bearer token {}",
+               options.tls_cert_file.empty()
+                   ? "plaintext"
+                   : (options.tls_client_ca_file.empty() ? "TLS" : "mutual TLS (client certificates required)"),
+               options.token.empty() ? "not required" : "required (health checks exempt)");
   return std::unique_ptr<Server>(new Server(std::move(impl)));
 }
 

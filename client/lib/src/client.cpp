@@ -12,18 +12,30 @@
 namespace vscan::client {
 namespace {
 
+StatusOr<std::string> ReadPem(const std::string& path, const char* option) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return NotFound(std::string(option) + ": cannot read " + path);
+  std::ostringstream pem;
+  pem << in.rdbuf();
+  return pem.str();
+}
+
 StatusOr<std::shared_ptr<grpc::ChannelCredentials>> Credentials(const ClientOptions& options) {
-  if (!options.tls_root_cert_path.empty()) {
-    std::ifstream in(options.tls_root_cert_path, std::ios::binary);
-    if (!in) return NotFound("tls_root_cert_path: cannot read " + options.tls_root_cert_path);
-    std::ostringstream pem;
-    pem << in.rdbuf();
-    grpc::SslCredentialsOptions ssl;
-    ssl.pem_root_certs = pem.str();
-    return grpc::SslCredentials(ssl);
+  if (options.tls_client_cert_path.empty() != options.tls_client_key_path.empty()) {
+    return InvalidArgument("tls_client_cert_path and tls_client_key_path go together");
   }
-  if (options.use_tls) return grpc::SslCredentials(grpc::SslCredentialsOptions());
-  return grpc::InsecureChannelCredentials();
+  const bool tls = options.use_tls || !options.tls_root_cert_path.empty() || !options.tls_client_cert_path.empty();
+  if (!tls) return grpc::InsecureChannelCredentials();
+  grpc::SslCredentialsOptions ssl;
+  // Empty roots: gRPC's default roots (GRPC_DEFAULT_SSL_ROOTS_FILE_PATH or the system's).
+  if (!options.tls_root_cert_path.empty()) {
+    ASSIGN_OR_RETURN(ssl.pem_root_certs, ReadPem(options.tls_root_cert_path, "tls_root_cert_path"));
+  }
+  if (!options.tls_client_cert_path.empty()) {
+    ASSIGN_OR_RETURN(ssl.pem_cert_chain, ReadPem(options.tls_client_cert_path, "tls_client_cert_path"));
+    ASSIGN_OR_RETURN(ssl.pem_private_key, ReadPem(options.tls_client_key_path, "tls_client_key_path"));
+  }
+  return grpc::SslCredentials(ssl);
 }
 
 }  // namespace

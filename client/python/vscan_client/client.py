@@ -43,15 +43,27 @@ def _decode_health_response(data):
     return "UNKNOWN"
 
 
+def _read(path):
+    if not path:
+        return None
+    with open(path, "rb") as f:
+        return f.read()
+
+
 class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls, BinCalls, LocalizationCalls, DatasetCalls):
     """Talks to one vscand. Failed calls raise VscanError.
 
     address: "host:port". token: bearer token sent with every call. root_cert: PEM file of the
-    roots to trust (turns TLS on). timeout: seconds per unary call (None: no deadline);
-    scans and uploads use stream_timeout.
+    CA certificates to trust (turns TLS on). client_cert, client_key: PEM files of a client
+    certificate and its private key for a server that requires them (mutual TLS; both or neither;
+    turns TLS on). tls: TLS with gRPC's default roots when no root_cert is given. timeout: seconds
+    per unary call (None: no deadline); scans and uploads use stream_timeout.
     """
 
-    def __init__(self, address="127.0.0.1:50051", token=None, root_cert=None, timeout=30.0, stream_timeout=None):
+    def __init__(self, address="127.0.0.1:50051", token=None, root_cert=None, timeout=30.0, stream_timeout=None,
+                 client_cert=None, client_key=None, tls=False):
+        if bool(client_cert) != bool(client_key):
+            raise ValueError("client_cert and client_key go together")
         # A fixed 8 MiB stream window from the first byte: gRPC's probing starts a new channel at
         # 64 KiB and grows it too late for a single scan.
         options = [
@@ -59,9 +71,10 @@ class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls, BinCalls, Localizatio
             ("grpc.http2.bdp_probe", 0),
             ("grpc.http2.lookahead_bytes", 8 << 20),
         ]
-        if root_cert:
-            with open(root_cert, "rb") as f:
-                credentials = grpc.ssl_channel_credentials(root_certificates=f.read())
+        if tls or root_cert or client_cert:
+            credentials = grpc.ssl_channel_credentials(
+                root_certificates=_read(root_cert), private_key=_read(client_key),
+                certificate_chain=_read(client_cert))
             self._channel = grpc.secure_channel(address, credentials, options=options)
         else:
             self._channel = grpc.insecure_channel(address, options=options)

@@ -209,6 +209,27 @@ TEST_F(ClientTest, UnreachableServer) {
   EXPECT_EQ(client->ListScenes().status().code(), StatusCode::kUnavailable);
 }
 
+TEST(ClientTlsOptions, ClientCertificateAndKeyGoTogether) {
+  ClientOptions cert_only;
+  cert_only.tls_client_cert_path = "/etc/hostname";
+  EXPECT_EQ(Client::Connect("127.0.0.1:1", cert_only).status().code(), StatusCode::kInvalidArgument);
+  ClientOptions key_only;
+  key_only.tls_client_key_path = "/etc/hostname";
+  EXPECT_EQ(Client::Connect("127.0.0.1:1", key_only).status().code(), StatusCode::kInvalidArgument);
+}
+
+TEST(ClientTlsOptions, UnreadableFilesFailBeforeAnyCall) {
+  ClientOptions missing_key;
+  missing_key.tls_client_cert_path = "/etc/hostname";
+  missing_key.tls_client_key_path = "/nonexistent/client.key";
+  const Status status = Client::Connect("127.0.0.1:1", missing_key).status();
+  EXPECT_EQ(status.code(), StatusCode::kNotFound);
+  EXPECT_NE(status.message().find("tls_client_key_path"), std::string::npos) << status.message();
+  ClientOptions missing_ca;
+  missing_ca.tls_root_cert_path = "/nonexistent/ca.crt";
+  EXPECT_EQ(Client::Connect("127.0.0.1:1", missing_ca).status().code(), StatusCode::kNotFound);
+}
+
 TEST_F(ClientTest, ListScenesFollowsPageTokens) {
   Client client = Connect();
   const auto scenes = client.ListScenes();

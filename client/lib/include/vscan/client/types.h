@@ -24,7 +24,11 @@ struct ClientOptions {
   std::string bearer_token;
   // PEM file of the roots to trust; setting it turns TLS on.
   std::string tls_root_cert_path;
-  // TLS with the system's default roots (implied by tls_root_cert_path).
+  // PEM files of a client certificate (chain) and its private key, presented to a server that
+  // requires them (mutual TLS). Both or neither; setting them turns TLS on.
+  std::string tls_client_cert_path;
+  std::string tls_client_key_path;
+  // TLS with the system's default roots (implied by any of the paths above).
   bool use_tls = false;
   // Deadline of each unary call; zero or negative means none.
   std::chrono::milliseconds unary_timeout{30000};
