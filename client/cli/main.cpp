@@ -67,6 +67,7 @@ int main(int argc, char** argv) {
   vscan::cli::AddLocalizationCommands(app, ctx);
   vscan::cli::AddDatasetCommands(app, ctx);
   vscan::cli::AddSensorsCommand(app, ctx);
+  vscan::cli::AddBenchCommands(app, ctx);
   app.footer(kFooter);
 
   try {
