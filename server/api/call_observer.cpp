@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 #include <spdlog/spdlog.h>
 
+#include "api/callback_queue_ticker.h"
 #include "observability/log_fields.h"
 #include "observability/server_metrics.h"
 
@@ -72,7 +73,7 @@ class CallObserver final : public grpc::experimental::Interceptor {
       : method_(info->method()), ctx_(info->server_context()) {}
 
   ~CallObserver() override {
-    if (!started_) return;
+    if (!observed_) return;
     // A call torn down without a status sent (its client went away) counts as cancelled.
     if (!recorded_) Record(grpc::StatusCode::CANCELLED);
     Ids().Erase(ctx_);
@@ -80,16 +81,18 @@ class CallObserver final : public grpc::experimental::Interceptor {
 
   void Intercept(grpc::experimental::InterceptorBatchMethods* methods) override {
     if (methods->QueryInterceptionHookPoint(InterceptionHookPoints::POST_RECV_INITIAL_METADATA)) {
-      started_ = true;
+      const auto& metadata = *methods->GetRecvInitialMetadata();
+      // The server's own ticks would swamp the counts and the debug log four times a second.
+      observed_ = metadata.find(kTickHeader) == metadata.end();
       start_ = Clock::now();
-      request_id_ = ClientRequestId(*methods->GetRecvInitialMetadata());
+      request_id_ = ClientRequestId(metadata);
       if (request_id_.empty()) request_id_ = observability::NewRequestId();
-      Ids().Set(ctx_, request_id_);
+      if (observed_) Ids().Set(ctx_, request_id_);
     }
     if (methods->QueryInterceptionHookPoint(InterceptionHookPoints::PRE_SEND_INITIAL_METADATA)) {
       methods->GetSendInitialMetadata()->emplace(kRequestIdHeader, request_id_);
     }
-    if (started_ && !recorded_ && methods->QueryInterceptionHookPoint(InterceptionHookPoints::PRE_SEND_STATUS)) {
+    if (observed_ && !recorded_ && methods->QueryInterceptionHookPoint(InterceptionHookPoints::PRE_SEND_STATUS)) {
       Record(methods->GetSendStatus().error_code());
     }
     methods->Proceed();
@@ -122,7 +125,7 @@ class CallObserver final : public grpc::experimental::Interceptor {
 
   const std::string method_;
   const grpc::ServerContextBase* const ctx_;
-  bool started_ = false;
+  bool observed_ = false;
   bool recorded_ = false;
   Clock::time_point start_;
   std::string request_id_;
