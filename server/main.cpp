@@ -18,6 +18,9 @@
 
 #include "api/server.h"
 #include "dataset_oneshot.h"
+#include "observability/log_format.h"
+#include "observability/metrics_http.h"
+#include "observability/server_metrics.h"
 #include "vscan/common/logging.h"
 
 namespace {
@@ -79,6 +82,8 @@ bool IsSendableToken(const std::string& token) {
 int main(int argc, char** argv) {
   vscan::service::ServerOptions options;
   std::string log_level = "info";
+  std::string log_format = "text";
+  std::string metrics_listen;
   std::string token_file;
   double grace_seconds = 10;
   uint64_t max_upload_mib = options.limits.max_upload_bytes >> 20;
@@ -88,6 +93,11 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   app.add_option("--data-dir", options.data_dir, "Directory of the catalogue and blobs")->capture_default_str();
   app.add_option("--log-level", log_level, "trace, debug, info, warn, error")->capture_default_str();
+  app.add_option("--log-format", log_format,
+                 "text, or json: one object per line (time, level, logger, thread, message, request_id, fields)")
+      ->capture_default_str()->check(CLI::IsMember({"text", "json"}));
+  app.add_option("--metrics-listen", metrics_listen,
+                 "Serve Prometheus metrics at http://HOST:PORT/metrics (numeric IPv4 host; off when not given)");
   app.add_option("--token-file", token_file, "Require 'authorization: Bearer <token>' with the token in this file");
   app.add_option("--tls-cert", options.tls_cert_file, "PEM certificate chain; enables TLS with --tls-key");
   app.add_option("--tls-key", options.tls_key_file, "PEM private key");
@@ -141,6 +151,7 @@ int main(int argc, char** argv) {
   options.limits.max_upload_bytes = max_upload_mib << 20;
 
   vscan::SetupLogging("vscand", log_level);
+  vscan::observability::UseLogFormat(*vscan::observability::ParseLogFormat(log_format));
   if (const std::optional<int> exit_status = vscan::RunDatasetOneShot(one_shot)) return *exit_status;
   if (!token_file.empty()) {
     std::ifstream in(token_file);
@@ -161,6 +172,19 @@ int main(int argc, char** argv) {
   mallopt(M_MMAP_THRESHOLD, 32 << 20);
   mallopt(M_TRIM_THRESHOLD, 1 << 30);
   const sigset_t stop_signals = BlockStopSignals();
+  // Up before the port file is written, so that a scrape after it finds the endpoint; stopped after
+  // the server (destroyed after it). The job gauge joins the registry once the server starts.
+  vscan::observability::Metrics();
+  std::unique_ptr<vscan::observability::MetricsEndpoint> metrics;
+  if (!metrics_listen.empty()) {
+    auto endpoint = vscan::observability::MetricsEndpoint::Start(metrics_listen, vscan::observability::DefaultRegistry());
+    if (!endpoint.ok()) {
+      spdlog::error("cannot start: {}", endpoint.status().ToString());
+      return 1;
+    }
+    metrics = std::move(endpoint).value();
+    spdlog::info("metrics served on http://{}/metrics (port {})", metrics_listen, metrics->port());
+  }
   auto server = vscan::api::Server::Start(options);
   if (!server.ok()) {
     spdlog::error("cannot start: {}", server.status().ToString());

@@ -43,6 +43,7 @@ bool CallbackQueueTicker::Tick() {
   grpc::GenericStub stub(channel_);
   grpc::ClientContext context;
   context.set_deadline(std::chrono::system_clock::now() + std::chrono::seconds(1));
+  context.AddMetadata(kTickHeader, "1");
   grpc::Slice empty;
   const grpc::ByteBuffer request(&empty, 1);
   grpc::ByteBuffer response;

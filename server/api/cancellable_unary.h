@@ -27,6 +27,7 @@ class CancellableUnaryReactor final : public grpc::ServerUnaryReactor {
 template <typename Handler>
 grpc::ServerUnaryReactor* RunCancellableUnary(grpc::CallbackServerContext* ctx, const std::string& token,
                                               const char* method, jobs::WorkerPool& workers, Handler handler) {
+  CallScope scope(ctx);  // the pool carries it onto the worker
   auto* reactor = new CancellableUnaryReactor();
   const Status status = CheckToken(*ctx, token);
   if (!status.ok()) {

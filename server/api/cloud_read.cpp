@@ -3,6 +3,7 @@
 
 #include "api/auth.h"
 #include "api/blob_stream_reactor.h"
+#include "api/call_observer.h"
 #include "api/cloud_convert.h"
 #include "api/cloud_service.h"
 #include "api/validate.h"
@@ -12,6 +13,7 @@ namespace vscan::api {
 
 grpc::ServerWriteReactor<v1::ReadCloudResponse>* CloudService::ReadCloud(grpc::CallbackServerContext* ctx,
                                                                          const v1::ReadCloudRequest* request) {
+  CallScope scope(ctx);
   Status checked = CheckToken(*ctx, context_.options.token);
   if (checked.ok()) checked = RequireId(request->cloud_id(), "cloud_id");
   auto load = [this, cloud_id = request->cloud_id()](std::string* bytes, v1::ReadCloudResponse* first) -> Status {

@@ -2,6 +2,7 @@
 
 #include "api/auth.h"
 #include "api/blob_stream_reactor.h"
+#include "api/call_observer.h"
 #include "api/job_convert.h"
 #include "api/job_service.h"
 #include "api/validate.h"
@@ -10,6 +11,7 @@ namespace vscan::api {
 
 grpc::ServerWriteReactor<v1::ReadArtifactResponse>* JobService::ReadArtifact(grpc::CallbackServerContext* ctx,
                                                                              const v1::ReadArtifactRequest* request) {
+  CallScope scope(ctx);
   Status checked = CheckToken(*ctx, context_.options.token);
   if (checked.ok()) checked = RequireId(request->job_id(), "job_id");
   if (checked.ok()) checked = RequireId(request->artifact_id(), "artifact_id");

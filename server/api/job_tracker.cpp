@@ -1,14 +1,26 @@
 #include "api/job_tracker.h"
 
 #include <algorithm>
+#include <cctype>
+#include <map>
 
 #include "api/job_convert.h"
+#include "observability/server_metrics.h"
 #include "store/ids.h"
 
 namespace vscan::api {
 namespace {
 
 double Progress(uint32_t done, uint32_t total) { return total ? static_cast<double>(done) / total : 0.0; }
+
+// JOB_STATE_RUNNING -> running.
+std::string StateLabel(v1::JobState state) {
+  std::string name = v1::JobState_Name(state);
+  constexpr std::string_view kPrefix = "JOB_STATE_";
+  if (name.starts_with(kPrefix)) name.erase(0, kPrefix.size());
+  for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return name;
+}
 
 }  // namespace
 
@@ -51,6 +63,11 @@ uint64_t LiveJob::next_sequence() const {
 bool LiveJob::ended() const {
   std::lock_guard lock(mutex_);
   return ended_;
+}
+
+std::pair<std::string, std::string> LiveJob::KindAndState() const {
+  std::lock_guard lock(mutex_);
+  return {job_.kind(), StateLabel(job_.state())};
 }
 
 size_t LiveJob::retained_events() const {
@@ -224,6 +241,8 @@ Status JobTracker::End(const std::string& job_id, const JobEventUpdate& update) 
       catalogue_.UpdateProgress(job_id, {update.state, update.message, update.steps_done, sequence, now_ms});
   // Watchers learn of the end even when it could not be stored; a restart then reports INTERRUPTED.
   live->Publish(MakeEvent(live, update, sequence, now_ms), std::nullopt, true);
+  auto [kind, state] = live->KindAndState();
+  observability::Metrics().jobs_ended.WithLabels({std::move(kind), std::move(state)}).Increment();
   // Until the end is stored the catalogue still says the job runs: the ended job then stays in
   // memory, so that it does not read as running again (the next start marks it INTERRUPTED).
   if (stored.ok()) {
@@ -231,6 +250,19 @@ Status JobTracker::End(const std::string& job_id, const JobEventUpdate& update) 
     live_.erase(job_id);
   }
   return stored;
+}
+
+std::vector<observability::GaugeSample> JobTracker::CountLive() {
+  std::map<std::pair<std::string, std::string>, int> counts;
+  {
+    std::lock_guard lock(mutex_);
+    for (const auto& [id, live] : live_) {
+      if (!live->ended()) ++counts[live->KindAndState()];
+    }
+  }
+  std::vector<observability::GaugeSample> samples;
+  for (const auto& [labels, count] : counts) samples.push_back({{labels.first, labels.second}, double(count)});
+  return samples;
 }
 
 StatusOr<store::CollectedBlobs> JobTracker::Delete(const std::string& job_id) {

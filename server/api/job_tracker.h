@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "observability/metrics.h"
 #include "store/blob_gc.h"
 #include "store/blob_store.h"
 #include "service/job_events.h"
@@ -57,6 +58,8 @@ class LiveJob {
   Next Get(JobWatcher* watcher, uint64_t sequence, v1::WatchJobResponse* out);
   uint64_t next_sequence() const;
   bool ended() const;
+  // The job's kind and its state as a metric label ("queued", "running", "succeeded", ...).
+  std::pair<std::string, std::string> KindAndState() const;
   // Events held for watchers that have not taken them yet.
   size_t retained_events() const;
 
@@ -106,6 +109,9 @@ class JobTracker {
                                         const store::CloudRecord* cloud = nullptr);
   // The final event: update.state must be final. The job stops being live.
   Status End(const std::string& job_id, const JobEventUpdate& update);
+
+  // Live jobs that have not ended, counted by kind and state (the vscan_jobs gauge).
+  std::vector<observability::GaugeSample> CountLive();
 
   // Deletes an ended job, its artifacts and the blobs nothing else names. NOT_FOUND for an unknown
   // job, FAILED_PRECONDITION while it is queued or running.

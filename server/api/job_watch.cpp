@@ -5,6 +5,7 @@
 #include <spdlog/spdlog.h>
 
 #include "api/auth.h"
+#include "api/call_observer.h"
 #include "api/job_service.h"
 #include "api/validate.h"
 #include "vscan/common/grpc_status.h"
@@ -122,6 +123,7 @@ class WatchReactor final : public grpc::ServerWriteReactor<v1::WatchJobResponse>
 
 grpc::ServerWriteReactor<v1::WatchJobResponse>* JobService::WatchJob(grpc::CallbackServerContext* ctx,
                                                                      const v1::WatchJobRequest* request) {
+  CallScope scope(ctx);
   return new WatchReactor(ctx, *request, context_.options.token, tracker_);
 }
 

@@ -8,6 +8,7 @@
 #include <spdlog/spdlog.h>
 
 #include "api/auth.h"
+#include "api/call_observer.h"
 #include "api/scan_outbox.h"
 #include "api/scan_request.h"
 #include "api/scan_writer.h"
@@ -36,6 +37,7 @@ class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
   ScanReactor(const v1::ScanRequest& request, grpc::CallbackServerContext* ctx, service::ServiceContext& context,
               guards::StallWatchdog* stalled_readers)
       : context_(context),
+        request_id_(RequestIdOf(ctx)),
         write_watch_(stalled_readers, ctx),
         outbox_(
             ChunkWindow(request.chunk_bytes() ? request.chunk_bytes() : kDefaultChunkBytes),
@@ -67,6 +69,7 @@ class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
   }
 
   void OnCancel() override {
+    observability::RequestIdScope scope(request_id_);
     StopProducing();
     spdlog::info("scan of {}: call cancelled", plan_.scene_id);
   }
@@ -122,6 +125,7 @@ class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
   }
 
   service::ServiceContext& context_;
+  const std::string request_id_;
   WriteWatch write_watch_;
   const Clock::time_point start_ = Clock::now();
   ScanPlan plan_;
@@ -137,6 +141,7 @@ class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
 
 grpc::ServerWriteReactor<v1::ScanResponse>* ScanService::Scan(grpc::CallbackServerContext* ctx,
                                                               const v1::ScanRequest* request) {
+  CallScope scope(ctx);  // the worker pool carries it into the scan
   return new ScanReactor(*request, ctx, context_, stalled_readers_);
 }
 

@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "api/scan_messages.h"
+#include "observability/server_metrics.h"
 #include "vscan/common/point_chunks.h"
 
 namespace vscan::api {
@@ -53,6 +54,7 @@ void ScanWriter::Finish(const service::ScanOutcome& outcome, double total_ms) {
   v1::ScanStatistics* s = message->mutable_statistics();
   FillScanStatistics(outcome.stats, outcome.measure, s);
   s->set_streamed_points(points);
+  observability::Metrics().scan_points_sent.Increment(static_cast<double>(points));
   s->set_chunk_count(chunks);
   s->set_total_ms(total_ms);
   for (const service::ObjectTruth& object : outcome.objects) ObjectTruthToProto(object, s->add_objects());

@@ -3,7 +3,10 @@
 #include <chrono>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <mutex>
 #include <optional>
+#include <set>
 #include <sstream>
 #include <system_error>
 
@@ -16,6 +19,7 @@
 #include <grpcpp/server_builder.h>
 #include <spdlog/spdlog.h>
 
+#include "api/call_observer.h"
 #include "api/callback_queue_ticker.h"
 #include "api/cloud_service.h"
 #include "api/localization_service.h"
@@ -28,6 +32,7 @@
 #include "guards/stall_watchdog.h"
 #include "jobs/job_runner.h"
 #include "jobs/periodic_task.h"
+#include "observability/server_metrics.h"
 #include "store/blob_gc.h"
 #include "store/cloud_catalogue.h"
 #include "store/database.h"
@@ -98,6 +103,55 @@ void ApplyRetention(JobTracker& tracker, double retention_hours) {
   }
 }
 
+// The vscan_jobs gauge: the live jobs of every running server in the process (tests run several).
+class JobsGauge {
+ public:
+  static JobsGauge& Instance() {
+    static JobsGauge gauge;
+    return gauge;
+  }
+  void Add(JobTracker* tracker) {
+    std::lock_guard lock(mutex_);
+    trackers_.insert(tracker);
+  }
+  void Remove(JobTracker* tracker) {
+    std::lock_guard lock(mutex_);
+    trackers_.erase(tracker);
+  }
+
+ private:
+  JobsGauge() {
+    observability::DefaultRegistry().AddGaugeCollector("vscan_jobs",
+                                                       "Jobs not yet ended, by kind and state (queued, running)",
+                                                       {"kind", "state"}, [this] { return Collect(); });
+  }
+  std::vector<observability::GaugeSample> Collect() {
+    std::lock_guard lock(mutex_);
+    std::map<std::vector<std::string>, double> counts;
+    for (JobTracker* tracker : trackers_) {
+      for (const auto& sample : tracker->CountLive()) counts[sample.label_values] += sample.value;
+    }
+    std::vector<observability::GaugeSample> samples;
+    for (auto& [labels, value] : counts) samples.push_back({labels, value});
+    return samples;
+  }
+
+  std::mutex mutex_;
+  std::set<JobTracker*> trackers_;
+};
+
+// Counts a server's jobs in the vscan_jobs gauge while it lives.
+class JobsGaugeEntry {
+ public:
+  explicit JobsGaugeEntry(JobTracker& tracker) : tracker_(&tracker) { JobsGauge::Instance().Add(tracker_); }
+  ~JobsGaugeEntry() { JobsGauge::Instance().Remove(tracker_); }
+  JobsGaugeEntry(const JobsGaugeEntry&) = delete;
+  JobsGaugeEntry& operator=(const JobsGaugeEntry&) = delete;
+
+ private:
+  JobTracker* tracker_;
+};
+
 }  // namespace
 
 struct Server::Impl {
@@ -128,6 +182,7 @@ struct Server::Impl {
   std::unique_ptr<jobs::PeriodicTask> retention;
   std::unique_ptr<grpc::Server> server;
   std::unique_ptr<CallbackQueueTicker> ticker;
+  std::unique_ptr<JobsGaugeEntry> jobs_gauge;
   int port = 0;
 };
 
@@ -194,6 +249,9 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& op
         [tracker = impl->job_tracker.get(), hours = options.job_retention_hours] { ApplyRetention(*tracker, hours); });
   }
 
+  observability::Metrics();  // every family is in the registry before the first scrape
+  impl->jobs_gauge = std::make_unique<JobsGaugeEntry>(*impl->job_tracker);
+
   ASSIGN_OR_RETURN(auto credentials, Credentials(options));
   grpc::EnableDefaultHealthCheckService(true);
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
@@ -206,6 +264,9 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& op
   builder.RegisterService(impl->cloud_service.get());
   builder.RegisterService(impl->localization_service.get());
   builder.SetMaxReceiveMessageSize(4 << 20);
+  std::vector<std::unique_ptr<grpc::experimental::ServerInterceptorFactoryInterface>> interceptors;
+  interceptors.push_back(MakeCallObserverFactory());
+  builder.experimental().SetInterceptorCreators(std::move(interceptors));
   impl->server = builder.BuildAndStart();
   if (!impl->server || impl->port == 0) {
     return Unavailable("--listen: cannot listen on '" + options.listen_address + "'");

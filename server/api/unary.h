@@ -9,6 +9,7 @@
 #include <spdlog/spdlog.h>
 
 #include "api/auth.h"
+#include "api/call_observer.h"
 #include "jobs/worker_pool.h"
 #include "vscan/common/grpc_status.h"
 
@@ -32,6 +33,7 @@ inline void FinishUnary(grpc::ServerUnaryReactor* reactor, const char* method, c
 template <typename Handler>
 grpc::ServerUnaryReactor* RunUnary(grpc::CallbackServerContext* ctx, const std::string& token, const char* method,
                                    Handler&& handler) {
+  CallScope scope(ctx);
   auto* reactor = ctx->DefaultReactor();
   Status status = CheckToken(*ctx, token);
   if (status.ok()) status = InvokeHandler(handler);
@@ -45,6 +47,7 @@ grpc::ServerUnaryReactor* RunUnary(grpc::CallbackServerContext* ctx, const std::
 template <typename Handler>
 grpc::ServerUnaryReactor* RunBlockingUnary(grpc::CallbackServerContext* ctx, const std::string& token,
                                            const char* method, jobs::WorkerPool& workers, Handler handler) {
+  CallScope scope(ctx);  // the pool carries it onto the worker
   auto* reactor = ctx->DefaultReactor();
   const Status status = CheckToken(*ctx, token);
   if (!status.ok()) {

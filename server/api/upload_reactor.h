@@ -6,6 +6,7 @@
 #include <spdlog/spdlog.h>
 
 #include "api/auth.h"
+#include "api/call_observer.h"
 #include "service/service_context.h"
 #include "vscan/common/grpc_status.h"
 
@@ -15,6 +16,7 @@ template <typename Request>
 class UploadReactor : public grpc::ServerReadReactor<Request> {
  public:
   void OnReadDone(bool ok) final {
+    CallScope scope(ctx_);  // the worker pool carries it into Complete
     if (!ok) {
       if (ctx_->IsCancelled()) {
         this->Finish(grpc::Status(grpc::StatusCode::CANCELLED, "upload cancelled"));
@@ -41,6 +43,7 @@ class UploadReactor : public grpc::ServerReadReactor<Request> {
 
   // Call last in the derived constructor: once reading starts, callbacks may come at once.
   void Start() {
+    CallScope scope(ctx_);
     const Status auth = CheckToken(*ctx_, context_.options.token);
     if (!auth.ok()) {
       End(auth);

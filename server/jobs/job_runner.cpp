@@ -2,6 +2,8 @@
 
 #include <algorithm>
 
+#include "observability/request_id.h"
+
 namespace vscan::jobs {
 
 void JobControl::RequestStop(StopReason reason) {
@@ -22,7 +24,8 @@ bool JobRunner::Submit(const std::string& job_id, Work work, Dropped dropped, si
   {
     std::lock_guard lock(mutex_);
     if (stopping_ || queue_.size() >= max_queued) return false;
-    queue_.push_back({job_id, std::move(work), std::move(dropped)});
+    // A job logs under the request id of the call that started it.
+    queue_.push_back({job_id, observability::CarryRequestId(std::move(work)), std::move(dropped)});
   }
   wake_.notify_one();
   return true;

@@ -1,5 +1,7 @@
 #include "jobs/worker_pool.h"
 
+#include "observability/request_id.h"
+
 namespace vscan::jobs {
 
 WorkerPool::WorkerPool(size_t threads) {
@@ -13,7 +15,8 @@ bool WorkerPool::Post(std::function<void()> work) {
   {
     std::lock_guard lock(mutex_);
     if (stopping_) return false;
-    queue_.push_back(std::move(work));
+    // The work logs under the request id of the call that posted it.
+    queue_.push_back(observability::CarryRequestId(std::move(work)));
   }
   wake_.notify_one();
   return true;

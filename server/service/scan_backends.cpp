@@ -1,6 +1,9 @@
 #include "service/scan_backends.h"
 
+#include <chrono>
+
 #include "raster/raster_scanner.h"
+#include "service/scan_metrics.h"
 
 namespace vscan::service {
 namespace {
@@ -52,11 +55,9 @@ StatusOr<PointCloud> RunMeasuredRaster(const ScanPlan& plan, const capture::Meas
   return cloud;
 }
 
-}  // namespace
-
-StatusOr<PointCloud> RunScanBackend(const ScanPlan& plan, const scenes::ScanTarget& target, RasterProvider& raster,
-                                    const std::atomic<bool>* cancel, raycast::ScanStats* stats,
-                                    capture::MeasureStats* measure_stats) {
+StatusOr<PointCloud> RunBackend(const ScanPlan& plan, const scenes::ScanTarget& target, RasterProvider& raster,
+                                const std::atomic<bool>* cancel, raycast::ScanStats* stats,
+                                capture::MeasureStats* measure_stats) {
   const capture::MeasurementSpec& spec = plan.measurement;
   if (measure_stats) *measure_stats = capture::MeasureStats{};
   if (!spec.any()) return RunClean(plan, target, raster, cancel, stats);
@@ -71,6 +72,18 @@ StatusOr<PointCloud> RunScanBackend(const ScanPlan& plan, const scenes::ScanTarg
   stats->points = m.points;
   stats->min_range = m.min_range;
   stats->max_range = m.max_range;
+  return cloud;
+}
+
+}  // namespace
+
+StatusOr<PointCloud> RunScanBackend(const ScanPlan& plan, const scenes::ScanTarget& target, RasterProvider& raster,
+                                    const std::atomic<bool>* cancel, raycast::ScanStats* stats,
+                                    capture::MeasureStats* measure_stats) {
+  const auto start = std::chrono::steady_clock::now();
+  StatusOr<PointCloud> cloud = RunBackend(plan, target, raster, cancel, stats, measure_stats);
+  RecordScan(plan.backend, cloud.status(), *stats,
+             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
   return cloud;
 }
 

@@ -1,6 +1,9 @@
 #include "service/scan_run.h"
 
+#include <chrono>
+
 #include "service/scan_backends.h"
+#include "service/scan_metrics.h"
 #include "service/scan_target.h"
 
 namespace vscan::service {
@@ -21,7 +24,12 @@ Status RunScan(ServiceContext& context, const ScanPlan& plan, const std::atomic<
     options.fields = plan.fields;
     options.frame = plan.frame;
     options.cancel = cancel;
-    return raycast::ScanRows(*target.raycast, plan.camera, plan.world_from_sensor, options, out, &outcome->stats);
+    const auto start = std::chrono::steady_clock::now();
+    const Status status =
+        raycast::ScanRows(*target.raycast, plan.camera, plan.world_from_sensor, options, out, &outcome->stats);
+    RecordScan(plan.backend, status, outcome->stats,
+               std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+    return status;
   }
   if (!plan.ground_truth) {
     ASSIGN_OR_RETURN(const PointCloud cloud,
