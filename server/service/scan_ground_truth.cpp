@@ -54,6 +54,22 @@ std::optional<PixelBox> ProjectedBox(const raycast::SceneInstance& instance, con
   return box;
 }
 
+// box widened (inside the image) to at least 1/16 of the image each way: a camera validates its
+// principal point within 10 image sizes of its centre, and a crop of a few pixels at the image's
+// edge would put it further off.
+PixelBox AtLeastASixteenth(PixelBox box, uint32_t width, uint32_t height) {
+  const auto widen = [](uint32_t& lo, uint32_t& hi, uint32_t size) {
+    const uint32_t least = std::min(size, (size + 15) / 16);
+    if (hi - lo >= least) return;
+    const uint32_t start = (lo + hi) / 2 > least / 2 ? (lo + hi) / 2 - least / 2 : 0;
+    lo = std::min(start, size - least);
+    hi = lo + least;
+  };
+  widen(box.u0, box.u1, width);
+  widen(box.v0, box.v1, height);
+  return box;
+}
+
 // The camera restricted to box: the same rays through the same pixel centres.
 sensor::PinholeCamera Crop(const sensor::PinholeCamera& camera, const PixelBox& box) {
   sensor::PinholeCamera crop = camera;
@@ -108,14 +124,15 @@ StatusOr<std::vector<ObjectTruth>> ObjectGroundTruth(const scenes::ScanTarget& t
     const auto found = instances.find(object.instance_id);
     if (found == instances.end()) continue;
     const raycast::SceneInstance& instance = *found->second;
-    const auto box = ProjectedBox(instance, camera, sensor_from_world);
-    if (!box) continue;
+    const auto projected = ProjectedBox(instance, camera, sensor_from_world);
+    if (!projected) continue;
+    const PixelBox box = AtLeastASixteenth(*projected, camera.width, camera.height);
     ASSIGN_OR_RETURN(const auto alone, raycast::RaycastScene::Build(std::span(&instance, 1)));
     raycast::ScanOptions options;
     options.fields = kFieldPosition | kFieldPixel;
     options.cancel = cancel;
     raycast::ScanStats stats;
-    const sensor::PinholeCamera crop = Crop(camera, *box);
+    const sensor::PinholeCamera crop = Crop(camera, box);
     ASSIGN_OR_RETURN(const PointCloud alone_cloud, raycast::Scan(*alone, crop, world_from_sensor, options, &stats));
     const auto seen = visible.find(object.instance_id);
     const uint64_t visible_points = seen == visible.end() ? 0 : seen->second;
@@ -134,10 +151,10 @@ StatusOr<std::vector<ObjectTruth>> ObjectGroundTruth(const scenes::ScanTarget& t
         stats.points > 0 ? static_cast<double>(visible_points) / static_cast<double>(stats.points) : 0.0;
     if (!alone_cloud.pixels.empty()) {
       const PixelBox covered = CoveredPixels(alone_cloud, crop.width);
-      truth.alone_u0 = box->u0 + covered.u0;
-      truth.alone_v0 = box->v0 + covered.v0;
-      truth.alone_u1 = box->u0 + covered.u1;
-      truth.alone_v1 = box->v0 + covered.v1;
+      truth.alone_u0 = box.u0 + covered.u0;
+      truth.alone_v0 = box.v0 + covered.v0;
+      truth.alone_u1 = box.u0 + covered.u1;
+      truth.alone_v1 = box.v0 + covered.v1;
     }
     out.push_back(std::move(truth));
   }
