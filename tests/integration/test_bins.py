@@ -285,6 +285,15 @@ class MeshBinTest(unittest.TestCase):
             self.assertGreaterEqual(centre[2], 0.0, part["label"])
             self.assertLessEqual(centre[2], 0.1, part["label"])
 
+    def test_a_plan_naming_an_unknown_bin_mesh_points_at_its_line(self):
+        plan = os.path.join(self.tmp.name, "unknown-tote.yaml")
+        with open(plan, "w") as f:
+            f.write(MESH_PLAN.format(parts=os.path.join(DATA, "parts"))
+                    .replace("  mesh: tote.stl\n  unit: mm\n", "  mesh_id: msh_0000000000000000\n"))
+        out = vscan(self.server, "bin", "fill", plan)
+        self.assertEqual(out.returncode, 2, out.stderr)
+        self.assertIn("unknown-tote.yaml:4: bin_mesh.mesh_id", out.stderr)
+
     def test_python_fills_a_mesh_bin_and_bad_mesh_bins_are_refused(self):
         scene = self.client.create_scene("tote-python")
         tote = self.client.upload_mesh(os.path.join(self.tmp.name, "tote.stl"), unit="mm")
