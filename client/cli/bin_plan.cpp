@@ -29,7 +29,7 @@ class BinPlanParser {
     }
     plan.spec.set_name(plan.name);
     RETURN_IF_ERROR(ParseScene(top, &plan));
-    RETURN_IF_ERROR(ParseBin(YamlReader::Child(top, "bin"), plan.spec.mutable_bin()));
+    RETURN_IF_ERROR(ParseBin(YamlReader::Child(top, "bin"), &plan));
     RETURN_IF_ERROR(ParseParts(YamlReader::Child(top, "parts"), &plan));
     if (const YamlAt seed = YamlReader::Child(top, "seed"); YamlReader::Has(seed)) {
       ASSIGN_OR_RETURN(const uint64_t value, yaml_.Integer(seed, 0, UINT64_MAX));
@@ -56,8 +56,34 @@ class BinPlanParser {
     return Status::Ok();
   }
 
-  Status ParseBin(const YamlAt& at, v1::BinBox* bin) const {
-    if (!YamlReader::Has(at)) return yaml_.Error(at, "required: {inner_size: [x, y, z], wall_thickness, pose}");
+  // A mesh file in its unit, or an uploaded mesh (metres), at item's keys mesh, unit and mesh_id.
+  Status ParseMeshSource(const YamlAt& item, BinPlanPart* part) const {
+    const YamlAt mesh = YamlReader::Child(item, "mesh");
+    const YamlAt mesh_id = YamlReader::Child(item, "mesh_id");
+    const YamlAt unit = YamlReader::Child(item, "unit");
+    if (YamlReader::Has(mesh) == YamlReader::Has(mesh_id)) {
+      return yaml_.Error(item, "give either mesh (a file) or mesh_id (an uploaded mesh)");
+    }
+    if (YamlReader::Has(mesh)) {
+      ASSIGN_OR_RETURN(part->mesh, ReadPlanPath(yaml_, mesh, base_dir_));
+      if (!YamlReader::Has(unit)) return yaml_.Error(unit, "required: the unit the mesh is written in (m, cm, mm, in, ft)");
+      ASSIGN_OR_RETURN(const std::string text, yaml_.String(unit));
+      const auto parsed = ParseUnit(text);
+      if (!parsed.ok()) return yaml_.Error(unit, std::string(parsed.status().text()));
+      part->unit = *parsed;
+    } else {
+      if (YamlReader::Has(unit)) return yaml_.Error(unit, "an uploaded mesh is in metres already; use scale");
+      ASSIGN_OR_RETURN(part->mesh_id, yaml_.String(mesh_id));
+    }
+    return Status::Ok();
+  }
+
+  Status ParseBin(const YamlAt& at, BinPlan* plan) const {
+    if (!YamlReader::Has(at)) {
+      return yaml_.Error(at, "required: {inner_size: [x, y, z], wall_thickness, pose} or {mesh, unit, scale, pose}");
+    }
+    if (at.node.IsMap() && (at.node["mesh"] || at.node["mesh_id"])) return ParseBinMesh(at, plan);
+    v1::BinBox* bin = plan->spec.mutable_bin();
     RETURN_IF_ERROR(yaml_.ExpectMap(at, {"inner_size", "wall_thickness", "pose"}));
     const YamlAt size = YamlReader::Child(at, "inner_size");
     if (!YamlReader::Has(size)) return yaml_.Error(size, "required: [length, width, depth] in metres");
@@ -74,6 +100,23 @@ class BinPlanParser {
     return Status::Ok();
   }
 
+  Status ParseBinMesh(const YamlAt& at, BinPlan* plan) const {
+    RETURN_IF_ERROR(yaml_.ExpectMap(at, {"mesh", "mesh_id", "unit", "scale", "pose"}));
+    BinPlanPart source;
+    RETURN_IF_ERROR(ParseMeshSource(at, &source));
+    v1::BinMesh* bin = plan->spec.mutable_bin_mesh();
+    if (const YamlAt scale = YamlReader::Child(at, "scale"); YamlReader::Has(scale)) {
+      ASSIGN_OR_RETURN(const double value, yaml_.Number(scale));
+      if (!(value > 0)) return yaml_.Error(scale, "must be positive");
+      bin->set_scale(value);
+    }
+    if (const YamlAt pose = YamlReader::Child(at, "pose"); YamlReader::Has(pose)) {
+      ASSIGN_OR_RETURN(*bin->mutable_pose(), ReadPlanPose(yaml_, pose));
+    }
+    plan->bin_mesh = std::move(source);
+    return Status::Ok();
+  }
+
   Status ParseParts(const YamlAt& at, BinPlan* plan) const {
     if (!YamlReader::Has(at)) return yaml_.Error(at, "required: a list of {mesh, unit, count, ...}");
     RETURN_IF_ERROR(yaml_.ExpectSequence(at, 1));
@@ -83,24 +126,8 @@ class BinPlanParser {
                                              "density_kg_per_m3", "collision"}));
       BinPlanPart part;
       v1::BinPart* spec = plan->spec.add_parts();
-      const YamlAt mesh = YamlReader::Child(item, "mesh");
-      const YamlAt mesh_id = YamlReader::Child(item, "mesh_id");
-      const YamlAt unit = YamlReader::Child(item, "unit");
-      if (YamlReader::Has(mesh) == YamlReader::Has(mesh_id)) {
-        return yaml_.Error(item, "give either mesh (a file) or mesh_id (an uploaded mesh)");
-      }
-      if (YamlReader::Has(mesh)) {
-        ASSIGN_OR_RETURN(part.mesh, ReadPlanPath(yaml_, mesh, base_dir_));
-        if (!YamlReader::Has(unit)) return yaml_.Error(unit, "required: the unit the mesh is written in (m, cm, mm, in, ft)");
-        ASSIGN_OR_RETURN(const std::string text, yaml_.String(unit));
-        const auto parsed = ParseUnit(text);
-        if (!parsed.ok()) return yaml_.Error(unit, std::string(parsed.status().text()));
-        part.unit = *parsed;
-        spec->set_name(part.mesh.stem().string());
-      } else {
-        if (YamlReader::Has(unit)) return yaml_.Error(unit, "an uploaded mesh is in metres already; use scale");
-        ASSIGN_OR_RETURN(part.mesh_id, yaml_.String(mesh_id));
-      }
+      RETURN_IF_ERROR(ParseMeshSource(item, &part));
+      if (!part.mesh.empty()) spec->set_name(part.mesh.stem().string());
       const YamlAt count = YamlReader::Child(item, "count");
       if (!YamlReader::Has(count)) return yaml_.Error(count, "required: how many of this part");
       ASSIGN_OR_RETURN(const uint64_t n, yaml_.Integer(count, 1, kMaxCount));
@@ -183,7 +210,8 @@ std::optional<std::string> LocateInBinPlan(const BinPlan& plan, const Status& st
   const size_t colon = message.find(": ");
   if (colon == std::string::npos) return std::nullopt;
   const std::string field = message.substr(5, colon - 5);
-  std::string at = field;
+  // The plan writes a mesh bin under bin: like the box.
+  std::string at = field.starts_with("bin_mesh") ? "bin" + field.substr(8) : field;
   // A part's mesh_id comes from its mesh file when the plan names one.
   if (at.ends_with(".mesh_id") && !plan.key_marks.contains(at)) at = Parent(at) + ".mesh";
   while (!at.empty() && !plan.key_marks.contains(at)) at = Parent(at);

@@ -30,6 +30,8 @@ struct BinPlan {
   std::string scene_id;
   // parts[i] gives spec.parts(i).mesh_id when the plan runs.
   std::vector<BinPlanPart> parts;
+  // A bin given as a mesh (spec.bin_mesh); gives spec.bin_mesh.mesh_id when the plan runs.
+  std::optional<BinPlanPart> bin_mesh;
   // scene_id and the parts' mesh ids are filled in when the plan runs.
   v1::BinFillSpec spec;
   std::string source;

@@ -115,15 +115,22 @@ int RunBinScan(Context& ctx, const BinScanArgs& args) {
   if (job->state() != v1::JOB_STATE_SUCCEEDED) {
     return ctx.UsageError("JOB: bin fill " + args.job_id + " did not succeed; its scene holds no bin");
   }
-  const v1::BinBox& bin = job->bin_fill().bin();
+  const v1::BinFillSpec& spec = job->bin_fill();
+  // A mesh bin's opening is not known here: the caller says how high to look from.
+  if (spec.has_bin_mesh() && !args.distance) {
+    return ctx.UsageError("--distance: required for a bin given as a mesh (metres above the bin frame's origin)");
+  }
+  const v1::BinBox& bin = spec.bin();
+  const v1::Pose& bin_pose = spec.has_bin_mesh() ? spec.bin_mesh().pose() : bin.pose();
+  const bool has_pose = spec.has_bin_mesh() ? spec.bin_mesh().has_pose() : bin.has_pose();
   const auto cone = PresetCone(*client, args.preset);
   if (!cone.ok()) return cone.status().code() == StatusCode::kNotFound ? ctx.UsageError(cone.status().message())
                                                                       : ctx.ServerError(cone.status());
   const double height = args.distance ? *args.distance : FitHeight(bin, *cone);
   if (!(height > 0)) return ctx.UsageError("--distance: must be positive");
   Pose3 world_from_bin = Pose3::Identity();
-  if (bin.has_pose()) {
-    const auto pose = PoseFromProto(bin.pose(), "bin.pose");
+  if (has_pose) {
+    const auto pose = PoseFromProto(bin_pose, "bin.pose");
     if (!pose.ok()) return ctx.ServerError(pose.status());
     world_from_bin = *pose;
   }

@@ -8,6 +8,30 @@
 #include "uploads.h"
 
 namespace vscan::cli {
+namespace {
+
+// The mesh's id: given, uploaded before by this run, or uploaded now.
+int MeshIdOf(Context& ctx, const BinPlanPart& source, std::map<std::pair<std::string, int>, std::string>& uploaded,
+             BinSetup* setup, std::string* mesh_id) {
+  *mesh_id = source.mesh_id;
+  if (!mesh_id->empty()) return kExitOk;
+  const auto key = std::make_pair(source.mesh.string(), static_cast<int>(source.unit));
+  if (const auto found = uploaded.find(key); found != uploaded.end()) {
+    *mesh_id = found->second;
+    return kExitOk;
+  }
+  client::MeshUploadOptions options;
+  options.unit = source.unit;
+  options.format = client::MeshFormatFromPath(source.mesh.string());
+  v1::Mesh mesh;
+  if (const int rc = UploadMesh(ctx, source.mesh.string(), options, &mesh); rc != kExitOk) return rc;
+  setup->created_meshes.push_back(mesh.mesh_id());
+  ctx.Say("uploaded mesh " + Describe(mesh));
+  uploaded[key] = *mesh_id = mesh.mesh_id();
+  return kExitOk;
+}
+
+}  // namespace
 
 int ReportBinError(Context& ctx, const BinPlan& plan, const Status& status) {
   if (const auto located = LocateInBinPlan(plan, status)) return ctx.UsageError(*located);
@@ -20,6 +44,7 @@ int CheckBinPlanOnServer(Context& ctx, const BinPlan& plan) {
   v1::BinFillSpec spec = plan.spec;
   spec.set_scene_id(plan.scene_id);
   for (size_t i = 0; i < plan.parts.size(); ++i) spec.mutable_parts(static_cast<int>(i))->set_mesh_id(plan.parts[i].mesh_id);
+  if (plan.bin_mesh) spec.mutable_bin_mesh()->set_mesh_id(plan.bin_mesh->mesh_id);
   const Status checked = client->ValidateBinFill(spec);
   return checked.ok() ? kExitOk : ReportBinError(ctx, plan, checked);
 }
@@ -45,27 +70,17 @@ int SetUpBin(Context& ctx, const BinPlan& plan, BinSetup* setup) {
     }
   }
   setup->spec.set_scene_id(setup->scene_id);
-  // Parts that share a file and unit share one upload.
+  // Meshes that share a file and unit share one upload.
   std::map<std::pair<std::string, int>, std::string> uploaded;
   for (size_t i = 0; i < plan.parts.size(); ++i) {
-    const BinPlanPart& part = plan.parts[i];
-    std::string mesh_id = part.mesh_id;
-    if (mesh_id.empty()) {
-      const auto key = std::make_pair(part.mesh.string(), static_cast<int>(part.unit));
-      if (const auto found = uploaded.find(key); found != uploaded.end()) {
-        mesh_id = found->second;
-      } else {
-        client::MeshUploadOptions options;
-        options.unit = part.unit;
-        options.format = client::MeshFormatFromPath(part.mesh.string());
-        v1::Mesh mesh;
-        if (const int rc = UploadMesh(ctx, part.mesh.string(), options, &mesh); rc != kExitOk) return rc;
-        setup->created_meshes.push_back(mesh.mesh_id());
-        ctx.Say("uploaded mesh " + Describe(mesh));
-        uploaded[key] = mesh_id = mesh.mesh_id();
-      }
-    }
+    std::string mesh_id;
+    if (const int rc = MeshIdOf(ctx, plan.parts[i], uploaded, setup, &mesh_id); rc != kExitOk) return rc;
     setup->spec.mutable_parts(static_cast<int>(i))->set_mesh_id(mesh_id);
+  }
+  if (plan.bin_mesh) {
+    std::string mesh_id;
+    if (const int rc = MeshIdOf(ctx, *plan.bin_mesh, uploaded, setup, &mesh_id); rc != kExitOk) return rc;
+    setup->spec.mutable_bin_mesh()->set_mesh_id(mesh_id);
   }
   return kExitOk;
 }

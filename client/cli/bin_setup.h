@@ -1,6 +1,6 @@
 #pragma once
 // What a bin plan needs on the server before its fill starts: the scene (found by name or
-// created) and the part meshes (uploaded); and their removal when the fill cannot start.
+// created) and the part and bin meshes (uploaded); and their removal when the fill cannot start.
 
 #include <string>
 #include <vector>

@@ -33,8 +33,19 @@ StatusOr<double> OrDefault(double value, double fallback, double lo, double hi, 
   return value;
 }
 
+Status ReadBinMesh(const v1::BinMesh& in, bool validate_only, service::BinFillRequest& request) {
+  if (!validate_only || !in.mesh_id().empty()) RETURN_IF_ERROR(RequireId(in.mesh_id(), "bin_mesh.mesh_id"));
+  request.mesh_bin = true;
+  request.bin_mesh_id = in.mesh_id();
+  ASSIGN_OR_RETURN(request.bin_mesh_scale, ScaleOrDefault(in.scale(), "bin_mesh.scale"));
+  if (in.has_pose()) {
+    ASSIGN_OR_RETURN(request.bin.world_from_bin, PoseFromProto(in.pose(), "bin_mesh.pose"));
+  }
+  return Status::Ok();
+}
+
 Status ReadBin(const v1::BinFillSpec& spec, physics::BinSpec& bin) {
-  if (!spec.has_bin()) return InvalidArgument("bin", "required");
+  if (!spec.has_bin()) return InvalidArgument("bin", "required (or bin_mesh)");
   if (!spec.bin().has_inner_size()) return InvalidArgument("bin.inner_size", "required");
   const Eigen::Vector3d size = FromProto(spec.bin().inner_size());
   for (int k = 0; k < 3; ++k) {
@@ -125,7 +136,12 @@ StatusOr<service::BinFillRequest> BinFillRequestFromProto(const v1::BinFillSpec&
   request.scene_id = spec.scene_id();
   RETURN_IF_ERROR(CheckText(spec.name(), "name"));
   request.name = spec.name();
-  RETURN_IF_ERROR(ReadBin(spec, request.bin));
+  if (spec.has_bin() && spec.has_bin_mesh()) return InvalidArgument("bin_mesh", "give bin or bin_mesh, not both");
+  if (spec.has_bin_mesh()) {
+    RETURN_IF_ERROR(ReadBinMesh(spec.bin_mesh(), validate_only, request));
+  } else {
+    RETURN_IF_ERROR(ReadBin(spec, request.bin));
+  }
   RETURN_IF_ERROR(ReadParts(spec, validate_only, request.parts));
   RETURN_IF_ERROR(ReadPhysics(spec.physics(), request.options));
   request.options.seed = spec.seed();

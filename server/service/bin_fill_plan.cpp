@@ -25,6 +25,28 @@ StatusOr<TriangleMesh> ScaledPart(ServiceContext& context, const BinPartRequest&
   return mesh;
 }
 
+// The stored bin mesh (metres) times its scale: the bin frame for the physics.
+StatusOr<TriangleMesh> ScaledBin(ServiceContext& context, const std::string& mesh_id, double scale) {
+  auto record = context.registry.catalogue().GetMesh(mesh_id);
+  if (!record.ok() && record.status().code() == StatusCode::kNotFound) {
+    return NotFound("bin_mesh.mesh_id", "no mesh '" + mesh_id + "'");
+  }
+  RETURN_IF_ERROR(record.status());
+  ASSIGN_OR_RETURN(const auto loaded, context.registry.LoadMesh(mesh_id));
+  TriangleMesh mesh = *loaded;
+  for (Eigen::Vector3f& v : mesh.vertices) v *= static_cast<float>(scale);
+  Eigen::Vector3f lo, hi;
+  mesh.Bounds(lo, hi);
+  const Eigen::Vector3f size = hi - lo;
+  if (!(size.minCoeff() >= 1e-3f && size.maxCoeff() <= 100.0f)) {
+    return InvalidArgument("bin_mesh.scale", "the bin scaled by " + std::to_string(scale) + " is " +
+                                                 std::to_string(size.x()) + " x " + std::to_string(size.y()) + " x " +
+                                                 std::to_string(size.z()) +
+                                                 " m; a bin must be 1 mm to 100 m on every side (it must hold a volume)");
+  }
+  return mesh;
+}
+
 }  // namespace
 
 size_t BinFillPlan::parts_total() const {
@@ -37,14 +59,26 @@ StatusOr<BinFillPlan> PlanBinFill(ServiceContext& context, BinFillRequest reques
   if (!request.scene_id.empty() || !validate_only) {
     RETURN_IF_ERROR(context.registry.catalogue().GetScene(request.scene_id).status());
   }
-  // Every wall corner must stay within the bounds where meshes may lie.
-  const Eigen::Vector3d outer = request.bin.inner_size + Eigen::Vector3d::Constant(2 * request.bin.wall_thickness);
-  const double reach = request.bin.world_from_bin.translation().cwiseAbs().maxCoeff() + outer.norm();
-  if (!(reach <= kMaxMeshCoordinateM)) {
-    return InvalidArgument("bin.pose", "the bin reaches " + std::to_string(reach) + " m from the origin; at most 1e4 m");
+  bool every_mesh = true;
+  if (request.mesh_bin && request.bin_mesh_id.empty() && validate_only) {
+    every_mesh = false;
+  } else if (request.mesh_bin) {
+    ASSIGN_OR_RETURN(request.bin.mesh, ScaledBin(context, request.bin_mesh_id, request.bin_mesh_scale));
+  }
+  // Every corner of the bin must stay within the bounds where meshes may lie.
+  if (every_mesh) {
+    const bool mesh_bin = request.mesh_bin;
+    const physics::BinInterior interior = physics::InteriorOf(request.bin);
+    // The box is centred on its frame; a mesh may lie anywhere in it.
+    const double extent = mesh_bin ? interior.lo.cwiseAbs().cwiseMax(interior.hi.cwiseAbs()).norm()
+                                   : (interior.hi - interior.lo + Eigen::Vector3d::Constant(2 * interior.wall)).norm();
+    const double reach = request.bin.world_from_bin.translation().cwiseAbs().maxCoeff() + extent;
+    if (!(reach <= kMaxMeshCoordinateM)) {
+      return InvalidArgument(mesh_bin ? "bin_mesh.pose" : "bin.pose",
+                             "the bin reaches " + std::to_string(reach) + " m from the origin; at most 1e4 m");
+    }
   }
   BinFillPlan plan;
-  bool every_mesh = true;
   for (size_t i = 0; i < request.parts.size(); ++i) {
     const BinPartRequest& asked = request.parts[i];
     if (asked.mesh_id.empty() && validate_only) {

@@ -29,7 +29,11 @@ struct BinPartRequest {
 struct BinFillRequest {
   std::string scene_id;
   std::string name;  // the bin object's label and the job's name
-  physics::BinSpec bin;
+  physics::BinSpec bin;  // its mesh is loaded by PlanBinFill
+  // A mesh bin (the stored mesh bin_mesh_id, scaled) instead of the box.
+  bool mesh_bin = false;
+  std::string bin_mesh_id;
+  double bin_mesh_scale = 1.0;
   std::vector<BinPartRequest> parts;
   physics::FillOptions options;
 };
@@ -44,7 +48,8 @@ struct BinFillPlan {
   size_t parts_total() const;
 };
 
-// Looks up the scene and the meshes (NOT_FOUND naming "scene_id" or "parts[i].mesh_id") and
+// Looks up the scene and the meshes (NOT_FOUND naming "scene_id", "bin_mesh.mesh_id" or
+// "parts[i].mesh_id"), loads a mesh bin into request.bin.mesh and
 // checks the scaled parts against the physical bounds. validate_only skips the scene and the
 // meshes whose ids are empty (the plan then lacks those parts).
 StatusOr<BinFillPlan> PlanBinFill(ServiceContext& context, BinFillRequest request, bool validate_only = false);

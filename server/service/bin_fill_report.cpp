@@ -40,13 +40,21 @@ void WriteTypes(const BinFillPlan& plan, JsonWriter& json) {
 void WriteBin(const BinFillPlan& plan, const BinFillReport& report, JsonWriter& json) {
   const physics::BinSpec& bin = plan.request.bin;
   json.Key("bin").Open('{');
-  json.Key("inner_size").Vector(bin.inner_size);
-  json.Key("wall_thickness").Value(bin.wall_thickness);
+  if (plan.request.mesh_bin) {
+    const physics::BinInterior interior = physics::InteriorOf(bin);
+    json.Key("mesh_id").Value(plan.request.bin_mesh_id);
+    json.Key("scale").Value(plan.request.bin_mesh_scale);
+    json.Key("bounds_min").Vector(interior.lo);
+    json.Key("bounds_max").Vector(interior.hi);
+  } else {
+    json.Key("inner_size").Vector(bin.inner_size);
+    json.Key("wall_thickness").Value(bin.wall_thickness);
+  }
   json.Key("world_from_bin").Matrix(bin.world_from_bin);
   if (report.placement) {
     json.Key("object_id").Value(report.placement->bin.object_id);
     json.Key("instance_id").Value(uint64_t{report.placement->bin.instance_id});
-    json.Key("mesh_id").Value(report.placement->bin.mesh_id);
+    if (!plan.request.mesh_bin) json.Key("mesh_id").Value(report.placement->bin.mesh_id);
     json.Key("label").Value(report.placement->bin.label);
   }
   json.Close('}');

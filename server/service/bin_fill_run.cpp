@@ -31,8 +31,12 @@ class BinFillRun {
 
   void Run() {
     const physics::BinSpec& bin = plan_.request.bin;
-    Status status = Event("filling a bin of " + Number(bin.inner_size.x()) + " x " + Number(bin.inner_size.y()) +
-                          " x " + Number(bin.inner_size.z()) + " m with " + std::to_string(total_) + " parts of " +
+    const physics::BinInterior interior = physics::InteriorOf(bin);
+    const Eigen::Vector3d size = interior.hi - interior.lo;
+    const std::string what = plan_.request.mesh_bin ? "the mesh bin " + plan_.request.bin_mesh_id + " (bounding box "
+                                                    : "a bin of ";
+    Status status = Event("filling " + what + Number(size.x()) + " x " + Number(size.y()) + " x " + Number(size.z()) +
+                          (plan_.request.mesh_bin ? " m)" : " m") + " with " + std::to_string(total_) + " parts of " +
                           std::to_string(plan_.parts.size()) + " types");
     if (status.ok()) status = Fill();
     Finish(status);

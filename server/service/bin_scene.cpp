@@ -24,7 +24,11 @@ StatusOr<BinPlacement> PlaceBinInScene(ServiceContext& context, const BinFillPla
   std::vector<store::ObjectRecord> objects;
   store::ObjectRecord bin_object;
   bin_object.label = plan.request.name.empty() ? "bin" : plan.request.name;
-  bin_object.pose = bin.world_from_bin.matrix();  // mesh_id left empty: the new bin mesh
+  bin_object.pose = bin.world_from_bin.matrix();
+  if (plan.request.mesh_bin) {
+    bin_object.mesh_id = plan.request.bin_mesh_id;
+    bin_object.scale = plan.request.bin_mesh_scale;
+  }  // else mesh_id left empty: the new bin mesh
   objects.push_back(std::move(bin_object));
   for (const physics::PlacedPart& placed : result.parts) {
     store::ObjectRecord part;
@@ -34,10 +38,12 @@ StatusOr<BinPlacement> PlaceBinInScene(ServiceContext& context, const BinFillPla
     part.scale = plan.request.parts[placed.type].scale;
     objects.push_back(std::move(part));
   }
-  ASSIGN_OR_RETURN(store::Catalogue::AddedObjects added,
-                   context.registry.AddObjectsWithMesh(plan.request.scene_id,
-                                                       geometry::OpenBinMesh(bin.inner_size, bin.wall_thickness),
-                                                       BinMeshName(bin), std::move(objects)));
+  auto stored = plan.request.mesh_bin
+                    ? context.registry.catalogue().AddObjects(plan.request.scene_id, std::move(objects))
+                    : context.registry.AddObjectsWithMesh(plan.request.scene_id,
+                                                          geometry::OpenBinMesh(bin.inner_size, bin.wall_thickness),
+                                                          BinMeshName(bin), std::move(objects));
+  ASSIGN_OR_RETURN(store::Catalogue::AddedObjects added, std::move(stored));
   BinPlacement placement;
   placement.revision = added.revision;
   placement.bin = std::move(added.objects.front());

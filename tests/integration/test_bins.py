@@ -1,5 +1,5 @@
 """Bin fills against a real vscand: `vscan bin fill` of a small plan, `vscan bin scan` with ground truth,
-bad specs refused naming their field, and what a restart keeps."""
+bad specs refused naming their field, a bin given as a mesh, and what a restart keeps."""
 
 import json
 import math
@@ -201,6 +201,126 @@ class BinCliTest(unittest.TestCase):
         self.assertEqual(out.returncode, 0, out.stderr)
         with open(png, "rb") as f:
             self.assertEqual(f.read(8), b"\x89PNG\r\n\x1a\n")
+
+
+def write_tote_stl(path, floor=(160, 120), top=(220, 160), depth=100):
+    """An open tote with sloped walls as ASCII STL (millimetres): floor at z = 0, opening at depth."""
+    fx, fy, tx, ty = floor[0] / 2, floor[1] / 2, top[0] / 2, top[1] / 2
+    v = [(-fx, -fy, 0), (fx, -fy, 0), (fx, fy, 0), (-fx, fy, 0),
+         (-tx, -ty, depth), (tx, -ty, depth), (tx, ty, depth), (-tx, ty, depth)]
+    triangles = [(0, 1, 2), (0, 2, 3)]
+    for k in range(4):
+        n = (k + 1) % 4
+        triangles += [(k, k + 4, n + 4), (k, n + 4, n)]
+    with open(path, "w") as f:
+        f.write("solid tote\n")
+        for t in triangles:
+            f.write("facet normal 0 0 0\nouter loop\n")
+            for i in t:
+                f.write("vertex %g %g %g\n" % v[i])
+            f.write("endloop\nendfacet\n")
+        f.write("endsolid tote\n")
+
+
+MESH_PLAN = """\
+name: tote-bin
+scene: bins-tote
+bin:
+  mesh: tote.stl
+  unit: mm
+  scale: 1
+  pose: {{xyz: [0.3, 0.1, 0.0], rpy_deg: [0, 0, 20]}}
+parts:
+  - mesh: {parts}/angle_block.STL
+    unit: in
+    count: 5
+seed: 5
+physics: {{max_simulated_s: 20}}
+"""
+
+
+class MeshBinTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.server = Server().start()
+        cls.tmp = tempfile.TemporaryDirectory(prefix="vscan-mesh-bin-")
+        write_tote_stl(os.path.join(cls.tmp.name, "tote.stl"))
+        cls.plan = os.path.join(cls.tmp.name, "tote.yaml")
+        with open(cls.plan, "w") as f:
+            f.write(MESH_PLAN.format(parts=os.path.join(DATA, "parts")))
+        cls.client = Client(cls.server.address)
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.client.close()
+        cls.server.cleanup()
+        cls.tmp.cleanup()
+
+    def test_a_plan_with_a_mesh_bin_fills_the_uploaded_tote(self):
+        out_dir = os.path.join(self.tmp.name, "fill")
+        fill = vscan(self.server, "--json", "bin", "fill", self.plan, "-o", out_dir)
+        self.assertEqual(fill.returncode, 0, fill.stderr + self.server.log())
+        report = json.loads(fill.stdout)["bin"]
+        self.assertTrue(report["applied"])
+        self.assertEqual(report["end"], "settled", report["end_message"])
+        self.assertEqual(report["in_bin"], 5)
+        self.assertNotIn("inner_size", report["bin"])
+        np.testing.assert_allclose(report["bin"]["bounds_min"], [-0.11, -0.08, 0.0], atol=1e-6)
+        np.testing.assert_allclose(report["bin"]["bounds_max"], [0.11, 0.08, 0.1], atol=1e-6)
+
+        scene = self.client.get_scene(json.loads(fill.stdout)["sceneId"])
+        objects = {o.object_id: o for o in scene.objects}
+        bin_object = objects[report["bin"]["object_id"]]
+        self.assertEqual(bin_object.mesh_id, report["bin"]["mesh_id"])  # the uploaded tote itself
+        self.assertEqual(bin_object.label, "tote-bin")
+        world_from_bin = matrix(report["bin"]["world_from_bin"])
+        np.testing.assert_allclose(matrix(bin_object.pose.matrix.values), world_from_bin, atol=1e-12)
+        np.testing.assert_allclose(world_from_bin[:3, 3], [0.3, 0.1, 0.0], atol=1e-12)
+        self.assertEqual(self.client.get_mesh(bin_object.mesh_id).triangle_count, 10)
+        bin_from_world = np.linalg.inv(world_from_bin)
+        for part in report["parts"]:
+            centre = bin_from_world @ matrix(part["world_from_part"])[:, 3]
+            self.assertLessEqual(abs(centre[0]), 0.11, part["label"])
+            self.assertLessEqual(abs(centre[1]), 0.08, part["label"])
+            self.assertGreaterEqual(centre[2], 0.0, part["label"])
+            self.assertLessEqual(centre[2], 0.1, part["label"])
+
+    def test_a_plan_naming_an_unknown_bin_mesh_points_at_its_line(self):
+        plan = os.path.join(self.tmp.name, "unknown-tote.yaml")
+        with open(plan, "w") as f:
+            f.write(MESH_PLAN.format(parts=os.path.join(DATA, "parts"))
+                    .replace("  mesh: tote.stl\n  unit: mm\n", "  mesh_id: msh_0000000000000000\n"))
+        out = vscan(self.server, "bin", "fill", plan)
+        self.assertEqual(out.returncode, 2, out.stderr)
+        self.assertIn("unknown-tote.yaml:4: bin_mesh.mesh_id", out.stderr)
+
+    def test_python_fills_a_mesh_bin_and_bad_mesh_bins_are_refused(self):
+        scene = self.client.create_scene("tote-python")
+        tote = self.client.upload_mesh(os.path.join(self.tmp.name, "tote.stl"), unit="mm")
+        block = self.client.upload_mesh(os.path.join(DATA, "parts", "angle_block.STL"), unit="in")
+        job, report = self.client.bin_fill(scene.scene_id, parts=[bin_part(block.mesh_id, 3)], bin_mesh_id=tote.mesh_id,
+                                           seed=2, max_simulated_s=20, timeout=120)
+        self.assertEqual(report["bin"]["mesh_id"], tote.mesh_id, job.message)
+        self.assertEqual(report["in_bin"], 3)
+        objects = self.client.get_scene(scene.scene_id).objects
+        self.assertEqual(objects[0].mesh_id, tote.mesh_id)
+        self.assertEqual(objects[0].instance_id, report["bin"]["instance_id"])
+
+        def refused(**bin_options):
+            with self.assertRaises(VscanError) as caught:
+                self.client.validate_bin_fill(scene.scene_id, parts=[bin_part(block.mesh_id, 1)], **bin_options)
+            return caught.exception
+
+        unknown = refused(bin_mesh_id="msh_0000000000000000")
+        self.assertEqual(unknown.code, C.NOT_FOUND)
+        self.assertIn("spec.bin_mesh.mesh_id", unknown.message)
+        nan_scale = refused(bin_mesh_id=tote.mesh_id, bin_mesh_scale=float("nan"))
+        self.assertEqual(nan_scale.code, C.INVALID_ARGUMENT)
+        self.assertIn("spec.bin_mesh.scale", nan_scale.message)
+        flat = refused(bin_mesh_id=tote.mesh_id, bin_mesh_scale=1e-3)  # 0.1 mm deep: no volume
+        self.assertEqual(flat.code, C.INVALID_ARGUMENT)
+        self.assertIn("spec.bin_mesh.scale", flat.message)
+        self.assertEqual(len(self.client.get_scene(scene.scene_id).objects), 1 + 3)  # refusals changed nothing
 
 
 class BinRestartTest(unittest.TestCase):

@@ -1,4 +1,4 @@
-"""Bin fill calls of the Client: parts dropped into an open bin, settled by physics, then placed in
+"""Bin fill calls of the Client: parts dropped into an open bin (a box or an uploaded mesh), settled by physics, then placed in
 the scene (JobService.StartBinFill), and the report they leave (bin.json)."""
 
 import json
@@ -29,15 +29,25 @@ def bin_part(mesh_id, count, scale=1.0, name="", mass_kg=0.0, density_kg_per_m3=
 
 def bin_fill_spec(scene_id, inner_size, parts, wall_thickness=0.0, bin_position=(0.0, 0.0, 0.0), bin_quat=None,
                   bin_matrix=None, seed=0, max_simulated_s=0.0, settle_move_m=0.0,
-                  settle_turn_rad=0.0, settle_steps=0, time_step_s=0.0, name=""):
-    """A BinFillSpec. inner_size is the bin's inner (x, y, depth) in metres; parts a list of
+                  settle_turn_rad=0.0, settle_steps=0, time_step_s=0.0, name="", bin_mesh_id=None,
+                  bin_mesh_scale=0.0):
+    """A BinFillSpec. The bin is a box, inner_size its inner (x, y, depth) in metres, or an
+    uploaded mesh, bin_mesh_id (with bin_mesh_scale; inner_size then None); parts a list of
     bin_part() messages or dicts of its keyword arguments. The bin stands at bin_position (with
     bin_quat (w, x, y, z)) or bin_matrix (4x4 world_from_bin). Physics bounds left 0 take the
     server's defaults (docs/BINS.md)."""
     spec = job_pb2.BinFillSpec(scene_id=scene_id, seed=int(seed), name=name)
-    spec.bin.inner_size.CopyFrom(convert.vector3(inner_size, "inner_size"))
-    spec.bin.wall_thickness = float(wall_thickness)
-    spec.bin.pose.CopyFrom(convert.pose(bin_position, quat=bin_quat, matrix=bin_matrix))
+    pose = convert.pose(bin_position, quat=bin_quat, matrix=bin_matrix)
+    if bin_mesh_id is not None:
+        if inner_size is not None or wall_thickness:
+            raise ValueError("give inner_size (a box bin) or bin_mesh_id (a mesh bin), not both")
+        spec.bin_mesh.mesh_id = bin_mesh_id
+        spec.bin_mesh.scale = float(bin_mesh_scale)
+        spec.bin_mesh.pose.CopyFrom(pose)
+    else:
+        spec.bin.inner_size.CopyFrom(convert.vector3(inner_size, "inner_size"))
+        spec.bin.wall_thickness = float(wall_thickness)
+        spec.bin.pose.CopyFrom(pose)
     for i, part in enumerate(parts):
         if isinstance(part, dict):
             unknown = set(part) - _PART_KEYS

@@ -23,6 +23,21 @@ const char* FillEndName(FillEnd end) {
   return "unknown";
 }
 
+BinInterior InteriorOf(const BinSpec& bin) {
+  BinInterior interior;
+  if (bin.mesh.empty()) {
+    interior.lo = Eigen::Vector3d(-0.5 * bin.inner_size.x(), -0.5 * bin.inner_size.y(), 0.0);
+    interior.hi = Eigen::Vector3d(0.5 * bin.inner_size.x(), 0.5 * bin.inner_size.y(), bin.inner_size.z());
+    interior.wall = bin.wall_thickness;
+    return interior;
+  }
+  Eigen::Vector3f lo, hi;
+  bin.mesh.Bounds(lo, hi);
+  interior.lo = lo.cast<double>();
+  interior.hi = hi.cast<double>();
+  return interior;
+}
+
 StatusOr<FillResult> FillBin(const BinSpec& bin, const std::vector<PartType>& parts, const FillOptions& options,
                              const std::atomic<bool>* cancel) {
   RETURN_IF_ERROR(CheckFillInput(bin, parts, options));

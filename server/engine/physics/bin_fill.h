@@ -17,13 +17,26 @@
 
 namespace vscan::physics {
 
-// An open box: the bin frame has the floor's inner surface at z = 0, centred in x and y; the rim
-// is at z = inner_size.z().
+// An open bin: a box (the default) or, when mesh has triangles, that mesh.
+// Box: the bin frame has the floor's inner surface at z = 0, centred in x and y; the rim is at
+// z = inner_size.z().
+// Mesh: its triangles (metres, in the bin frame) collide as a static concave mesh; parts drop from
+// above its bounding box, within that box's x/y extent, and "inside the bin" is inside that box.
 struct BinSpec {
-  Eigen::Vector3d inner_size = Eigen::Vector3d(0.30, 0.20, 0.15);  // metres
-  double wall_thickness = 0.01;                                    // metres, walls and floor
+  Eigen::Vector3d inner_size = Eigen::Vector3d(0.30, 0.20, 0.15);  // metres; box only
+  double wall_thickness = 0.01;                                    // metres, walls and floor; box only
   Pose3 world_from_bin = Pose3::Identity();
+  TriangleMesh mesh;  // empty: the box
 };
+
+// Where parts go, in the bin frame: the box's inner box or the mesh's bounding box. The rim is
+// hi.z(); wall is how far the bin reaches beyond it at the sides and below (0 for a mesh).
+struct BinInterior {
+  Eigen::Vector3d lo = Eigen::Vector3d::Zero();
+  Eigen::Vector3d hi = Eigen::Vector3d::Zero();
+  double wall = 0.0;
+};
+BinInterior InteriorOf(const BinSpec& bin);
 
 enum class PartCollision {
   kConvexHull,  // the convex hull of the mesh, reduced to at most FillOptions::max_hull_vertices

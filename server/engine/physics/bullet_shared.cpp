@@ -34,7 +34,29 @@ BinBodies::~BinBodies() = default;
 BinBodies::BinBodies(BinBodies&&) noexcept = default;
 BinBodies& BinBodies::operator=(BinBodies&&) noexcept = default;
 
+namespace {
+
+BinBodies MakeMeshBinBodies(const BinSpec& bin, double friction, double margin) {
+  BinBodies out;
+  out.triangles = std::make_unique<btTriangleMesh>();
+  for (const auto& t : bin.mesh.triangles) {
+    const auto corner = [&](int k) { return ToBullet(Eigen::Vector3d(bin.mesh.vertices[t[k]].cast<double>())); };
+    out.triangles->addTriangle(corner(0), corner(1), corner(2));
+  }
+  auto shape = std::make_unique<btBvhTriangleMeshShape>(out.triangles.get(), true);
+  shape->setMargin(btScalar(margin));
+  btRigidBody::btRigidBodyConstructionInfo info(0, nullptr, shape.get());
+  info.m_startWorldTransform = ToBullet(bin.world_from_bin);
+  info.m_friction = btScalar(friction);
+  out.bodies.push_back(std::make_unique<btRigidBody>(info));
+  out.shapes.push_back(std::move(shape));
+  return out;
+}
+
+}  // namespace
+
 BinBodies MakeBinBodies(const BinSpec& bin, double friction, double margin) {
+  if (!bin.mesh.empty()) return MakeMeshBinBodies(bin, friction, margin);
   const double sx = bin.inner_size.x(), sy = bin.inner_size.y(), sz = bin.inner_size.z();
   const double w = bin.wall_thickness;
   struct Slab {

@@ -15,6 +15,7 @@ class btTransform;
 class btCollisionShape;
 class btRigidBody;
 class btDiscreteDynamicsWorld;
+class btTriangleMesh;
 
 namespace vscan::physics {
 
@@ -22,13 +23,15 @@ btVector3 ToBullet(const Eigen::Vector3d& v);
 btTransform ToBullet(const Pose3& pose);
 Pose3 FromBullet(const btTransform& transform);
 
-// The floor and four walls; add the bodies to a world and remove them before it is destroyed.
+// The floor and four walls, or the bin's mesh as one static concave shape (its triangles kept in
+// triangles); add the bodies to a world and remove them before it is destroyed.
 struct BinBodies {
   BinBodies();
   ~BinBodies();
   BinBodies(BinBodies&&) noexcept;
   BinBodies& operator=(BinBodies&&) noexcept;
 
+  std::unique_ptr<btTriangleMesh> triangles;  // a mesh bin's; outlives the shape that refers to it
   std::vector<std::unique_ptr<btCollisionShape>> shapes;
   std::vector<std::unique_ptr<btRigidBody>> bodies;
 };

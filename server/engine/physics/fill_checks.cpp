@@ -13,11 +13,32 @@ Status Bad(const std::string& field, const std::string& text) {
   return {StatusCode::kInvalidArgument, field, text};
 }
 
-Status CheckBin(const BinSpec& bin) {
-  if (!bin.inner_size.allFinite() || (bin.inner_size.array() <= 0).any() || (bin.inner_size.array() > 100).any()) {
-    return Bad("bin.inner_size", "each side must be finite, positive and at most 100 m");
+Status CheckBinMesh(const TriangleMesh& mesh) {
+  for (const Eigen::Vector3f& v : mesh.vertices) {
+    if (!v.allFinite()) return Bad("bin.mesh", "has a vertex that is not finite");
   }
-  if (!Positive(bin.wall_thickness) || bin.wall_thickness > 10) {
+  for (const auto& t : mesh.triangles) {
+    for (uint32_t i : t) {
+      if (i >= mesh.vertices.size()) return Bad("bin.mesh", "has a vertex index out of range");
+    }
+  }
+  Eigen::Vector3f lo, hi;
+  mesh.Bounds(lo, hi);
+  const Eigen::Vector3f size = hi - lo;
+  if (size.minCoeff() < 1e-3f || size.maxCoeff() > 100.0f) {
+    return Bad("bin.mesh", "its bounding box must be 1 mm to 100 m on every side (a bin must hold a volume), got " +
+                               std::to_string(size.x()) + " x " + std::to_string(size.y()) + " x " +
+                               std::to_string(size.z()) + " m");
+  }
+  return Status::Ok();
+}
+
+Status CheckBin(const BinSpec& bin) {
+  if (!bin.mesh.empty()) {
+    RETURN_IF_ERROR(CheckBinMesh(bin.mesh));
+  } else if (!bin.inner_size.allFinite() || (bin.inner_size.array() <= 0).any() || (bin.inner_size.array() > 100).any()) {
+    return Bad("bin.inner_size", "each side must be finite, positive and at most 100 m");
+  } else if (!Positive(bin.wall_thickness) || bin.wall_thickness > 10) {
     return Bad("bin.wall_thickness", "must be finite, positive and at most 10 m");
   }
   if (!bin.world_from_bin.matrix().allFinite()) return Bad("bin.world_from_bin", "must be finite");

@@ -56,7 +56,7 @@ class Filler {
   Filler(const BinSpec& bin, const std::vector<PartType>& parts, const std::vector<PartGeometry>& geometry,
          const FillOptions& options, FillWorld& world)
       : bin_(bin), geometry_(geometry), options_(options), world_(world), draws_(options.seed),
-        bin_from_world_(bin.world_from_bin.inverse()), rim_(bin.inner_size.z()),
+        bin_from_world_(bin.world_from_bin.inverse()), interior_(InteriorOf(bin)), rim_(interior_.hi.z()),
         max_steps_(static_cast<uint64_t>(std::ceil(options.max_simulated_s / options.time_step_s - 1e-9))) {
     order_ = SpawnOrder(parts, draws_);
   }
@@ -130,12 +130,23 @@ class Filler {
     for (int k = 0; k < options_.parts_per_drop && next_ < order_.size(); ++k) {
       const SpawnSlot slot = order_[next_];
       const double r = geometry_[slot.type].radius;
-      const double half_x = std::max(0.0, 0.5 * bin_.inner_size.x() - r);
-      const double half_y = std::max(0.0, 0.5 * bin_.inner_size.y() - r);
+      const Eigen::Vector3d middle = 0.5 * (interior_.lo + interior_.hi);
+      const Eigen::Vector3d opening = interior_.hi - interior_.lo;
+      // A mesh's opening is only known by its bounding box: a part wider than that cannot go in.
+      if (!bin_.mesh.empty() && 2 * r > opening.head<2>().minCoeff()) {
+        full_ = true;
+        full_message_ = "the bin's opening (" + std::to_string(opening.x()) + " x " + std::to_string(opening.y()) +
+                        " m) is narrower than parts[" + std::to_string(slot.type) + "] (" + std::to_string(2 * r) +
+                        " m across)";
+        break;
+      }
+      const double half_x = std::max(0.0, 0.5 * opening.x() - r);
+      const double half_y = std::max(0.0, 0.5 * opening.y() - r);
       const double z = rim_ + options_.drop_clearance_m + r;
       bool placed = false;
       for (int attempt = 0; attempt < options_.spawn_attempts && !placed; ++attempt) {
-        const Eigen::Vector3d centre((2 * draws_.Uniform() - 1) * half_x, (2 * draws_.Uniform() - 1) * half_y, z);
+        const Eigen::Vector3d centre(middle.x() + (2 * draws_.Uniform() - 1) * half_x,
+                                     middle.y() + (2 * draws_.Uniform() - 1) * half_y, z);
         const Eigen::Quaterniond rotation = UniformRotation(draws_);
         if (!Clear(centre, r, occupied)) continue;
         Pose3 bin_from_body = Pose3::Identity();
@@ -162,10 +173,10 @@ class Filler {
 
   bool FellOut(const LivePart& part, const Eigen::Vector3d& centre) const {
     const double r = geometry_[part.type].radius;
-    const double wall = bin_.wall_thickness;
-    const bool beside = std::abs(centre.x()) > 0.5 * bin_.inner_size.x() + wall + r ||
-                        std::abs(centre.y()) > 0.5 * bin_.inner_size.y() + wall + r;
-    return (beside && centre.z() < rim_) || centre.z() < -wall - r;
+    const double reach = interior_.wall + r;
+    const bool beside = centre.x() < interior_.lo.x() - reach || centre.x() > interior_.hi.x() + reach ||
+                        centre.y() < interior_.lo.y() - reach || centre.y() > interior_.hi.y() + reach;
+    return (beside && centre.z() < rim_) || centre.z() < interior_.lo.z() - reach;
   }
 
   // Removes parts that left the bin and counts steps at rest. True when every part is at rest.
@@ -212,8 +223,8 @@ class Filler {
   }
 
   bool InsideInnerBox(const Eigen::Vector3d& centre) const {
-    return std::abs(centre.x()) <= 0.5 * bin_.inner_size.x() && std::abs(centre.y()) <= 0.5 * bin_.inner_size.y() &&
-           centre.z() >= 0.0;
+    return centre.x() >= interior_.lo.x() && centre.x() <= interior_.hi.x() && centre.y() >= interior_.lo.y() &&
+           centre.y() <= interior_.hi.y() && centre.z() >= interior_.lo.z();
   }
 
   void Finish(FillResult& result, FillEnd end, std::string message) {
@@ -242,6 +253,7 @@ class Filler {
   FillWorld& world_;
   random::SplitMix64Stream draws_;
   const Pose3 bin_from_world_;
+  const BinInterior interior_;
   const double rim_;
   const uint64_t max_steps_;
   std::vector<SpawnSlot> order_;

@@ -2,9 +2,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cmath>
 
 #include "fixture_parts.h"
+#include "tote_mesh.h"
 
 namespace vscan::physics {
 namespace {
@@ -151,6 +154,73 @@ TEST(FillBin, BadInputNamesItsField) {
   options = good_options;
   options.settle_steps = 0;
   EXPECT_EQ(FieldOf(good_bin, good_parts, options), "options.settle_steps");
+}
+
+// A tote with sloped walls (16 x 12 cm floor, 22 x 16 cm opening, 10 cm deep), moved and turned.
+constexpr float kFloorX = 0.16f, kFloorY = 0.12f, kTopX = 0.22f, kTopY = 0.16f, kDepth = 0.10f;
+
+BinSpec ToteBin() {
+  BinSpec bin = SmallBin();
+  bin.mesh = test::SlopedTote(kFloorX, kFloorY, kTopX, kTopY, kDepth);
+  return bin;
+}
+
+TEST(FillBin, PartsDroppedIntoAMeshBinSettleWithinItsSlopedWalls) {
+  const BinSpec bin = ToteBin();
+  const auto parts = Mix(6, 4);
+  const FillResult result = Fill(bin, parts, FillOptions{});
+  EXPECT_EQ(result.end, FillEnd::kSettled) << result.message;
+  EXPECT_EQ(result.parts.size(), 10u);
+  EXPECT_TRUE(result.outside.empty());
+  EXPECT_LT(result.max_part_bin_penetration_m, 0.002);
+  constexpr double kTolerance = 0.002;
+  const Pose3 bin_from_world = bin.world_from_bin.inverse();
+  double lowest = 1.0;
+  for (const PlacedPart& placed : result.parts) {
+    for (const Eigen::Vector3f& v : parts[placed.type].mesh.vertices) {
+      const Eigen::Vector3d p = bin_from_world * placed.world_from_part * v.cast<double>();
+      lowest = std::min(lowest, p.z());
+      // Inside the frustum the walls span (so inside the mesh's bounding box too), not below the floor.
+      const double t = std::clamp(p.z() / kDepth, 0.0, 1.0);
+      EXPECT_LE(std::abs(p.x()), 0.5 * (kFloorX + t * (kTopX - kFloorX)) + kTolerance);
+      EXPECT_LE(std::abs(p.y()), 0.5 * (kFloorY + t * (kTopY - kFloorY)) + kTolerance);
+      EXPECT_GE(p.z(), -kTolerance);
+      EXPECT_LE(p.z(), kDepth + kTolerance);
+    }
+  }
+  EXPECT_LT(lowest, 0.002);  // the lowest part lies on the floor
+}
+
+TEST(FillBin, AMeshBinFillsTheSameBitsForOneSeed) {
+  FillOptions options;
+  options.seed = 11;
+  const auto parts = Mix(3, 3);
+  const FillResult first = Fill(ToteBin(), parts, options);
+  const FillResult again = Fill(ToteBin(), parts, options);
+  EXPECT_EQ(first.end, FillEnd::kSettled) << first.message;
+  ASSERT_EQ(first.parts.size(), again.parts.size());
+  EXPECT_EQ(first.steps, again.steps);
+  for (size_t i = 0; i < first.parts.size(); ++i) {
+    EXPECT_TRUE(first.parts[i].world_from_part.matrix() == again.parts[i].world_from_part.matrix()) << i;
+  }
+}
+
+TEST(FillBin, AMeshBinWhoseOpeningIsNarrowerThanThePartsEndsFull) {
+  BinSpec bin;
+  bin.mesh = test::SlopedTote(0.01f, 0.01f, 0.02f, 0.02f, 0.02f);  // blocks are about 3.4 cm
+  const FillResult result = Fill(bin, {test::AngleBlock(3)}, FillOptions{});
+  EXPECT_EQ(result.end, FillEnd::kFull) << result.message;
+  EXPECT_TRUE(result.parts.empty());
+  EXPECT_NE(result.message.find("opening"), std::string::npos) << result.message;
+}
+
+TEST(FillBin, AMeshBinWithoutVolumeIsRefused) {
+  BinSpec bin = SmallBin();
+  bin.mesh = test::SlopedTote(0.1f, 0.1f, 0.1f, 0.1f, 0.0f);
+  EXPECT_EQ(FieldOf(bin, Mix(1, 1), FillOptions{}), "bin.mesh");
+  bin.mesh = test::SlopedTote(0.1f, 0.1f, 0.2f, 0.2f, 0.1f);
+  bin.mesh.vertices[5].x() = std::nanf("");
+  EXPECT_EQ(FieldOf(bin, Mix(1, 1), FillOptions{}), "bin.mesh");
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include "service/bin_fill_simulation.h"
 #include "service/scan_run.h"
 #include "service_world.h"
+#include "tote_mesh.h"
 
 namespace vscan::service {
 namespace {
@@ -287,6 +288,98 @@ TEST(BinFill, UnknownMeshesAndScenesAreNotFoundNamingTheField) {
   ASSERT_FALSE(plan.ok());
   EXPECT_EQ(plan.status().code(), StatusCode::kNotFound);
   EXPECT_TRUE(plan.status().message().starts_with("scene_id")) << plan.status().message();
+}
+
+// A mesh as ASCII STL, to upload it as a client would.
+std::string AsciiStl(const TriangleMesh& mesh) {
+  std::ostringstream out;
+  out << "solid tote\n";
+  for (const auto& t : mesh.triangles) {
+    out << "facet normal 0 0 0\nouter loop\n";
+    for (uint32_t i : t) {
+      const Eigen::Vector3f& v = mesh.vertices[i];
+      out << "vertex " << v.x() << " " << v.y() << " " << v.z() << "\n";
+    }
+    out << "endloop\nendfacet\n";
+  }
+  out << "endsolid tote\n";
+  return out.str();
+}
+
+// A 16 x 12 cm tote opening to 22 x 16 cm, 10 cm deep, uploaded in metres.
+std::string UploadTote(testing::ServiceWorld& world) {
+  scenes::MeshUpload upload;
+  upload.name = "tote";
+  upload.format = geometry::MeshFileFormat::kStl;
+  upload.unit = store::LengthUnit::kMetre;
+  upload.metres_per_unit = 1.0;
+  auto mesh = world.context().registry.AddMesh(AsciiStl(physics::test::SlopedTote(0.16f, 0.12f, 0.22f, 0.16f, 0.10f)),
+                                               upload);
+  EXPECT_TRUE(mesh.ok()) << mesh.status().ToString();
+  return mesh.ok() ? mesh->mesh_id : "";
+}
+
+TEST(BinFill, AMeshBinIsTheBinObjectAndHoldsTheParts) {
+  testing::ServiceWorld world;
+  const std::string scene_id = world.EmptyScene();
+  BinFillRequest request = Request(world, scene_id, 4, 2);
+  request.mesh_bin = true;
+  request.bin_mesh_id = UploadTote(world);
+  request.bin_mesh_scale = 1.0;
+  auto plan = PlanBinFill(world.context(), request);
+  ASSERT_TRUE(plan.ok()) << plan.status().ToString();
+  RecordedFill recorder;
+  jobs::JobControl control;
+  RunBinFill(world.context(), recorder, "job_test", *plan, control);
+  ASSERT_EQ(recorder.end_state, store::JobState::kSucceeded) << recorder.end_message;
+  EXPECT_NE(recorder.bin_json.find("\"mesh_id\":\"" + request.bin_mesh_id + "\""), std::string::npos);
+  EXPECT_EQ(recorder.bin_json.find("inner_size"), std::string::npos);
+
+  const store::SceneRecord scene = Scene(world, scene_id);
+  ASSERT_EQ(scene.objects.size(), 7u);
+  const store::ObjectRecord& bin = scene.objects[0];
+  EXPECT_EQ(bin.label, "bin");
+  EXPECT_EQ(bin.mesh_id, request.bin_mesh_id);  // the uploaded mesh itself, no new one
+  EXPECT_DOUBLE_EQ(bin.scale, 1.0);
+  EXPECT_TRUE(bin.pose.isApprox(request.bin.world_from_bin.matrix()));
+  EXPECT_EQ(bin.instance_id, 1u);
+  const Eigen::Matrix4d bin_from_world = bin.pose.inverse();
+  for (size_t i = 1; i < scene.objects.size(); ++i) {
+    const Eigen::Vector4d centre = bin_from_world * scene.objects[i].pose.col(3);
+    EXPECT_LE(std::abs(centre.x()), 0.11) << scene.objects[i].label;
+    EXPECT_LE(std::abs(centre.y()), 0.08) << scene.objects[i].label;
+    EXPECT_GE(centre.z(), 0.0) << scene.objects[i].label;
+    EXPECT_LE(centre.z(), 0.10) << scene.objects[i].label;
+  }
+}
+
+TEST(BinFill, AMeshBinIsCheckedNamingItsField) {
+  testing::ServiceWorld world;
+  const std::string scene_id = world.EmptyScene();
+  BinFillRequest request = Request(world, scene_id, 1, 0);
+  request.mesh_bin = true;
+  request.bin_mesh_id = "msh_0000000000000000";
+  auto plan = PlanBinFill(world.context(), request);
+  ASSERT_FALSE(plan.ok());
+  EXPECT_EQ(plan.status().code(), StatusCode::kNotFound);
+  EXPECT_EQ(plan.status().field(), "bin_mesh.mesh_id");
+
+  // Scaled down to 0.1 mm deep the tote holds no volume.
+  request.bin_mesh_id = UploadTote(world);
+  request.bin_mesh_scale = 1e-3;
+  plan = PlanBinFill(world.context(), request);
+  ASSERT_FALSE(plan.ok());
+  EXPECT_EQ(plan.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(plan.status().field(), "bin_mesh.scale");
+
+  // An opening narrower than the parts: the fill ends full with nothing in the bin.
+  request.bin_mesh_scale = 0.1;
+  plan = PlanBinFill(world.context(), request);
+  ASSERT_TRUE(plan.ok()) << plan.status().ToString();
+  const physics::FillResult result = SimulateBinFill(*plan, nullptr, nullptr);
+  EXPECT_EQ(result.end, physics::FillEnd::kFull);
+  EXPECT_TRUE(result.parts.empty());
+  EXPECT_NE(result.message.find("opening"), std::string::npos) << result.message;
 }
 
 }  // namespace
