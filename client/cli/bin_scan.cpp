@@ -63,6 +63,18 @@ double FitHeight(const v1::BinBox& bin, const ViewCone& cone) {
   return std::max(fit, rim + 1.05 * cone.near);
 }
 
+// The same for a bin given as a mesh: its stored bounds at the bin's scale, in the bin frame, the
+// sensor above the frame's origin; returns the height above that origin.
+double FitHeight(const v1::Bounds& bounds, double scale, const ViewCone& cone) {
+  const auto& lo = bounds.min();
+  const auto& hi = bounds.max();
+  const double half_x = scale * std::max(std::abs(lo.x()), std::abs(hi.x()));
+  const double half_y = scale * std::max(std::abs(lo.y()), std::abs(hi.y()));
+  const double floor = scale * lo.z(), rim = scale * hi.z();
+  const double fit = floor + 1.1 * std::max(half_x / cone.tan_half_h, half_y / cone.tan_half_v);
+  return std::max(fit, rim + 1.05 * cone.near);
+}
+
 std::string ObjectsJson(const v1::ScanStatistics& stats) {
   google::protobuf::util::JsonPrintOptions options;
   options.always_print_primitive_fields = true;
@@ -116,17 +128,23 @@ int RunBinScan(Context& ctx, const BinScanArgs& args) {
     return ctx.UsageError("JOB: bin fill " + args.job_id + " did not succeed; its scene holds no bin");
   }
   const v1::BinFillSpec& spec = job->bin_fill();
-  // A mesh bin's opening is not known here: the caller says how high to look from.
-  if (spec.has_bin_mesh() && !args.distance) {
-    return ctx.UsageError("--distance: required for a bin given as a mesh (metres above the bin frame's origin)");
-  }
   const v1::BinBox& bin = spec.bin();
   const v1::Pose& bin_pose = spec.has_bin_mesh() ? spec.bin_mesh().pose() : bin.pose();
   const bool has_pose = spec.has_bin_mesh() ? spec.bin_mesh().has_pose() : bin.has_pose();
   const auto cone = PresetCone(*client, args.preset);
   if (!cone.ok()) return cone.status().code() == StatusCode::kNotFound ? ctx.UsageError(cone.status().message())
                                                                       : ctx.ServerError(cone.status());
-  const double height = args.distance ? *args.distance : FitHeight(bin, *cone);
+  double height = 0;
+  if (args.distance) {
+    height = *args.distance;
+  } else if (spec.has_bin_mesh()) {
+    const auto mesh = client->GetMesh(spec.bin_mesh().mesh_id());
+    if (!mesh.ok()) return ctx.ServerError(mesh.status());
+    const double scale = spec.bin_mesh().scale() > 0 ? spec.bin_mesh().scale() : 1.0;
+    height = FitHeight(mesh->bounds(), scale, *cone);
+  } else {
+    height = FitHeight(bin, *cone);
+  }
   if (!(height > 0)) return ctx.UsageError("--distance: must be positive");
   Pose3 world_from_bin = Pose3::Identity();
   if (has_pose) {

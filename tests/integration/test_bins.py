@@ -285,6 +285,17 @@ class MeshBinTest(unittest.TestCase):
             self.assertGreaterEqual(centre[2], 0.0, part["label"])
             self.assertLessEqual(centre[2], 0.1, part["label"])
 
+        # Scanned from above with no height given: the tote's stored bounds place the sensor.
+        cloud = os.path.join(out_dir, "scan.ply")
+        scan = vscan(self.server, "bin", "scan", json.loads(fill.stdout)["job"]["jobId"], "-o", cloud)
+        self.assertEqual(scan.returncode, 0, scan.stderr)
+        with open(os.path.splitext(cloud)[0] + ".gt.json") as f:
+            truth = json.load(f)
+        sensor_height = matrix(truth["world_from_sensor"])[2, 3]
+        self.assertGreater(sensor_height, 0.1 + 0.05, "above the rim, beyond the near limit")
+        seen = {o["label"] for o in truth["objects"] if o["visible_fraction"] > 0}
+        self.assertTrue({p["label"] for p in report["parts"]} <= seen, seen)
+
     def test_a_plan_naming_an_unknown_bin_mesh_points_at_its_line(self):
         plan = os.path.join(self.tmp.name, "unknown-tote.yaml")
         with open(plan, "w") as f:
