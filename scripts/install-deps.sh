@@ -12,7 +12,7 @@ PACKAGES=(
   libembree-dev libtbb-dev libeigen3-dev libassimp-dev libpcl-dev libbullet-dev libbullet-extras-dev
   liburdfdom-dev libyaml-cpp-dev libegl-dev libegl-mesa0 libgl-dev libpng-dev
   # store, logging, metrics endpoint, command line
-  libsqlite3-dev sqlite3 libssl-dev libspdlog-dev libfmt-dev libcivetweb-dev libcli11-dev
+  libsqlite3-dev sqlite3 libssl-dev openssl libspdlog-dev libfmt-dev libcivetweb-dev libcli11-dev
   # tests, benchmark peers
   libgtest-dev libgmock-dev libbenchmark-dev liborocos-kdl-dev libkdl-parser-dev libopen3d-dev
   # Python client and its tests
