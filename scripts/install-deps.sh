@@ -15,8 +15,9 @@ PACKAGES=(
   libsqlite3-dev sqlite3 libssl-dev openssl libspdlog-dev libfmt-dev libcivetweb-dev libcli11-dev
   # tests, benchmark peers
   libgtest-dev libgmock-dev libbenchmark-dev liborocos-kdl-dev libkdl-parser-dev libopen3d-dev
-  # Python client and its tests
+  # Python client and its tests; venv, pip, setuptools and wheel install it as a package
   python3 python3-grpcio python3-protobuf python3-numpy python3-open3d
+  python3-venv python3-pip python3-setuptools python3-wheel
 )
 
 as_root() {

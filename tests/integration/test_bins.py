@@ -16,7 +16,7 @@ from test_cli import read_ply
 
 import grpc  # noqa: E402
 from vscan.v1 import job_pb2, job_pb2_grpc, scene_pb2, scene_pb2_grpc  # noqa: E402
-from vscan_client import Client, VscanError, bin_part  # noqa: E402
+from vscan import Client, VscanError, bin_part  # noqa: E402
 
 C = grpc.StatusCode
 

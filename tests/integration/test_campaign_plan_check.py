@@ -12,7 +12,7 @@ import grpc
 
 from harness import DATA, VSCAN, Server
 
-from vscan_client import Client, VscanError
+from vscan import Client, VscanError
 
 # Line numbers are found by searching the text, so edits may add or move lines.
 PLAN = """name: plan-check

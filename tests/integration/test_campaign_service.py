@@ -17,7 +17,7 @@ from test_robots import (UR5, UR5_DIR, UrdfChain, axis_angle, matrix, to_pose, t
                          upload_ur5)
 from vscan.v1 import job_pb2, job_pb2_grpc, robot_pb2, robot_pb2_grpc, sensor_pb2
 
-from vscan_client import Client, VscanError
+from vscan import Client, VscanError
 
 C = grpc.StatusCode
 TARGET = (0.0, 0.0, 0.11)

@@ -17,7 +17,7 @@ from harness import BUNNY, VSCAN, Server, common_pb2
 from test_campaign_service import CampaignFixture, camera, spec
 from vscan.v1 import cloud_pb2, cloud_pb2_grpc, job_pb2, scan_pb2
 
-from vscan_client import Client, VscanError, parse_ply
+from vscan import Client, VscanError, parse_ply
 
 C = grpc.StatusCode
 FIELD_ATTRIBUTES = ("positions", "normals", "ranges", "intensities", "instance_ids", "pixels", "clean_positions",

@@ -175,7 +175,7 @@ class DatasetJobTest(unittest.TestCase):
         self.assertEqual(len(self.finished_scenes(job_id)), 24)
 
     def test_python_client_runs_watches_and_cancels(self):
-        from vscan_client import Client, VscanError
+        from vscan import Client, VscanError
 
         plan = self.write_plan("plan.yaml", plan_text(12))
         with Client(self.server.address) as client:

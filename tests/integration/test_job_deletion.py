@@ -13,7 +13,7 @@ from harness import VSCAN, Server
 from test_campaign_service import CampaignFixture, spec, wait_for
 from vscan.v1 import job_pb2, scene_pb2
 
-from vscan_client import Client, VscanError
+from vscan import Client, VscanError
 
 C = grpc.StatusCode
 ONE_VIEW = [((0.25, 0.0, 0.30), (0.0, 0.0, 0.11))]

@@ -19,7 +19,7 @@ import numpy as np
 from harness import VSCAN, ServerTestCase, scene_pb2  # first: puts the stubs on sys.path
 from bin_scenes import fill_bin, height_for, scan_bin, upload_part, write_ground_truth, write_ply
 from vscan.v1 import common_pb2, localization_pb2, localization_pb2_grpc
-from vscan_client import Client, truth_from_objects
+from vscan import Client, truth_from_objects
 
 INNER = (0.16, 0.12, 0.08)
 

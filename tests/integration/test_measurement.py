@@ -11,7 +11,7 @@ import numpy as np
 
 from harness import VSCAN, Server, common_pb2, icosphere_ply, look_at, pinhole, scan_pb2, scan_pb2_grpc, sensor_pb2
 
-from vscan_client import Client, VscanError
+from vscan import Client, VscanError
 
 C = grpc.StatusCode
 S = scan_pb2

@@ -19,7 +19,7 @@ from harness import BUNNY, SOURCE_DIR, VSCAN, Server
 from test_campaign_cli import bunny_vertices_on_table
 from test_cli import read_ply
 
-from vscan_client import Client, VscanError
+from vscan import Client, VscanError
 
 DATA = os.path.join(SOURCE_DIR, "data")
 

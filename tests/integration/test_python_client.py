@@ -11,7 +11,7 @@ import numpy as np
 
 from harness import BUILD_DIR, BUNNY, SOURCE_DIR, Server, icosphere_ply
 
-from vscan_client import Client, VscanError
+from vscan import Client, VscanError
 
 
 class PythonClientTest(unittest.TestCase):
@@ -73,7 +73,8 @@ class PythonClientTest(unittest.TestCase):
         self.assertEqual(ctx.exception.code.name, "NOT_FOUND")
 
     def test_example_runs(self):
-        env = dict(os.environ, VSCAN_PY_STUBS=os.path.join(BUILD_DIR, "python"))
+        env = dict(os.environ, VSCAN_PY_STUBS=os.path.join(BUILD_DIR, "python"),
+                   PYTHONPATH=os.path.join(SOURCE_DIR, "client", "python"))
         out = subprocess.run([sys.executable, os.path.join(SOURCE_DIR, "client", "python", "examples",
                                                            "scan_to_numpy.py"),
                               "--server", self.server.address, "--mesh", BUNNY, "--unit", "m"],
@@ -82,7 +83,8 @@ class PythonClientTest(unittest.TestCase):
         self.assertIn("points", out.stdout)
 
     def test_campaign_example_merges_scans_in_the_bunny_frame(self):
-        env = dict(os.environ, VSCAN_PY_STUBS=os.path.join(BUILD_DIR, "python"))
+        env = dict(os.environ, VSCAN_PY_STUBS=os.path.join(BUILD_DIR, "python"),
+                   PYTHONPATH=os.path.join(SOURCE_DIR, "client", "python"))
         out = subprocess.run([sys.executable, os.path.join(SOURCE_DIR, "client", "python", "examples",
                                                            "campaign_to_numpy.py"),
                               "--server", self.server.address, "--rotations", "4"],

@@ -13,7 +13,7 @@ import grpc
 
 from harness import VSCAN, Server, ServerTestCase, common_pb2, icosphere_ply, look_at, pinhole, scan_pb2
 from vscan.v1 import robot_pb2, robot_pb2_grpc, scene_pb2
-from vscan_client import Client
+from vscan import Client
 
 C = grpc.StatusCode
 FAR = 1e19

@@ -500,7 +500,7 @@ class RobotRestartTest(unittest.TestCase):
 
 class RobotPythonClientTest(unittest.TestCase):
     def test_client_robot_calls(self):
-        from vscan_client import Client, VscanError
+        from vscan import Client, VscanError
         server = Server().start()
         try:
             with Client(server.address) as client:

@@ -11,7 +11,7 @@ import grpc
 
 from harness import SOURCE_DIR, VSCAN, Server
 
-from vscan_client import Client, VscanError
+from vscan import Client, VscanError
 
 TOKEN = "s3cret-Token_0123"
 CALL_SECONDS = "5"

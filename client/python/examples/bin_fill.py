@@ -1,7 +1,10 @@
 #!/usr/bin/python3
 """Fill a bin with the fixture parts, scan it from above and print each part's visible fraction.
 
-    VSCAN_PY_STUBS=build/release/python PYTHONPATH=client/python client/python/examples/bin_fill.py
+    python client/python/examples/bin_fill.py
+
+with the vscan package installed (client/python/README.md), or from a source tree with
+VSCAN_PY_STUBS=build/release/python PYTHONPATH=client/python in the environment.
 """
 
 import argparse
@@ -10,10 +13,9 @@ import sys
 
 import numpy as np
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, ".."))
+from vscan import Client, VscanError, bin_part
 
-from vscan_client import Client, VscanError, bin_part  # noqa: E402
+HERE = os.path.dirname(os.path.abspath(__file__))
 
 PARTS = os.path.join(HERE, "..", "..", "..", "data", "parts")
 

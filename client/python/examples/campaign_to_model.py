@@ -5,8 +5,10 @@ A UR5 beside a rotary table carries a camera round the Stanford bunny (3 viewpoi
 angles, noisy encoders). The model job aligns the scans starting from the poses the arm reported,
 reconstructs the surface, scores it against the bunny's true mesh and proposes where to look next.
 
-    VSCAN_PY_STUBS=build/release/python PYTHONPATH=client/python \
-        client/python/examples/campaign_to_model.py --server 127.0.0.1:50051 --out bunny-model
+    python client/python/examples/campaign_to_model.py --server 127.0.0.1:50051 --out bunny-model
+
+with the vscan package installed (client/python/README.md), or from a source tree with
+VSCAN_PY_STUBS=build/release/python PYTHONPATH=client/python in the environment.
 """
 
 import argparse
@@ -14,11 +16,10 @@ import math
 import os
 import sys
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, ".."))
+from vscan import Client, VscanError
+from vscan.v1 import job_pb2
 
-from vscan_client import Client, VscanError  # noqa: E402
-from vscan.v1 import job_pb2  # noqa: E402  (on sys.path once vscan_client is imported)
+HERE = os.path.dirname(os.path.abspath(__file__))
 
 DATA = os.path.normpath(os.path.join(HERE, "..", "..", "..", "data"))
 TARGET = (0.0, 0.0, 0.07)

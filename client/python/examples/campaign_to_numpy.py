@@ -6,8 +6,10 @@ angles. Each scan comes back as a PLY artifact with the pose the arm was command
 it reached (noisy encoders); turning every scan back by its table angle merges them in the
 bunny's frame.
 
-    VSCAN_PY_STUBS=build/release/python PYTHONPATH=client/python \
-        client/python/examples/campaign_to_numpy.py --server 127.0.0.1:50051
+    python client/python/examples/campaign_to_numpy.py --server 127.0.0.1:50051
+
+with the vscan package installed (client/python/README.md), or from a source tree with
+VSCAN_PY_STUBS=build/release/python PYTHONPATH=client/python in the environment.
 """
 
 import argparse
@@ -17,10 +19,9 @@ import sys
 
 import numpy as np
 
-HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, ".."))
+from vscan import Client, VscanError
 
-from vscan_client import Client, VscanError  # noqa: E402
+HERE = os.path.dirname(os.path.abspath(__file__))
 
 DATA = os.path.normpath(os.path.join(HERE, "..", "..", "..", "data"))
 TARGET = (0.0, 0.0, 0.07)

@@ -1,8 +1,10 @@
 #!/usr/bin/python3
 """Create a scene, upload a mesh, place it, scan it and summarise the cloud with numpy.
 
-    VSCAN_PY_STUBS=build/release/python PYTHONPATH=client/python \
-        client/python/examples/scan_to_numpy.py --mesh data/meshes/bunny/bunny_zipper_res2.ply --unit m
+    python client/python/examples/scan_to_numpy.py --mesh data/meshes/bunny/bunny_zipper_res2.ply --unit m
+
+with the vscan package installed (client/python/README.md), or from a source tree with
+VSCAN_PY_STUBS=build/release/python PYTHONPATH=client/python in the environment.
 """
 
 import argparse
@@ -11,9 +13,7 @@ import sys
 
 import numpy as np
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
-
-from vscan_client import Client, VscanError  # noqa: E402
+from vscan import Client, VscanError
 
 
 def main():

@@ -10,7 +10,7 @@ import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."))
 
-from vscan_client._stubs import scan_pb2, scan_pb2_grpc, scene_pb2, scene_pb2_grpc  # noqa: E402
+from vscan._stubs import scan_pb2, scan_pb2_grpc, scene_pb2, scene_pb2_grpc  # noqa: E402
 from vscan.v1 import job_pb2, job_pb2_grpc, model_pb2  # noqa: E402
 
 N_POINTS = 5000

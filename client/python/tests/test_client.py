@@ -1,4 +1,4 @@
-"""vscan_client against an in-process fake server (needs VSCAN_PY_STUBS or the stubs on sys.path)."""
+"""vscan against an in-process fake server (needs VSCAN_PY_STUBS or the stubs on sys.path)."""
 
 import os
 import sys
@@ -11,8 +11,8 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 from fake_server import N_POINTS, FakeServer  # noqa: E402
-from vscan_client import Client, VscanError, parse_ply  # noqa: E402
-from vscan_client._stubs import common_pb2, scan_pb2, scene_pb2  # noqa: E402
+from vscan import Client, VscanError, parse_ply  # noqa: E402
+from vscan._stubs import common_pb2, scan_pb2, scene_pb2  # noqa: E402
 
 
 class ClientTest(unittest.TestCase):

@@ -1,4 +1,4 @@
-"""Model jobs from vscan_client against the in-process fake server: the spec sent, the alignment
+"""Model jobs from vscan against the in-process fake server: the spec sent, the alignment
 events, the report and the artifacts."""
 
 import os
@@ -11,8 +11,8 @@ import grpc
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 from fake_server import MODEL_FILES, MODEL_REPORT, FakeServer  # noqa: E402
-from vscan_client import Client, VscanError, model_spec  # noqa: E402
-from vscan_client.jobs import campaign_spec  # noqa: E402
+from vscan import Client, VscanError, model_spec  # noqa: E402
+from vscan.jobs import campaign_spec  # noqa: E402
 from vscan.v1 import model_pb2  # noqa: E402
 
 

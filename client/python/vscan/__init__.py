@@ -1,6 +1,6 @@
 """Python client for vscan, the 3D scanning simulator.
 
-    from vscan_client import Client
+    from vscan import Client
     with Client("127.0.0.1:50051") as c:
         scene = c.create_scene("demo")
         mesh = c.upload_mesh("bunny.ply", unit="m")
@@ -18,16 +18,28 @@
                        ground_truth=True).objects
         found = c.localize(mesh.mesh_id, cloud_id=cloud.cloud_id)
 
-The generated stubs (vscan.v1) must be importable: set VSCAN_PY_STUBS to <build>/python.
+The generated stubs are the subpackage vscan.v1: an installed package carries them; from a source
+tree set VSCAN_PY_STUBS to <build>/python (or put that directory on sys.path).
 """
 
-from .bins import bin_fill_spec, bin_part
-from .client import Client
-from .clouds import CloudPoints, parse_ply
-from .errors import VscanError
-from .localization import part_symmetry, pose_matrix, scored_part, truth_from_objects
-from .models import alignment_options, evaluation_options, model_spec, reconstruction_options
-from .scan_result import ScanResult
+import os as _os
+import sys as _sys
+from pkgutil import extend_path as _extend_path
+
+# Without installed stubs, vscan.v1 is found in <build>/python/vscan/v1: the package spans every
+# "vscan" directory on sys.path.
+_build_stubs = _os.environ.get("VSCAN_PY_STUBS")
+if _build_stubs and _build_stubs not in _sys.path:
+    _sys.path.append(_build_stubs)
+__path__ = _extend_path(__path__, __name__)
+
+from .bins import bin_fill_spec, bin_part  # noqa: E402
+from .client import Client  # noqa: E402
+from .clouds import CloudPoints, parse_ply  # noqa: E402
+from .errors import VscanError  # noqa: E402
+from .localization import part_symmetry, pose_matrix, scored_part, truth_from_objects  # noqa: E402
+from .models import alignment_options, evaluation_options, model_spec, reconstruction_options  # noqa: E402
+from .scan_result import ScanResult  # noqa: E402
 
 __all__ = ["Client", "bin_fill_spec", "bin_part", "CloudPoints", "ScanResult", "VscanError", "alignment_options",
            "evaluation_options", "model_spec", "parse_ply", "part_symmetry", "pose_matrix", "reconstruction_options",
