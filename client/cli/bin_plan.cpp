@@ -1,7 +1,5 @@
 #include "bin_plan.h"
 
-#include <fstream>
-#include <sstream>
 
 #include "args.h"
 #include "campaign_yaml.h"
@@ -168,39 +166,17 @@ class BinPlanParser {
   std::string default_name_;
 };
 
-// "a.b[2]" -> "a.b" -> "a" -> "".
-std::string Parent(const std::string& path) {
-  const size_t cut = path.back() == ']' ? path.rfind('[') : path.rfind('.');
-  return cut == std::string::npos ? "" : path.substr(0, cut);
-}
-
 }  // namespace
 
 StatusOr<BinPlan> ParseBinPlan(const std::string& yaml, const std::string& source,
                                const std::filesystem::path& base_dir) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(yaml);
-  } catch (const YAML::ParserException& e) {
-    return YamlReader(source).Error(e.mark, "", "not valid YAML: " + e.msg);
-  }
-  try {
-    ASSIGN_OR_RETURN(BinPlan plan, BinPlanParser(source, base_dir).Parse(root));
-    plan.source = source;
-    plan.key_marks = KeyMarks(root);
-    return plan;
-  } catch (const YAML::Exception& e) {
-    return YamlReader(source).Error(e.mark, "", e.msg);
-  }
+  return ParsePlanDocument<BinPlan>(
+      yaml, source, [&](const YAML::Node& root) { return BinPlanParser(source, base_dir).Parse(root); });
 }
 
 StatusOr<BinPlan> LoadBinPlan(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return NotFound(path + ": cannot open for reading");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) return DataLoss(path + ": read failed");
-  return ParseBinPlan(text.str(), path, std::filesystem::path(path).parent_path());
+  ASSIGN_OR_RETURN(const std::string text, ReadPlanFile(path));
+  return ParseBinPlan(text, path, std::filesystem::path(path).parent_path());
 }
 
 std::optional<std::string> LocateInBinPlan(const BinPlan& plan, const Status& status) {
@@ -213,8 +189,8 @@ std::optional<std::string> LocateInBinPlan(const BinPlan& plan, const Status& st
   // The plan writes a mesh bin under bin: like the box.
   std::string at = field.starts_with("bin_mesh") ? "bin" + field.substr(8) : field;
   // A part's mesh_id comes from its mesh file when the plan names one.
-  if (at.ends_with(".mesh_id") && !plan.key_marks.contains(at)) at = Parent(at) + ".mesh";
-  while (!at.empty() && !plan.key_marks.contains(at)) at = Parent(at);
+  if (at.ends_with(".mesh_id") && !plan.key_marks.contains(at)) at = ParentKey(at) + ".mesh";
+  while (!at.empty() && !plan.key_marks.contains(at)) at = ParentKey(at);
   const auto mark = plan.key_marks.find(at);
   if (mark == plan.key_marks.end()) return std::nullopt;
   return plan.source + ":" + std::to_string(mark->second.line + 1) + ": " + field + ": " + message.substr(colon + 2);

@@ -4,6 +4,8 @@
 
 #include <google/protobuf/util/json_util.h>
 
+#include "model_fetch.h"
+
 namespace vscan::cli {
 namespace {
 
@@ -29,21 +31,10 @@ std::string Format(const char* format, double value) {
 }  // namespace
 
 int FetchBinReport(Context& ctx, const v1::Job& job, std::optional<Struct>* report) {
-  const v1::Artifact* found = nullptr;
-  for (const v1::Artifact& artifact : job.artifacts()) {
-    if (artifact.name() == "bin.json") found = &artifact;
-  }
-  if (found == nullptr) return kExitOk;
-  auto* client = ctx.GetClient();
-  if (!client) return ctx.last_exit();
-  std::string text;
-  const auto read = client->ReadArtifact(job.job_id(), found->artifact_id(), [&](std::string_view bytes) {
-    text.append(bytes);
-    return Status::Ok();
-  });
-  if (!read.ok()) return ctx.ServerError(read.status());
+  std::optional<std::string> text;
+  if (const int rc = FetchArtifactText(ctx, job, "bin.json", &text); rc != kExitOk || !text) return rc;
   Struct parsed;
-  const auto status = google::protobuf::util::JsonStringToMessage(text, &parsed);
+  const auto status = google::protobuf::util::JsonStringToMessage(*text, &parsed);
   if (!status.ok()) return ctx.ServerError(DataLoss("bin.json: not a JSON object: " + std::string(status.message())));
   *report = std::move(parsed);
   return kExitOk;

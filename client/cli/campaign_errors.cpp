@@ -44,12 +44,6 @@ std::string_view LeadingField(std::string_view message) {
   return message[end] == ' ' && field.find('.') != std::string_view::npos ? field : std::string_view();
 }
 
-// "a.b[2]" -> "a.b" -> "a" -> "".
-std::string Parent(const std::string& path) {
-  const size_t cut = path.back() == ']' ? path.rfind('[') : path.rfind('.');
-  return cut == std::string::npos ? "" : path.substr(0, cut);
-}
-
 const CallFields& Fields(PlanCall call) {
   for (const CallFields& fields : kCalls) {
     if (fields.call == call) return fields;
@@ -79,7 +73,7 @@ std::optional<std::string> LocateInPlan(const CampaignPlan& plan, PlanCall call,
     }
   }
   // The nearest key the plan has: a value the plan leaves out stands where its parent does.
-  while (!at.empty() && !plan.key_marks.contains(at)) at = Parent(at);
+  while (!at.empty() && !plan.key_marks.contains(at)) at = ParentKey(at);
   const auto mark = plan.key_marks.find(at);
   const YAML::Mark where = mark == plan.key_marks.end() ? YAML::Mark() : mark->second;
   return YamlReader(plan.source).Error(where, "", prefix + std::string(rest)).message();

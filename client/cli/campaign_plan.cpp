@@ -1,8 +1,6 @@
 #include "campaign_plan.h"
 
-#include <fstream>
 #include <functional>
-#include <sstream>
 #include <tuple>
 
 #include "args.h"
@@ -337,29 +335,13 @@ class PlanParser {
 
 StatusOr<CampaignPlan> ParseCampaignPlan(const std::string& yaml, const std::string& source,
                                          const std::filesystem::path& base_dir) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(yaml);
-  } catch (const YAML::ParserException& e) {
-    return YamlReader(source).Error(e.mark, "", "not valid YAML: " + e.msg);
-  }
-  try {
-    ASSIGN_OR_RETURN(CampaignPlan plan, PlanParser(source, base_dir).Parse(root));
-    plan.source = source;
-    plan.key_marks = KeyMarks(root);
-    return plan;
-  } catch (const YAML::Exception& e) {
-    return YamlReader(source).Error(e.mark, "", e.msg);
-  }
+  return ParsePlanDocument<CampaignPlan>(
+      yaml, source, [&](const YAML::Node& root) { return PlanParser(source, base_dir).Parse(root); });
 }
 
 StatusOr<CampaignPlan> LoadCampaignPlan(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return NotFound(path + ": cannot open for reading");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) return DataLoss(path + ": read failed");
-  return ParseCampaignPlan(text.str(), path, std::filesystem::path(path).parent_path());
+  ASSIGN_OR_RETURN(const std::string text, ReadPlanFile(path));
+  return ParseCampaignPlan(text, path, std::filesystem::path(path).parent_path());
 }
 
 }  // namespace vscan::cli

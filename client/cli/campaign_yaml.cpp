@@ -1,5 +1,8 @@
 #include "campaign_yaml.h"
 
+#include <fstream>
+#include <sstream>
+
 #include <google/protobuf/descriptor.h>
 
 #include <cctype>
@@ -67,6 +70,20 @@ std::map<std::string, YAML::Mark> KeyMarks(const YAML::Node& root) {
   std::map<std::string, YAML::Mark> out{{"", root.Mark()}};
   IndexKeys(root, "", &out);
   return out;
+}
+
+std::string ParentKey(const std::string& path) {
+  const size_t cut = path.back() == ']' ? path.rfind('[') : path.rfind('.');
+  return cut == std::string::npos ? "" : path.substr(0, cut);
+}
+
+StatusOr<std::string> ReadPlanFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return NotFound(path + ": cannot open for reading");
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) return DataLoss(path + ": read failed");
+  return text.str();
 }
 
 Status YamlReader::Error(const YamlAt& at, const std::string& what) const {

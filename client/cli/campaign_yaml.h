@@ -74,4 +74,31 @@ class YamlReader {
 // Every key path of a document (as YamlAt paths read: "a.b", "a[2]"; "" the root) and its mark.
 std::map<std::string, YAML::Mark> KeyMarks(const YAML::Node& root);
 
+// "a.b[2]" -> "a.b" -> "a" -> "".
+std::string ParentKey(const std::string& path);
+
+// The whole of a plan file (NOT_FOUND when it cannot be opened, DATA_LOSS when reading fails).
+StatusOr<std::string> ReadPlanFile(const std::string& path);
+
+// A plan document read by parse(root) (a StatusOr<Plan>), with plan.source and plan.key_marks
+// set; YAML syntax and conversion errors carry "source:line:".
+template <class Plan, class Parse>
+StatusOr<Plan> ParsePlanDocument(const std::string& yaml, const std::string& source, Parse parse) {
+  YAML::Node root;
+  try {
+    root = YAML::Load(yaml);
+  } catch (const YAML::ParserException& e) {
+    return YamlReader(source).Error(e.mark, "", "not valid YAML: " + e.msg);
+  }
+  try {
+    StatusOr<Plan> plan = parse(root);
+    if (!plan.ok()) return plan.status();
+    plan->source = source;
+    plan->key_marks = KeyMarks(root);
+    return plan;
+  } catch (const YAML::Exception& e) {
+    return YamlReader(source).Error(e.mark, "", e.msg);
+  }
+}
+
 }  // namespace vscan::cli

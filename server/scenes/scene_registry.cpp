@@ -16,6 +16,20 @@ constexpr size_t kMeshCacheEntries = 64;
 
 double DegToRad(double deg) { return deg * std::numbers::pi / 180.0; }
 
+// The catalogue row of a mesh stored as blob sha256: its counts and bounds (source unit left to the caller).
+store::MeshRecord MeshRecordOf(const TriangleMesh& mesh, const std::string& name, const std::string& sha256) {
+  store::MeshRecord record;
+  record.name = name;
+  record.sha256 = sha256;
+  record.vertex_count = mesh.vertices.size();
+  record.triangle_count = mesh.triangles.size();
+  Eigen::Vector3f lo, hi;
+  mesh.Bounds(lo, hi);
+  record.bounds_min = lo.cast<double>();
+  record.bounds_max = hi.cast<double>();
+  return record;
+}
+
 }  // namespace
 
 SceneRegistry::SceneRegistry(store::Catalogue& catalogue, store::BlobStore& blobs, size_t cache_entries,
@@ -37,15 +51,7 @@ StatusOr<store::MeshRecord> SceneRegistry::AddMesh(std::string_view file_bytes, 
   ASSIGN_OR_RETURN(const store::BlobPin pin, blobs_.PutPinned(encoded));
   const std::string& sha = pin.sha256();
 
-  store::MeshRecord record;
-  record.name = upload.name;
-  record.sha256 = sha;
-  record.vertex_count = mesh.vertices.size();
-  record.triangle_count = mesh.triangles.size();
-  Eigen::Vector3f lo, hi;
-  mesh.Bounds(lo, hi);
-  record.bounds_min = lo.cast<double>();
-  record.bounds_max = hi.cast<double>();
+  store::MeshRecord record = MeshRecordOf(mesh, upload.name, sha);
   record.source_unit = upload.unit;
   record.source_scale = upload.scale;
   ASSIGN_OR_RETURN(store::MeshRecord stored, catalogue_.InsertMesh(record));
@@ -60,15 +66,7 @@ StatusOr<store::Catalogue::AddedObjects> SceneRegistry::AddObjectsWithMesh(const
                                                                            std::vector<store::ObjectRecord> objects) {
   // Pinned until the rows naming it are stored.
   ASSIGN_OR_RETURN(const store::BlobPin pin, blobs_.PutPinned(geometry::EncodeMesh(mesh)));
-  store::MeshRecord record;
-  record.name = mesh_name;
-  record.sha256 = pin.sha256();
-  record.vertex_count = mesh.vertices.size();
-  record.triangle_count = mesh.triangles.size();
-  Eigen::Vector3f lo, hi;
-  mesh.Bounds(lo, hi);
-  record.bounds_min = lo.cast<double>();
-  record.bounds_max = hi.cast<double>();
+  store::MeshRecord record = MeshRecordOf(mesh, mesh_name, pin.sha256());
   record.source_unit = store::LengthUnit::kMetre;
   return catalogue_.AddObjects(scene_id, std::move(objects), &record);
 }

@@ -5,18 +5,6 @@
 namespace vscan::service {
 namespace {
 
-const char* StateName(store::JobState state) {
-  switch (state) {
-    case store::JobState::kQueued: return "QUEUED";
-    case store::JobState::kRunning: return "RUNNING";
-    case store::JobState::kSucceeded: return "SUCCEEDED";
-    case store::JobState::kFailed: return "FAILED";
-    case store::JobState::kCancelled: return "CANCELLED";
-    case store::JobState::kInterrupted: return "INTERRUPTED";
-  }
-  return "UNKNOWN";
-}
-
 void WriteTypes(const BinFillPlan& plan, JsonWriter& json) {
   json.Key("types").Open('[');
   for (size_t i = 0; i < plan.parts.size(); ++i) {
@@ -115,7 +103,7 @@ std::string BinFillJson(const BinFillPlan& plan, const BinFillReport& report) {
   json.Key("job_id").Value(report.job_id);
   json.Key("name").Value(plan.request.name);
   json.Key("scene_id").Value(plan.request.scene_id);
-  json.Key("state").Value(StateName(report.state));
+  json.Key("state").Value(store::JobStateName(report.state));
   json.Key("message").Value(report.message);
   json.Key("seed").Value(plan.request.options.seed);
   const physics::FillOptions& options = plan.request.options;

@@ -28,18 +28,6 @@ std::string Where(uint32_t viewpoint, double angle_deg) {
   return "viewpoint " + std::to_string(viewpoint) + " at " + Number(angle_deg) + " deg";
 }
 
-const char* StateName(store::JobState state) {
-  switch (state) {
-    case store::JobState::kQueued: return "QUEUED";
-    case store::JobState::kRunning: return "RUNNING";
-    case store::JobState::kSucceeded: return "SUCCEEDED";
-    case store::JobState::kFailed: return "FAILED";
-    case store::JobState::kCancelled: return "CANCELLED";
-    case store::JobState::kInterrupted: return "INTERRUPTED";
-  }
-  return "UNKNOWN";
-}
-
 class CampaignRun {
  public:
   CampaignRun(ServiceContext& context, JobRecorder& recorder, const std::string& job_id, const CampaignPlan& plan,
@@ -78,7 +66,7 @@ class CampaignRun {
     if (model_) model_->WriteReport(state);
     const Status ended = recorder_.End(Update(state, message, false));
     if (!ended.ok()) spdlog::error("job {}: cannot record its end: {}", job_id_, ended.ToString());
-    spdlog::info("job {} {}: {}", job_id_, StateName(state), message);
+    spdlog::info("job {} {}: {}", job_id_, store::JobStateName(state), message);
   }
 
  private:
@@ -206,7 +194,7 @@ class CampaignRun {
   }
 
   void WriteSummary(store::JobState state) {
-    const std::string json = CampaignSummaryJson(job_id_, StateName(state), plan_, records_);
+    const std::string json = CampaignSummaryJson(job_id_, store::JobStateName(state), plan_, records_);
     auto written = recorder_.RecordArtifact("campaign.json", kJsonMediaType, json, nullptr, nullptr,
                                             Update(store::JobState::kRunning, "campaign.json written", false));
     if (!written.ok()) spdlog::error("job {}: cannot store campaign.json: {}", job_id_, written.status().ToString());

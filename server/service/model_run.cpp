@@ -40,18 +40,6 @@ std::string Number(double x) {
   return buffer;
 }
 
-const char* StateName(store::JobState state) {
-  switch (state) {
-    case store::JobState::kQueued: return "QUEUED";
-    case store::JobState::kRunning: return "RUNNING";
-    case store::JobState::kSucceeded: return "SUCCEEDED";
-    case store::JobState::kFailed: return "FAILED";
-    case store::JobState::kCancelled: return "CANCELLED";
-    case store::JobState::kInterrupted: return "INTERRUPTED";
-  }
-  return "UNKNOWN";
-}
-
 std::string ScanMessage(const ScanAlignmentRecord& scan, size_t total) {
   std::string message = "scan " + std::to_string(scan.index + 1) + (total > 0 ? " of " + std::to_string(total) : "") +
                         " (" + scan.name + ") ";
@@ -96,7 +84,7 @@ class ModelRun {
     WriteReport(state);
     const Status ended = recorder_.End(Update(state, message));
     if (!ended.ok()) spdlog::error("job {}: cannot record its end: {}", job_id_, ended.ToString());
-    spdlog::info("job {} {}: {}", job_id_, StateName(state), message);
+    spdlog::info("job {} {}: {}", job_id_, store::JobStateName(state), message);
   }
 
   // A campaign's part: the model's events count from the campaign's steps, and its scans are
@@ -130,7 +118,7 @@ class ModelRun {
   }
 
   void WriteReport(store::JobState state) {
-    report_.state = StateName(state);
+    report_.state = store::JobStateName(state);
     report_.clouds = plan_.clouds.size();
     if (report_.alignment) report_.alignment->artifact = placed_ ? "aligned.ply" : "";
     const std::string json = ModelReportJson(report_);

@@ -77,6 +77,18 @@ Status ReadArtifacts(sqlite3* db, JobRecord& job) {
 
 bool IsFinal(JobState state) { return state != JobState::kQueued && state != JobState::kRunning; }
 
+const char* JobStateName(JobState state) {
+  switch (state) {
+    case JobState::kQueued: return "QUEUED";
+    case JobState::kRunning: return "RUNNING";
+    case JobState::kSucceeded: return "SUCCEEDED";
+    case JobState::kFailed: return "FAILED";
+    case JobState::kCancelled: return "CANCELLED";
+    case JobState::kInterrupted: return "INTERRUPTED";
+  }
+  return "UNKNOWN";
+}
+
 JobCatalogue::JobCatalogue(std::shared_ptr<Database> database)
     : database_(std::move(database)), mutex_(database_->mutex()), db_(database_->handle()) {}
 

@@ -21,6 +21,8 @@ struct sqlite3;
 namespace vscan::store {
 
 bool IsFinal(JobState state);
+// "QUEUED", "RUNNING", ... as reports and logs print a job's state.
+const char* JobStateName(JobState state);
 
 struct ArtifactRecord {
   std::string artifact_id;
