@@ -1,6 +1,7 @@
 #include "service/dataset/dataset_plan.h"
 
 #include <cmath>
+#include <cstdio>
 #include <set>
 
 namespace vscan::service::dataset {
@@ -58,6 +59,13 @@ Status CheckPlan(const DatasetPlan& plan) {
   }
   if (!std::isfinite(plan.camera_height_m) || plan.camera_height_m <= 0 || plan.camera_height_m > 100) {
     return InvalidArgument("camera_height_m", "must be within (0, 100] m");
+  }
+  // The camera looks straight down, so the bin's floor is the deepest pixel a depth image holds.
+  if (plan.camera_height_m * 1000.0 / plan.depth_scale_mm > 65535.0) {
+    char text[160];
+    std::snprintf(text, sizeof(text), "the floor %g m below the camera (camera_height_m) does not fit %s of %g mm",
+                  plan.camera_height_m, "16-bit depth units", plan.depth_scale_mm);
+    return InvalidArgument("depth_scale_mm", text);
   }
   const double scenes = double(plan.seeds.size()) * double(plan.bins.size()) * double(plan.sensors.size());
   if (scenes > double(kMaxScenes)) {

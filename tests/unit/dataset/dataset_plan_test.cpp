@@ -74,6 +74,8 @@ TEST(DatasetPlan, RefusesRepeatsEmptiesAndBadShards) {
   plan = ThreeByTwoByTwo();
   plan.depth_scale_mm = 0;
   EXPECT_EQ(CheckPlan(plan).field(), "depth_scale_mm");
+  plan.depth_scale_mm = 1e-20;  // the floor 0.6 m down would not fit 16 bits
+  EXPECT_EQ(CheckPlan(plan).field(), "depth_scale_mm");
   plan = ThreeByTwoByTwo();
   plan.seeds = SeedRange(0, kMaxScenes / 2);
   EXPECT_EQ(CheckPlan(plan).field(), "seeds");
