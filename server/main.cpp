@@ -18,6 +18,7 @@
 
 #include "api/server.h"
 #include "dataset_oneshot.h"
+#include "limit_options.h"
 #include "observability/log_format.h"
 #include "observability/metrics_http.h"
 #include "observability/server_metrics.h"
@@ -86,7 +87,6 @@ int main(int argc, char** argv) {
   std::string metrics_listen;
   std::string token_file;
   double grace_seconds = 10;
-  uint64_t max_upload_mib = options.limits.max_upload_bytes >> 20;
 
   CLI::App app{"vscand: the vscan scanning simulation server"};
   app.add_option("--listen", options.listen_address, "Address to listen on (host:port; port 0 picks one)")
@@ -107,17 +107,10 @@ int main(int argc, char** argv) {
   app.add_option("--call-threads", options.call_threads,
                  "Threads for blocking calls (inverse kinematics, catalogue writes) off the gRPC threads")
       ->capture_default_str()->check(CLI::Range(1, 256));
-  app.add_option("--max-upload-mib", max_upload_mib, "Largest upload (mesh, robot bundle, cloud)")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 65536));
-  app.add_option("--max-rays", options.limits.max_rays_per_scan, "Most rays one scan may cast")
-      ->capture_default_str()->check(CLI::Range(1, 1 << 28));
-  app.add_option("--max-concurrent-scans", options.limits.max_concurrent_scans, "Scans running at once")
-      ->capture_default_str()->check(CLI::Range(1, 1024));
+  vscan::LimitFlagsMib limit_mib;
+  vscan::AddLimitOptions(app, options.limits, limit_mib);
   app.add_option("--max-concurrent-jobs", options.max_concurrent_jobs, "Jobs (scan campaigns) running at once")
       ->capture_default_str()->check(CLI::Range(1, 64));
-  app.add_option("--max-queued-jobs", options.limits.max_queued_jobs, "Jobs that may wait for a free job slot")
-      ->capture_default_str()->check(CLI::Range(1, 10000));
   app.add_option("--grace-seconds", grace_seconds,
                  "How long SIGTERM waits for running calls before it cancels them; work still running " +
                      std::to_string(static_cast<int>(kStopSeconds)) + " s later is abandoned (exit status 1)")
@@ -148,7 +141,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return e.get_exit_code() == 0 ? app.exit(e) : (app.exit(e), kUsageError);
   }
-  options.limits.max_upload_bytes = max_upload_mib << 20;
+  vscan::ApplyLimitFlags(limit_mib, options.limits);
 
   vscan::SetupLogging("vscand", log_level);
   vscan::observability::UseLogFormat(*vscan::observability::ParseLogFormat(log_format));

@@ -2,6 +2,8 @@
 
 #include "api/validate.h"
 #include "service/dataset/dataset_plan_yaml.h"
+#include "service/dataset_job_frames.h"
+#include "service/request_memory.h"
 
 namespace vscan::api {
 namespace {
@@ -67,6 +69,14 @@ StatusOr<ValidatedDataset> ValidateDataset(const v1::DatasetSpec& spec, service:
   if (!setup.ok()) {
     const Status& error = setup.status();
     return error.field().rfind("spec.", 0) == 0 ? error : error.WithFieldPrefix("spec.plan_yaml");
+  }
+  // Frames captured ahead are held at once, each with its whole cloud.
+  for (size_t i = 0; i < setup->sensors.size(); ++i) {
+    const uint64_t frame_bytes = service::ScanMemoryBytes(service::DatasetFramePlan(setup->sensors[i]), false);
+    RETURN_IF_ERROR(service::CheckRequestMemory(frame_bytes * (1 + service::DatasetFramesAhead()),
+                                                context.options.limits,
+                                                "spec.plan_yaml",
+                                                "sensors[" + std::to_string(i) + "]: capturing its frames"));
   }
   ValidatedDataset validated;
   validated.spec = spec;

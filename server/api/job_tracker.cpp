@@ -209,6 +209,16 @@ StatusOr<v1::Artifact> JobTracker::RecordArtifact(const std::string& job_id, con
                                                   const v1::ScanArtifactInfo* info, const JobEventUpdate& update,
                                                   const store::CloudRecord* cloud) {
   ASSIGN_OR_RETURN(auto live, RequireLive(job_id));
+  ASSIGN_OR_RETURN(const store::ArtifactTotals totals, catalogue_.CountArtifacts(job_id));
+  if (totals.count >= max_artifacts_) {
+    return ResourceExhausted("job " + job_id + ": " + name + " would be its artifact " + std::to_string(totals.count + 1) +
+                             ", past the limit of " + std::to_string(max_artifacts_) + " per job (--max-job-artifacts)");
+  }
+  if (bytes.size() > max_artifact_bytes_ || totals.bytes > max_artifact_bytes_ - bytes.size()) {
+    return ResourceExhausted("job " + job_id + ": " + name + " (" + std::to_string(bytes.size()) +
+                             " bytes) would take its artifacts past the limit of " +
+                             std::to_string(max_artifact_bytes_ >> 20) + " MiB per job (--max-job-mib)");
+  }
   // Pinned until its row is stored, so that deleting another job cannot collect it meanwhile.
   ASSIGN_OR_RETURN(const store::BlobPin pin, blobs_.PutPinned(bytes));
   store::ArtifactRecord record;

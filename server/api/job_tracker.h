@@ -83,7 +83,10 @@ using service::JobEventUpdate;
 
 class JobTracker {
  public:
-  JobTracker(store::JobCatalogue& catalogue, store::BlobStore& blobs) : catalogue_(catalogue), blobs_(blobs) {}
+  // A job's artifacts beyond max_artifacts, or past max_artifact_bytes in all, are RESOURCE_EXHAUSTED.
+  JobTracker(store::JobCatalogue& catalogue, store::BlobStore& blobs, uint32_t max_artifacts = UINT32_MAX,
+             uint64_t max_artifact_bytes = UINT64_MAX)
+      : catalogue_(catalogue), blobs_(blobs), max_artifacts_(max_artifacts), max_artifact_bytes_(max_artifact_bytes) {}
 
   store::JobCatalogue& catalogue() { return catalogue_; }
   store::BlobStore& blobs() { return blobs_; }
@@ -127,6 +130,8 @@ class JobTracker {
 
   store::JobCatalogue& catalogue_;
   store::BlobStore& blobs_;
+  const uint32_t max_artifacts_;
+  const uint64_t max_artifact_bytes_;
   std::mutex mutex_;
   // Each job has one writer at a time (its runner thread, or whoever drops it from the queue).
   std::map<std::string, std::shared_ptr<LiveJob>> live_;

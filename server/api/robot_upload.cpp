@@ -14,7 +14,6 @@
 namespace vscan::api {
 namespace {
 
-constexpr size_t kMaxFiles = 1024;
 constexpr size_t kMaxPathBytes = 4096;
 
 std::string FileField(size_t i) { return "files[" + std::to_string(i) + "].path"; }
@@ -49,7 +48,8 @@ class UploadRobotReactor final : public UploadReactor<v1::UploadRobotRequest> {
       return InvalidArgument("header.urdf_path: required (the URDF's path in the bundle)");
     if (header.size_bytes() > limit()) {
       return ResourceExhausted("header.size_bytes: " + std::to_string(header.size_bytes()) +
-                               " bytes exceeds the upload limit of " + std::to_string(limit()));
+                               " bytes exceeds the robot bundle limit of " + std::to_string(limit()) +
+                               " (--max-robot-bundle-mib)");
     }
     upload_.name = header.name();
     upload_.urdf_path = header.urdf_path();
@@ -68,14 +68,15 @@ class UploadRobotReactor final : public UploadReactor<v1::UploadRobotRequest> {
       return InvalidArgument(FileField(0) + ": required (a file's first message names it)");
     }
     const size_t index = starts ? upload_.files.size() : upload_.files.size() - 1;
-    if (starts && upload_.files.size() >= kMaxFiles) {
-      return ResourceExhausted("files: more than " + std::to_string(kMaxFiles) + " files in one bundle");
+    if (starts && upload_.files.size() >= context_.robots.max_files()) {
+      return ResourceExhausted(FileField(index) + ": more than " + std::to_string(context_.robots.max_files()) +
+                               " files in one bundle (--max-robot-files)");
     }
     RETURN_IF_ERROR(CheckText(file.path(), FileField(index), kMaxPathBytes));
     total_bytes_ += file.path().size() + file.content().size();
     if (total_bytes_ > limit()) {
-      return ResourceExhausted(FileField(index) + ": the bundle exceeds the upload limit of " +
-                               std::to_string(limit()) + " bytes");
+      return ResourceExhausted(FileField(index) + ": the bundle exceeds the robot bundle limit of " +
+                               std::to_string(limit()) + " bytes (--max-robot-bundle-mib)");
     }
     if (starts) upload_.files.push_back({file.path(), std::string()});
     upload_.files.back().bytes += file.content();

@@ -206,6 +206,15 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& op
   impl->catalogue = std::make_unique<store::Catalogue>(impl->database);
   impl->blobs = std::make_unique<store::BlobStore>(data_dir / "blobs");
   RETURN_IF_ERROR(impl->blobs->Open());
+  if (options.limits.max_data_bytes > 0) {
+    const std::filesystem::path db = data_dir / "catalogue.sqlite";
+    auto quota = std::make_shared<store::DataQuota>(
+        options.limits.max_data_bytes,
+        std::vector<std::filesystem::path>{db, db.string() + "-wal", db.string() + "-shm"});
+    RETURN_IF_ERROR(quota->CountExisting(data_dir / "blobs"));
+    spdlog::info("data directory holds {} of at most {} bytes", quota->used_bytes(), quota->max_bytes());
+    impl->blobs->UseQuota(std::move(quota));
+  }
   // An orphan only costs disk space: a failed sweep does not stop the server.
   if (const auto swept = store::SweepOrphanBlobs(*impl->database, *impl->blobs, kOrphanBlobAge); !swept.ok()) {
     spdlog::warn("orphan blob sweep: {}", swept.status().ToString());
@@ -218,8 +227,9 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& op
   impl->registry = std::make_unique<scenes::SceneRegistry>(*impl->catalogue, *impl->blobs,
                                                            options.scene_cache_entries, std::move(import_sandbox));
   impl->robot_catalogue = std::make_unique<store::RobotCatalogue>(impl->database);
-  impl->robots = std::make_unique<robots::RobotRegistry>(*impl->robot_catalogue, *impl->blobs,
-                                                         options.limits.max_upload_bytes);
+  impl->robots = std::make_unique<robots::RobotRegistry>(
+      *impl->robot_catalogue, *impl->blobs,
+      robot::BundleLimits{options.limits.max_robot_bundle_bytes, options.limits.max_robot_files});
   impl->workers = std::make_unique<jobs::WorkerPool>(std::max<uint32_t>(1, options.worker_threads));
   impl->call_workers = std::make_unique<jobs::WorkerPool>(std::max<uint32_t>(1, options.call_threads));
   impl->cloud_catalogue = std::make_unique<store::CloudCatalogue>(impl->database);
@@ -239,7 +249,8 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& op
   if (interrupted > 0) spdlog::warn("{} jobs were left unfinished by the last run; marked INTERRUPTED", interrupted);
   // Scratch files of campaigns that an older vscand left when it stopped (scans are now encoded in memory).
   std::filesystem::remove_all(data_dir / "tmp", ec);
-  impl->job_tracker = std::make_unique<JobTracker>(*impl->job_catalogue, *impl->blobs);
+  impl->job_tracker = std::make_unique<JobTracker>(*impl->job_catalogue, *impl->blobs, options.limits.max_job_artifacts,
+                                                   options.limits.max_job_bytes);
   impl->job_runner = std::make_unique<jobs::JobRunner>(std::max<uint32_t>(1, options.max_concurrent_jobs));
   impl->job_service = std::make_unique<JobService>(*impl->context, *impl->job_tracker, *impl->job_runner);
   if (options.job_retention_hours > 0) {

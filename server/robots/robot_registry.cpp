@@ -19,12 +19,15 @@ Pose3 ToPose(const Eigen::Matrix4d& m) {
 
 RobotRegistry::RobotRegistry(store::RobotCatalogue& catalogue, store::BlobStore& blobs, uint64_t max_bundle_bytes,
                              size_t cache_entries)
-    : catalogue_(catalogue), blobs_(blobs), max_bundle_bytes_(max_bundle_bytes), cache_entries_(cache_entries) {}
+    : RobotRegistry(catalogue, blobs, robot::BundleLimits{max_bundle_bytes, robot::BundleLimits{}.max_files},
+                    cache_entries) {}
+
+RobotRegistry::RobotRegistry(store::RobotCatalogue& catalogue, store::BlobStore& blobs, robot::BundleLimits limits,
+                             size_t cache_entries)
+    : catalogue_(catalogue), blobs_(blobs), limits_(limits), cache_entries_(cache_entries) {}
 
 StatusOr<store::RobotRecord> RobotRegistry::AddRobot(RobotUpload upload) {
-  robot::BundleLimits limits;
-  limits.max_total_bytes = max_bundle_bytes_;
-  ASSIGN_OR_RETURN(ImportedRobot imported, ImportRobot(std::move(upload), limits));
+  ASSIGN_OR_RETURN(ImportedRobot imported, ImportRobot(std::move(upload), limits_));
   store::RobotRecord record;
   {
     std::lock_guard lock(store_mutex_);

@@ -31,9 +31,13 @@ class RobotRegistry {
   // Bundles larger than max_bundle_bytes (file bytes plus paths) are RESOURCE_EXHAUSTED.
   RobotRegistry(store::RobotCatalogue& catalogue, store::BlobStore& blobs, uint64_t max_bundle_bytes,
                 size_t cache_entries = 64);
+  // Bundles with more files than limits.max_files are RESOURCE_EXHAUSTED too.
+  RobotRegistry(store::RobotCatalogue& catalogue, store::BlobStore& blobs, robot::BundleLimits limits,
+                size_t cache_entries = 64);
 
   store::RobotCatalogue& catalogue() { return catalogue_; }
-  uint64_t max_bundle_bytes() const { return max_bundle_bytes_; }
+  uint64_t max_bundle_bytes() const { return limits_.max_total_bytes; }
+  uint32_t max_files() const { return limits_.max_files; }
 
   // Validates, stores the bundle blob durably, then records the robot.
   StatusOr<store::RobotRecord> AddRobot(RobotUpload upload);
@@ -55,7 +59,7 @@ class RobotRegistry {
  private:
   store::RobotCatalogue& catalogue_;
   store::BlobStore& blobs_;
-  uint64_t max_bundle_bytes_;
+  robot::BundleLimits limits_;
   size_t cache_entries_;
 
   // Orders blob writes against blob removals so that a robot never points at a removed bundle.

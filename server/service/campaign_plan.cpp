@@ -1,5 +1,6 @@
 #include "service/campaign_plan.h"
 
+#include "service/request_memory.h"
 #include "service/robot_collision.h"
 #include "service/robot_placement.h"
 
@@ -18,6 +19,8 @@ StatusOr<ScanPlan> StepScanPlan(ServiceContext& context, const CampaignPlan& pla
 }
 
 Status CheckCampaignWorld(ServiceContext& context, const CampaignPlan& plan, bool dry_run) {
+  RETURN_IF_ERROR(CheckRequestMemory(ScanMemoryBytes(plan.scan, false), context.options.limits, "sensor",
+                                     "each scan of the campaign"));
   if (dry_run && plan.scene_id.empty() && plan.mount_id.empty()) return Status::Ok();
   if (plan.scene_id.empty()) return InvalidArgument("scene_id", "required");
   ASSIGN_OR_RETURN(const store::SceneRecord scene, context.registry.catalogue().GetScene(plan.scene_id));

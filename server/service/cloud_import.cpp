@@ -25,7 +25,7 @@ Status AsUploadError(const Status& status) {
   const std::string text = lead == kWhere + ": " ? status.message().substr(lead.size()) : status.message();
   switch (status.code()) {
     case StatusCode::kResourceExhausted:
-      return ResourceExhausted(kWhere, text + " (the upload limit, --max-upload-mib)");
+      return ResourceExhausted(kWhere, text + " (the smaller of --max-upload-mib and --max-request-memory-mib)");
     case StatusCode::kDataLoss:
     case StatusCode::kInvalidArgument: return InvalidArgument(kWhere, text);
     default: return status;

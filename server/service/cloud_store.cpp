@@ -1,5 +1,6 @@
 #include "service/cloud_store.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <utility>
 
@@ -32,7 +33,16 @@ StatusOr<store::CloudRecord> ImportCloud(ServiceContext& context, std::string_vi
       return scene.status();
     }
   }
-  ASSIGN_OR_RETURN(PointCloud cloud, ParseUploadedCloud(bytes, upload.format, limit));
+  // The parsed arrays are what this request holds in memory.
+  const Limits& limits = context.options.limits;
+  ASSIGN_OR_RETURN(PointCloud cloud,
+                   ParseUploadedCloud(bytes, upload.format, std::min(limit, limits.max_request_memory_bytes)));
+  if (cloud.size() > limits.max_cloud_points) {
+    return ResourceExhausted(std::string(kCloudDataField), std::to_string(cloud.size()) +
+                                                               " points exceed the limit of " +
+                                                               std::to_string(limits.max_cloud_points) +
+                                                               " (--max-cloud-points)");
+  }
   ASSIGN_OR_RETURN(const std::string ply, EncodePly(cloud));
 
   store::CloudRecord record;

@@ -103,14 +103,9 @@ void FillImages(const PointCloud& cloud, const Pose3& world_from_camera, dataset
 StatusOr<dataset::DatasetFrame> ScanFilledBin(const FilledBin& filled, const DatasetSensorSetup& sensor,
                                               const Pose3& world_from_camera, uint64_t noise_seed,
                                               RasterProvider& raster, const std::atomic<bool>* cancel) {
-  ScanPlan plan;
-  plan.camera = sensor.camera;
+  ScanPlan plan = DatasetFramePlan(sensor);
   plan.world_from_sensor = world_from_camera;
-  plan.fields = kFieldPosition | kFieldNormal | kFieldInstanceId | kFieldPixel;
-  plan.measurement = sensor.measurement;
-  plan.measurement.fields = plan.fields;
   plan.measurement.seed = noise_seed;
-  plan.ground_truth = true;
   raycast::ScanStats stats;
   ASSIGN_OR_RETURN(const PointCloud cloud, RunScanBackend(plan, filled.target, raster, cancel, &stats));
   ASSIGN_OR_RETURN(const std::vector<ObjectTruth> truths,
@@ -180,6 +175,16 @@ dataset::FrameSource BinFrameSource(std::shared_ptr<const DatasetSetup> setup, c
     return ScanFilledBin(**filled, setup.sensors[key.sensor_index], DatasetCameraPose(bin, setup.plan.camera_height_m),
                          SceneNoiseSeed(key), state->raster, cancel);
   };
+}
+
+ScanPlan DatasetFramePlan(const DatasetSensorSetup& sensor) {
+  ScanPlan plan;
+  plan.camera = sensor.camera;
+  plan.fields = kFieldPosition | kFieldNormal | kFieldInstanceId | kFieldPixel;
+  plan.measurement = sensor.measurement;
+  plan.measurement.fields = plan.fields;
+  plan.ground_truth = true;
+  return plan;
 }
 
 size_t DatasetFramesAhead() {

@@ -9,6 +9,7 @@
 
 #include "service/dataset/dataset_run.h"
 #include "service/dataset_job_setup.h"
+#include "service/scan_plan.h"
 
 namespace vscan::service {
 
@@ -19,6 +20,9 @@ Pose3 DatasetCameraPose(const DatasetBinSetup& bin, double camera_height_m);
 // Keeps the latest fills, so that the sensors of one (seed, bin) share one; safe for concurrent
 // calls (ShardRun::frames_ahead). cancel, when set, stops the fill and the scan with CANCELLED.
 dataset::FrameSource BinFrameSource(std::shared_ptr<const DatasetSetup> setup, const std::atomic<bool>* cancel);
+
+// The scan of a frame by sensor, before its pose and noise seed are set.
+ScanPlan DatasetFramePlan(const DatasetSensorSetup& sensor);
 
 // Frames to capture ahead of the one being written: one per further core (at most 7).
 size_t DatasetFramesAhead();

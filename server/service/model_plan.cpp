@@ -6,6 +6,7 @@
 #include <set>
 
 #include "service/pose_prior.h"
+#include "service/request_memory.h"
 #include "vscan/common/physical_limits.h"
 #include "vscan/common/point_cloud.h"
 
@@ -395,6 +396,11 @@ StatusOr<ModelPlan> PlanModel(ServiceContext& context, CampaignRecords& campaign
                              "the clouds hold " + std::to_string(plan.total_points) + " points, more than the " +
                                  std::to_string(kMaxModelPoints) + " a model job takes");
   }
+  // Each point is held as read, as placed, with its normal, in the union and its k-d tree.
+  constexpr uint64_t kHeldBytesPerPoint = 96;
+  RETURN_IF_ERROR(CheckRequestMemory(plan.total_points * kHeldBytesPerPoint, context.options.limits,
+                                     request.campaign_job_id.empty() ? "cloud_ids" : "campaign_job_id",
+                                     "aligning " + std::to_string(plan.total_points) + " points"));
   RETURN_IF_ERROR(ResolveTables(context, plan.clouds));
   RETURN_IF_ERROR(CheckPoses(request, plan.clouds));
 

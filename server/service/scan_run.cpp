@@ -2,6 +2,7 @@
 
 #include <chrono>
 
+#include "service/request_memory.h"
 #include "service/scan_backends.h"
 #include "service/scan_metrics.h"
 #include "service/scan_target.h"
@@ -16,6 +17,8 @@ bool StreamsRows(const ScanPlan& plan, const ServerOptions& options) {
 Status RunScan(ServiceContext& context, const ScanPlan& plan, const std::atomic<bool>* cancel, ScanConsumer& out,
                ScanOutcome* outcome) {
   *outcome = ScanOutcome{};
+  RETURN_IF_ERROR(CheckRequestMemory(ScanMemoryBytes(plan, StreamsRows(plan, context.options)),
+                                     context.options.limits, "sensor", "this scan"));
   ASSIGN_OR_RETURN(const scenes::ScanTarget target, PrepareScanTarget(context, plan));
   outcome->streamed = StreamsRows(plan, context.options);
   if (outcome->streamed) {

@@ -14,6 +14,18 @@ struct Limits {
   uint32_t max_page_size = 1000;
   // Jobs waiting for a runner slot; StartCampaign beyond it is RESOURCE_EXHAUSTED.
   uint32_t max_queued_jobs = 64;
+  // A robot bundle's file bytes plus paths, and its file count.
+  uint64_t max_robot_bundle_bytes = 64ull << 20;
+  uint32_t max_robot_files = 1024;
+  // Points of one uploaded cloud.
+  uint64_t max_cloud_points = 20'000'000;
+  // What one request may hold in memory at once, by the estimate of request_memory.h.
+  uint64_t max_request_memory_bytes = 2048ull << 20;
+  // Artifacts one job may store, and their bytes.
+  uint32_t max_job_artifacts = 100'000;
+  uint64_t max_job_bytes = 64ull << 30;
+  // Bytes the data directory may hold (blobs and catalogue); 0: as much as the disk takes.
+  uint64_t max_data_bytes = 0;
 };
 
 struct ServerOptions {

@@ -164,6 +164,16 @@ StatusOr<BlobPin> BlobStore::PutPinned(std::string_view bytes) {
   // Content addressing makes a second Put a no-op, unless the stored copy went bad.
   if (auto existing = ReadAll(path); existing.ok() && Sha256Hex(*existing) == id) return pin;
 
+  if (quota_) RETURN_IF_ERROR(quota_->Reserve(bytes.size()));
+  Status written = WriteInPlace(path, id, bytes);
+  if (!written.ok()) {
+    if (quota_) quota_->Release(bytes.size());
+    return written;
+  }
+  return pin;
+}
+
+Status BlobStore::WriteInPlace(const std::filesystem::path& path, const std::string& id, std::string_view bytes) {
   RETURN_IF_ERROR(EnsureDirectory(path.parent_path()));
   ASSIGN_OR_RETURN(std::filesystem::path tmp, WriteTempFile(path.parent_path(), id, bytes));
   if (::rename(tmp.c_str(), path.c_str()) != 0) {
@@ -171,8 +181,7 @@ StatusOr<BlobPin> BlobStore::PutPinned(std::string_view bytes) {
     ::unlink(tmp.c_str());
     return OsError("rename into", path, err);
   }
-  RETURN_IF_ERROR(SyncDirectory(path.parent_path()));
-  return pin;
+  return SyncDirectory(path.parent_path());
 }
 
 void BlobStore::Unpin(const std::string& sha256) {
@@ -226,10 +235,13 @@ bool BlobStore::Contains(const std::string& sha256) const {
 Status BlobStore::Remove(const std::string& sha256) {
   RETURN_IF_ERROR(CheckId(sha256));
   std::filesystem::path path = PathOf(sha256);
+  struct stat st {};
+  const bool sized = quota_ && ::stat(path.c_str(), &st) == 0;
   if (::unlink(path.c_str()) != 0) {
     if (errno == ENOENT) return Status::Ok();
     return OsError("remove", path, errno);
   }
+  if (sized) quota_->Release(static_cast<uint64_t>(st.st_size));
   return SyncDirectory(path.parent_path());
 }
 

@@ -5,12 +5,14 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <string>
 #include <string_view>
 
 #include <utility>
 
+#include "store/data_quota.h"
 #include "vscan/common/status.h"
 
 namespace vscan::store {
@@ -39,6 +41,9 @@ class BlobStore {
 
   // Creates the root directory; fails with UNAVAILABLE when it cannot.
   Status Open();
+  // Bounds the bytes new blobs may add (RESOURCE_EXHAUSTED from Put past it); removals give room
+  // back. Set before the store is shared.
+  void UseQuota(std::shared_ptr<DataQuota> quota) { quota_ = std::move(quota); }
   // Stores bytes durably and returns their lowercase hex SHA-256 (idempotent; a corrupt copy is
   // replaced).
   StatusOr<std::string> Put(std::string_view bytes);
@@ -59,8 +64,11 @@ class BlobStore {
  private:
   friend class BlobPin;
   std::filesystem::path PathOf(const std::string& sha256) const;
+  // Writes a new blob's file: a synced temp file renamed into place.
+  Status WriteInPlace(const std::filesystem::path& path, const std::string& id, std::string_view bytes);
   void Unpin(const std::string& sha256);
   std::filesystem::path root_;
+  std::shared_ptr<DataQuota> quota_;
   mutable std::mutex pins_mutex_;
   // Guards file removal against a concurrent Put of the same content.
   std::map<std::string, int> pins_;

@@ -218,6 +218,16 @@ StatusOr<ArtifactRecord> JobCatalogue::AddArtifact(ArtifactRecord artifact, cons
   return artifact;
 }
 
+StatusOr<ArtifactTotals> JobCatalogue::CountArtifacts(const std::string& job_id) {
+  std::lock_guard lock(mutex_);
+  ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_, "SELECT count(*), coalesce(sum(size_bytes), 0) "
+                                                       "FROM job_artifacts WHERE job_id = ?1"));
+  s.Bind(1, job_id);
+  ASSIGN_OR_RETURN(bool row, s.Step());
+  if (!row) return ArtifactTotals{};
+  return ArtifactTotals{static_cast<uint64_t>(s.Int(0)), static_cast<uint64_t>(s.Int(1))};
+}
+
 StatusOr<ArtifactRecord> JobCatalogue::GetArtifact(const std::string& job_id, const std::string& artifact_id) {
   std::lock_guard lock(mutex_);
   {

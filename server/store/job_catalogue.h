@@ -36,6 +36,11 @@ struct ArtifactRecord {
   int64_t create_time_ms = 0;
 };
 
+struct ArtifactTotals {
+  uint64_t count = 0;
+  uint64_t bytes = 0;
+};
+
 struct JobRecord {
   std::string job_id;
   std::string kind;
@@ -85,6 +90,8 @@ class JobCatalogue {
   StatusOr<ArtifactRecord> AddArtifact(ArtifactRecord artifact, const JobProgress& progress,
                                        CloudRecord* scan_cloud = nullptr);
   StatusOr<ArtifactRecord> GetArtifact(const std::string& job_id, const std::string& artifact_id);
+  // How many artifacts a job has stored and their bytes (zeros for an unknown job).
+  StatusOr<ArtifactTotals> CountArtifacts(const std::string& job_id);
   // Deletes an ended job and its artifact rows; returns the blobs they named (for CollectBlobs).
   // NOT_FOUND for an unknown job, FAILED_PRECONDITION while it is queued or running.
   StatusOr<std::vector<std::string>> DeleteJob(const std::string& job_id);

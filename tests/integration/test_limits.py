@@ -1,0 +1,217 @@
+"""Every bound of vscand answers RESOURCE_EXHAUSTED naming its flag, and changes nothing: robot
+bundles, uploaded clouds, the memory of one request, a job's artifacts and bytes, the data
+directory's bytes (across a restart)."""
+
+import json
+import os
+import re
+import shutil
+import subprocess
+import tempfile
+import unittest
+
+import grpc
+import numpy as np
+
+from harness import DATA, SOURCE_DIR, VSCAN, Server, icosphere_ply
+from vscan import Client, VscanError
+from vscan.v1 import job_pb2
+
+C = grpc.StatusCode
+PANDA = os.path.join(DATA, "robots", "panda")
+UR5 = os.path.join(DATA, "robots", "ur5")
+QUICK_PLAN = os.path.join(SOURCE_DIR, "examples", "campaigns", "bunny_panda_quick.yaml")
+
+
+def binary_cloud(points):
+    header = ("ply\nformat binary_little_endian 1.0\n"
+              f"element vertex {points}\nproperty float x\nproperty float y\nproperty float z\nend_header\n")
+    xyz = np.zeros((points, 3), dtype="<f4")
+    xyz[:, 0] = np.arange(points) * 1e-3
+    xyz[:, 2] = 0.5
+    return header.encode() + xyz.tobytes()
+
+
+def peak_rss_mib(pid):
+    with open(f"/proc/{pid}/status") as f:
+        for line in f:
+            if line.startswith("VmHWM"):
+                return int(line.split()[1]) / 1024
+    raise RuntimeError("no VmHWM")
+
+
+def current_rss_mib(pid):
+    with open(f"/proc/{pid}/status") as f:
+        for line in f:
+            if line.startswith("VmRSS"):
+                return int(line.split()[1]) / 1024
+    raise RuntimeError("no VmRSS")
+
+
+class LimitTest(unittest.TestCase):
+    def start(self, *args):
+        server = Server(extra_args=args).start()
+        self.addCleanup(server.cleanup)
+        return server
+
+    def refused(self, call, *needles):
+        with self.assertRaises(VscanError) as err:
+            call()
+        self.assertEqual(err.exception.code, C.RESOURCE_EXHAUSTED, err.exception.message)
+        for needle in needles:
+            self.assertIn(needle, err.exception.message)
+        return err.exception.message
+
+    def cli(self, server, *args, timeout=300):
+        return subprocess.run([VSCAN, "--server", server.address, *args], capture_output=True, text=True,
+                              timeout=timeout)
+
+
+class RobotAndCloudLimits(LimitTest):
+    def test_robot_bundle_bytes_and_files(self):
+        server = self.start("--max-robot-bundle-mib", "1", "--max-robot-files", "8")
+        with tempfile.TemporaryDirectory() as tmp, Client(server.address) as client:
+            padded = os.path.join(tmp, "padded")
+            shutil.copytree(UR5, padded)
+            with open(os.path.join(padded, "padding.bin"), "wb") as f:
+                f.write(os.urandom(1 << 20))
+            self.refused(lambda: client.upload_robot(padded, base="base_link", tip="tool0"), "--max-robot-bundle-mib")
+            # The Panda's bundle holds 13 files.
+            self.refused(lambda: client.upload_robot(PANDA, base="panda_link0", tip="panda_hand_tcp"),
+                         "files[8].path", "--max-robot-files")
+            self.assertEqual(list(client.list_robots()), [])
+            robot = client.upload_robot(UR5, base="base_link", tip="tool0")
+            self.assertEqual([r.robot_id for r in client.list_robots()], [robot.robot_id])
+
+    def test_cloud_points(self):
+        server = self.start("--max-cloud-points", "1000")
+        with Client(server.address) as client:
+            self.refused(lambda: client.upload_cloud(data=binary_cloud(1001), format="ply"), "cloud data",
+                         "1001 points", "--max-cloud-points")
+            self.assertEqual(list(client.list_clouds()), [])
+            cloud = client.upload_cloud(data=binary_cloud(1000), format="ply")
+            self.assertEqual(cloud.points, 1000)
+
+
+class RequestMemory(LimitTest):
+    def bunny_scene(self, client):
+        mesh = client.upload_mesh(os.path.join(DATA, "meshes", "bunny", "bunny_zipper_res2.ply"), unit="m")
+        scene = client.create_scene("memory")
+        client.add_object(scene.scene_id, mesh.mesh_id, scale=5.0)
+        return scene.scene_id
+
+    def test_scans_past_the_memory_bound_are_refused_before_they_run(self):
+        server = self.start("--max-request-memory-mib", "64")
+        noise = None
+        with Client(server.address) as client:
+            scene_id = self.bunny_scene(client)
+            view = dict(eye=(0, -1.2, 0.3), target=(0, 0, 0.3), hfov_deg=40)
+            # Streamed ray casts hold a window of rows, whatever their size.
+            streamed = client.scan(scene_id, 2048, 2048, **view)
+            self.assertGreater(len(streamed.positions), 100000)
+            noise = [p for p in client.list_sensor_presets() if p.name == "phoxi-m-class"][0].noise
+            details = self.refused(lambda: client.scan(scene_id, 2048, 2048, noise=noise, **view), "sensor",
+                                   "--max-request-memory-mib")
+            self.assertRegex(details, r"needs about \d+ MiB")
+            small = client.scan(scene_id, 256, 256, noise=noise, **view)
+            self.assertGreater(len(small.positions), 1000)
+        # A campaign is refused when it starts, not at its first scan.
+        with tempfile.TemporaryDirectory() as tmp:
+            plan = os.path.join(tmp, "big.yaml")
+            with open(QUICK_PLAN) as f:
+                text = f.read().replace("../../", SOURCE_DIR + "/")
+            with open(plan, "w") as f:
+                f.write(text.replace("width: 320, height: 240", "width: 4000, height: 3000"))
+            out = self.cli(server, "campaign", "run", plan)
+            self.assertNotEqual(out.returncode, 0)
+            self.assertIn("sensor: each scan of the campaign needs about", out.stderr)
+            self.assertIn("--max-request-memory-mib", out.stderr)
+        with Client(server.address) as client:
+            self.assertEqual(list(client.list_jobs()), [])
+
+    def test_the_estimate_bounds_what_a_whole_cloud_scan_takes(self):
+        # The estimate, read from the refusal of a server that allows 1 MiB.
+        view = dict(eye=(0, -0.35, 0.3), target=(0, 0, 0.3), hfov_deg=30)
+        tiny = self.start("--max-request-memory-mib", "1")
+        with Client(tiny.address) as client:
+            scene_id = self.bunny_scene(client)
+            noise = [p for p in client.list_sensor_presets() if p.name == "phoxi-m-class"][0].noise
+            details = self.refused(lambda: client.scan(scene_id, 1600, 1200, noise=noise, **view))
+        estimate = int(re.search(r"needs about (\d+) MiB", details).group(1))
+        # The same scan on a server with the default bound, measured by its peak resident memory.
+        server = self.start()
+        with Client(server.address) as client:
+            scene_id = self.bunny_scene(client)
+            client.scan(scene_id, 64, 64, noise=noise, **view)
+            before = current_rss_mib(server.process.pid)
+            result = client.scan(scene_id, 1600, 1200, noise=noise, **view)
+            grown = peak_rss_mib(server.process.pid) - before
+        self.assertGreater(len(result.positions), 0.3 * 1600 * 1200, "the bunny should fill most of the view")
+        self.assertLessEqual(grown, estimate, f"measured {grown:.0f} MiB, estimated {estimate} MiB")
+
+
+class JobLimits(LimitTest):
+    def run_quick(self, server):
+        with tempfile.TemporaryDirectory() as tmp:
+            out = self.cli(server, "--json", "campaign", "run", QUICK_PLAN, "-o", os.path.join(tmp, "out"))
+        with Client(server.address) as client:
+            jobs = list(client.list_jobs())
+            self.assertEqual(len(jobs), 1, out.stderr)
+            return out, client.get_job(jobs[0].job_id)
+
+    def test_artifacts_per_job(self):
+        server = self.start("--max-job-artifacts", "3")
+        out, job = self.run_quick(server)
+        self.assertNotEqual(out.returncode, 0)
+        self.assertEqual(job.state, job_pb2.JOB_STATE_FAILED)
+        self.assertIn("--max-job-artifacts", job.message)
+        self.assertEqual(len(job.artifacts), 3)
+
+    def test_bytes_per_job(self):
+        server = self.start("--max-job-mib", "1")
+        out, job = self.run_quick(server)
+        self.assertNotEqual(out.returncode, 0)
+        self.assertEqual(job.state, job_pb2.JOB_STATE_FAILED)
+        self.assertIn("--max-job-mib", job.message)
+        self.assertGreaterEqual(len(job.artifacts), 1)
+        self.assertLessEqual(sum(a.size_bytes for a in job.artifacts), 1 << 20)
+
+
+class DataDirectoryLimit(LimitTest):
+    def test_bound_holds_across_a_restart_and_frees_with_deletes(self):
+        server = self.start("--max-data-mib", "2")
+        meshes = []
+        with Client(server.address) as client, tempfile.TemporaryDirectory() as tmp:
+            details = None
+            for i in range(30):
+                path = os.path.join(tmp, f"sphere{i}.ply")
+                with open(path, "wb") as f:
+                    f.write(icosphere_ply(0.1 + 0.01 * i, (0, 0, 0), subdivisions=5))
+                try:
+                    meshes.append(client.upload_mesh(path, unit="m"))
+                except VscanError as err:
+                    self.assertEqual(err.code, C.RESOURCE_EXHAUSTED, err.message)
+                    details = err.message
+                    break
+            self.assertIsNotNone(details, "30 meshes fit in 2 MiB")
+            self.assertIn("--max-data-mib", details)
+            self.assertGreaterEqual(len(meshes), 2)
+            listed = {m.mesh_id: m for m in client.list_meshes()}
+            self.assertEqual(set(listed), {m.mesh_id for m in meshes})
+            server.stop()
+            server.start()
+            with Client(server.address) as again:
+                self.assertEqual({m.mesh_id for m in again.list_meshes()}, set(listed))
+                # The bound counts what is on disk after a restart too.
+                self.refused(lambda: again.upload_mesh(path, unit="m"), "--max-data-mib")
+                again.delete_mesh(meshes[0].mesh_id)
+                again.delete_mesh(meshes[1].mesh_id)
+                stored = again.upload_mesh(path, unit="m")
+                self.assertEqual(stored.triangle_count, meshes[0].triangle_count)
+        blobs = os.path.join(server.data_dir, "store", "blobs")
+        total = sum(os.path.getsize(os.path.join(d, f)) for d, _, files in os.walk(blobs) for f in files)
+        self.assertLessEqual(total, 2 << 20)
+
+
+if __name__ == "__main__":
+    unittest.main()
