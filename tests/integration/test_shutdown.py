@@ -100,7 +100,7 @@ class ShutdownTest(unittest.TestCase):
         return code
 
     def test_sigterm_cancels_a_busy_scan(self):
-        server = self.start_server("--max-rays", str(1 << 25))
+        server = self.start_server("--max-rays", str(1 << 25), "--max-request-memory-mib", "8192")
         channel = server.channel()
         self.addCleanup(channel.close)
         mesh = upload(channel, SPHERE)
