@@ -2,18 +2,22 @@
 every log line of a call carries the request id its client sent."""
 
 import json
+import os
 import re
 import socket
+import subprocess
+import tempfile
 import unittest
 import urllib.request
 
 import grpc
 
-from harness import Server, icosphere_ply, look_at, pinhole
+from harness import SOURCE_DIR, VSCAN, Server, icosphere_ply, look_at, pinhole
 from vscan.v1 import common_pb2, scan_pb2, scan_pb2_grpc, scene_pb2, scene_pb2_grpc
 
 SCAN = "/vscan.v1.ScanService/Scan"
 GET_SCENE = "/vscan.v1.SceneService/GetScene"
+QUICK_PLAN = os.path.join(SOURCE_DIR, "examples", "campaigns", "bunny_panda_quick.yaml")
 SAMPLE = re.compile(r'^([a-zA-Z_:][a-zA-Z0-9_:]*)(?:\{(.*)\})? (\S+)$')
 LABEL = re.compile(r'([a-zA-Z_][a-zA-Z0-9_]*)="((?:[^"\\]|\\.)*)"')
 
@@ -157,6 +161,39 @@ class ObservabilityTest(unittest.TestCase):
         self.assertIn(fresh, by_id)
         self.assertNotIn("has spaces \"and\" quotes", by_id)
 
+
+    def test_job_gauge_and_ended_counts_follow_campaigns(self):
+        before, _ = self.scrape()
+        with tempfile.TemporaryDirectory() as tmp:
+            done = self.cli("--json", "campaign", "run", QUICK_PLAN, "-o", os.path.join(tmp, "quick"))
+            self.assertEqual(done.returncode, 0, done.stderr + self.server.log())
+            # A long campaign: many table angles at a larger image, cancelled while it runs.
+            with open(QUICK_PLAN) as f:
+                text = f.read().replace("../../", SOURCE_DIR + "/")
+            text = text.replace("rotations: 3", "rotations: 200").replace("width: 320, height: 240",
+                                                                         "width: 1280, height: 960")
+            plan = os.path.join(tmp, "long.yaml")
+            with open(plan, "w") as f:
+                f.write(text)
+            started = self.cli("--json", "campaign", "run", plan, "--detach")
+            self.assertEqual(started.returncode, 0, started.stderr + self.server.log())
+            job_id = json.loads(started.stdout)["job"]["jobId"]
+            running, _ = self.scrape()
+            self.assertEqual(value(running, "vscan_jobs", kind="campaign", state="running"), 1)
+            self.assertEqual(self.cli("campaign", "cancel", job_id).returncode, 0)
+            self.assertNotEqual(self.cli("campaign", "watch", job_id).returncode, 0)  # it ended cancelled
+        after, _ = self.scrape()
+        self.assertEqual(value(after, "vscan_jobs", kind="campaign", state="running"), 0)
+        for state, moved in (("succeeded", 1), ("cancelled", 1), ("failed", 0)):
+            self.assertEqual(value(after, "vscan_jobs_ended_total", kind="campaign", state=state) -
+                             value(before, "vscan_jobs_ended_total", kind="campaign", state=state), moved, state)
+        # The quick campaign's six steps count as scans, beside those of the cancelled one.
+        self.assertGreaterEqual(value(after, "vscan_scans_total", backend="raycast", result="ok") -
+                                value(before, "vscan_scans_total", backend="raycast", result="ok"), 6)
+
+    def cli(self, *args):
+        return subprocess.run([VSCAN, "--server", self.server.address, *args], capture_output=True, text=True,
+                              timeout=300)
 
 if __name__ == "__main__":
     unittest.main()
