@@ -32,7 +32,7 @@ void AddLimitOptions(CLI::App& app, service::Limits& limits, LimitFlagsMib& mib)
       ->capture_default_str()->check(CLI::Range(1, 1 << 30));
   app.add_option("--max-data-mib", mib.data,
                  "Most bytes the data directory may hold (blobs and catalogue); 0: as much as the disk takes")
-      ->capture_default_str()->check(CLI::Range(0, 1 << 30));
+      ->envname("VSCAN_MAX_DATA_MIB")->capture_default_str()->check(CLI::Range(0, 1 << 30));
 }
 
 void ApplyLimitFlags(const LimitFlagsMib& mib, service::Limits& limits) {
