@@ -32,20 +32,13 @@ def binary_cloud(points):
     return header.encode() + xyz.tobytes()
 
 
-def peak_rss_mib(pid):
+def status_mib(pid, key):
+    """A memory line of /proc/PID/status (VmHWM: the peak resident size, VmRSS: the current one), in MiB."""
     with open(f"/proc/{pid}/status") as f:
         for line in f:
-            if line.startswith("VmHWM"):
+            if line.startswith(key + ":"):
                 return int(line.split()[1]) / 1024
-    raise RuntimeError("no VmHWM")
-
-
-def current_rss_mib(pid):
-    with open(f"/proc/{pid}/status") as f:
-        for line in f:
-            if line.startswith("VmRSS"):
-                return int(line.split()[1]) / 1024
-    raise RuntimeError("no VmRSS")
+    raise RuntimeError(f"no {key}")
 
 
 class LimitTest(unittest.TestCase):
@@ -143,9 +136,9 @@ class RequestMemory(LimitTest):
         with Client(server.address) as client:
             scene_id = self.bunny_scene(client)
             client.scan(scene_id, 64, 64, noise=noise, **view)
-            before = current_rss_mib(server.process.pid)
+            before = status_mib(server.process.pid, "VmRSS")
             result = client.scan(scene_id, 1600, 1200, noise=noise, **view)
-            grown = peak_rss_mib(server.process.pid) - before
+            grown = status_mib(server.process.pid, "VmHWM") - before
         self.assertGreater(len(result.positions), 0.3 * 1600 * 1200, "the bunny should fill most of the view")
         self.assertLessEqual(grown, estimate, f"measured {grown:.0f} MiB, estimated {estimate} MiB")
 
