@@ -9,6 +9,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "store/cloud_catalogue.h"
@@ -35,6 +36,11 @@ struct ArtifactRecord {
   std::string info;  // serialized description (v1::ScanArtifactInfo for campaign scans), may be empty
   int64_t create_time_ms = 0;
 };
+
+struct JobRecord;
+// Whether a run may continue job as ReopenJob would: FAILED_PRECONDITION naming job_id for a job of
+// another kind than kind, one that has not ended, or one that succeeded.
+Status CheckResumable(const JobRecord& job, const std::string& kind);
 
 struct JobRecord {
   std::string job_id;
@@ -85,6 +91,14 @@ class JobCatalogue {
   StatusOr<ArtifactRecord> AddArtifact(ArtifactRecord artifact, const JobProgress& progress,
                                        CloudRecord* scan_cloud = nullptr);
   StatusOr<ArtifactRecord> GetArtifact(const std::string& job_id, const std::string& artifact_id);
+  // Puts an ended job of kind back to QUEUED with message, for a run that continues it: keeps
+  // the artifacts that describe a scan (their info is set) and deletes the others (its reports,
+  // written anew); returns the job as reopened and the blobs the deleted rows named (for
+  // CollectBlobs). NOT_FOUND for an unknown job; FAILED_PRECONDITION for another kind, a job that
+  // has not ended, or one that succeeded (CheckResumable).
+  StatusOr<std::pair<JobRecord, std::vector<std::string>>> ReopenJob(const std::string& job_id,
+                                                                     const std::string& kind,
+                                                                     const std::string& message);
   // Deletes an ended job and its artifact rows; returns the blobs they named (for CollectBlobs).
   // NOT_FOUND for an unknown job, FAILED_PRECONDITION while it is queued or running.
   StatusOr<std::vector<std::string>> DeleteJob(const std::string& job_id);
