@@ -1,4 +1,4 @@
-// `vscan campaign run|list|get|watch|cancel|delete|artifacts`.
+// `vscan campaign run|resume|list|get|watch|cancel|delete|artifacts`.
 
 #include <algorithm>
 #include <chrono>
@@ -124,6 +124,54 @@ void AddRun(CLI::App& group, Context& ctx) {
   OnRun(cmd, ctx, [&ctx, args] { return RunCampaign(ctx, *args); });
 }
 
+struct ResumeArgs {
+  std::string job_id;
+  std::string out_dir;
+  bool watch = false;
+  bool no_download = false;
+};
+
+int ResumeCampaign(Context& ctx, const ResumeArgs& args) {
+  const auto started = std::chrono::steady_clock::now();
+  auto* client = ctx.GetClient();
+  if (!client) return ctx.last_exit();
+  const auto job = client->ResumeJob(args.job_id);
+  if (!job.ok()) return ctx.ServerError(job.status());
+  const size_t stored = static_cast<size_t>(std::count_if(job->artifacts().begin(), job->artifacts().end(),
+                                                          [](const v1::Artifact& a) { return a.has_scan(); }));
+  const std::string what = "resumed campaign job " + job->job_id() + " (" + std::to_string(stored) + " scans stored, " +
+                           std::to_string(job->steps_total()) + " steps)";
+  if (!args.watch) {
+    if (ctx.json()) ctx.EmitJson("{\"job\":" + ToJson(*job) + "}");
+    ctx.Done(what, job->job_id());
+    return kExitOk;
+  }
+  ctx.Say(what);
+  WatchResult watched;
+  if (const int rc = WatchJobToEnd(ctx, job->job_id(), &watched); rc != kExitOk) return rc;
+  std::string out_dir;
+  std::vector<std::string> files;
+  if (!args.no_download) {
+    const std::string& named = job->campaign().name();
+    const std::string name = named.empty() ? "campaign" : named;
+    out_dir = args.out_dir.empty() ? name + "-" + job->job_id() : args.out_dir;
+    if (const int rc = DownloadArtifacts(ctx, watched.job, out_dir, &files); rc != kExitOk) return rc;
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+  return Finish(ctx, watched, out_dir, files, "", seconds);
+}
+
+void AddResume(CLI::App& group, Context& ctx) {
+  auto args = std::make_shared<ResumeArgs>();
+  auto* cmd = group.add_subcommand(
+      "resume", "Run an interrupted, cancelled or failed campaign again as the same job: only its missing steps");
+  cmd->add_option("JOB", args->job_id, "Job id")->required();
+  cmd->add_flag("--watch", args->watch, "Follow the job until it ends and download its files");
+  cmd->add_option("-o,--output", args->out_dir, "With --watch: directory for the files (default: ./<name>-<job id>)");
+  cmd->add_flag("--no-download", args->no_download, "With --watch: leave the files on the server");
+  OnRun(cmd, ctx, [&ctx, args] { return ResumeCampaign(ctx, *args); });
+}
+
 void AddGet(CLI::App& group, Context& ctx) {
   auto* cmd = group.add_subcommand("get", "Show a campaign job: state, steps, artifacts");
   auto id = std::make_shared<std::string>();
@@ -166,6 +214,7 @@ void AddCampaignCommands(CLI::App& app, Context& ctx) {
   auto* group = app.add_subcommand("campaign", "Scan campaigns from YAML plans: run, follow, fetch the scans");
   group->require_subcommand(1);
   AddRun(*group, ctx);
+  AddResume(*group, ctx);
   AddJobList(*group, ctx, "campaign", "List campaign jobs");
   AddGet(*group, ctx);
   AddWatch(*group, ctx);

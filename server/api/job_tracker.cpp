@@ -4,6 +4,8 @@
 #include <cctype>
 #include <map>
 
+#include <spdlog/spdlog.h>
+
 #include "api/job_convert.h"
 #include "observability/server_metrics.h"
 #include "store/ids.h"
@@ -144,6 +146,23 @@ StatusOr<v1::Job> JobTracker::Create(const std::string& kind, const std::string&
   return job;
 }
 
+StatusOr<store::JobRecord> JobTracker::Reopen(const std::string& job_id, const std::string& kind) {
+  ASSIGN_OR_RETURN(auto reopened, catalogue_.ReopenJob(job_id, kind, "queued to resume"));
+  auto& [record, dropped] = reopened;
+  v1::Job job;
+  RETURN_IF_ERROR(ToProto(record, &job));
+  {
+    std::lock_guard lock(mutex_);
+    live_[job_id] = std::make_shared<LiveJob>(job, record.last_sequence + 1);
+  }
+  // The reopened job no longer names them; a failure leaves files the next collection finds.
+  const auto collected = store::CollectBlobs(catalogue_.database(), blobs_, dropped);
+  if (!collected.ok()) {
+    spdlog::warn("job {}: reports of its earlier run kept: {}", job_id, collected.status().ToString());
+  }
+  return std::move(record);
+}
+
 std::shared_ptr<LiveJob> JobTracker::Live(const std::string& job_id) {
   std::lock_guard lock(mutex_);
   auto it = live_.find(job_id);
@@ -257,7 +276,8 @@ Status JobTracker::End(const std::string& job_id, const JobEventUpdate& update) 
   // memory, so that it does not read as running again (the next start marks it INTERRUPTED).
   if (stored.ok()) {
     std::lock_guard lock(mutex_);
-    live_.erase(job_id);
+    // Once the end is stored the job may be reopened at once: drop only this run's entry.
+    if (auto it = live_.find(job_id); it != live_.end() && it->second == live) live_.erase(it);
   }
   return stored;
 }

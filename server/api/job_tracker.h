@@ -44,7 +44,9 @@ class JobWatcher {
 // attached watcher has yet to take, so a long job with no slow watcher holds none.
 class LiveJob {
  public:
-  explicit LiveJob(v1::Job job) : job_(std::move(job)) {}
+  // first_sequence: the sequence its next event takes (a reopened job continues its numbering).
+  explicit LiveJob(v1::Job job, uint64_t first_sequence = 1)
+      : job_(std::move(job)), first_sequence_(first_sequence) {}
 
   // The whole job as it is now.
   v1::Job Snapshot() const;
@@ -96,6 +98,10 @@ class JobTracker {
   StatusOr<v1::Job> CreateModel(const v1::ModelSpec& spec, uint32_t steps_total);
   StatusOr<v1::Job> CreateBinFill(const v1::BinFillSpec& spec, uint32_t steps_total);
   StatusOr<v1::Job> CreateDataset(const v1::DatasetSpec& spec, const std::string& name, uint32_t steps_total);
+  // Puts an ended job of kind back to QUEUED and keeps it live again, its next event numbered after
+  // its last (JobCatalogue::ReopenJob says what it keeps and refuses). The reports it drops free
+  // the blobs nothing else names.
+  StatusOr<store::JobRecord> Reopen(const std::string& job_id, const std::string& kind);
   // The job as it is: from memory while live, else from the catalogue.
   StatusOr<v1::Job> Get(const std::string& job_id);
   // Null once the job has ended (ended but not null while its end could not be stored).

@@ -35,12 +35,14 @@ JobRunner::CancelOutcome JobRunner::Cancel(const std::string& job_id) {
   Dropped dropped;
   {
     std::lock_guard lock(mutex_);
-    if (auto it = running_.find(job_id); it != running_.end()) {
-      it->second->RequestStop(StopReason::kCancelled);
+    // The queue first: a resumed job may wait there while its earlier run's thread still returns.
+    auto it = std::find_if(queue_.begin(), queue_.end(), [&](const Entry& e) { return e.job_id == job_id; });
+    if (it == queue_.end()) {
+      auto running = running_.find(job_id);
+      if (running == running_.end()) return CancelOutcome::kUnknown;
+      running->second->RequestStop(StopReason::kCancelled);
       return CancelOutcome::kSignalled;
     }
-    auto it = std::find_if(queue_.begin(), queue_.end(), [&](const Entry& e) { return e.job_id == job_id; });
-    if (it == queue_.end()) return CancelOutcome::kUnknown;
     dropped = std::move(it->dropped);
     queue_.erase(it);
   }
@@ -92,7 +94,8 @@ void JobRunner::Run() {
     }
     entry.work(*control);
     std::lock_guard lock(mutex_);
-    running_.erase(entry.job_id);
+    // A resumed job of the same id may run on another thread by now.
+    if (auto it = running_.find(entry.job_id); it != running_.end() && it->second == control) running_.erase(it);
   }
 }
 

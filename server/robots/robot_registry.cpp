@@ -31,9 +31,14 @@ StatusOr<store::RobotRecord> RobotRegistry::AddRobot(RobotUpload upload) {
   store::RobotRecord record;
   {
     std::lock_guard lock(store_mutex_);
-    ASSIGN_OR_RETURN(const store::BlobPin pin, blobs_.PutPinned(imported.bundle_blob));
-    imported.record.bundle_sha256 = pin.sha256();
-    ASSIGN_OR_RETURN(record, catalogue_.InsertRobot(std::move(imported.record)));
+    // A full disk or a failing store names the robot it was storing.
+    const std::string storing = "storing robot '" + imported.record.name + "': ";
+    auto pin = blobs_.PutPinned(imported.bundle_blob);
+    if (!pin.ok()) return Status(pin.status().code(), storing + pin.status().message());
+    imported.record.bundle_sha256 = pin->sha256();
+    auto inserted = catalogue_.InsertRobot(std::move(imported.record));
+    if (!inserted.ok()) return Status(inserted.status().code(), storing + inserted.status().message());
+    record = std::move(inserted).value();
   }
   std::lock_guard lock(cache_mutex_);
   if (chains_.size() >= cache_entries_) chains_.erase(chains_.begin());

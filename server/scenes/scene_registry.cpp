@@ -47,14 +47,21 @@ StatusOr<store::MeshRecord> SceneRegistry::AddMesh(std::string_view file_bytes, 
                        ? geometry::ImportMeshIsolated(file_bytes, upload.format, metres_per_unit, *import_sandbox_)
                        : geometry::ImportMesh(file_bytes, upload.format, metres_per_unit));
   const std::string encoded = geometry::EncodeMesh(mesh);
+  // A full disk or a failing store names the mesh it was storing.
+  auto storing = [&](const Status& status) {
+    return Status(status.code(), "storing mesh '" + upload.name + "': " + status.message());
+  };
   // Pinned until its row is stored, so that a concurrent delete cannot collect it meanwhile.
-  ASSIGN_OR_RETURN(const store::BlobPin pin, blobs_.PutPinned(encoded));
-  const std::string& sha = pin.sha256();
+  auto pin = blobs_.PutPinned(encoded);
+  if (!pin.ok()) return storing(pin.status());
+  const std::string& sha = pin->sha256();
 
   store::MeshRecord record = MeshRecordOf(mesh, upload.name, sha);
   record.source_unit = upload.unit;
   record.source_scale = upload.scale;
-  ASSIGN_OR_RETURN(store::MeshRecord stored, catalogue_.InsertMesh(record));
+  auto inserted = catalogue_.InsertMesh(record);
+  if (!inserted.ok()) return storing(inserted.status());
+  store::MeshRecord stored = std::move(inserted).value();
   spdlog::info("mesh {} '{}' stored: {} triangles, blob {}", stored.mesh_id, stored.name, stored.triangle_count,
                sha.substr(0, 12));
   return stored;

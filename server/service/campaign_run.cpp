@@ -31,14 +31,15 @@ std::string Where(uint32_t viewpoint, double angle_deg) {
 class CampaignRun {
  public:
   CampaignRun(ServiceContext& context, JobRecorder& recorder, const std::string& job_id, const CampaignPlan& plan,
-              jobs::JobControl& control)
-      : context_(context), recorder_(recorder), job_id_(job_id), plan_(plan), control_(control) {}
+              jobs::JobControl& control, const StoredCampaignScans& stored)
+      : context_(context), recorder_(recorder), job_id_(job_id), plan_(plan), control_(control), stored_(stored) {}
 
   void Run() {
     const uint32_t total = plan_.scans_total();
     Status status = Event(std::to_string(total) + " scans planned (" + std::to_string(plan_.viewpoints.size()) +
                           " viewpoints x " + std::to_string(plan_.rotations) + " rotations)" +
-                          (plan_.model ? ModelIntent(*plan_.model) : ""));
+                          (plan_.model ? ModelIntent(*plan_.model) : "") +
+                          (stored_.empty() ? "" : "; resumed, " + std::to_string(stored_.size()) + " scans stored"));
     if (status.ok() && plan_.model) {
       model_.emplace(context_, recorder_, job_id_, *plan_.model, control_);
       status = model_->Prepare();
@@ -92,6 +93,10 @@ class CampaignRun {
       for (uint32_t v = 0; v < viewpoints; ++v) {
         if (control_.stop_requested()) return Status::Ok();
         const double angle = plan_.AngleDeg(r);
+        if (auto stored = stored_.find(r * viewpoints + v); stored != stored_.end()) {
+          RETURN_IF_ERROR(PassOver(stored->second));
+          continue;
+        }
         if (!solutions[v]) {
           auto solved = SolveViewpoint(mounted, plan_.viewpoints[v]);
           if (!solved.ok()) return Status(solved.status().code(), Where(v, angle) + ": " + solved.status().message());
@@ -106,6 +111,32 @@ class CampaignRun {
       }
     }
     return Status::Ok();
+  }
+
+  std::string CapturedMessage(const CampaignStepRecord& record) const {
+    return "scan " + std::to_string(captured_) + " captured (step " + std::to_string(record.step + 1) + " of " +
+           std::to_string(plan_.scans_total()) + "): " + Where(record.viewpoint_index, record.table_angle_deg) + ", " +
+           std::to_string(record.points) + " points";
+  }
+
+  // A step an earlier run stored: counted and reported as it was, not scanned again; a campaign
+  // that models its scans aligns it read back from the store.
+  Status PassOver(const StoredCampaignScan& stored) {
+    CampaignStepRecord record = stored.record;
+    record.seed = StepSeed(plan_.seed, record.step);
+    record.outcome = "captured";
+    record.has_arm = true;
+    ++captured_;
+    record.message = CapturedMessage(record);
+    records_.push_back(record);
+    if (!model_) return Status::Ok();
+    ASSIGN_OR_RETURN(const std::string ply, context_.blobs.Get(stored.sha256));
+    auto points = ParsePly(ply, record.file, ply.size());
+    if (!points.ok()) {
+      return Status(points.status().code(), "cannot read " + record.file + ": " + points.status().message());
+    }
+    const store::CloudRecord cloud = ScanCloud(record, points->fields);
+    return model_->AlignCaptured(ModelCloudOf(cloud, record), *points, static_cast<uint32_t>(records_.size()));
   }
 
   Status Record(uint32_t step, uint32_t r, uint32_t v, double angle, const ViewpointSolution& solution,
@@ -140,9 +171,7 @@ class CampaignRun {
     ASSIGN_OR_RETURN(const std::string ply, EncodePly(result.cloud));
     const store::CloudRecord cloud = ScanCloud(record, result.cloud.fields);
     ++captured_;
-    record.message = "scan " + std::to_string(captured_) + " captured (step " + std::to_string(step + 1) + " of " +
-                     std::to_string(plan_.scans_total()) + "): " + Where(v, angle) + ", " +
-                     std::to_string(record.points) + " points";
+    record.message = CapturedMessage(record);
     records_.push_back(record);
     auto artifact = recorder_.RecordArtifact(record.file, kPlyMediaType, ply, &records_.back(), &cloud,
                                              Update(store::JobState::kRunning, record.message, true));
@@ -205,6 +234,7 @@ class CampaignRun {
   const std::string job_id_;
   const CampaignPlan& plan_;
   jobs::JobControl& control_;
+  const StoredCampaignScans& stored_;
   std::vector<CampaignStepRecord> records_;
   uint32_t captured_ = 0;
   std::optional<CampaignModel> model_;
@@ -224,8 +254,8 @@ std::string ScanArtifactName(uint32_t rotation, uint32_t viewpoint) {
 }
 
 void RunCampaign(ServiceContext& context, JobRecorder& recorder, const std::string& job_id, const CampaignPlan& plan,
-                 jobs::JobControl& control) {
-  CampaignRun(context, recorder, job_id, plan, control).Run();
+                 jobs::JobControl& control, const StoredCampaignScans& stored) {
+  CampaignRun(context, recorder, job_id, plan, control, stored).Run();
 }
 
 }  // namespace vscan::service

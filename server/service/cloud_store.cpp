@@ -57,9 +57,13 @@ StatusOr<store::CloudRecord> ImportCloud(ServiceContext& context, std::string_vi
   if (upload.camera) record.camera = ToCloudCamera(*upload.camera);
   cloud = PointCloud();
   // Pinned until the row names it, so that a concurrent delete of the same bytes cannot collect it.
-  ASSIGN_OR_RETURN(const store::BlobPin pin, context.blobs.PutPinned(ply));
-  record.sha256 = pin.sha256();
-  return context.clouds.Insert(std::move(record));
+  const std::string storing = "storing cloud '" + record.name + "': ";
+  auto pin = context.blobs.PutPinned(ply);
+  if (!pin.ok()) return Status(pin.status().code(), storing + pin.status().message());
+  record.sha256 = pin->sha256();
+  auto inserted = context.clouds.Insert(std::move(record));
+  if (!inserted.ok()) return Status(inserted.status().code(), storing + inserted.status().message());
+  return inserted;
 }
 
 StatusOr<StoredCloud> LoadCloud(ServiceContext& context, const std::string& cloud_id) {

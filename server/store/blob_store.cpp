@@ -2,6 +2,7 @@
 
 #include <fcntl.h>
 #include <sys/stat.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 #include <openssl/evp.h>
@@ -16,14 +17,16 @@
 namespace vscan::store {
 namespace {
 
-// Storage trouble the caller may retry after (disk full, I/O, permissions) is UNAVAILABLE;
-// anything else from the OS points at a bug or a broken setup.
+// A full disk or quota is RESOURCE_EXHAUSTED (free space, then retry); other storage trouble
+// the caller may retry after (I/O, permissions) is UNAVAILABLE; anything else from the OS points
+// at a bug or a broken setup.
 Status OsError(const std::string& what, const std::filesystem::path& path, int err) {
   std::string message = what + " '" + path.string() + "': " + std::strerror(err);
   switch (err) {
-    case EIO:
     case ENOSPC:
     case EDQUOT:
+      return ResourceExhausted(what + " '" + path.string() + "': no space left (" + std::strerror(err) + ")");
+    case EIO:
     case EROFS:
     case EACCES:
     case EPERM:
@@ -90,6 +93,10 @@ Status WriteAll(int fd, std::string_view bytes, const std::filesystem::path& pat
   return Status::Ok();
 }
 
+// Space a blob leaves free on its filesystem, so that the catalogue can still record deletes and
+// the ends of jobs (and open at all) once blobs have filled the disk.
+constexpr uint64_t kCatalogueReserveBytes = 1u << 20;
+
 // Writes bytes to a fresh temp file in dir and syncs it; returns the temp file's path.
 StatusOr<std::filesystem::path> WriteTempFile(const std::filesystem::path& dir, const std::string& id,
                                               std::string_view bytes) {
@@ -97,6 +104,14 @@ StatusOr<std::filesystem::path> WriteTempFile(const std::filesystem::path& dir, 
   Fd fd(::mkostemp(name.data(), O_CLOEXEC));
   if (fd.get() < 0) return OsError("create temp file in", dir, errno);
   std::filesystem::path tmp(name);
+  struct statvfs fs {};
+  if (::fstatvfs(fd.get(), &fs) == 0 &&
+      uint64_t{fs.f_bavail} * fs.f_frsize < bytes.size() + kCatalogueReserveBytes) {
+    ::unlink(tmp.c_str());
+    return ResourceExhausted("write '" + tmp.string() + "': no space left (" + std::to_string(bytes.size()) +
+                             " bytes to write, " + std::to_string(uint64_t{fs.f_bavail} * fs.f_frsize) +
+                             " free, 1 MiB of which stays for the catalogue)");
+  }
   Status status = WriteAll(fd.get(), bytes, tmp);
   if (status.ok() && ::fsync(fd.get()) != 0) status = OsError("fsync", tmp, errno);
   if (status.ok() && ::close(fd.release()) != 0) status = OsError("close", tmp, errno);

@@ -189,6 +189,8 @@ inline Status MigrateSchema(sqlite3* db) {
         if (rc != SQLITE_DONE) return sqlite::Error(db, rc, "migrate schema");
       }
     }
+    // Written only when it changes: an opening that writes nothing also opens on a full disk.
+    if (version == kSchemaVersion) return Status::Ok();
     // A pragma takes no bound parameters; the value is our own constant.
     return sqlite::Exec(db, "PRAGMA user_version = " + std::to_string(kSchemaVersion));
   });

@@ -19,6 +19,11 @@ Status Configure(sqlite3* db) {
     ASSIGN_OR_RETURN(bool row, wal.Step());
     if (!row || wal.Text(0) != "wal") return Unavailable("catalogue: the database cannot use WAL journaling");
   }
+  // The -wal and -shm files stay when the last connection closes, so that a restart on a full disk
+  // needs no new space to open the catalogue and read it.
+  int persist_wal = 1;
+  rc = sqlite3_file_control(db, "main", SQLITE_FCNTL_PERSIST_WAL, &persist_wal);
+  if (rc != SQLITE_OK) return sqlite::Error(db, rc, "persist WAL");
   RETURN_IF_ERROR(sqlite::Exec(db, "PRAGMA synchronous = FULL"));
   return sqlite::Exec(db, "PRAGMA foreign_keys = ON");
 }

@@ -89,6 +89,14 @@ const char* JobStateName(JobState state) {
   return "UNKNOWN";
 }
 
+Status CheckResumable(const JobRecord& job, const std::string& kind) {
+  const std::string named = "job_id: job '" + job.job_id + "' ";
+  if (job.kind != kind) return FailedPrecondition(named + "is a " + job.kind + " job; only " + kind + " jobs resume");
+  if (!IsFinal(job.state)) return FailedPrecondition(named + "has not ended (" + JobStateName(job.state) + ")");
+  if (job.state == JobState::kSucceeded) return FailedPrecondition(named + "succeeded; nothing is left to resume");
+  return Status::Ok();
+}
+
 JobCatalogue::JobCatalogue(std::shared_ptr<Database> database)
     : database_(std::move(database)), mutex_(database_->mutex()), db_(database_->handle()) {}
 
@@ -242,6 +250,48 @@ StatusOr<ArtifactRecord> JobCatalogue::GetArtifact(const std::string& job_id, co
   ASSIGN_OR_RETURN(bool row, s.Step());
   if (!row) return NotFound("artifact_id: job '" + job_id + "' has no artifact '" + artifact_id + "'");
   return ReadArtifact(s);
+}
+
+StatusOr<std::pair<JobRecord, std::vector<std::string>>> JobCatalogue::ReopenJob(const std::string& job_id,
+                                                                                const std::string& kind,
+                                                                                const std::string& message) {
+  std::lock_guard lock(mutex_);
+  JobRecord job;
+  std::vector<std::string> blobs;
+  RETURN_IF_ERROR(sqlite::InTransaction(db_, true, [&]() -> Status {
+    ASSIGN_OR_RETURN(Statement find, Statement::Prepare(db_, "SELECT kind, state FROM jobs WHERE job_id = ?1"));
+    find.Bind(1, job_id);
+    ASSIGN_OR_RETURN(bool found, find.Step());
+    if (!found) return JobNotFound(job_id);
+    JobRecord found_job;
+    found_job.job_id = job_id;
+    found_job.kind = find.Text(0);
+    ASSIGN_OR_RETURN(found_job.state, StateFromCode(find.Int(1), job_id));
+    RETURN_IF_ERROR(CheckResumable(found_job, kind));
+    ASSIGN_OR_RETURN(Statement names, Statement::Prepare(db_, "SELECT DISTINCT sha256 FROM job_artifacts "
+                                                              "WHERE job_id = ?1 AND coalesce(length(info), 0) = 0"));
+    names.Bind(1, job_id);
+    for (;;) {
+      ASSIGN_OR_RETURN(bool row, names.Step());
+      if (!row) break;
+      blobs.push_back(names.Text(0));
+    }
+    ASSIGN_OR_RETURN(Statement drop, Statement::Prepare(db_, "DELETE FROM job_artifacts "
+                                                             "WHERE job_id = ?1 AND coalesce(length(info), 0) = 0"));
+    drop.Bind(1, job_id);
+    RETURN_IF_ERROR(drop.Run());
+    ASSIGN_OR_RETURN(Statement reopen, Statement::Prepare(db_, "UPDATE jobs SET state = ?2, message = ?3, "
+                                                               "update_time_ms = ?4 WHERE job_id = ?1"));
+    reopen.Bind(1, job_id).Bind(2, Code(JobState::kQueued)).Bind(3, message).Bind(4, NowMs());
+    RETURN_IF_ERROR(reopen.Run());
+    ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_, Select(kJobColumns, "jobs", "WHERE job_id = ?1")));
+    s.Bind(1, job_id);
+    ASSIGN_OR_RETURN(bool row, s.Step());
+    if (!row) return JobNotFound(job_id);
+    ASSIGN_OR_RETURN(job, ReadJob(s));
+    return ReadArtifacts(db_, job);
+  }));
+  return std::make_pair(std::move(job), std::move(blobs));
 }
 
 StatusOr<std::vector<std::string>> JobCatalogue::DeleteJob(const std::string& job_id) {

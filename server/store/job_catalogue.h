@@ -9,6 +9,7 @@
 #include <memory>
 #include <mutex>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "store/cloud_catalogue.h"
@@ -40,6 +41,10 @@ struct ArtifactTotals {
   uint64_t count = 0;
   uint64_t bytes = 0;
 };
+struct JobRecord;
+// Whether a run may continue job as ReopenJob would: FAILED_PRECONDITION naming job_id for a job of
+// another kind than kind, one that has not ended, or one that succeeded.
+Status CheckResumable(const JobRecord& job, const std::string& kind);
 
 struct JobRecord {
   std::string job_id;
@@ -92,6 +97,14 @@ class JobCatalogue {
   StatusOr<ArtifactRecord> GetArtifact(const std::string& job_id, const std::string& artifact_id);
   // How many artifacts a job has stored and their bytes (zeros for an unknown job).
   StatusOr<ArtifactTotals> CountArtifacts(const std::string& job_id);
+  // Puts an ended job of kind back to QUEUED with message, for a run that continues it: keeps
+  // the artifacts that describe a scan (their info is set) and deletes the others (its reports,
+  // written anew); returns the job as reopened and the blobs the deleted rows named (for
+  // CollectBlobs). NOT_FOUND for an unknown job; FAILED_PRECONDITION for another kind, a job that
+  // has not ended, or one that succeeded (CheckResumable).
+  StatusOr<std::pair<JobRecord, std::vector<std::string>>> ReopenJob(const std::string& job_id,
+                                                                     const std::string& kind,
+                                                                     const std::string& message);
   // Deletes an ended job and its artifact rows; returns the blobs they named (for CollectBlobs).
   // NOT_FOUND for an unknown job, FAILED_PRECONDITION while it is queued or running.
   StatusOr<std::vector<std::string>> DeleteJob(const std::string& job_id);

@@ -4,6 +4,7 @@
 
 #include <sqlite3.h>
 
+#include <cerrno>
 #include <cstdint>
 #include <string>
 #include <string_view>
@@ -13,15 +14,20 @@
 
 namespace vscan::store::sqlite {
 
-// Busy, I/O and full-disk trouble is UNAVAILABLE (retry later); corruption is DATA_LOSS.
+// A full disk is RESOURCE_EXHAUSTED (free space, then retry); busy and I/O trouble is
+// UNAVAILABLE (retry later); corruption is DATA_LOSS.
 inline Status Error(sqlite3* db, int rc, std::string_view what) {
   std::string message = "catalogue: " + std::string(what) + ": " +
                         (db != nullptr ? sqlite3_errmsg(db) : sqlite3_errstr(rc));
+  // Some writes report a full disk as an I/O error; the OS's errno tells.
+  const int err = db != nullptr ? sqlite3_system_errno(db) : 0;
+  if ((rc & 0xff) == SQLITE_IOERR && (err == ENOSPC || err == EDQUOT)) rc = SQLITE_FULL;
   switch (rc & 0xff) {
+    case SQLITE_FULL:
+      return ResourceExhausted(std::move(message) + " (no space left)");
     case SQLITE_BUSY:
     case SQLITE_LOCKED:
     case SQLITE_IOERR:
-    case SQLITE_FULL:
     case SQLITE_CANTOPEN:
     case SQLITE_READONLY:
     case SQLITE_PERM:

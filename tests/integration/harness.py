@@ -25,13 +25,15 @@ from vscan.v1 import common_pb2, scan_pb2, scan_pb2_grpc, scene_pb2, scene_pb2_g
 class Server:
     """One vscand process; restartable on the same data directory."""
 
-    def __init__(self, data_dir=None, extra_args=()):
+    def __init__(self, data_dir=None, extra_args=(), wrapper=()):
+        """wrapper: a command vscand is started under (it must exec vscand, keeping its pid)."""
         self._tmp = None
         if data_dir is None:
             self._tmp = tempfile.TemporaryDirectory(prefix="vscand-test-")
             data_dir = self._tmp.name
         self.data_dir = data_dir
         self.extra_args = list(extra_args)
+        self.wrapper = list(wrapper)
         self.process = None
         self.port = None
         self.log_path = os.path.join(self.data_dir, "vscand.log")
@@ -46,7 +48,7 @@ class Server:
             os.remove(port_file)
         with open(self.log_path, "ab") as log:
             self.process = subprocess.Popen(
-                [VSCAND, "--listen", "127.0.0.1:0", "--port-file", port_file,
+                [*self.wrapper, VSCAND, "--listen", "127.0.0.1:0", "--port-file", port_file,
                  "--data-dir", os.path.join(self.data_dir, "store"), "--log-level", "debug", *self.extra_args],
                 stdout=log, stderr=log)
         deadline = time.time() + 30

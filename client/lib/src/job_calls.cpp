@@ -89,6 +89,14 @@ StatusOr<v1::Job> Client::CancelJob(const std::string& job_id) {
   return response.job();
 }
 
+StatusOr<v1::Job> Client::ResumeJob(const std::string& job_id) {
+  auto stub = JobStub(*this);
+  v1::ResumeJobRequest request;
+  request.set_job_id(job_id);
+  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *stub, &Stub::ResumeJob, request));
+  return response.job();
+}
+
 StatusOr<v1::DeleteJobResponse> Client::DeleteJob(const std::string& job_id) {
   auto stub = JobStub(*this);
   v1::DeleteJobRequest request;

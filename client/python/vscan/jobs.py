@@ -90,6 +90,15 @@ class JobCalls:
         """Asks the job to stop; a running one ends CANCELLED after its current scan."""
         return self._call(self._jobs.CancelJob, job_pb2.CancelJobRequest(job_id=job_id)).job
 
+    def resume_job(self, job_id):
+        """Runs an ended campaign (INTERRUPTED, CANCELLED or FAILED) again as the same job: the scans
+        it stored are kept, only the missing steps are captured, campaign.json is written anew.
+        Returns the job as queued again; follow it with wait_job or watch_job.
+
+        Raises VscanError with NOT_FOUND for an unknown id, FAILED_PRECONDITION for a job that
+        succeeded, has not ended or is not a campaign, RESOURCE_EXHAUSTED when the queue is full."""
+        return self._call(self._jobs.ResumeJob, job_pb2.ResumeJobRequest(job_id=job_id)).job
+
     def delete_job(self, job_id):
         """Deletes an ended job and its artifacts; returns DeleteJobResponse (files and bytes freed).
 

@@ -1,5 +1,10 @@
 #include "store/job_catalogue.h"
 
+#include <sqlite3.h>
+
+#include <mutex>
+#include <vector>
+
 #include <gtest/gtest.h>
 
 #include "vscan_test/temp_dir.h"
@@ -146,6 +151,104 @@ TEST_F(JobCatalogueTest, ListPagesInIdOrder) {
   for (const auto& j : *rest) listed.push_back(j.job_id);
   EXPECT_EQ(listed, ids);
   EXPECT_EQ(jobs_->ListJobs("", 0).status().code(), StatusCode::kInvalidArgument);
+}
+
+
+TEST_F(JobCatalogueTest, ReopenKeepsScansDropsReportsAndContinuesTheSequence) {
+  auto job = jobs_->InsertJob(Campaign("resumable", 4));
+  ASSERT_TRUE(job.ok());
+  const std::string id = job->job_id;
+  ASSERT_TRUE(jobs_->AddArtifact(Scan(id, "scan-r00-v00.ply", 'a'), {JobState::kRunning, "scan 1", 1, 2}).ok());
+  ASSERT_TRUE(jobs_->AddArtifact(Scan(id, "scan-r00-v01.ply", 'b'), {JobState::kRunning, "scan 2", 2, 3}).ok());
+  ArtifactRecord report = Scan(id, "campaign.json", 'c');
+  report.info.clear();
+  ASSERT_TRUE(jobs_->AddArtifact(report, {JobState::kRunning, "campaign.json written", 2, 4}).ok());
+  ASSERT_TRUE(jobs_->UpdateProgress(id, {JobState::kCancelled, "cancelled after 2 of 4 steps", 2, 5}).ok());
+
+  auto reopened = jobs_->ReopenJob(id, "campaign", "queued to resume");
+  ASSERT_TRUE(reopened.ok()) << reopened.status().ToString();
+  const auto& [record, dropped] = *reopened;
+  EXPECT_EQ(record.state, JobState::kQueued);
+  EXPECT_EQ(record.message, "queued to resume");
+  EXPECT_EQ(record.last_sequence, 5u);
+  ASSERT_EQ(record.artifacts.size(), 2u);
+  EXPECT_EQ(record.artifacts[0].name, "scan-r00-v00.ply");
+  EXPECT_EQ(record.artifacts[1].name, "scan-r00-v01.ply");
+  EXPECT_EQ(dropped, std::vector<std::string>{std::string(64, 'c')});
+
+  // The reopened job takes events and artifacts again; a new artifact follows the kept ones.
+  ASSERT_TRUE(jobs_->UpdateProgress(id, {JobState::kRunning, "resumed", 2, 6}).ok());
+  auto third = jobs_->AddArtifact(Scan(id, "scan-r01-v00.ply", 'd'), {JobState::kRunning, "scan 3", 3, 7});
+  ASSERT_TRUE(third.ok());
+  EXPECT_EQ(third->ordinal, 2u);
+  Reopen();
+  auto got = jobs_->GetJob(id);
+  ASSERT_TRUE(got.ok());
+  EXPECT_EQ(got->state, JobState::kRunning);
+  EXPECT_EQ(got->last_sequence, 7u);
+  EXPECT_EQ(got->artifacts.size(), 3u);
+}
+
+TEST_F(JobCatalogueTest, ReopenRefusesWhatCannotResumeAndChangesNothing) {
+  auto succeeded = jobs_->InsertJob(Campaign("done", 1));
+  auto running = jobs_->InsertJob(Campaign("running", 1));
+  JobRecord model = Campaign("model", 1);
+  model.kind = "model";
+  auto other = jobs_->InsertJob(model);
+  ASSERT_TRUE(succeeded.ok() && running.ok() && other.ok());
+  ASSERT_TRUE(
+      jobs_->AddArtifact(Scan(succeeded->job_id, "scan-r00-v00.ply", 'a'), {JobState::kRunning, "", 1, 1}).ok());
+  ASSERT_TRUE(jobs_->UpdateProgress(succeeded->job_id, {JobState::kSucceeded, "done", 1, 2}).ok());
+  ASSERT_TRUE(jobs_->UpdateProgress(running->job_id, {JobState::kRunning, "planned", 0, 1}).ok());
+  ASSERT_TRUE(jobs_->UpdateProgress(other->job_id, {JobState::kInterrupted, "stopped", 0, 1}).ok());
+
+  struct Case {
+    std::string id;
+    const char* says;
+  };
+  for (const Case& c : {Case{succeeded->job_id, "succeeded"}, Case{running->job_id, "has not ended (RUNNING)"},
+                        Case{other->job_id, "is a model job"}}) {
+    auto refused = jobs_->ReopenJob(c.id, "campaign", "queued to resume");
+    EXPECT_EQ(refused.status().code(), StatusCode::kFailedPrecondition) << c.id;
+    EXPECT_NE(refused.status().message().find("job '" + c.id + "' " + c.says), std::string::npos)
+        << refused.status().message();
+  }
+  EXPECT_EQ(jobs_->ReopenJob("job_missing", "campaign", "").status().code(), StatusCode::kNotFound);
+  auto kept = jobs_->GetJob(succeeded->job_id);
+  ASSERT_TRUE(kept.ok());
+  EXPECT_EQ(kept->state, JobState::kSucceeded);
+  EXPECT_EQ(kept->artifacts.size(), 1u);
+  EXPECT_EQ(jobs_->GetJob(other->job_id)->state, JobState::kInterrupted);
+}
+
+// SQLite's own page limit stands in for a full disk: it fails writes with SQLITE_FULL.
+TEST_F(JobCatalogueTest, AFullDatabaseIsResourceExhaustedAndKeepsWhatWasStored) {
+  std::vector<std::string> stored;
+  for (int i = 0; i < 3; ++i) {
+    auto job = jobs_->InsertJob(Campaign("before", 1));
+    ASSERT_TRUE(job.ok());
+    stored.push_back(job->job_id);
+  }
+  {
+    std::lock_guard lock(jobs_->database().mutex());
+    sqlite3* db = jobs_->database().handle();
+    ASSERT_EQ(sqlite3_exec(db, "PRAGMA wal_checkpoint(TRUNCATE)", nullptr, nullptr, nullptr), SQLITE_OK);
+    ASSERT_EQ(sqlite3_exec(db, "PRAGMA max_page_count = 1", nullptr, nullptr, nullptr), SQLITE_OK);
+  }
+  JobRecord large = Campaign("large", 1);
+  large.spec.assign(64 << 10, 'x');
+  Status full = Status::Ok();
+  for (int i = 0; i < 64 && full.ok(); ++i) {
+    auto job = jobs_->InsertJob(large);
+    full = job.status();
+  }
+  EXPECT_EQ(full.code(), StatusCode::kResourceExhausted) << full.ToString();
+  EXPECT_NE(full.message().find("no space left"), std::string::npos) << full.message();
+  for (const std::string& id : stored) {
+    auto job = jobs_->GetJob(id);
+    ASSERT_TRUE(job.ok()) << job.status().ToString();
+    EXPECT_EQ(job->name, "before");
+  }
 }
 
 }  // namespace

@@ -112,6 +112,9 @@ class Client {
   // Every job, following page tokens.
   StatusOr<std::vector<v1::Job>> ListJobs();
   StatusOr<v1::Job> CancelJob(const std::string& job_id);
+  // Runs an ended campaign (INTERRUPTED, CANCELLED, FAILED) again as the same job: its stored scans
+  // are kept and only the missing steps captured. Returns the job queued again.
+  StatusOr<v1::Job> ResumeJob(const std::string& job_id);
   // Deletes an ended job and its artifacts (FAILED_PRECONDITION while it runs: cancel it first).
   StatusOr<v1::DeleteJobResponse> DeleteJob(const std::string& job_id);
   // Calls on_event for each message until the server ends the stream (the job finished) or
