@@ -62,6 +62,15 @@ TEST(UrdfTree, TwoRootsAreRefusedByUrdfdom) {
   ExpectInvalid(status, "root");
 }
 
+TEST(UrdfTree, ALoopBesideTwoRootsIsRefusedBeforeUrdfdomParses) {
+  // urdfdom would refuse it too, but leak the looping links (found by urdf_bundle_fuzzer).
+  const Status status = Load(Robot(Link("base") + Link("a") + Link("b") + Link("other") + Joint("j1", "base", "a") +
+                                   Joint("j2", "a", "b") + Joint("j3", "b", "a")));
+  ExpectInvalid(status, "urdf: the joints loop, and 2 links have no parent joint");
+  ExpectInvalid(Load(Robot(Link("a") + Link("b") + Joint("j1", "a", "b") + Joint("j2", "b", "a"))),
+                "urdf: the joints loop, and 0 links have no parent joint");
+}
+
 TEST(UrdfTree, LinkWithTwoParentJointsIsRefused) {
   ExpectInvalid(Load(Robot(Link("base") + Link("a") + Link("b") + Link("c") + Joint("ja", "base", "a") +
                            Joint("jb", "base", "b") + Joint("jc1", "a", "c") + Joint("jc2", "b", "c"))),

@@ -1,0 +1,73 @@
+#include "robot/urdf_rootless_loops.h"
+
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <tinyxml2.h>
+
+namespace vscan::robot {
+namespace {
+
+using Children = std::map<std::string, std::vector<std::string>>;
+
+std::string LinkOf(const tinyxml2::XMLElement& joint, const char* role) {
+  const tinyxml2::XMLElement* element = joint.FirstChildElement(role);
+  const char* name = element != nullptr ? element->Attribute("link") : nullptr;
+  return name != nullptr ? name : "";
+}
+
+// Depth-first search for a back edge, iterative so that a long chain cannot exhaust the stack.
+bool HasLoop(const Children& children) {
+  enum class Mark { kOpen, kDone };
+  std::map<std::string, Mark> marks;
+  for (const auto& [start, unused] : children) {
+    if (marks.count(start) != 0) continue;
+    std::vector<std::pair<std::string, size_t>> stack{{start, 0}};
+    marks[start] = Mark::kOpen;
+    while (!stack.empty()) {
+      auto& [link, next] = stack.back();
+      const auto found = children.find(link);
+      if (found == children.end() || next == found->second.size()) {
+        marks[link] = Mark::kDone;
+        stack.pop_back();
+        continue;
+      }
+      const std::string child = found->second[next++];
+      const auto mark = marks.find(child);
+      if (mark != marks.end() && mark->second == Mark::kOpen) return true;
+      if (mark == marks.end()) {
+        marks[child] = Mark::kOpen;
+        stack.emplace_back(child, 0);
+      }
+    }
+  }
+  return false;
+}
+
+}  // namespace
+
+Status CheckNoRootlessLoops(const std::string& xml) {
+  tinyxml2::XMLDocument document;
+  if (document.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS) return Status::Ok();
+  const tinyxml2::XMLElement* robot = document.FirstChildElement("robot");
+  if (robot == nullptr) return Status::Ok();
+  std::set<std::string> roots;
+  for (const auto* link = robot->FirstChildElement("link"); link != nullptr; link = link->NextSiblingElement("link")) {
+    if (const char* name = link->Attribute("name"); name != nullptr) roots.insert(name);
+  }
+  Children children;
+  for (const auto* joint = robot->FirstChildElement("joint"); joint != nullptr;
+       joint = joint->NextSiblingElement("joint")) {
+    const std::string parent = LinkOf(*joint, "parent");
+    const std::string child = LinkOf(*joint, "child");
+    children[parent].push_back(child);
+    roots.erase(child);
+  }
+  if (roots.size() == 1 || !HasLoop(children)) return Status::Ok();
+  return InvalidArgument("urdf: the joints loop, and " + std::to_string(roots.size()) +
+                         " links have no parent joint where a tree has exactly one root");
+}
+
+}  // namespace vscan::robot
