@@ -53,19 +53,25 @@ Status CheckNoRootlessLoops(const std::string& xml) {
   if (document.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS) return Status::Ok();
   const tinyxml2::XMLElement* robot = document.FirstChildElement("robot");
   if (robot == nullptr) return Status::Ok();
-  std::set<std::string> roots;
+  std::set<std::string> links;
   for (const auto* link = robot->FirstChildElement("link"); link != nullptr; link = link->NextSiblingElement("link")) {
-    if (const char* name = link->Attribute("name"); name != nullptr) roots.insert(name);
+    if (const char* name = link->Attribute("name"); name != nullptr) links.insert(name);
   }
+  std::set<std::string> roots = links;
+  std::string unknown;  // a link a joint names that the document lacks
   Children children;
   for (const auto* joint = robot->FirstChildElement("joint"); joint != nullptr;
        joint = joint->NextSiblingElement("joint")) {
     const std::string parent = LinkOf(*joint, "parent");
     const std::string child = LinkOf(*joint, "child");
+    for (const std::string& link : {parent, child}) {
+      if (unknown.empty() && links.count(link) == 0) unknown = "'" + link + "'";
+    }
     children[parent].push_back(child);
     roots.erase(child);
   }
-  if (roots.size() == 1 || !HasLoop(children)) return Status::Ok();
+  if ((roots.size() == 1 && unknown.empty()) || !HasLoop(children)) return Status::Ok();
+  if (!unknown.empty()) return InvalidArgument("urdf: the joints loop, and one names a link " + unknown + " it lacks");
   return InvalidArgument("urdf: the joints loop, and " + std::to_string(roots.size()) +
                          " links have no parent joint where a tree has exactly one root");
 }

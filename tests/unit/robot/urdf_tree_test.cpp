@@ -69,6 +69,9 @@ TEST(UrdfTree, ALoopBesideTwoRootsIsRefusedBeforeUrdfdomParses) {
   ExpectInvalid(status, "urdf: the joints loop, and 2 links have no parent joint");
   ExpectInvalid(Load(Robot(Link("a") + Link("b") + Joint("j1", "a", "b") + Joint("j2", "b", "a"))),
                 "urdf: the joints loop, and 0 links have no parent joint");
+  ExpectInvalid(Load(Robot(Link("base") + Link("a") + Joint("j1", "base", "a") + Joint("loop", "a", "a") +
+                           Joint("j2", "a", "missing"))),
+                "urdf: the joints loop, and one names a link 'missing' it lacks");
 }
 
 TEST(UrdfTree, LinkWithTwoParentJointsIsRefused) {
