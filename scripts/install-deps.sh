@@ -10,7 +10,7 @@ PACKAGES=(
   protobuf-compiler protobuf-compiler-grpc libprotobuf-dev libgrpc-dev libgrpc++-dev grpc-proto
   # engine
   libembree-dev libtbb-dev libeigen3-dev libassimp-dev libpcl-dev libbullet-dev libbullet-extras-dev
-  liburdfdom-dev libtinyxml2-dev libyaml-cpp-dev libegl-dev libegl-mesa0 libgl-dev libpng-dev
+  liburdfdom-dev libtinyxml-dev libyaml-cpp-dev libegl-dev libegl-mesa0 libgl-dev libpng-dev
   # store, logging, metrics endpoint, command line
   libsqlite3-dev sqlite3 libssl-dev openssl libspdlog-dev libfmt-dev libcivetweb-dev libcli11-dev
   # libFuzzer targets (scripts/build-fuzzers.sh)

@@ -5,15 +5,15 @@
 #include <string>
 #include <vector>
 
-#include <tinyxml2.h>
+#include <tinyxml.h>
 
 namespace vscan::robot {
 namespace {
 
 using Children = std::map<std::string, std::vector<std::string>>;
 
-std::string LinkOf(const tinyxml2::XMLElement& joint, const char* role) {
-  const tinyxml2::XMLElement* element = joint.FirstChildElement(role);
+std::string LinkOf(const TiXmlElement& joint, const char* role) {
+  const TiXmlElement* element = joint.FirstChildElement(role);
   const char* name = element != nullptr ? element->Attribute("link") : nullptr;
   return name != nullptr ? name : "";
 }
@@ -49,9 +49,11 @@ bool HasLoop(const Children& children) {
 }  // namespace
 
 Status CheckNoRootlessLoops(const std::string& xml) {
-  tinyxml2::XMLDocument document;
-  if (document.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS) return Status::Ok();
-  const tinyxml2::XMLElement* robot = document.FirstChildElement("robot");
+  // The parser urdfdom reads with, called as urdfdom calls it, so that both see the same elements.
+  TiXmlDocument document;
+  document.Parse(xml.c_str());
+  if (document.Error()) return Status::Ok();
+  const TiXmlElement* robot = document.FirstChildElement("robot");
   if (robot == nullptr) return Status::Ok();
   std::set<std::string> links;
   for (const auto* link = robot->FirstChildElement("link"); link != nullptr; link = link->NextSiblingElement("link")) {
