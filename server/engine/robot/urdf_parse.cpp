@@ -6,8 +6,6 @@
 #include <console_bridge/console.h>
 #include <urdf_parser/urdf_parser.h>
 
-#include "robot/urdf_rootless_loops.h"
-
 namespace vscan::robot {
 namespace {
 
@@ -71,7 +69,6 @@ std::shared_ptr<const urdf::ModelInterface> Owned(urdf::ModelInterfaceSharedPtr 
 }  // namespace
 
 StatusOr<std::shared_ptr<const urdf::ModelInterface>> ParseUrdfXml(const std::string& xml) {
-  RETURN_IF_ERROR(CheckNoRootlessLoops(xml));
   InstallCapturingHandler();
   std::string errors;
   urdf::ModelInterfaceSharedPtr model;
