@@ -10,9 +10,11 @@ PACKAGES=(
   protobuf-compiler protobuf-compiler-grpc libprotobuf-dev libgrpc-dev libgrpc++-dev grpc-proto
   # engine
   libembree-dev libtbb-dev libeigen3-dev libassimp-dev libpcl-dev libbullet-dev libbullet-extras-dev
-  liburdfdom-dev libyaml-cpp-dev libegl-dev libegl-mesa0 libgl-dev libpng-dev
+  liburdfdom-dev libtinyxml-dev libyaml-cpp-dev libegl-dev libegl-mesa0 libgl-dev libpng-dev
   # store, logging, metrics endpoint, command line
   libsqlite3-dev sqlite3 libssl-dev openssl libspdlog-dev libfmt-dev libcivetweb-dev libcli11-dev
+  # libFuzzer targets (scripts/build-fuzzers.sh)
+  clang libclang-rt-14-dev
   # tests, benchmark peers
   libgtest-dev libgmock-dev libbenchmark-dev liborocos-kdl-dev libkdl-parser-dev libopen3d-dev
   # Python client and its tests; venv, pip, setuptools and wheel install it as a package

@@ -19,6 +19,10 @@ namespace {
 using cloud_records::RecordLayout;
 using cloud_records::ScalarType;
 
+// Far above any real PCD field (FPFH has 33 values, VFH 308); also refuses "-1", which an
+// unsigned stream read takes as SIZE_MAX, so that record strides cannot wrap around.
+constexpr size_t kMaxPcdCount = 1 << 16;
+
 struct PcdField {
   std::string name;
   size_t size = 4;
@@ -88,7 +92,7 @@ StatusOr<PcdHeader> ParseHeader(std::istream& in, const std::string& path) {
       if (kind != "binary") return InvalidArgument(path + ": only binary PCD data is supported, not '" + kind + "'");
       for (const PcdField& f : fields) {
         const std::optional<ScalarType> type = PcdScalarType(f.type, f.size);
-        if (!type || f.count == 0) {
+        if (!type || f.count == 0 || f.count > kMaxPcdCount) {
           return InvalidArgument(path + ": PCD field '" + f.name + "' has an unsupported SIZE/TYPE/COUNT");
         }
         h.layout.Add(f.name, *type, f.count);

@@ -131,14 +131,8 @@ bool WriteAll(int fd, std::string_view bytes) {
 }
 
 bool WriteResult(const StatusOr<TriangleMesh>& result) {
-  if (!result.ok()) {
-    const std::string& message = result.status().message();
-    return WriteAll(STDOUT_FILENO, geometry::ImportResultHeader(result.status().code(), message.size())) &&
-           WriteAll(STDOUT_FILENO, message);
-  }
-  const std::string encoded = geometry::EncodeMesh(*result);
-  return WriteAll(STDOUT_FILENO, geometry::ImportResultHeader(vscan::StatusCode::kOk, encoded.size())) &&
-         WriteAll(STDOUT_FILENO, encoded);
+  const geometry::EncodedImportResult encoded = geometry::EncodeImportResult(result);
+  return WriteAll(STDOUT_FILENO, encoded.header) && WriteAll(STDOUT_FILENO, encoded.payload);
 }
 
 // Lets tests stand in for an importer that aborts or never finishes.

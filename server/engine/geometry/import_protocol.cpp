@@ -69,6 +69,13 @@ std::string ImportResultHeader(StatusCode code, uint64_t payload_size) {
   return out;
 }
 
+EncodedImportResult EncodeImportResult(const StatusOr<TriangleMesh>& result) {
+  EncodedImportResult out;
+  out.payload = result.ok() ? EncodeMesh(*result) : result.status().message();
+  out.header = ImportResultHeader(result.status().code(), out.payload.size());
+  return out;
+}
+
 StatusOr<TriangleMesh> ParseImportResult(std::string_view bytes) {
   if (bytes.size() < kImportResultHeaderSize || !bytes.starts_with(kMagic)) {
     return Internal("mesh importer: no result (" + std::to_string(bytes.size()) + " bytes of output)");

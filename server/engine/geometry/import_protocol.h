@@ -22,6 +22,13 @@ std::optional<MeshFileFormat> ParseMeshFileFormat(std::string_view name);
 
 // The header that precedes payload_size bytes of payload.
 std::string ImportResultHeader(StatusCode code, uint64_t payload_size);
+// What the helper writes for what its import returned: the header, then the payload (kept apart
+// so that a large mesh is not copied once more to join them).
+struct EncodedImportResult {
+  std::string header;
+  std::string payload;
+};
+EncodedImportResult EncodeImportResult(const StatusOr<TriangleMesh>& result);
 // INTERNAL ("mesh importer: ...") unless bytes are exactly one well-formed result; otherwise the
 // mesh or the status the helper sent.
 StatusOr<TriangleMesh> ParseImportResult(std::string_view bytes);

@@ -5,6 +5,7 @@
 #include "robot/urdf_bounds.h"
 #include "robot/urdf_parse.h"
 #include "robot/urdf_tree.h"
+#include "robot/urdf_tree_precheck.h"
 
 namespace vscan::robot {
 namespace {
@@ -85,6 +86,7 @@ StatusOr<UrdfBundle> LoadUrdfBundle(std::string_view urdf_path, std::vector<Bund
   if (urdf_file == bundle.files.end()) {
     return InvalidArgument("urdf_path", "'" + bundle.urdf_path + "' is not among the bundle's files");
   }
+  RETURN_IF_ERROR(CheckUrdfTreeBeforeParse(urdf_file->second));
   ASSIGN_OR_RETURN(bundle.model, ParseUrdfXml(urdf_file->second));
   RETURN_IF_ERROR(CheckUrdfTree(*bundle.model));
   RETURN_IF_ERROR(CheckUrdfBounds(*bundle.model));

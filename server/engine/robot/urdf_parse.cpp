@@ -50,6 +50,22 @@ class CaptureScope {
   CaptureScope& operator=(const CaptureScope&) = delete;
 };
 
+// urdfdom links hold their children by shared_ptr, so the links of a URDF whose joints loop
+// (refused later by CheckUrdfTree) would keep each other alive; the model's owner cuts those
+// references before letting it go.
+std::shared_ptr<const urdf::ModelInterface> Owned(urdf::ModelInterfaceSharedPtr model) {
+  urdf::ModelInterface* raw = model.get();
+  auto release = [model = std::move(model)](const urdf::ModelInterface*) mutable {
+    for (auto& [name, link] : model->links_) {
+      if (link == nullptr) continue;
+      link->child_links.clear();
+      link->child_joints.clear();
+    }
+    model.reset();
+  };
+  return std::shared_ptr<const urdf::ModelInterface>(raw, std::move(release));
+}
+
 }  // namespace
 
 StatusOr<std::shared_ptr<const urdf::ModelInterface>> ParseUrdfXml(const std::string& xml) {
@@ -65,7 +81,7 @@ StatusOr<std::shared_ptr<const urdf::ModelInterface>> ParseUrdfXml(const std::st
   if (model == nullptr) {
     return InvalidArgument("urdf: " + (errors.empty() ? std::string("not a valid URDF document") : errors));
   }
-  return std::shared_ptr<const urdf::ModelInterface>(std::move(model));
+  return Owned(std::move(model));
 }
 
 }  // namespace vscan::robot

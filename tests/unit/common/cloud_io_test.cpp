@@ -269,6 +269,20 @@ TEST_F(CloudIoTest, PcdReadRejectsWhatItCannotRead) {
   EXPECT_EQ(read("FIELDS x y z\nSIZE 4 4\n").code(), StatusCode::kInvalidArgument);  // too few sizes
 }
 
+// COUNT -1 reads as SIZE_MAX through an unsigned stream; its stride wrapped and the reader decoded
+// past each record (found by cloud_upload_fuzzer).
+TEST(PcdCount, AWrappingCountIsRefusedBeforeAnyRecordIsRead) {
+  const std::string head = "VERSION 0.7\nFIELDS x y z status range\nSIZE 4 4 4 2 2\nTYPE F F F U I\n";
+  const std::string tail = "POINTS 2\nDATA binary\n" + std::string(64, '\0');
+  for (const char* count : {"1 1 1 -1 1", "1 1 1 1 18446744073709551615", "1 1 1 1 65537"}) {
+    const auto cloud = ParsePcd(head + "COUNT " + count + "\n" + tail, "upload", UINT64_MAX);
+    EXPECT_EQ(cloud.status().code(), StatusCode::kInvalidArgument) << count;
+  }
+  const auto fine = ParsePcd(head + "COUNT 1 1 1 1 1\n" + tail, "upload", UINT64_MAX);
+  ASSERT_TRUE(fine.ok()) << fine.status().ToString();
+  EXPECT_EQ(fine->size(), 2u);
+}
+
 
 TEST_F(CloudIoTest, EncodePlyWritesWhatWritePlyWrites) {
   for (const size_t n : {size_t{0}, size_t{3}, size_t{40000}}) {

@@ -62,6 +62,19 @@ TEST(UrdfTree, TwoRootsAreRefusedByUrdfdom) {
   ExpectInvalid(status, "root");
 }
 
+TEST(UrdfTree, LoopsUrdfdomWouldRefuseAreRefusedBeforeItParses) {
+  // urdfdom refuses these too (two roots, none, a missing link), but leaked the looping links
+  // (found by urdf_bundle_fuzzer); the check now names the loop as for any other document.
+  ExpectInvalid(Load(Robot(Link("base") + Link("a") + Link("b") + Link("other") + Joint("j1", "base", "a") +
+                           Joint("j2", "a", "b") + Joint("j3", "b", "a"))),
+                "joints: cycle through joints j2 -> j3 -> j2");
+  ExpectInvalid(Load(Robot(Link("a") + Link("b") + Joint("j1", "a", "b") + Joint("j2", "b", "a"))),
+                "joints: cycle through joints j1 -> j2 -> j1");
+  ExpectInvalid(Load(Robot(Link("base") + Link("a") + Joint("j1", "base", "a") + Joint("loop", "a", "a") +
+                           Joint("j2", "a", "missing"))),
+                "joints['loop']: parent and child are the same link 'a'");
+}
+
 TEST(UrdfTree, LinkWithTwoParentJointsIsRefused) {
   ExpectInvalid(Load(Robot(Link("base") + Link("a") + Link("b") + Link("c") + Joint("ja", "base", "a") +
                            Joint("jb", "base", "b") + Joint("jc1", "a", "c") + Joint("jc2", "b", "c"))),

@@ -1,0 +1,28 @@
+#!/usr/bin/env bash
+# Configures build/fuzz with clang and builds the libFuzzer targets (fuzz/README.md). They link the
+# regular build's libraries (VSCAN_PRESET, default release; not asan), which this builds first.
+set -euo pipefail
+ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
+PRESET="${VSCAN_PRESET:-release}"
+if [ "$PRESET" = asan ]; then
+  echo "build-fuzzers: the asan preset's libraries carry GCC's sanitizer runtime; use release or debug" >&2
+  exit 2
+fi
+cd "$ROOT"
+export CCACHE_DIR="${CCACHE_DIR:-$HOME/.cache/ccache}"
+export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$ROOT}"
+JOBS="${VSCAN_JOBS:-$(nproc)}"
+
+cmake --preset "$PRESET" >/dev/null
+cmake --build --preset "$PRESET" -j "$JOBS" --target vscan_api vscan_cli_args
+
+launcher=()
+if command -v ccache >/dev/null 2>&1; then
+  launcher=(-DCMAKE_C_COMPILER_LAUNCHER=ccache -DCMAKE_CXX_COMPILER_LAUNCHER=ccache)
+fi
+# -O1 with line tables: the usual fuzzing build, quicker to compile than -O2 -g.
+cmake -S . -B build/fuzz -G Ninja -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=clang++ \
+  -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1 -gline-tables-only" \
+  -DVSCAN_BUILD_FUZZERS=ON -DVSCAN_BUILD_TESTS=OFF -DVSCAN_BUILD_BENCH=OFF -DVSCAN_WERROR=ON \
+  -DVSCAN_PREBUILT_DIR="$ROOT/build/$PRESET" "${launcher[@]}" >/dev/null
+cmake --build build/fuzz -j "$JOBS" --target fuzzers
