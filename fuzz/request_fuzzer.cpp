@@ -1,11 +1,14 @@
 // libFuzzer target for the request checks of server/api: the first byte picks the message and its
-// encoding (byte % 7: campaign spec, bin fill spec, model spec, dataset spec, localize request,
-// score poses request, forward kinematics request; (byte / 7) % 2: protobuf text or binary), the
+// encoding (byte % 8: campaign spec, bin fill spec, model spec, dataset spec, localize request,
+// score poses request, forward kinematics request, inverse kinematics request; (byte / 8) % 2:
+// protobuf text or binary), the
 // rest is the message. Checks run against the small world of scan_fuzz_world.cpp; the ids "scene"
 // and "panda" (or another name of ScanFuzzWorld::mounts) stand for its scene and mounts. A finding
 // is an abort or sanitizer report, a refusal whose code is OK, INTERNAL or UNKNOWN, or an accepted
 // request that breaks a bound the contract documents.
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -22,6 +25,7 @@
 #include "api/bin_fill_spec.h"
 #include "api/campaign_spec.h"
 #include "api/dataset_spec.h"
+#include "api/ik_request.h"
 #include "api/localization_request.h"
 #include "api/model_spec.h"
 #include "robot/forward_kinematics.h"
@@ -38,7 +42,9 @@ using vscan::StatusCode;
 using vscan::fuzz::ScanFuzzWorld;
 using vscan::fuzz::World;
 
-constexpr int kKinds = 7;
+constexpr int kKinds = 8;
+// Solves run on each accepted request; a short budget keeps the rate of executions up.
+constexpr auto kIkBudget = std::chrono::milliseconds(2);
 
 void Check(bool condition, const char* what) {
   if (condition) return;
@@ -163,6 +169,30 @@ void ForwardKinematics(ScanFuzzWorld& world, const vscan::v1::ForwardKinematicsR
   Check(links.ok(), "forward kinematics: link poses failed after CommandJoints accepted");
 }
 
+// What RobotService.InverseKinematics does with a mount, without the collision retries.
+void InverseKinematics(ScanFuzzWorld& world, const vscan::v1::InverseKinematicsRequest& request) {
+  auto plan = vscan::api::ParseInverseKinematicsRequest(request);
+  if (!plan.ok()) return CheckRefusal(plan.status(), "inverse kinematics request");
+  const auto& settings = plan->settings;
+  Check(std::isfinite(settings.position_tolerance) && settings.position_tolerance > 0 &&
+            settings.position_tolerance <= vscan::api::kMaxIkPositionTolerance,
+        "inverse kinematics accepted a bad tolerance");
+  Check(std::isfinite(settings.orientation_tolerance) && settings.orientation_tolerance > 0,
+        "inverse kinematics accepted a bad orientation tolerance");
+  Check(settings.time_budget.count() > 0 &&
+            settings.time_budget <= std::chrono::milliseconds(static_cast<int64_t>(vscan::api::kMaxIkTimeoutMs)),
+        "inverse kinematics accepted a time budget past kMaxIkTimeoutMs");
+  const auto target = vscan::service::ResolveArm(*world.robots, "", MountOf(world, request.mount_id()));
+  if (!target.ok()) return CheckRefusal(target.status(), "inverse kinematics mount");
+  vscan::robots::IkSettings quick = settings;
+  quick.time_budget = std::min<std::chrono::microseconds>(settings.time_budget, kIkBudget);
+  const Eigen::VectorXd seed = Eigen::Map<const Eigen::VectorXd>(request.seed().data(), request.seed().size());
+  const auto answer = vscan::robots::SolveInPlacement(*target->chain, target->placement, plan->goal, seed, quick);
+  if (!answer.ok()) return CheckRefusal(answer.status(), "inverse kinematics");
+  Check(answer->result.joint_positions.allFinite(), "inverse kinematics: non-finite joints");
+  Check(std::isfinite(answer->miss_distance), "inverse kinematics: non-finite miss distance");
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerInitialize(int*, char***) {
@@ -209,9 +239,14 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
       if (Parse(bytes, text, request)) Score(request);
       break;
     }
-    default: {
+    case 6: {
       vscan::v1::ForwardKinematicsRequest request;
       if (Parse(bytes, text, request)) ForwardKinematics(world, request);
+      break;
+    }
+    default: {
+      vscan::v1::InverseKinematicsRequest request;
+      if (Parse(bytes, text, request)) InverseKinematics(world, request);
       break;
     }
   }
