@@ -341,6 +341,46 @@ class KillDuringCampaignTest(unittest.TestCase):
             server.cleanup()
 
 
+class ResumeAligningCampaignTest(unittest.TestCase):
+    """A campaign that aligns its scans as it captures them, killed and resumed: the resumed run
+    aligns the stored scans again and its model equals that of an uninterrupted run."""
+
+    def test_resumed_campaign_models_every_scan_as_an_uninterrupted_run(self):
+        server = Server().start()
+        try:
+            fx = CampaignFixture(server)
+            campaign = spec(fx.scene.scene_id, fx.mount, viewpoints=VIEWPOINTS, rotations=8, step=45.0,
+                            sensor=camera(160, 120), seed=5, name="aligned", align=True)
+            job_id = fx.jobs.StartCampaign(job_pb2.StartCampaignRequest(spec=campaign), timeout=30).job.job_id
+
+            def two_scans():
+                got = fx.jobs.GetJob(job_pb2.GetJobRequest(job_id=job_id), timeout=10).job
+                return got if len(scan_artifacts(got)) >= 2 else None
+            wait_for(two_scans, what="two scans")
+            fx.close()
+            server.kill9()
+            server.start()
+            with Client(server.address) as client:
+                interrupted = client.get_job(job_id)
+                self.assertEqual(interrupted.state, job_pb2.JOB_STATE_INTERRUPTED)
+                self.assertLess(len(scan_artifacts(interrupted)), 16)
+                client.resume_job(job_id)
+                job = client.wait_job(job_id, timeout=180)
+                self.assertEqual(job.state, job_pb2.JOB_STATE_SUCCEEDED, job.message)
+                self.assertEqual([a.name for a in job.artifacts].count("model.json"), 1)
+                resumed = client.model_report(job_id)["alignment"]
+                whole_job = client.wait_job(client.start_campaign(spec=campaign).job_id, timeout=180)
+                self.assertEqual(whole_job.state, job_pb2.JOB_STATE_SUCCEEDED, whole_job.message)
+                whole = client.model_report(whole_job.job_id)["alignment"]
+            self.assertEqual(resumed["aligned"], 16)
+            self.assertEqual(resumed["unaligned"], 0)
+            self.assertEqual([scan["name"] for scan in resumed["scans"]], [scan["name"] for scan in whole["scans"]])
+            for mine, theirs in zip(resumed["scans"], whole["scans"]):
+                np.testing.assert_allclose(mine["pose"], theirs["pose"], atol=1e-9, err_msg=mine["name"])
+        finally:
+            server.cleanup()
+
+
 class TmpfsStore:
     """A small tmpfs as the server's data directory, kept across restarts of the server.
 
