@@ -11,6 +11,15 @@ namespace {
 
 using sqlite::Statement;
 
+// Appends column 0 of every row the statement yields.
+Status AppendFirstColumn(Statement& statement, std::vector<std::string>& out) {
+  for (;;) {
+    ASSIGN_OR_RETURN(bool row, statement.Step());
+    if (!row) return Status::Ok();
+    out.push_back(statement.Text(0));
+  }
+}
+
 constexpr int kMaxListLimit = 1000;
 
 constexpr std::string_view kJobColumns =
@@ -271,11 +280,7 @@ StatusOr<std::pair<JobRecord, std::vector<std::string>>> JobCatalogue::ReopenJob
     ASSIGN_OR_RETURN(Statement names, Statement::Prepare(db_, "SELECT DISTINCT sha256 FROM job_artifacts "
                                                               "WHERE job_id = ?1 AND coalesce(length(info), 0) = 0"));
     names.Bind(1, job_id);
-    for (;;) {
-      ASSIGN_OR_RETURN(bool row, names.Step());
-      if (!row) break;
-      blobs.push_back(names.Text(0));
-    }
+    RETURN_IF_ERROR(AppendFirstColumn(names, blobs));
     ASSIGN_OR_RETURN(Statement drop, Statement::Prepare(db_, "DELETE FROM job_artifacts "
                                                              "WHERE job_id = ?1 AND coalesce(length(info), 0) = 0"));
     drop.Bind(1, job_id);
@@ -310,11 +315,7 @@ StatusOr<std::vector<std::string>> JobCatalogue::DeleteJob(const std::string& jo
     ASSIGN_OR_RETURN(Statement names, Statement::Prepare(db_, "SELECT DISTINCT sha256 FROM job_artifacts "
                                                               "WHERE job_id = ?1"));
     names.Bind(1, job_id);
-    for (;;) {
-      ASSIGN_OR_RETURN(bool row, names.Step());
-      if (!row) break;
-      blobs.push_back(names.Text(0));
-    }
+    RETURN_IF_ERROR(AppendFirstColumn(names, blobs));
     // Its artifact rows go with it (ON DELETE CASCADE).
     ASSIGN_OR_RETURN(Statement del, Statement::Prepare(db_, "DELETE FROM jobs WHERE job_id = ?1"));
     del.Bind(1, job_id);

@@ -190,6 +190,16 @@ def scan_artifacts(job):
     return [a for a in job.artifacts if a.HasField("scan")]
 
 
+def kill_after_two_scans(server, fx, job_id):
+    """Waits until the campaign has stored two scans, then kills the server (-9)."""
+    def two_scans():
+        got = fx.jobs.GetJob(job_pb2.GetJobRequest(job_id=job_id), timeout=10).job
+        return got if len(scan_artifacts(got)) >= 2 else None
+    wait_for(two_scans, what="two scans")
+    fx.close()
+    server.kill9()
+
+
 class KillDuringCampaignTest(unittest.TestCase):
     """Eight table angles of two viewpoints with encoder noise: killed after two scans, resumed by the CLI."""
 
@@ -208,13 +218,7 @@ class KillDuringCampaignTest(unittest.TestCase):
         try:
             fx = CampaignFixture(server)
             job_id = fx.jobs.StartCampaign(job_pb2.StartCampaignRequest(spec=self.campaign(fx)), timeout=30).job.job_id
-
-            def two_scans():
-                got = fx.jobs.GetJob(job_pb2.GetJobRequest(job_id=job_id), timeout=10).job
-                return got if len(got.artifacts) >= 2 else None
-            wait_for(two_scans, what="two scans")
-            fx.close()
-            server.kill9()
+            kill_after_two_scans(server, fx, job_id)
             server.start()
             with Client(server.address) as client:
                 interrupted = client.get_job(job_id)
@@ -352,13 +356,7 @@ class ResumeAligningCampaignTest(unittest.TestCase):
             campaign = spec(fx.scene.scene_id, fx.mount, viewpoints=VIEWPOINTS, rotations=8, step=45.0,
                             sensor=camera(160, 120), seed=5, name="aligned", align=True)
             job_id = fx.jobs.StartCampaign(job_pb2.StartCampaignRequest(spec=campaign), timeout=30).job.job_id
-
-            def two_scans():
-                got = fx.jobs.GetJob(job_pb2.GetJobRequest(job_id=job_id), timeout=10).job
-                return got if len(scan_artifacts(got)) >= 2 else None
-            wait_for(two_scans, what="two scans")
-            fx.close()
-            server.kill9()
+            kill_after_two_scans(server, fx, job_id)
             server.start()
             with Client(server.address) as client:
                 interrupted = client.get_job(job_id)
