@@ -26,6 +26,10 @@ std::string StateLabel(v1::JobState state) {
 
 }  // namespace
 
+LiveJob::LiveJob(v1::Job job, uint64_t first_sequence) : job_(std::move(job)), first_sequence_(first_sequence) {
+  for (const v1::Artifact& artifact : job_.artifacts()) artifact_bytes_ += artifact.size_bytes();
+}
+
 v1::Job LiveJob::Snapshot() const {
   std::lock_guard lock(mutex_);
   return job_;
@@ -77,6 +81,11 @@ size_t LiveJob::retained_events() const {
   return events_.size();
 }
 
+std::pair<uint64_t, uint64_t> LiveJob::ArtifactCountAndBytes() const {
+  std::lock_guard lock(mutex_);
+  return {static_cast<uint64_t>(job_.artifacts_size()), artifact_bytes_};
+}
+
 void LiveJob::TrimLocked() {
   uint64_t keep_from = first_sequence_ + events_.size();
   for (const auto& [watcher, next] : watchers_) keep_from = std::min(keep_from, next);
@@ -96,7 +105,10 @@ void LiveJob::Publish(v1::WatchJobResponse response, std::optional<v1::Artifact>
     job_.set_message(slim.message());
     job_.set_steps_done(slim.steps_done());
     *job_.mutable_update_time() = slim.update_time();
-    if (artifact) *job_.add_artifacts() = std::move(*artifact);
+    if (artifact) {
+      artifact_bytes_ += artifact->size_bytes();
+      *job_.add_artifacts() = std::move(*artifact);
+    }
     events_.push_back(std::move(response));
     TrimLocked();
     ended_ = ended;
@@ -228,12 +240,12 @@ StatusOr<v1::Artifact> JobTracker::RecordArtifact(const std::string& job_id, con
                                                   const v1::ScanArtifactInfo* info, const JobEventUpdate& update,
                                                   const store::CloudRecord* cloud) {
   ASSIGN_OR_RETURN(auto live, RequireLive(job_id));
-  ASSIGN_OR_RETURN(const store::ArtifactTotals totals, catalogue_.CountArtifacts(job_id));
-  if (totals.count >= max_artifacts_) {
-    return ResourceExhausted("job " + job_id + ": " + name + " would be its artifact " + std::to_string(totals.count + 1) +
+  const auto [count, stored_bytes] = live->ArtifactCountAndBytes();
+  if (count >= max_artifacts_) {
+    return ResourceExhausted("job " + job_id + ": " + name + " would be its artifact " + std::to_string(count + 1) +
                              ", past the limit of " + std::to_string(max_artifacts_) + " per job (--max-job-artifacts)");
   }
-  if (bytes.size() > max_artifact_bytes_ || totals.bytes > max_artifact_bytes_ - bytes.size()) {
+  if (bytes.size() > max_artifact_bytes_ || stored_bytes > max_artifact_bytes_ - bytes.size()) {
     return ResourceExhausted("job " + job_id + ": " + name + " (" + std::to_string(bytes.size()) +
                              " bytes) would take its artifacts past the limit of " +
                              std::to_string(max_artifact_bytes_ >> 20) + " MiB per job (--max-job-mib)");

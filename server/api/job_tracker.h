@@ -45,8 +45,7 @@ class JobWatcher {
 class LiveJob {
  public:
   // first_sequence: the sequence its next event takes (a reopened job continues its numbering).
-  explicit LiveJob(v1::Job job, uint64_t first_sequence = 1)
-      : job_(std::move(job)), first_sequence_(first_sequence) {}
+  explicit LiveJob(v1::Job job, uint64_t first_sequence = 1);
 
   // The whole job as it is now.
   v1::Job Snapshot() const;
@@ -64,6 +63,8 @@ class LiveJob {
   std::pair<std::string, std::string> KindAndState() const;
   // Events held for watchers that have not taken them yet.
   size_t retained_events() const;
+  // Artifacts stored so far, and their bytes.
+  std::pair<uint64_t, uint64_t> ArtifactCountAndBytes() const;
 
  private:
   friend class JobTracker;
@@ -74,6 +75,7 @@ class LiveJob {
 
   mutable std::mutex mutex_;
   v1::Job job_;
+  uint64_t artifact_bytes_ = 0;  // the sum of job_'s artifacts' sizes
   std::deque<v1::WatchJobResponse> events_;  // events_[i] has sequence first_sequence_ + i
   uint64_t first_sequence_ = 1;
   bool ended_ = false;

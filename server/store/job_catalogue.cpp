@@ -71,6 +71,19 @@ ArtifactRecord ReadArtifact(const Statement& s) {
 
 Status JobNotFound(const std::string& job_id) { return NotFound("job_id: no job '" + job_id + "'"); }
 
+// The job's id, kind and state; NOT_FOUND for an unknown job.
+StatusOr<JobRecord> FindKindAndState(sqlite3* db, const std::string& job_id) {
+  ASSIGN_OR_RETURN(Statement find, Statement::Prepare(db, "SELECT kind, state FROM jobs WHERE job_id = ?1"));
+  find.Bind(1, job_id);
+  ASSIGN_OR_RETURN(bool found, find.Step());
+  if (!found) return JobNotFound(job_id);
+  JobRecord job;
+  job.job_id = job_id;
+  job.kind = find.Text(0);
+  ASSIGN_OR_RETURN(job.state, StateFromCode(find.Int(1), job_id));
+  return job;
+}
+
 Status ReadArtifacts(sqlite3* db, JobRecord& job) {
   ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db, Select(kArtifactColumns, "job_artifacts",
                                                               "WHERE job_id = ?1 ORDER BY ordinal")));
@@ -184,12 +197,8 @@ StatusOr<std::vector<JobRecord>> JobCatalogue::ListJobs(const std::string& after
 }
 
 Status JobCatalogue::UpdateProgressLocked(const std::string& job_id, const JobProgress& progress, int64_t now_ms) {
-  ASSIGN_OR_RETURN(Statement find, Statement::Prepare(db_, "SELECT state FROM jobs WHERE job_id = ?1"));
-  find.Bind(1, job_id);
-  ASSIGN_OR_RETURN(bool found, find.Step());
-  if (!found) return JobNotFound(job_id);
-  ASSIGN_OR_RETURN(const JobState current, StateFromCode(find.Int(0), job_id));
-  if (IsFinal(current)) return FailedPrecondition("job_id: job '" + job_id + "' has already ended");
+  ASSIGN_OR_RETURN(const JobRecord found, FindKindAndState(db_, job_id));
+  if (IsFinal(found.state)) return FailedPrecondition("job_id: job '" + job_id + "' has already ended");
   ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_,
                                                    "UPDATE jobs SET state = ?2, message = ?3, steps_done = ?4, "
                                                    "last_sequence = ?5, update_time_ms = ?6 WHERE job_id = ?1"));
@@ -235,16 +244,6 @@ StatusOr<ArtifactRecord> JobCatalogue::AddArtifact(ArtifactRecord artifact, cons
   return artifact;
 }
 
-StatusOr<ArtifactTotals> JobCatalogue::CountArtifacts(const std::string& job_id) {
-  std::lock_guard lock(mutex_);
-  ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_, "SELECT count(*), coalesce(sum(size_bytes), 0) "
-                                                       "FROM job_artifacts WHERE job_id = ?1"));
-  s.Bind(1, job_id);
-  ASSIGN_OR_RETURN(bool row, s.Step());
-  if (!row) return ArtifactTotals{};
-  return ArtifactTotals{static_cast<uint64_t>(s.Int(0)), static_cast<uint64_t>(s.Int(1))};
-}
-
 StatusOr<ArtifactRecord> JobCatalogue::GetArtifact(const std::string& job_id, const std::string& artifact_id) {
   std::lock_guard lock(mutex_);
   {
@@ -268,14 +267,7 @@ StatusOr<std::pair<JobRecord, std::vector<std::string>>> JobCatalogue::ReopenJob
   JobRecord job;
   std::vector<std::string> blobs;
   RETURN_IF_ERROR(sqlite::InTransaction(db_, true, [&]() -> Status {
-    ASSIGN_OR_RETURN(Statement find, Statement::Prepare(db_, "SELECT kind, state FROM jobs WHERE job_id = ?1"));
-    find.Bind(1, job_id);
-    ASSIGN_OR_RETURN(bool found, find.Step());
-    if (!found) return JobNotFound(job_id);
-    JobRecord found_job;
-    found_job.job_id = job_id;
-    found_job.kind = find.Text(0);
-    ASSIGN_OR_RETURN(found_job.state, StateFromCode(find.Int(1), job_id));
+    ASSIGN_OR_RETURN(const JobRecord found_job, FindKindAndState(db_, job_id));
     RETURN_IF_ERROR(CheckResumable(found_job, kind));
     ASSIGN_OR_RETURN(Statement names, Statement::Prepare(db_, "SELECT DISTINCT sha256 FROM job_artifacts "
                                                               "WHERE job_id = ?1 AND coalesce(length(info), 0) = 0"));
@@ -303,11 +295,8 @@ StatusOr<std::vector<std::string>> JobCatalogue::DeleteJob(const std::string& jo
   std::lock_guard lock(mutex_);
   std::vector<std::string> blobs;
   RETURN_IF_ERROR(sqlite::InTransaction(db_, true, [&]() -> Status {
-    ASSIGN_OR_RETURN(Statement find, Statement::Prepare(db_, "SELECT state FROM jobs WHERE job_id = ?1"));
-    find.Bind(1, job_id);
-    ASSIGN_OR_RETURN(bool found, find.Step());
-    if (!found) return JobNotFound(job_id);
-    ASSIGN_OR_RETURN(const JobState state, StateFromCode(find.Int(0), job_id));
+    ASSIGN_OR_RETURN(const JobRecord found, FindKindAndState(db_, job_id));
+    const JobState state = found.state;
     if (!IsFinal(state)) {
       return FailedPrecondition("job_id: job '" + job_id + "' is still " +
                                 (state == JobState::kQueued ? "queued" : "running") + "; cancel it first");

@@ -37,10 +37,6 @@ struct ArtifactRecord {
   int64_t create_time_ms = 0;
 };
 
-struct ArtifactTotals {
-  uint64_t count = 0;
-  uint64_t bytes = 0;
-};
 struct JobRecord;
 // Whether a run may continue job as ReopenJob would: FAILED_PRECONDITION naming job_id for a job of
 // another kind than kind, one that has not ended, or one that succeeded.
@@ -95,8 +91,6 @@ class JobCatalogue {
   StatusOr<ArtifactRecord> AddArtifact(ArtifactRecord artifact, const JobProgress& progress,
                                        CloudRecord* scan_cloud = nullptr);
   StatusOr<ArtifactRecord> GetArtifact(const std::string& job_id, const std::string& artifact_id);
-  // How many artifacts a job has stored and their bytes (zeros for an unknown job).
-  StatusOr<ArtifactTotals> CountArtifacts(const std::string& job_id);
   // Puts an ended job of kind back to QUEUED with message, for a run that continues it: keeps
   // the artifacts that describe a scan (their info is set) and deletes the others (its reports,
   // written anew); returns the job as reopened and the blobs the deleted rows named (for

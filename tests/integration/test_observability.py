@@ -12,7 +12,7 @@ import urllib.request
 
 import grpc
 
-from harness import SOURCE_DIR, VSCAN, Server, icosphere_ply, look_at, pinhole
+from harness import SOURCE_DIR, VSCAN, ServerTestCase, icosphere_ply, look_at, pinhole
 from vscan.v1 import common_pb2, scan_pb2, scan_pb2_grpc, scene_pb2, scene_pb2_grpc
 
 SCAN = "/vscan.v1.ScanService/Scan"
@@ -51,20 +51,12 @@ def value(samples, name, **labels):
     return samples.get((name, frozenset(labels.items())), 0.0)
 
 
-class ObservabilityTest(unittest.TestCase):
+class ObservabilityTest(ServerTestCase):
     @classmethod
     def setUpClass(cls):
         cls.metrics_port = free_port()
-        cls.server = Server(extra_args=("--metrics-listen", f"127.0.0.1:{cls.metrics_port}",
-                                        "--log-format", "json")).start()
-        cls.channel = cls.server.channel()
-        cls.scenes = scene_pb2_grpc.SceneServiceStub(cls.channel)
-        cls.scans = scan_pb2_grpc.ScanServiceStub(cls.channel)
-
-    @classmethod
-    def tearDownClass(cls):
-        cls.channel.close()
-        cls.server.cleanup()
+        cls.server_args = ("--metrics-listen", f"127.0.0.1:{cls.metrics_port}", "--log-format", "json")
+        super().setUpClass()
 
     def scrape(self):
         with urllib.request.urlopen(f"http://127.0.0.1:{self.metrics_port}/metrics", timeout=10) as response:

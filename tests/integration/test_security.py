@@ -160,21 +160,29 @@ class MutualTlsTest(SecureServerCase):
                                client_cert=cert("client.crt", OTHER), client_key=cert("client.key", OTHER))
 
 
-class TokenTest(SecureServerCase):
-    """--token-file over plaintext: every call but the health check needs the bearer token."""
+class TokenServerCase(SecureServerCase):
+    """A server that reads TOKEN from a --token-file written before it starts."""
+
+    token_line_end = "\n"
 
     @classmethod
     def setUpClass(cls):
         cls.token_dir = tempfile.TemporaryDirectory(prefix="vscan-token-")
         cls.token_file = os.path.join(cls.token_dir.name, "token")
         with open(cls.token_file, "w") as f:
-            f.write(TOKEN + "\r\n")  # a line ending from another system is not part of the token
+            f.write(TOKEN + cls.token_line_end)
         super().setUpClass()
 
     @classmethod
     def tearDownClass(cls):
         super().tearDownClass()
         cls.token_dir.cleanup()
+
+
+class TokenTest(TokenServerCase):
+    """--token-file over plaintext: every call but the health check needs the bearer token."""
+
+    token_line_end = "\r\n"  # a line ending from another system is not part of the token
 
     @classmethod
     def server_args(cls):
@@ -208,21 +216,9 @@ class TokenTest(SecureServerCase):
         self.assertPythonWorks(token=TOKEN)
 
 
-class MutualTlsWithTokenTest(SecureServerCase):
+class MutualTlsWithTokenTest(TokenServerCase):
     """A lab's full setup: mutual TLS and a token. Each check stands on its own."""
 
-    @classmethod
-    def setUpClass(cls):
-        cls.token_dir = tempfile.TemporaryDirectory(prefix="vscan-token-")
-        cls.token_file = os.path.join(cls.token_dir.name, "token")
-        with open(cls.token_file, "w") as f:
-            f.write(TOKEN + "\n")
-        super().setUpClass()
-
-    @classmethod
-    def tearDownClass(cls):
-        super().tearDownClass()
-        cls.token_dir.cleanup()
 
     @classmethod
     def server_args(cls):
