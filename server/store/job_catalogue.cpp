@@ -95,6 +95,17 @@ Status ReadArtifacts(sqlite3* db, JobRecord& job) {
   }
 }
 
+// The job's row and its artifacts, inside the caller's transaction.
+StatusOr<JobRecord> ReadJobWithArtifacts(sqlite3* db, const std::string& job_id) {
+  ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db, Select(kJobColumns, "jobs", "WHERE job_id = ?1")));
+  s.Bind(1, job_id);
+  ASSIGN_OR_RETURN(bool row, s.Step());
+  if (!row) return JobNotFound(job_id);
+  ASSIGN_OR_RETURN(JobRecord job, ReadJob(s));
+  RETURN_IF_ERROR(ReadArtifacts(db, job));
+  return job;
+}
+
 }  // namespace
 
 bool IsFinal(JobState state) { return state != JobState::kQueued && state != JobState::kRunning; }
@@ -166,12 +177,8 @@ StatusOr<JobRecord> JobCatalogue::GetJob(const std::string& job_id) {
   std::lock_guard lock(mutex_);
   JobRecord job;
   RETURN_IF_ERROR(sqlite::InTransaction(db_, false, [&]() -> Status {
-    ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_, Select(kJobColumns, "jobs", "WHERE job_id = ?1")));
-    s.Bind(1, job_id);
-    ASSIGN_OR_RETURN(bool row, s.Step());
-    if (!row) return JobNotFound(job_id);
-    ASSIGN_OR_RETURN(job, ReadJob(s));
-    return ReadArtifacts(db_, job);
+    ASSIGN_OR_RETURN(job, ReadJobWithArtifacts(db_, job_id));
+    return Status::Ok();
   }));
   return job;
 }
@@ -281,12 +288,8 @@ StatusOr<std::pair<JobRecord, std::vector<std::string>>> JobCatalogue::ReopenJob
                                                                "update_time_ms = ?4 WHERE job_id = ?1"));
     reopen.Bind(1, job_id).Bind(2, Code(JobState::kQueued)).Bind(3, message).Bind(4, NowMs());
     RETURN_IF_ERROR(reopen.Run());
-    ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_, Select(kJobColumns, "jobs", "WHERE job_id = ?1")));
-    s.Bind(1, job_id);
-    ASSIGN_OR_RETURN(bool row, s.Step());
-    if (!row) return JobNotFound(job_id);
-    ASSIGN_OR_RETURN(job, ReadJob(s));
-    return ReadArtifacts(db_, job);
+    ASSIGN_OR_RETURN(job, ReadJobWithArtifacts(db_, job_id));
+    return Status::Ok();
   }));
   return std::make_pair(std::move(job), std::move(blobs));
 }

@@ -19,6 +19,7 @@ sys.path.insert(0, os.path.join(BUILD_DIR, "python"))
 sys.path.insert(0, os.path.join(SOURCE_DIR, "client", "python"))
 
 import grpc  # noqa: E402
+import numpy as np  # noqa: E402
 from vscan.v1 import common_pb2, scan_pb2, scan_pb2_grpc, scene_pb2, scene_pb2_grpc, sensor_pb2  # noqa: E402,F401
 
 
@@ -139,6 +140,15 @@ def look_at(eye, target, up=(0, 0, 1)):
 def pinhole(width=160, height=120, hfov=60.0, near=0.05, far=10.0):
     return sensor_pb2.SensorSpec(pinhole=sensor_pb2.PinholeCamera(
         width=width, height=height, horizontal_fov_deg=hfov, near=near, far=far))
+
+
+def scan_points(channel, scene_id):
+    """Positions of a small fixed scan of the scene, as an (n, 3) array."""
+    scans = scan_pb2_grpc.ScanServiceStub(channel)
+    request = scan_pb2.ScanRequest(scene_id=scene_id, sensor=pinhole(160, 120, 40.0),
+                                   pose=look_at((0.0, -0.6, 0.1), (0.0, 0.0, 0.1)))
+    chunks = [r.chunk for r in scans.Scan(request, timeout=60) if r.WhichOneof("part") == "chunk"]
+    return np.concatenate([np.frombuffer(c.positions, dtype="<f4").reshape(-1, 3) for c in chunks])
 
 
 def icosphere_ply(radius, centre, subdivisions=4):

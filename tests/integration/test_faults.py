@@ -17,7 +17,7 @@ import unittest
 import grpc
 import numpy as np
 
-from harness import BUNNY, VSCAN, Server, common_pb2, icosphere_ply, look_at, pinhole, scan_pb2, scene_pb2
+from harness import BUNNY, VSCAN, Server, common_pb2, icosphere_ply, look_at, pinhole, scan_pb2, scan_points, scene_pb2
 from test_campaign_service import VIEWPOINTS, CampaignFixture, camera, parse_ply, spec, wait_for
 from test_robots import PANDA, bundle_requests, panda_files, read, upload_ur5
 from vscan.v1 import job_pb2, robot_pb2, robot_pb2_grpc, scan_pb2_grpc, scene_pb2_grpc
@@ -60,14 +60,6 @@ def held_stream(requests, count, sent, hold):
             hold.wait()
             return
         yield message
-
-
-def scan_points(channel, scene_id):
-    scans = scan_pb2_grpc.ScanServiceStub(channel)
-    request = scan_pb2.ScanRequest(scene_id=scene_id, sensor=pinhole(160, 120, 40.0),
-                                   pose=look_at((0.0, -0.6, 0.1), (0.0, 0.0, 0.1)))
-    chunks = [r.chunk for r in scans.Scan(request, timeout=60) if r.WhichOneof("part") == "chunk"]
-    return np.concatenate([np.frombuffer(c.positions, dtype="<f4").reshape(-1, 3) for c in chunks])
 
 
 def kill_mid_stream(test, server, call, requests_of):

@@ -4,16 +4,8 @@ import unittest
 
 import numpy as np
 
-from harness import BUNNY, Server, common_pb2, look_at, pinhole, scan_pb2, scene_pb2
-from vscan.v1 import scan_pb2_grpc, scene_pb2_grpc
-
-
-def scan_points(channel, scene_id):
-    scans = scan_pb2_grpc.ScanServiceStub(channel)
-    request = scan_pb2.ScanRequest(scene_id=scene_id, sensor=pinhole(160, 120, 40.0),
-                                   pose=look_at((0.0, -0.6, 0.1), (0.0, 0.0, 0.1)))
-    chunks = [r.chunk for r in scans.Scan(request, timeout=60) if r.WhichOneof("part") == "chunk"]
-    return np.concatenate([np.frombuffer(c.positions, dtype="<f4").reshape(-1, 3) for c in chunks])
+from harness import BUNNY, Server, common_pb2, scan_points, scene_pb2
+from vscan.v1 import scene_pb2_grpc
 
 
 class RestartTest(unittest.TestCase):
