@@ -61,9 +61,11 @@ class ModelRun {
            jobs::JobControl& control)
       : context_(context), recorder_(recorder), job_id_(job_id), plan_(std::move(plan)), control_(control) {
     report_.job_id = job_id;
-    report_.clouds = plan.clouds.size();
-    if (plan.scene) report_.scene_id = plan.scene->scene_id;
+    report_.clouds = plan_.clouds.size();
+    if (plan_.scene) report_.scene_id = plan_.scene->scene_id;
   }
+
+  void SetReportKind(std::string kind) { report_.kind = std::move(kind); }
 
   void Run() {
     Status status = Event(Intent());
@@ -430,7 +432,9 @@ uint32_t CampaignModelSteps(const ModelPlan& plan) {
 
 CampaignModel::CampaignModel(ServiceContext& context, JobRecorder& recorder, const std::string& job_id,
                              ModelPlan plan, jobs::JobControl& control)
-    : run_(std::make_unique<ModelRun>(context, recorder, job_id, std::move(plan), control)) {}
+    : run_(std::make_unique<ModelRun>(context, recorder, job_id, std::move(plan), control)) {
+  run_->SetReportKind("campaign");
+}
 CampaignModel::~CampaignModel() = default;
 
 Status CampaignModel::Prepare() { return run_->Prepare(); }

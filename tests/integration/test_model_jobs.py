@@ -15,7 +15,7 @@ import unittest
 import numpy as np
 import open3d as o3d
 
-from harness import BUNNY, SOURCE_DIR, VSCAN, Server
+from harness import BUNNY, SOURCE_DIR, VSCAN, Server, cli_result
 from test_campaign_cli import bunny_vertices_on_table
 from test_cli import read_ply
 
@@ -76,7 +76,7 @@ def setUpModule():
     out = vscan("--json", "campaign", "run", write_plan("plan.yaml"), "--no-download")
     if out.returncode != 0:
         raise RuntimeError(f"campaign run failed: {out.stderr}\n{server.log()}")
-    campaign = json.loads(out.stdout)
+    campaign = cli_result(out.stdout)
 
 
 def tearDownModule():
@@ -118,7 +118,7 @@ class ModelCliTest(unittest.TestCase):
 
     def result(self, run):
         self.assertEqual(run.returncode, 0, run.stderr + server.log())
-        return json.loads(run.stdout)
+        return cli_result(run.stdout)
 
     def test_align_reports_every_scan_with_its_pose_error(self):
         result = self.result(self.align)
@@ -292,7 +292,13 @@ class CampaignEvaluatesItsScansTest(unittest.TestCase):
         self.assertIn(f"alignment: {SCANS} of {SCANS} scans aligned", out.stdout)
         self.assertIn("evaluation at tau ", out.stdout)
         self.assertIn("  coverage ", out.stdout)
-        self.assertTrue(os.path.exists(os.path.join(tmp.name, "campaign-evaluated", "model.json")))
+        with open(os.path.join(tmp.name, "campaign-evaluated", "model.json")) as f:
+            model = json.load(f)
+        # The campaign's own report: its kind and the scene its ground truth came from.
+        self.assertEqual(model["kind"], "campaign")
+        self.assertTrue(model["scene_id"], model)
+        with open(os.path.join(tmp.name, "campaign-evaluated", "job.json")) as f:
+            self.assertIn(f'"{model["scene_id"]}"', f.read())
 
 
 if __name__ == "__main__":
