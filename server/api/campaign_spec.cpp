@@ -24,6 +24,12 @@ StatusOr<Eigen::Vector3d> Point(bool has, const v1::Vector3& p, const std::strin
   return point;
 }
 
+// World +z, as CAMPAIGNS.md documents; +x for a view that looks straight up or down.
+Eigen::Vector3d DefaultViewpointUp(const Eigen::Vector3d& view) {
+  const Eigen::Vector3d z = Eigen::Vector3d::UnitZ();
+  return z.cross(view).norm() < 1e-3 ? Eigen::Vector3d::UnitX() : z;
+}
+
 StatusOr<std::vector<service::CampaignViewpoint>> Viewpoints(const v1::CampaignSpec& spec) {
   if (spec.viewpoints().empty()) return InvalidArgument("viewpoints", "at least one viewpoint required");
   if (spec.viewpoints_size() > service::kMaxCampaignViewpoints) {
@@ -39,18 +45,17 @@ StatusOr<std::vector<service::CampaignViewpoint>> Viewpoints(const v1::CampaignS
     if ((vp.target - vp.position).norm() < 1e-6) {
       return InvalidArgument(FieldPath(field, "target"), "coincides with position; the sensor must look somewhere");
     }
+    const Eigen::Vector3d view = (vp.target - vp.position).normalized();
+    Eigen::Vector3d up = DefaultViewpointUp(view);
     if (v.has_up()) {
-      // The whole sensor pose, as a look_at Pose gives it: the IK then also matches the image's up.
-      ASSIGN_OR_RETURN(const Eigen::Vector3d up, Point(true, v.up(), field + ".up"));
-      const Eigen::Vector3d view = (vp.target - vp.position).normalized();
+      ASSIGN_OR_RETURN(up, Point(true, v.up(), field + ".up"));
       if (up.norm() < 1e-9 || up.normalized().cross(view).norm() < 1e-6) {
         return InvalidArgument(FieldPath(field, "up"), "must not be zero or parallel to the view direction");
       }
-      ASSIGN_OR_RETURN(const Pose3 world_from_sensor, PoseFromLookAt(vp.position, vp.target, up, field));
-      vp.goal = robot::PoseGoal(world_from_sensor);
-    } else {
-      ASSIGN_OR_RETURN(vp.goal, robot::LookAtGoal(vp.position, vp.target, field));
     }
+    // The whole sensor pose, as a look_at Pose gives it: the IK also matches the image's up.
+    ASSIGN_OR_RETURN(const Pose3 world_from_sensor, PoseFromLookAt(vp.position, vp.target, up, field));
+    vp.goal = robot::PoseGoal(world_from_sensor);
     out.push_back(std::move(vp));
   }
   return out;

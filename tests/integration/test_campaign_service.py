@@ -354,6 +354,20 @@ class CampaignTest(unittest.TestCase):
         np.testing.assert_allclose(matrix(done.artifacts[0].scan.sensor_pose), matrix(scanned.header.sensor_pose),
                                    atol=1e-4)
 
+    def test_without_up_the_image_is_upright(self):
+        s = spec(self.fx.scene.scene_id, self.fx.mount, viewpoints=VIEWPOINTS[1:], rotations=1,
+                 sensor=camera(80, 60))
+        _, _, done = self.run_campaign(s)
+        self.assertEqual(done.state, job_pb2.JOB_STATE_SUCCEEDED, done.message)
+        pose = matrix(done.artifacts[0].scan.sensor_pose)
+        # The documented default up, world +z: the image's x axis is level and its y axis (down) falls.
+        self.assertAlmostEqual(pose[2, 0], 0.0, places=4)
+        self.assertLess(pose[2, 1], 0.0)
+        eye, target = VIEWPOINTS[1]
+        scanned = self.client.scan(self.fx.scene.scene_id, width=80, height=60, eye=eye, target=target,
+                                   up=(0.0, 0.0, 1.0))
+        np.testing.assert_allclose(pose, matrix(scanned.header.sensor_pose), atol=1e-4)
+
     def test_cancel_mid_run(self):
         s = spec(self.fx.scene.scene_id, self.fx.mount, viewpoints=VIEWPOINTS * 2, rotations=60, step=6.0)
         job = self.client.start_campaign(spec=s)
