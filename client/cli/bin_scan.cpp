@@ -53,14 +53,19 @@ StatusOr<ViewCone> PresetCone(client::Client& client, const std::string& name) {
   return NotFound("--preset: no sensor preset '" + name + "' (see `vscan sensors`)");
 }
 
-// Height of the sensor above the bin's floor: the whole opening (walls included) in view, the rim
-// no nearer than the near limit.
+// Distance from the sensor to the rim's plane at which an opening of half-extents (half_x, half_y)
+// fills the view with a 10% margin.
+double FitAboveRim(double half_x, double half_y, const ViewCone& cone) {
+  return 1.1 * std::max(half_x / cone.tan_half_h, half_y / cone.tan_half_v);
+}
+
+// Height of the sensor above the bin's floor: the whole opening (walls included) in view at the
+// rim, which is nearest the sensor and widest, and the rim no nearer than the near limit.
 double FitHeight(const v1::BinBox& bin, const ViewCone& cone) {
   const double wall = bin.wall_thickness() > 0 ? bin.wall_thickness() : 0.01;
   const double half_x = 0.5 * bin.inner_size().x() + wall, half_y = 0.5 * bin.inner_size().y() + wall;
   const double rim = bin.inner_size().z();
-  const double fit = 1.1 * std::max(half_x / cone.tan_half_h, half_y / cone.tan_half_v);
-  return std::max(fit, rim + 1.05 * cone.near);
+  return rim + std::max(FitAboveRim(half_x, half_y, cone), 1.05 * cone.near);
 }
 
 // The same for a bin given as a mesh: its stored bounds at the bin's scale, in the bin frame, the
@@ -70,9 +75,8 @@ double FitHeight(const v1::Bounds& bounds, double scale, const ViewCone& cone) {
   const auto& hi = bounds.max();
   const double half_x = scale * std::max(std::abs(lo.x()), std::abs(hi.x()));
   const double half_y = scale * std::max(std::abs(lo.y()), std::abs(hi.y()));
-  const double floor = scale * lo.z(), rim = scale * hi.z();
-  const double fit = floor + 1.1 * std::max(half_x / cone.tan_half_h, half_y / cone.tan_half_v);
-  return std::max(fit, rim + 1.05 * cone.near);
+  const double rim = scale * hi.z();
+  return rim + std::max(FitAboveRim(half_x, half_y, cone), 1.05 * cone.near);
 }
 
 std::string ObjectsJson(const v1::ScanStatistics& stats) {
