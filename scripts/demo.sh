@@ -65,7 +65,8 @@ vscan render "$OUT/campaign/mesh.ply" -o "$OUT/mesh.png" --width 800 --height 60
 # placed in their scene, then scanned from above with ground truth per part, and drawn by instance.
 rm -rf "$OUT/bin"
 vscan --json bin fill "$ROOT/examples/bins/mixed_parts.yaml" -o "$OUT/bin" >"$OUT/bin-fill.json"
-BIN_JOB="$(/usr/bin/python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["job"]["jobId"])' "$OUT/bin-fill.json")"
+# --json streams the fill's events a line each, then the result.
+BIN_JOB="$(grep -m1 -o '"jobId":"[^"]*"' "$OUT/bin-fill.json" | cut -d'"' -f4)"
 vscan bin scan "$BIN_JOB" -o "$OUT/bin/scan.ply"
 vscan render "$OUT/bin/scan.ply" -o "$OUT/bin-scan.png" --color instance --width 800 --height 600
 /usr/bin/python3 - "$OUT/bin/bin.json" "$OUT/bin/scan.gt.json" <<'PY'

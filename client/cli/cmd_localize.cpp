@@ -115,6 +115,7 @@ int RunLocalize(Context& ctx, const LocalizeArgs& args) {
   } else {
     request.set_cloud_id(args.cloud);
   }
+  ctx.Say("localizing " + mesh_id + " in " + (uploaded.empty() ? "cloud " + args.cloud : args.cloud) + " ...");
   const auto response = CallLocalize(*client, request);
   if (!uploaded.empty()) (void)client->DeleteCloud(uploaded);
   if (!response.ok()) return ctx.ServerError(response.status());

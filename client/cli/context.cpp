@@ -33,23 +33,23 @@ client::Client* Context::GetClient() {
 }
 
 void Context::Say(const std::string& line) const {
-  if (!global.json && !global.quiet) std::cout << line << '\n';
+  if (!global.json && !global.quiet) std::cout << line << std::endl;
 }
 
 void Context::Print(const std::string& line) const {
-  if (!global.json) std::cout << line << '\n';
+  if (!global.json) std::cout << line << std::endl;
 }
 
 void Context::Done(const std::string& line, const std::string& id) const {
   if (global.json) return;
   if (!global.quiet) {
-    std::cout << line << '\n';
+    std::cout << line << std::endl;
   } else if (!id.empty()) {
-    std::cout << id << '\n';
+    std::cout << id << std::endl;
   }
 }
 
-void Context::EmitJson(const std::string& json_object) const { std::cout << json_object << '\n'; }
+void Context::EmitJson(const std::string& json_object) const { std::cout << json_object << std::endl; }
 
 int Context::ServerError(const Status& status) const {
   const bool unreachable =

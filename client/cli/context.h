@@ -45,13 +45,14 @@ class Context {
 
   bool json() const { return global.json; }
   bool quiet() const { return global.quiet; }
+  // Every line is flushed as it is written, so that a pipe sees it at once.
   // Human-readable line on stdout unless --json or --quiet.
   void Say(const std::string& line) const;
   // Printed even with --quiet (ids for scripts), never with --json.
   void Print(const std::string& line) const;
   // The outcome of a command that created or changed something: line normally, id with --quiet.
   void Done(const std::string& line, const std::string& id) const;
-  // One JSON object on stdout.
+  // One JSON object on stdout (a job's events come before it, one JSON object a line).
   void EmitJson(const std::string& json_object) const;
 
   // Error from a server call: exit 3, or 4 when the server could not be reached.

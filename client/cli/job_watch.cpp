@@ -22,6 +22,14 @@ std::string WatchCommand(const v1::Job& job) {
   return (job.kind() == "model" ? "vscan model watch " : "vscan campaign watch ") + job.job_id();
 }
 
+// One line of --json output per event: the event and where the job stands.
+std::string EventJson(const v1::WatchJobResponse& response) {
+  const v1::Job& job = response.job();
+  return "{\"event\":" + ToJson(response.event()) + ",\"jobId\":" + JsonQuote(job.job_id()) +
+         ",\"state\":" + JsonQuote(v1::JobState_Name(job.state())) + ",\"stepsDone\":" +
+         std::to_string(job.steps_done()) + ",\"stepsTotal\":" + std::to_string(job.steps_total()) + "}";
+}
+
 }  // namespace
 
 int WatchJobToEnd(Context& ctx, const std::string& job_id, WatchResult* result) {
@@ -41,7 +49,9 @@ int WatchJobToEnd(Context& ctx, const std::string& job_id, WatchResult* result) 
         response.job().steps_done() > 0 && !JobFinished(response.job().state())) {
       result->notes.emplace(event.step(), StepNote{event.message(), event.pose_reached()});
     }
-    if (chatty && event.has_alignment()) {
+    if (ctx.json()) {
+      ctx.EmitJson(EventJson(response));
+    } else if (chatty && event.has_alignment()) {
       bar->Finish();
       std::cout << Counter(response.job()) << FormatScanAlignment(event.alignment()) << std::endl;
     } else if (chatty && !event.message().empty() && (!tty || !event.has_artifact())) {

@@ -1,5 +1,6 @@
 """Starts a real vscand on a free port with its own data directory, for integration tests."""
 
+import json
 import os
 import signal
 import subprocess
@@ -21,6 +22,16 @@ sys.path.insert(0, os.path.join(SOURCE_DIR, "client", "python"))
 import grpc  # noqa: E402
 import numpy as np  # noqa: E402
 from vscan.v1 import common_pb2, scan_pb2, scan_pb2_grpc, scene_pb2, scene_pb2_grpc, sensor_pb2  # noqa: E402,F401
+
+
+def cli_result(stdout):
+    """The result object of `vscan --json ...`: what follows a job's event lines (one JSON object each)."""
+    return json.loads("\n".join(line for line in stdout.splitlines() if not line.startswith('{"event":')))
+
+
+def cli_events(stdout):
+    """The event lines `vscan --json` streamed while a job ran."""
+    return [json.loads(line) for line in stdout.splitlines() if line.startswith('{"event":')]
 
 
 class Server:

@@ -11,7 +11,7 @@ import unittest
 
 import numpy as np
 
-from harness import DATA, VSCAN, Server
+from harness import DATA, VSCAN, Server, cli_events, cli_result
 from test_cli import read_ply
 
 import grpc  # noqa: E402
@@ -73,7 +73,7 @@ class BinCliTest(unittest.TestCase):
 
     def filled(self):
         self.assertEqual(self.fill.returncode, 0, self.fill.stderr + self.server.log())
-        return json.loads(self.fill.stdout)
+        return cli_result(self.fill.stdout)
 
     def test_fill_puts_the_bin_and_its_parts_into_the_scene(self):
         out = self.filled()
@@ -128,10 +128,45 @@ class BinCliTest(unittest.TestCase):
             world = matrix(o["world_from_object"]["values"])
             sensor = matrix(o["sensor_from_object"]["values"])
             np.testing.assert_allclose(matrix(truth["world_from_sensor"]) @ sensor, world, atol=1e-5)
+        # The default view holds the whole opening: points on the top of each of the four walls.
+        world = np.stack([points["x"], points["y"], points["z"], np.ones(len(points["x"]))])
+        yaw = math.radians(30)
+        world_from_bin = np.array([[math.cos(yaw), -math.sin(yaw), 0, 0.1], [math.sin(yaw), math.cos(yaw), 0, 0],
+                                   [0, 0, 1, 0], [0, 0, 0, 1]])
+        local = np.linalg.inv(world_from_bin) @ world
+        rim = local[:, local[2] > 0.099]
+        for axis, edge in ((0, 0.105), (1, 0.08)):
+            self.assertGreater(np.sum(rim[axis] > edge), 10, f"the rim beyond +{edge} m along axis {axis}")
+            self.assertGreater(np.sum(rim[axis] < -edge), 10, f"the rim beyond -{edge} m along axis {axis}")
         report = self.client.bin_report(job_id)
         seen_parts = {o["object_id"] for o in truth["objects"]} - {report["bin"]["object_id"]}
         self.assertTrue(seen_parts <= {p["object_id"] for p in report["parts"]})
         self.assertGreater(len(seen_parts), 0)
+
+    def test_json_streams_the_events_through_a_pipe_while_the_fill_runs(self):
+        plan = write_plan(self.tmp.name, "streamed.yaml", blocks=6, pins=6)
+        with open(plan) as f:
+            text = f.read().replace("scene: bins-test", "scene: bins-streamed")
+        with open(plan, "w") as f:
+            f.write(text)
+        cli = subprocess.Popen([VSCAN, "--server", self.server.address, "--json", "bin", "fill", plan, "-o",
+                                os.path.join(self.tmp.name, "streamed")], stdout=subprocess.PIPE, text=True)
+        try:
+            first = json.loads(cli.stdout.readline())
+            # A line reached the pipe while the command still ran: it was not held until the job ended.
+            self.assertIsNone(cli.poll())
+            self.assertIn("event", first)
+            self.assertIn(first["state"], ("JOB_STATE_QUEUED", "JOB_STATE_RUNNING"))
+            rest = cli.stdout.read()
+            self.assertEqual(cli.wait(timeout=300), 0)
+        finally:
+            if cli.poll() is None:
+                cli.kill()
+            cli.stdout.close()
+        events = cli_events(rest)
+        self.assertTrue(events)
+        self.assertEqual(events[-1]["state"], "JOB_STATE_SUCCEEDED")
+        self.assertEqual(cli_result(rest)["job"]["state"], "JOB_STATE_SUCCEEDED")
 
     def test_bad_specs_are_refused_naming_the_field_and_change_nothing(self):
         scene_id = self.filled()["sceneId"]
@@ -260,7 +295,7 @@ class MeshBinTest(unittest.TestCase):
         out_dir = os.path.join(self.tmp.name, "fill")
         fill = vscan(self.server, "--json", "bin", "fill", self.plan, "-o", out_dir)
         self.assertEqual(fill.returncode, 0, fill.stderr + self.server.log())
-        report = json.loads(fill.stdout)["bin"]
+        report = cli_result(fill.stdout)["bin"]
         self.assertTrue(report["applied"])
         self.assertEqual(report["end"], "settled", report["end_message"])
         self.assertEqual(report["in_bin"], 5)
@@ -268,7 +303,7 @@ class MeshBinTest(unittest.TestCase):
         np.testing.assert_allclose(report["bin"]["bounds_min"], [-0.11, -0.08, 0.0], atol=1e-6)
         np.testing.assert_allclose(report["bin"]["bounds_max"], [0.11, 0.08, 0.1], atol=1e-6)
 
-        scene = self.client.get_scene(json.loads(fill.stdout)["sceneId"])
+        scene = self.client.get_scene(cli_result(fill.stdout)["sceneId"])
         objects = {o.object_id: o for o in scene.objects}
         bin_object = objects[report["bin"]["object_id"]]
         self.assertEqual(bin_object.mesh_id, report["bin"]["mesh_id"])  # the uploaded tote itself
@@ -287,7 +322,7 @@ class MeshBinTest(unittest.TestCase):
 
         # Scanned from above with no height given: the tote's stored bounds place the sensor.
         cloud = os.path.join(out_dir, "scan.ply")
-        scan = vscan(self.server, "bin", "scan", json.loads(fill.stdout)["job"]["jobId"], "-o", cloud)
+        scan = vscan(self.server, "bin", "scan", cli_result(fill.stdout)["job"]["jobId"], "-o", cloud)
         self.assertEqual(scan.returncode, 0, scan.stderr)
         with open(os.path.splitext(cloud)[0] + ".gt.json") as f:
             truth = json.load(f)
@@ -341,7 +376,7 @@ class BinRestartTest(unittest.TestCase):
         try:
             out = vscan(server, "--json", "bin", "fill", write_plan(tmp.name), "-o", os.path.join(tmp.name, "a"))
             self.assertEqual(out.returncode, 0, out.stderr + server.log())
-            done = json.loads(out.stdout)
+            done = cli_result(out.stdout)
             with Client(server.address) as client:
                 scene_before = client.get_scene(done["sceneId"])
                 # A long fill into a scene of its own, killed once it has reported progress.
@@ -352,7 +387,7 @@ class BinRestartTest(unittest.TestCase):
                     f.write(text)
                 started = vscan(server, "--json", "bin", "fill", big, "--detach")
                 self.assertEqual(started.returncode, 0, started.stderr + server.log())
-                running = json.loads(started.stdout)
+                running = cli_result(started.stdout)
                 deadline = time.time() + 120
                 while "simulated" not in client.get_job(running["job"]["jobId"]).message:
                     self.assertLess(time.time(), deadline, server.log())

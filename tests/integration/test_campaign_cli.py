@@ -9,7 +9,7 @@ import unittest
 
 import numpy as np
 
-from harness import BUNNY, SOURCE_DIR, VSCAN, Server
+from harness import BUNNY, SOURCE_DIR, VSCAN, Server, cli_result
 from test_cli import read_ply
 
 PLAN = os.path.join(SOURCE_DIR, "examples", "campaigns", "bunny_panda_quick.yaml")
@@ -57,7 +57,7 @@ class CampaignCliTest(unittest.TestCase):
         """The JSON `campaign run` printed, after checking it succeeded."""
         out = self.run_result
         self.assertEqual(out.returncode, 0, out.stderr + self.server.log())
-        return json.loads(out.stdout)
+        return cli_result(out.stdout)
 
     def test_run_succeeds_with_every_scan(self):
         result = self.ran()
@@ -121,7 +121,7 @@ class CampaignCliTest(unittest.TestCase):
 
         got = self.vscan("--json", "campaign", "get", job_id)
         self.assertEqual(got.returncode, 0, got.stderr)
-        job = json.loads(got.stdout)
+        job = cli_result(got.stdout)
         self.assertEqual(job["state"], "JOB_STATE_SUCCEEDED")
         self.assertEqual(len([a for a in job["artifacts"] if a["name"].endswith(".ply")]), 6)
         self.assertEqual(job["campaign"]["name"], "bunny-panda-quick")

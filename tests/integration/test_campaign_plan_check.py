@@ -10,7 +10,7 @@ import unittest
 
 import grpc
 
-from harness import DATA, VSCAN, Server
+from harness import DATA, VSCAN, Server, cli_result
 
 from vscan import Client, VscanError
 
@@ -142,7 +142,7 @@ class CampaignPlanCheckTest(unittest.TestCase):
         path, _ = self.plan("clockwise", ("rotation_step_deg: 90", "rotation_step_deg: -90"))
         out = self.vscan("--json", "campaign", "run", path, "--no-download")
         self.assertEqual(out.returncode, 0, out.stderr)
-        result = json.loads(out.stdout)
+        result = cli_result(out.stdout)
         self.assertEqual([s["tableAngleDeg"] for s in result["steps"]], [0, -90])
         self.assertEqual(result["job"]["campaign"]["rotationStepDeg"], -90)
 

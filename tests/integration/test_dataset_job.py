@@ -11,7 +11,7 @@ import time
 import unittest
 
 import grpc
-from harness import SOURCE_DIR, VSCAN, VSCAND, Server
+from harness import SOURCE_DIR, VSCAN, VSCAND, Server, cli_result
 from vscan.v1 import job_pb2
 
 PARTS = os.path.join(SOURCE_DIR, "data", "parts")
@@ -81,7 +81,7 @@ class DatasetJobTest(unittest.TestCase):
     def job(self, job_id):
         got = self.vscan("--json", "campaign", "get", job_id)
         self.assertEqual(got.returncode, 0, got.stderr)
-        return json.loads(got.stdout)
+        return cli_result(got.stdout)
 
     def test_run_watch_download_equals_the_one_shot_shards(self):
         plan = self.write_plan("plan.yaml", plan_text(2))
@@ -111,7 +111,7 @@ class DatasetJobTest(unittest.TestCase):
         plan = self.write_plan("plan.yaml", plan_text(12))
         started = self.vscan("--json", "dataset", "run", plan)
         self.assertEqual(started.returncode, 0, started.stderr)
-        job_id = json.loads(started.stdout)["job"]["jobId"]
+        job_id = cli_result(started.stdout)["job"]["jobId"]
         deadline = time.time() + 120
         while self.job(job_id).get("stepsDone", 0) < 3:
             self.assertLess(time.time(), deadline, "the job made no progress")
@@ -148,7 +148,7 @@ class DatasetJobTest(unittest.TestCase):
         plan = self.write_plan("plan.yaml", plan_text(12))
         started = self.vscan("--json", "dataset", "run", plan)
         self.assertEqual(started.returncode, 0, started.stderr)
-        job_id = json.loads(started.stdout)["job"]["jobId"]
+        job_id = cli_result(started.stdout)["job"]["jobId"]
         deadline = time.time() + 120
         while self.job(job_id).get("stepsDone", 0) < 2:
             self.assertLess(time.time(), deadline, "the job made no progress")
@@ -156,7 +156,7 @@ class DatasetJobTest(unittest.TestCase):
         cancelled = self.vscan("dataset", "cancel", job_id)
         self.assertEqual(cancelled.returncode, 0, cancelled.stderr)
         watched = self.vscan("--json", "dataset", "watch", job_id)
-        self.assertEqual(json.loads(watched.stdout)["job"]["state"], "JOB_STATE_CANCELLED")
+        self.assertEqual(cli_result(watched.stdout)["job"]["state"], "JOB_STATE_CANCELLED")
         scenes = os.path.join(self.dataset_dir(job_id), "scenes")
         self.assertEqual([n for n in os.listdir(scenes) if n.endswith(".partial")], [])
         finished = self.finished_scenes(job_id)
@@ -218,7 +218,7 @@ class DatasetJobTest(unittest.TestCase):
         self.assertIn("spec.resume_job_id", resumed.stderr)
         listed = self.vscan("--json", "dataset", "list")
         self.assertEqual(listed.returncode, 0, listed.stderr)
-        self.assertEqual(json.loads(listed.stdout).get("jobs", []), [])
+        self.assertEqual(cli_result(listed.stdout).get("jobs", []), [])
 
 
 if __name__ == "__main__":

@@ -9,7 +9,7 @@ import unittest
 
 import grpc
 
-from harness import VSCAN, Server
+from harness import VSCAN, Server, cli_result
 from test_campaign_service import CampaignFixture, spec, wait_for
 from vscan.v1 import job_pb2, scene_pb2
 
@@ -100,7 +100,7 @@ class JobDeletionTest(unittest.TestCase):
         run = subprocess.run([VSCAN, "--server", self.server.address, "--json", "campaign", "delete", done.job_id],
                              capture_output=True, text=True, timeout=60)
         self.assertEqual(run.returncode, 0, run.stderr)
-        out = json.loads(run.stdout)
+        out = cli_result(run.stdout)
         self.assertEqual(out["jobId"], done.job_id)
         self.assertEqual(out["removedFiles"], 2)
         again = subprocess.run([VSCAN, "--server", self.server.address, "campaign", "delete", done.job_id],

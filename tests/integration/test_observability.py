@@ -12,7 +12,7 @@ import urllib.request
 
 import grpc
 
-from harness import SOURCE_DIR, VSCAN, ServerTestCase, icosphere_ply, look_at, pinhole
+from harness import SOURCE_DIR, VSCAN, ServerTestCase, icosphere_ply, look_at, pinhole, cli_result
 from vscan.v1 import common_pb2, scan_pb2, scan_pb2_grpc, scene_pb2, scene_pb2_grpc
 
 SCAN = "/vscan.v1.ScanService/Scan"
@@ -169,7 +169,7 @@ class ObservabilityTest(ServerTestCase):
                 f.write(text)
             started = self.cli("--json", "campaign", "run", plan, "--detach")
             self.assertEqual(started.returncode, 0, started.stderr + self.server.log())
-            job_id = json.loads(started.stdout)["job"]["jobId"]
+            job_id = cli_result(started.stdout)["job"]["jobId"]
             running, _ = self.scrape()
             self.assertEqual(value(running, "vscan_jobs", kind="campaign", state="running"), 1)
             self.assertEqual(self.cli("campaign", "cancel", job_id).returncode, 0)

@@ -97,7 +97,11 @@ class CliModelCommands(unittest.TestCase):
         r = self.run_cli("--json", "evaluate", "cld-a", "cld-b", "--no-next-best-views")
         self.assertEqual(r.returncode, 0, r.stderr)
         self.assertTrue(self.fake.jobs.last_model.evaluation.skip_next_best_views)
-        out = json.loads(r.stdout)
+        lines = r.stdout.splitlines()
+        # The job's events stream first, one JSON object a line, then the result.
+        events = [json.loads(line) for line in lines[:-1]]
+        self.assertTrue(events and all("event" in e and "state" in e for e in events), events)
+        out = json.loads(lines[-1])
         self.assertEqual(out["job"]["state"], "JOB_STATE_SUCCEEDED")
         self.assertEqual([a["cloudId"] for a in out["alignments"]], ["cld-a", "cld-b"])
         self.assertEqual(out["model"]["evaluation"]["coverage"], 0.6)
