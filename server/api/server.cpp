@@ -20,6 +20,7 @@
 #include <spdlog/spdlog.h>
 
 #include "api/call_observer.h"
+#include "grpc/health/v1/health.pb.h"
 #include "api/callback_queue_ticker.h"
 #include "api/cloud_service.h"
 #include "api/localization_service.h"
@@ -242,7 +243,7 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& op
   impl->scene_service = std::make_unique<SceneService>(*impl->context);
   impl->scan_service = std::make_unique<ScanService>(*impl->context, impl->stalled_readers.get());
   impl->robot_service = std::make_unique<RobotService>(*impl->context);
-  impl->cloud_service = std::make_unique<CloudService>(*impl->context);
+  impl->cloud_service = std::make_unique<CloudService>(*impl->context, impl->stalled_readers.get());
   impl->localization_service = std::make_unique<LocalizationService>(*impl->context);
   impl->job_catalogue = std::make_unique<store::JobCatalogue>(impl->database);
   ASSIGN_OR_RETURN(const int interrupted, impl->job_catalogue->InterruptUnfinished("server stopped while the job ran"));
@@ -252,7 +253,8 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& op
   impl->job_tracker = std::make_unique<JobTracker>(*impl->job_catalogue, *impl->blobs, options.limits.max_job_artifacts,
                                                    options.limits.max_job_bytes);
   impl->job_runner = std::make_unique<jobs::JobRunner>(std::max<uint32_t>(1, options.max_concurrent_jobs));
-  impl->job_service = std::make_unique<JobService>(*impl->context, *impl->job_tracker, *impl->job_runner);
+  impl->job_service = std::make_unique<JobService>(*impl->context, *impl->job_tracker, *impl->job_runner,
+                                                   impl->stalled_readers.get());
   if (options.job_retention_hours > 0) {
     ApplyRetention(*impl->job_tracker, options.job_retention_hours);
     impl->retention = std::make_unique<jobs::PeriodicTask>(
@@ -265,6 +267,9 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& op
 
   ASSIGN_OR_RETURN(auto credentials, Credentials(options));
   grpc::EnableDefaultHealthCheckService(true);
+  // Puts health.proto into the generated pool, so that reflection describes grpc.health.v1.Health
+  // and generic tools (buf curl --list-methods) can list every service.
+  (void)grpc::health::v1::HealthCheckRequest::descriptor();
   grpc::reflection::InitProtoReflectionServerBuilderPlugin();
   grpc::ServerBuilder builder;
   builder.AddListeningPort(options.listen_address, credentials, &impl->port);

@@ -1,13 +1,16 @@
 """The service end to end through raw stubs: health, reflection, scenes, scans, deadlines, shutdown."""
 
 import math
+import os
+import shlex
+import subprocess
 import time
 import unittest
 
 import grpc
 import numpy as np
 
-from harness import (BUNNY, Server, ServerTestCase, common_pb2, icosphere_ply, look_at, pinhole, scan_pb2,
+from harness import (BUNNY, SOURCE_DIR, Server, ServerTestCase, common_pb2, icosphere_ply, look_at, pinhole, scan_pb2,
                      scene_pb2, sensor_pb2)
 from vscan.v1 import job_pb2, job_pb2_grpc, robot_pb2, robot_pb2_grpc, scene_pb2_grpc
 
@@ -39,6 +42,19 @@ class ServiceTest(ServerTestCase):
         reply = b"".join(info(iter([b"\x3a\x00"]), timeout=10))  # list_services: ""
         for name in (b"vscan.v1.SceneService", b"vscan.v1.ScanService", b"vscan.v1.RobotService"):
             self.assertIn(name, reply)
+
+    def test_the_documented_buf_curl_lists_every_method(self):
+        buf = os.path.join(SOURCE_DIR, ".tools", "node_modules", ".bin", "buf")
+        if not os.path.exists(buf):
+            self.skipTest("buf is not installed (scripts/install-deps.sh puts it in .tools)")
+        with open(os.path.join(SOURCE_DIR, "docs", "API.md")) as f:
+            [line] = [line.strip() for line in f if "buf curl" in line and "--list-methods" in line]
+        command = shlex.split(line.replace("npx @bufbuild/buf", buf).replace("127.0.0.1:50051", self.server.address))
+        listed = subprocess.run(command, capture_output=True, text=True, timeout=60)
+        self.assertEqual(listed.returncode, 0, listed.stderr)
+        methods = listed.stdout.split()
+        for method in ("grpc.health.v1.Health/Check", "vscan.v1.ScanService/Scan", "vscan.v1.JobService/WatchJob"):
+            self.assertIn(method, methods)
 
     def test_bin_fill_is_served_and_checks_its_spec(self):
         jobs = job_pb2_grpc.JobServiceStub(self.channel)
