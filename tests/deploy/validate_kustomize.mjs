@@ -119,6 +119,10 @@ for (const target of targets) {
   const objects = render(kubectl, dir);
   for (const object of objects) await validateAgainstSchema({ file: target, object });
   const set = only(objects, "StatefulSet");
+  const namespace = only(objects, "Namespace");
+  assert.equal(set.metadata.namespace, namespace.metadata.name, `${target}: the StatefulSet is outside its Namespace`);
+  assert.equal(namespace.metadata.labels["pod-security.kubernetes.io/enforce"], "restricted");
+  assert.ok(!/:latest$|^[^:]*$/.test(set.spec.template.spec.containers[0].image), `${target}: the image is not pinned`);
   checkService(only(objects, "Service"), set);
   checkServer(set, containerUid);
   rendered.set(target, set);

@@ -1,7 +1,8 @@
 // Validates every manifest in a directory against the Kubernetes schema (kubernetes-models, offline)
 // and checks that the dataset manifests fit together: the Indexed Job's shard count, the volume and
 // ConfigMap they mount, the plan path (its bins described, meshes at absolute paths) and the dataset
-// directory the shards and the merge share; both run vscand in one-shot mode.
+// directory the shards and the merge share; both run vscand in one-shot mode; and that all of them
+// live in a namespace that enforces the restricted Pod Security Standard, which the Jobs meet.
 // Usage: node validate_manifests.mjs <manifest directory>
 
 import assert from "node:assert/strict";
@@ -81,11 +82,38 @@ function checkDataset(manifests) {
   return shardJob;
 }
 
+// Every object in the one declared namespace, which enforces the restricted Pod Security Standard,
+// and every Job's pod set up as that standard demands, from a pinned image.
+function checkRestricted(manifests) {
+  const namespaces = manifests.map((m) => m.object).filter((o) => o.kind === "Namespace");
+  assert.equal(namespaces.length, 1, "one Namespace holds the dataset objects");
+  const namespace = namespaces[0];
+  assert.equal(namespace.metadata.labels?.["pod-security.kubernetes.io/enforce"], "restricted");
+  for (const { file, object } of manifests) {
+    if (object.kind === "Namespace") continue;
+    assert.equal(object.metadata.namespace, namespace.metadata.name, `${file}: ${object.kind} outside the namespace`);
+    if (object.kind !== "Job") continue;
+    const pod = object.spec.template.spec;
+    assert.equal(pod.securityContext?.runAsNonRoot, true, `${file}: runAsNonRoot`);
+    assert.ok(pod.securityContext.runAsUser > 0, `${file}: a non-root runAsUser`);
+    assert.equal(pod.securityContext.fsGroup, pod.securityContext.runAsUser, `${file}: fsGroup makes the claim writable`);
+    assert.equal(pod.securityContext.seccompProfile?.type, "RuntimeDefault", `${file}: seccomp`);
+    for (const container of pod.containers) {
+      const context = container.securityContext ?? {};
+      assert.equal(context.allowPrivilegeEscalation, false, `${file}: ${container.name} may escalate privileges`);
+      assert.deepEqual(context.capabilities?.drop, ["ALL"], `${file}: ${container.name} keeps capabilities`);
+      assert.equal(context.readOnlyRootFilesystem, true, `${file}: ${container.name} root file system`);
+      assert.ok(!/:latest$|^[^:]*$/.test(container.image), `${file}: ${container.image} is not pinned to a version`);
+    }
+  }
+}
+
 const dir = process.argv[2];
 const manifests = loadManifests(dir);
-assert.ok(manifests.length >= 4, `expected the volume, plan, shard and merge manifests in ${dir}`);
+assert.ok(manifests.length >= 5, `expected the namespace, volume, plan, shard and merge manifests in ${dir}`);
 for (const manifest of manifests) await validateAgainstSchema(manifest);
 const shardJob = checkDataset(manifests);
+checkRestricted(manifests);
 
 const broken = structuredClone(shardJob);
 broken.spec.completionMode = "Sharded";
