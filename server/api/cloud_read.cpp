@@ -7,7 +7,6 @@
 #include "api/cloud_convert.h"
 #include "api/cloud_service.h"
 #include "api/validate.h"
-#include "service/cloud_store.h"
 
 namespace vscan::api {
 
@@ -16,13 +15,13 @@ grpc::ServerWriteReactor<v1::ReadCloudResponse>* CloudService::ReadCloud(grpc::C
   CallScope scope(ctx);
   Status checked = CheckToken(*ctx, context_.options.token);
   if (checked.ok()) checked = RequireId(request->cloud_id(), "cloud_id");
-  auto load = [this, cloud_id = request->cloud_id()](std::string* bytes, v1::ReadCloudResponse* first) -> Status {
-    ASSIGN_OR_RETURN(service::StoredCloud stored, service::LoadCloud(context_, cloud_id));
-    ToProto(stored.record, first->mutable_cloud());
-    *bytes = std::move(stored.ply);
-    return Status::Ok();
+  auto open = [this, cloud_id = request->cloud_id()](v1::ReadCloudResponse* first) -> StatusOr<store::BlobReader> {
+    ASSIGN_OR_RETURN(const store::CloudRecord record, context_.clouds.Get(cloud_id));
+    ToProto(record, first->mutable_cloud());
+    return context_.blobs.OpenReader(record.sha256);
   };
-  return new BlobStreamReactor<v1::ReadCloudResponse>(checked, "ReadCloud", context_.workers, std::move(load));
+  return new BlobStreamReactor<v1::ReadCloudResponse>(checked, "ReadCloud", ctx, context_.workers, stalled_readers_,
+                                                      std::move(open));
 }
 
 }  // namespace vscan::api

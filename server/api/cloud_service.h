@@ -1,6 +1,7 @@
 #pragma once
 // CloudService: stored point clouds, uploaded by clients or captured by campaigns.
 
+#include "guards/stall_watchdog.h"
 #include "service/service_context.h"
 #include "vscan/v1/cloud.grpc.pb.h"
 
@@ -8,7 +9,9 @@ namespace vscan::api {
 
 class CloudService final : public v1::CloudService::CallbackService {
  public:
-  explicit CloudService(service::ServiceContext& context) : context_(context) {}
+  // stalled_readers cancels ReadCloud streams whose client stopped reading; null watches nothing.
+  CloudService(service::ServiceContext& context, guards::StallWatchdog* stalled_readers)
+      : context_(context), stalled_readers_(stalled_readers) {}
 
   grpc::ServerReadReactor<v1::UploadCloudRequest>* UploadCloud(grpc::CallbackServerContext* ctx,
                                                                v1::UploadCloudResponse* response) override;
@@ -23,6 +26,7 @@ class CloudService final : public v1::CloudService::CallbackService {
 
  private:
   service::ServiceContext& context_;
+  guards::StallWatchdog* stalled_readers_;
 };
 
 }  // namespace vscan::api

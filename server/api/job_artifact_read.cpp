@@ -15,13 +15,14 @@ grpc::ServerWriteReactor<v1::ReadArtifactResponse>* JobService::ReadArtifact(grp
   Status checked = CheckToken(*ctx, context_.options.token);
   if (checked.ok()) checked = RequireId(request->job_id(), "job_id");
   if (checked.ok()) checked = RequireId(request->artifact_id(), "artifact_id");
-  auto load = [this, job_id = request->job_id(), artifact_id = request->artifact_id()](
-                  std::string* bytes, v1::ReadArtifactResponse* first) -> Status {
+  auto open = [this, job_id = request->job_id(), artifact_id = request->artifact_id()](
+                  v1::ReadArtifactResponse* first) -> StatusOr<store::BlobReader> {
     ASSIGN_OR_RETURN(const store::ArtifactRecord record, tracker_.catalogue().GetArtifact(job_id, artifact_id));
-    ASSIGN_OR_RETURN(*bytes, tracker_.blobs().Get(record.sha256));
-    return ToProto(record, first->mutable_artifact());
+    RETURN_IF_ERROR(ToProto(record, first->mutable_artifact()));
+    return tracker_.blobs().OpenReader(record.sha256);
   };
-  return new BlobStreamReactor<v1::ReadArtifactResponse>(checked, "ReadArtifact", context_.workers, std::move(load));
+  return new BlobStreamReactor<v1::ReadArtifactResponse>(checked, "ReadArtifact", ctx, context_.workers,
+                                                         stalled_readers_, std::move(open));
 }
 
 }  // namespace vscan::api

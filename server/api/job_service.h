@@ -7,6 +7,7 @@
 #include <string>
 
 #include "api/job_tracker.h"
+#include "guards/stall_watchdog.h"
 #include "service/service_context.h"
 #include "jobs/job_runner.h"
 #include "vscan/v1/job.grpc.pb.h"
@@ -15,8 +16,11 @@ namespace vscan::api {
 
 class JobService final : public v1::JobService::CallbackService {
  public:
-  JobService(service::ServiceContext& context, JobTracker& tracker, jobs::JobRunner& runner)
-      : context_(context), tracker_(tracker), runner_(runner) {}
+  // stalled_readers cancels WatchJob and ReadArtifact streams whose client stopped reading; null
+  // watches nothing.
+  JobService(service::ServiceContext& context, JobTracker& tracker, jobs::JobRunner& runner,
+             guards::StallWatchdog* stalled_readers)
+      : context_(context), tracker_(tracker), runner_(runner), stalled_readers_(stalled_readers) {}
 
   grpc::ServerUnaryReactor* StartCampaign(grpc::CallbackServerContext* ctx, const v1::StartCampaignRequest* request,
                                           v1::StartCampaignResponse* response) override;
@@ -50,6 +54,7 @@ class JobService final : public v1::JobService::CallbackService {
   service::ServiceContext& context_;
   JobTracker& tracker_;
   jobs::JobRunner& runner_;
+  guards::StallWatchdog* stalled_readers_;
   // Makes the queue check, the job's creation and its submission one step, so that the queue
   // bound holds under concurrent starts and no cancel falls between creation and submission.
   std::mutex admit_mutex_;

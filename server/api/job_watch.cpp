@@ -8,6 +8,7 @@
 #include "api/call_observer.h"
 #include "api/job_service.h"
 #include "api/validate.h"
+#include "api/write_watch.h"
 #include "vscan/common/grpc_status.h"
 
 namespace vscan::api {
@@ -18,7 +19,8 @@ namespace {
 class WatchReactor final : public grpc::ServerWriteReactor<v1::WatchJobResponse>, public JobWatcher {
  public:
   WatchReactor(grpc::CallbackServerContext* ctx, const v1::WatchJobRequest& request, const std::string& token,
-               JobTracker& tracker) {
+               JobTracker& tracker, guards::StallWatchdog* stalled_readers)
+      : write_watch_(stalled_readers, ctx) {
     Status status = CheckToken(*ctx, token);
     if (status.ok()) status = RequireId(request.job_id(), "job_id");
     if (!status.ok()) {
@@ -38,12 +40,14 @@ class WatchReactor final : public grpc::ServerWriteReactor<v1::WatchJobResponse>
       }
       *response_.mutable_job() = std::move(job).value();
     }
+    write_watch_.Started("WatchJob");
     StartWrite(&response_);
   }
 
   void OnJobEvent() override { Pump(); }
 
   void OnWriteDone(bool ok) override {
+    write_watch_.Done();
     {
       std::lock_guard lock(mutex_);
       writing_ = false;
@@ -70,6 +74,7 @@ class WatchReactor final : public grpc::ServerWriteReactor<v1::WatchJobResponse>
   }
 
   void OnDone() override {
+    write_watch_.Release();
     if (attached_) live_->Detach(this);
     Unref();
   }
@@ -101,6 +106,7 @@ class WatchReactor final : public grpc::ServerWriteReactor<v1::WatchJobResponse>
       }
     }
     if (action == Action::kWrite) {
+      write_watch_.Started("WatchJob");
       StartWrite(&response_);
     } else if (action == Action::kEnd) {
       Finish(grpc::Status::OK);
@@ -109,6 +115,7 @@ class WatchReactor final : public grpc::ServerWriteReactor<v1::WatchJobResponse>
     }
   }
 
+  WriteWatch write_watch_;
   std::mutex mutex_;
   std::shared_ptr<LiveJob> live_;
   bool attached_ = false;
@@ -124,7 +131,7 @@ class WatchReactor final : public grpc::ServerWriteReactor<v1::WatchJobResponse>
 grpc::ServerWriteReactor<v1::WatchJobResponse>* JobService::WatchJob(grpc::CallbackServerContext* ctx,
                                                                      const v1::WatchJobRequest* request) {
   CallScope scope(ctx);
-  return new WatchReactor(ctx, *request, context_.options.token, tracker_);
+  return new WatchReactor(ctx, *request, context_.options.token, tracker_, stalled_readers_);
 }
 
 }  // namespace vscan::api

@@ -241,6 +241,11 @@ StatusOr<std::string> BlobStore::Get(const std::string& sha256) const {
   return std::move(bytes).value();
 }
 
+StatusOr<BlobReader> BlobStore::OpenReader(const std::string& sha256) const {
+  RETURN_IF_ERROR(CheckId(sha256));
+  return BlobReader::Open(PathOf(sha256), sha256);
+}
+
 bool BlobStore::Contains(const std::string& sha256) const {
   if (!IsValidId(sha256)) return false;
   struct stat st {};

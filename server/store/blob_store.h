@@ -12,6 +12,7 @@
 
 #include <utility>
 
+#include "store/blob_reader.h"
 #include "store/data_quota.h"
 #include "vscan/common/status.h"
 
@@ -50,6 +51,8 @@ class BlobStore {
   // Reads a blob back, checking its hash (DATA_LOSS on mismatch, NOT_FOUND when absent).
   // Ids that are not 64 lowercase hex digits are INVALID_ARGUMENT here and in Remove.
   StatusOr<std::string> Get(const std::string& sha256) const;
+  // The same checks, the blob left on disk to be read in chunks (bounded memory at any size).
+  StatusOr<BlobReader> OpenReader(const std::string& sha256) const;
   bool Contains(const std::string& sha256) const;
   // Put, pinned until the returned pin goes: store the row that names the blob before dropping it.
   StatusOr<BlobPin> PutPinned(std::string_view bytes);

@@ -8,6 +8,7 @@ import re
 import shutil
 import subprocess
 import tempfile
+import time
 import unittest
 
 import grpc
@@ -15,7 +16,7 @@ import numpy as np
 
 from harness import DATA, SOURCE_DIR, VSCAN, Server, icosphere_ply
 from vscan import Client, VscanError
-from vscan.v1 import job_pb2
+from vscan.v1 import cloud_pb2, cloud_pb2_grpc, job_pb2
 
 C = grpc.StatusCode
 PANDA = os.path.join(DATA, "robots", "panda")
@@ -84,6 +85,42 @@ class RobotAndCloudLimits(LimitTest):
             self.assertEqual(list(client.list_clouds()), [])
             cloud = client.upload_cloud(data=binary_cloud(1000), format="ply")
             self.assertEqual(cloud.points, 1000)
+
+
+class StreamMemory(LimitTest):
+    def test_unread_cloud_streams_hold_a_chunk_each_and_are_cancelled(self):
+        server = self.start("--max-upload-mib", "128", "--stalled-reader-seconds", "2")
+        with Client(server.address) as client:
+            cloud = client.upload_cloud(data=binary_cloud(4_000_000), format="ply")  # some 46 MiB stored
+        before = status_mib(server.process.pid, "VmRSS")
+        channels, streams = [], []
+        for _ in range(8):
+            # Each on its own connection, so that no stream's window holds up another's.
+            channel = grpc.insecure_channel(server.address, options=[("grpc.use_local_subchannel_pool", 1)])
+            stream = cloud_pb2_grpc.CloudServiceStub(channel).ReadCloud(
+                cloud_pb2.ReadCloudRequest(cloud_id=cloud.cloud_id), timeout=60)
+            next(stream)
+            channels.append(channel)
+            streams.append(stream)
+        time.sleep(0.5)
+        # Read from disk a chunk at a time: eight open streams do not hold eight copies of the cloud.
+        grown = status_mib(server.process.pid, "VmRSS") - before
+        self.assertLess(grown, 120, f"{grown:.0f} MiB more resident with 8 unread streams of a 46 MiB cloud")
+        time.sleep(3)  # past --stalled-reader-seconds: every stream waits on its client
+        for stream in streams:
+            with self.assertRaises(grpc.RpcError) as cancelled:
+                for _ in stream:
+                    pass
+            self.assertEqual(cancelled.exception.code(), C.CANCELLED, cancelled.exception.details())
+        for channel in channels:
+            channel.close()
+        with open(server.log_path, errors="replace") as f:
+            self.assertIn("ReadCloud: the client has not read for 2.0 s; cancelling the call", f.read())
+        # A whole read still returns every byte.
+        with Client(server.address) as client:
+            points = client.read_cloud_points(cloud.cloud_id).positions
+        self.assertEqual(points.shape, (4_000_000, 3))
+        np.testing.assert_array_equal(points[-1], np.array([3999.999, 0, 0.5], dtype="<f4"))
 
 
 class RequestMemory(LimitTest):

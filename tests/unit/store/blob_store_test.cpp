@@ -122,6 +122,38 @@ TEST_F(BlobStoreTest, MissingBlobIsNotFound) {
   EXPECT_FALSE(store_.Contains(Sha256Hex("never stored")));
 }
 
+TEST_F(BlobStoreTest, ReaderReadsInChunksWhatGetReads) {
+  const std::string data = RandomBytes((5 << 20) + 123, 11);
+  auto id = store_.Put(data);
+  ASSERT_TRUE(id.ok());
+  auto reader = store_.OpenReader(*id);
+  ASSERT_TRUE(reader.ok()) << reader.status().ToString();
+  EXPECT_EQ(reader->size(), data.size());
+  std::string joined;
+  for (uint64_t offset = 0; offset < reader->size();) {
+    auto chunk = reader->Read(offset, 1 << 20);
+    ASSERT_TRUE(chunk.ok()) << chunk.status().ToString();
+    ASSERT_LE(chunk->size(), size_t{1} << 20);
+    ASSERT_FALSE(chunk->empty());
+    offset += chunk->size();
+    joined += *chunk;
+  }
+  EXPECT_TRUE(joined == data);
+  EXPECT_EQ(reader->Read(reader->size(), 10).value(), "");
+  // Removed while open: the open file still reads as verified.
+  ASSERT_TRUE(store_.Remove(*id).ok());
+  EXPECT_EQ(reader->Read(data.size() - 5, 100).value(), data.substr(data.size() - 5));
+}
+
+TEST_F(BlobStoreTest, ReaderChecksTheHashAndTheId) {
+  auto id = store_.Put("precious");
+  ASSERT_TRUE(id.ok());
+  Overwrite(root() / id->substr(0, 2) / *id, "precioux");
+  EXPECT_EQ(store_.OpenReader(*id).status().code(), StatusCode::kDataLoss);
+  EXPECT_EQ(store_.OpenReader(Sha256Hex("never stored")).status().code(), StatusCode::kNotFound);
+  EXPECT_EQ(store_.OpenReader("../etc/passwd").status().code(), StatusCode::kInvalidArgument);
+}
+
 TEST_F(BlobStoreTest, MalformedIdsAreInvalidArgument) {
   // Plant a file that a path trick could reach, to be sure it stays out of reach.
   Overwrite(dir_.path() / "secret", "secret");
