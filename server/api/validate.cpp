@@ -1,6 +1,7 @@
 #include "api/validate.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 
 namespace vscan::api {
@@ -14,6 +15,14 @@ constexpr size_t kIdHexDigits = 16;
 Status RequireId(const std::string& id, std::string_view field) {
   if (id.empty()) return InvalidArgument(std::string(field), "required");
   if (id.size() > 64) return InvalidArgument(std::string(field), "longer than 64 characters");
+  // Ids are a prefix and hex digits; anything else (NUL, '/', '.', non-ASCII) cannot name a record.
+  const auto bad = std::find_if(id.begin(), id.end(), [](unsigned char c) {
+    return c >= 0x80 || !(std::isalnum(c) || c == '_' || c == '-');
+  });
+  if (bad != id.end()) {
+    return InvalidArgument(std::string(field), "may hold only ASCII letters, digits, '_' and '-' (byte " +
+                                                   std::to_string(bad - id.begin()) + " is not one)");
+  }
   return Status::Ok();
 }
 

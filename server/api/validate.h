@@ -9,6 +9,7 @@
 
 namespace vscan::api {
 
+// Present, at most 64 bytes, of ASCII letters, digits, '_' and '-' only (INVALID_ARGUMENT otherwise).
 Status RequireId(const std::string& id, std::string_view field);
 // At most max_length bytes and no control characters (NUL, newline, ...).
 Status CheckText(const std::string& text, std::string_view field, size_t max_length = 256);

@@ -48,6 +48,17 @@ class BadInputTest(ServerTestCase):
             scene_id=self.scene.scene_id, object_id="obj_nope")), "object_id")
         self.assertEqual(before, self.revision())
 
+    def test_ids_that_no_record_can_have_are_invalid_not_unknown(self):
+        jobs = job_pb2_grpc.JobServiceStub(self.channel)
+        before = self.revision()
+        for bad in ("scn_\x00ab", "scn_\u00e9t\u00e9", "../../etc/passwd", "scn_a/b", "scn_.."):
+            self.assertCode(C.INVALID_ARGUMENT,
+                            lambda: self.scenes.GetScene(scene_pb2.GetSceneRequest(scene_id=bad)), "scene_id")
+            self.assertCode(C.INVALID_ARGUMENT, lambda: self.scenes.RemoveObject(scene_pb2.RemoveObjectRequest(
+                scene_id=self.scene.scene_id, object_id=bad)), "object_id")
+            self.assertCode(C.INVALID_ARGUMENT, lambda: jobs.GetJob(job_pb2.GetJobRequest(job_id=bad)), "job_id")
+        self.assertEqual(before, self.revision())
+
     def test_missing_ids(self):
         self.assertCode(C.INVALID_ARGUMENT, lambda: self.scenes.GetScene(scene_pb2.GetSceneRequest()), "scene_id")
         self.assertCode(C.INVALID_ARGUMENT, self.scan(scene_id=""), "scene_id")
