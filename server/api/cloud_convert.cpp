@@ -42,8 +42,8 @@ StatusOr<sensor::PinholeCamera> CameraFromProto(const v1::CloudCamera& c, const 
   camera.cy = c.intrinsics().cy();
   camera.near = c.near();
   camera.far = c.far();
-  if (camera.width == 0) return InvalidArgument(FieldPath(field, "width"), "must be positive");
-  if (camera.height == 0) return InvalidArgument(FieldPath(field, "height"), "must be positive");
+  // The size first: an absurd width is the width's fault, not the focal length's.
+  RETURN_IF_ERROR(sensor::ValidateImageSize(camera, field));
   // Checked here so that messages name the wire path (ValidateCamera says "<field>.fx").
   RETURN_IF_ERROR(sensor::ValidateIntrinsics(camera, field + ".intrinsics"));
   RETURN_IF_ERROR(sensor::ValidateCamera(camera, field, UINT64_MAX));

@@ -15,7 +15,7 @@ import numpy as np
 
 from harness import BUNNY, VSCAN, Server, common_pb2
 from test_campaign_service import CampaignFixture, camera, spec
-from vscan.v1 import cloud_pb2, cloud_pb2_grpc, job_pb2, scan_pb2
+from vscan.v1 import cloud_pb2, cloud_pb2_grpc, job_pb2, scan_pb2, sensor_pb2
 
 from vscan import Client, VscanError, parse_ply
 
@@ -198,6 +198,10 @@ class CloudUploadTest(unittest.TestCase):
             good, sensor_pose=common_pb2.Pose(matrix=common_pb2.Matrix4(values=[2] + [0] * 15))))
         self.assertRefusedAndNothingStored(C.INVALID_ARGUMENT, "header.camera.intrinsics.fx", self.upload_requests(
             good, camera=cloud_pb2.CloudCamera(width=64, height=48, near=0.1, far=2)))
+        # An absurd size is blamed on the size, not on the focal length that fits no such image.
+        self.assertRefusedAndNothingStored(C.RESOURCE_EXHAUSTED, "header.camera.width", self.upload_requests(
+            good, camera=cloud_pb2.CloudCamera(width=1 << 31, height=48, near=0.1, far=2,
+                                               intrinsics=sensor_pb2.Intrinsics(fx=50, fy=50, cx=32, cy=24))))
         self.assertRefusedAndNothingStored(C.INVALID_ARGUMENT, "header.name", self.upload_requests(good, name="a\nb"))
         self.assertRefusedAndNothingStored(C.INVALID_ARGUMENT, "header.frame", self.upload_requests(good, frame=9))
 

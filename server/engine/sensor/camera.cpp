@@ -72,7 +72,7 @@ Status ValidateIntrinsics(const PinholeCamera& camera, std::string_view field) {
   return ValidateAxis(camera.fy, camera.cy, camera.height, field, "fy", "cy");
 }
 
-Status ValidateCamera(const PinholeCamera& camera, std::string_view field, uint64_t max_rays) {
+Status ValidateImageSize(const PinholeCamera& camera, std::string_view field) {
   if (camera.width == 0) return InvalidArgument(FieldPath(field, "width"), "must be positive");
   if (camera.height == 0) return InvalidArgument(FieldPath(field, "height"), "must be positive");
   if (camera.width > kMaxSide) {
@@ -81,6 +81,11 @@ Status ValidateCamera(const PinholeCamera& camera, std::string_view field, uint6
   if (camera.height > kMaxSide) {
     return ResourceExhausted(FieldPath(field, "height"), "at most " + std::to_string(kMaxSide) + " pixels");
   }
+  return Status::Ok();
+}
+
+Status ValidateCamera(const PinholeCamera& camera, std::string_view field, uint64_t max_rays) {
+  RETURN_IF_ERROR(ValidateImageSize(camera, field));
   if (camera.pixel_count() > max_rays) {
     return ResourceExhausted(FieldPath(field, "width") + " x " + FieldPath(field, "height") + ": " +
                              std::to_string(camera.pixel_count()) + " rays exceed the limit of " +

@@ -40,6 +40,8 @@ PinholeCamera CameraFromFov(uint32_t width, uint32_t height, double horizontal_f
 // Checks fx, fy, cx, cy against the physical bounds (physical_limits.h) for the camera's size;
 // messages name field.fx and so on.
 Status ValidateIntrinsics(const PinholeCamera& camera, std::string_view field);
+// Width and height: positive (INVALID_ARGUMENT) and at most 16384 pixels each (RESOURCE_EXHAUSTED).
+Status ValidateImageSize(const PinholeCamera& camera, std::string_view field);
 
 // Checks sizes, intrinsics, range and lighting; messages start with field.
 Status ValidateCamera(const PinholeCamera& camera, std::string_view field, uint64_t max_rays);
