@@ -106,9 +106,16 @@ PartScore ScorePart(const PartDefinition& part, std::span<const TrueInstance> tr
     }
   }
   const size_t top = options.keep_top_estimates ? score.valid_instances : 0;
+  // BOP divides the errors by the diameter and compares them with the fractions (not the errors
+  // with fraction times diameter, which can round the other way at a threshold). Without a
+  // diameter nothing is correct.
+  const auto by_diameter = [&](const Eigen::MatrixXd& errors) -> Eigen::MatrixXd {
+    if (score.diameter > 0) return errors / score.diameter;
+    return Eigen::MatrixXd::Constant(rows, cols, kNever);
+  };
+  const Eigen::MatrixXd add_fraction = by_diameter(add), mssd_fraction = by_diameter(mssd);
 
-  const std::vector<int> add_match =
-      MatchEstimates(scores, add, valid_span, options.add_threshold * score.diameter, top);
+  const std::vector<int> add_match = MatchEstimates(scores, add_fraction, valid_span, options.add_threshold, top);
   score.add_correct = Count(add_match).size();
   for (size_t g = 0; g < truths.size(); ++g) {
     if (!valid[g]) continue;
@@ -127,7 +134,7 @@ PartScore ScorePart(const PartDefinition& part, std::span<const TrueInstance> tr
 
   double recall_sum = 0;
   for (const double t : mssd_thresholds) {
-    const std::vector<int> match = MatchEstimates(scores, mssd, valid_span, t * score.diameter, top);
+    const std::vector<int> match = MatchEstimates(scores, mssd_fraction, valid_span, t, top);
     score.mssd_recalls.push_back(static_cast<double>(Count(match).size()) / valid_count);
     recall_sum += score.mssd_recalls.back();
   }
@@ -138,8 +145,10 @@ PartScore ScorePart(const PartDefinition& part, std::span<const TrueInstance> tr
 }  // namespace
 
 std::vector<double> BopMssdThresholds() {
+  // As numpy's arange(0.05, 0.51, 0.05) makes them, start + i * step: its 0.3 is 0.3, where
+  // 0.05 * 6 would be 0.30000000000000004.
   std::vector<double> thresholds;
-  for (int i = 1; i <= 10; ++i) thresholds.push_back(0.05 * i);
+  for (int i = 0; i < 10; ++i) thresholds.push_back(0.05 + 0.05 * i);
   return thresholds;
 }
 

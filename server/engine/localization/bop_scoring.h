@@ -84,7 +84,8 @@ struct ScanScore {
 StatusOr<ScanScore> ScoreScan(std::span<const PartDefinition> parts, std::span<const TrueInstance> truth,
                               std::span<const EstimatedInstance> estimates, const ScoringOptions& options = {});
 
-// BOP's MSSD thresholds: 0.05 to 0.5 of the diameter in steps of 0.05.
+// BOP's MSSD thresholds: 0.05 to 0.5 of the diameter in steps of 0.05, the same doubles as BOP's
+// np.arange(0.05, 0.51, 0.05).
 std::vector<double> BopMssdThresholds();
 
 }  // namespace vscan::localization

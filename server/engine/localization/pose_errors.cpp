@@ -42,15 +42,17 @@ double AddError(std::span<const Eigen::Vector3f> vertices, const Pose3& estimate
 
 double AddSError(std::span<const Eigen::Vector3f> vertices, const Pose3& estimate, const Pose3& truth) {
   if (vertices.empty()) return 0;
-  // Distances are taken in the truth's part frame, where both clouds keep the vertices' precision.
-  const Pose3 truth_from_estimate = truth.inverse() * estimate;
+  // BOP's adi: from each vertex under the truth to the nearest vertex under the estimate, not the
+  // other way round (the two differ on parts sampled unevenly). Taken in the estimate's part frame,
+  // where the kd-tree holds the vertices as given.
+  const Pose3 estimate_from_truth = estimate.inverse() * truth;
   const spatial::KdTree tree(vertices);
   std::array<spatial::Neighbor, 1> nearest{};
   double sum = 0;
   for (const auto& v : vertices) {
-    const Eigen::Vector3f q = (truth_from_estimate * v.cast<double>()).cast<float>();
-    tree.Knn(q, std::numeric_limits<float>::infinity(), nearest);
-    sum += (q - tree.point(nearest[0].slot)).cast<double>().norm();
+    const Eigen::Vector3d q = estimate_from_truth * v.cast<double>();
+    tree.Knn(q.cast<float>(), std::numeric_limits<float>::infinity(), nearest);
+    sum += (q - tree.point(nearest[0].slot).cast<double>()).norm();
   }
   return sum / static_cast<double>(vertices.size());
 }

@@ -19,8 +19,9 @@ double Diameter(std::span<const Eigen::Vector3f> vertices);
 // the same vertex under the truth.
 double AddError(std::span<const Eigen::Vector3f> vertices, const Pose3& estimate, const Pose3& truth);
 
-// ADD-S (ADI): the mean over the vertices under the estimate of the distance to the nearest vertex
-// under the truth (kd-tree); indifferent to symmetries, which it needs no list of.
+// ADD-S (BOP's adi): the mean over the vertices under the truth of the distance to the nearest
+// vertex under the estimate (kd-tree); indifferent to symmetries, which it needs no list of. Not
+// symmetric in its poses: swapping estimate and truth can change it.
 double AddSError(std::span<const Eigen::Vector3f> vertices, const Pose3& estimate, const Pose3& truth);
 
 // MSSD: the minimum over the symmetry transforms S (part frame, from SymmetryTransforms) of the

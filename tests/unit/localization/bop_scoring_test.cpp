@@ -91,6 +91,73 @@ TEST(ScoreScan, SymmetricPartIsScoredWithAddS) {
   EXPECT_EQ(score->mssd_average_recall, 1.0);
 }
 
+TEST(ScoreScan, AddSRecallTakesBopsDirection) {
+  // Vertices at 0, 1 and 5 cm on the x axis, symmetric about it; the estimate 4 cm along it. ADD-S
+  // from the true vertices is 7/3 cm (from the estimated ones it would be 5/3 cm): above a threshold
+  // of 0.4 diameters (2 cm), below one of 0.5 (2.5 cm).
+  PartDefinition line;
+  line.part_id = 4;
+  line.vertices = {{0, 0, 0}, {0.01f, 0, 0}, {0.05f, 0, 0}};
+  line.symmetries.continuous.push_back({Eigen::Vector3d::UnitX(), Eigen::Vector3d::Zero()});
+  const std::vector<TrueInstance> truth{{4, At(0, 0), 1.0}};
+  const std::vector<EstimatedInstance> estimates{{4, At(0, 0) * Eigen::Translation3d(0.04, 0, 0), 1.0}};
+  ScoringOptions options;
+  options.add_threshold = 0.4;
+  auto strict = ScoreScan(std::vector<PartDefinition>{line}, truth, estimates, options);
+  ASSERT_TRUE(strict.ok()) << strict.status().ToString();
+  EXPECT_TRUE(strict->parts[0].uses_add_s);
+  EXPECT_EQ(strict->add_recall, 0.0);
+  EXPECT_FALSE(strict->parts[0].instances[0].estimate_index.has_value());
+  options.add_threshold = 0.5;
+  auto loose = ScoreScan(std::vector<PartDefinition>{line}, truth, estimates, options);
+  ASSERT_TRUE(loose.ok());
+  EXPECT_EQ(loose->add_recall, 1.0);
+  EXPECT_NEAR(loose->parts[0].instances[0].add_error, 0.07 / 3, 1e-8);
+}
+
+TEST(ScoreScan, ErrorsAreComparedAsFractionsOfTheDiameter) {
+  // Dyadic lengths, so that every distance is exact: a part 25/256 m long moved by 35/1024 m along
+  // itself has MSSD / diameter = 0.35 (the double nearest), below BOP's seventh threshold
+  // 0.05 * 7 = 0.35000000000000003. Compared as MSSD < 0.35000000000000003 * diameter instead, the
+  // product rounds down to the MSSD and the instance would be missed at that threshold.
+  PartDefinition rod;
+  rod.part_id = 2;
+  const double length = 25.0 / 256, shift = 35.0 / 1024;
+  rod.vertices = {{0, 0, 0}, {static_cast<float>(length), 0, 0}};
+  const std::vector<TrueInstance> truth{{2, Pose3::Identity(), 1.0}};
+  Pose3 moved = Pose3::Identity();
+  moved.translation().x() = shift;
+  const std::vector<EstimatedInstance> estimates{{2, moved, 1.0}};
+  ASSERT_FALSE(shift < BopMssdThresholds()[6] * length);  // the rounding this is about
+  auto score = ScoreScan(std::vector<PartDefinition>{rod}, truth, estimates);
+  ASSERT_TRUE(score.ok());
+  EXPECT_EQ(score->parts[0].diameter, length);
+  const std::vector<double> expected{0, 0, 0, 0, 0, 0, 1, 1, 1, 1};
+  EXPECT_EQ(score->parts[0].mssd_recalls, expected);
+}
+
+TEST(ScoreScan, MssdThresholdsAreTheDoublesOfBopsArange) {
+  // np.arange(0.05, 0.51, 0.05) is 0.05 + 0.05 i; its sixth value is 0.3 (0.05 * 6 is
+  // 0.30000000000000004).
+  const std::vector<double> thresholds = BopMssdThresholds();
+  ASSERT_EQ(thresholds.size(), 10u);
+  for (size_t i = 0; i < thresholds.size(); ++i) EXPECT_EQ(thresholds[i], 0.05 + 0.05 * static_cast<double>(i));
+  EXPECT_EQ(thresholds[5], 0.3);
+  // A rod 5/64 m long moved by 3/128 m along itself: MSSD / diameter is the double 0.3, not below
+  // that threshold; correct from 0.35 on.
+  PartDefinition rod;
+  rod.part_id = 5;
+  const double length = 5.0 / 64, shift = 3.0 / 128;
+  rod.vertices = {{0, 0, 0}, {static_cast<float>(length), 0, 0}};
+  Pose3 moved = Pose3::Identity();
+  moved.translation().x() = shift;
+  auto score = ScoreScan(std::vector<PartDefinition>{rod}, std::vector<TrueInstance>{{5, Pose3::Identity(), 1.0}},
+                         std::vector<EstimatedInstance>{{5, moved, 1.0}});
+  ASSERT_TRUE(score.ok());
+  const std::vector<double> expected{0, 0, 0, 0, 0, 0, 1, 1, 1, 1};
+  EXPECT_EQ(score->parts[0].mssd_recalls, expected);
+}
+
 TEST(ScoreScan, SwappedEstimatesMatchTheirNearestInstances) {
   const std::vector<PartDefinition> parts{Asymmetric(1)};
   const std::vector<TrueInstance> truth{{1, At(0, 0), 1.0}, {1, At(0.5, 0), 1.0}};

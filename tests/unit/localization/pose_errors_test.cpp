@@ -53,6 +53,18 @@ TEST(PoseErrors, TranslationByDGivesDForAll) {
   EXPECT_NEAR(MssdError(cube, estimate, truth, {}), d, 1e-12);
 }
 
+TEST(PoseErrors, AddSRunsFromTheTrueVerticesToTheNearestEstimatedOnes) {
+  // Vertices at 0, 1 and 5 cm on the part's x axis, the estimate 4 cm along it: at 4, 5 and 9 cm.
+  // From the true vertices (BOP's adi): 4, 3 and 0 cm, mean 7/3 cm. The other way round, from the
+  // estimated ones: 1, 0 and 4 cm, mean 5/3 cm.
+  const std::vector<Eigen::Vector3f> line{{0, 0, 0}, {0.01f, 0, 0}, {0.05f, 0, 0}};
+  const Pose3 truth = SomePose();
+  const Pose3 estimate = truth * Eigen::Translation3d(0.04, 0, 0);
+  EXPECT_NEAR(AddSError(line, estimate, truth), 0.07 / 3, 1e-8);
+  EXPECT_NEAR(AddSError(line, truth, estimate), 0.05 / 3, 1e-8);
+  EXPECT_NEAR(AddError(line, estimate, truth), 0.04, 1e-12);
+}
+
 TEST(PoseErrors, TurnAboutTheSymmetryAxisCostsOnlyAdd) {
   // 36 vertices per ring, turned by 40 degrees: a multiple of both the ring's 10 degrees (so each
   // vertex lands on another one) and BOP's step 2 pi / 315 (35 steps).
