@@ -73,12 +73,12 @@ grpc::ServerUnaryReactor* LocalizationService::Localize(grpc::CallbackServerCont
 grpc::ServerUnaryReactor* LocalizationService::ScorePoses(grpc::CallbackServerContext* ctx,
                                                           const v1::ScorePosesRequest* request,
                                                           v1::ScorePosesResponse* response) {
-  // MSSD over sampled symmetries costs up to seconds for large requests.
+  // MSSD over sampled symmetries: bounded by kMaxScoringWork, stopped by cancel and the deadline.
   return RunCancellableUnary(ctx, context_.options.token, "ScorePoses", context_.workers,
-                             [=, this](const std::atomic<bool>&) -> Status {
+                             [=, this](const std::atomic<bool>& cancel) -> Status {
                                ASSIGN_OR_RETURN(const service::ScoringPlan plan, ParseScorePosesRequest(*request));
                                ASSIGN_OR_RETURN(const localization::ScanScore score,
-                                                service::ScorePoses(context_, plan));
+                                                service::ScorePoses(context_, plan, &cancel));
                                ToResponse(plan, score, *request, response);
                                return Status::Ok();
                              });

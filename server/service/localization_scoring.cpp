@@ -1,10 +1,47 @@
 #include "service/localization_scoring.h"
 
+#include <algorithm>
 #include <utility>
 
 namespace vscan::service {
+namespace {
 
-StatusOr<localization::ScanScore> ScorePoses(ServiceContext& context, const ScoringPlan& plan) {
+// Vertex operations a part costs per pair of an estimate and a valid true instance: MSSD places
+// every vertex once per symmetry transform, ADD once, ADD-S also builds and searches a k-d tree.
+uint64_t PairWork(const localization::PartDefinition& part, double symmetry_step) {
+  const uint64_t vertices = part.vertices.size();
+  const uint64_t transforms = std::max<size_t>(1, localization::SymmetryTransforms(part.symmetries, symmetry_step).size());
+  const uint64_t add = part.symmetries.any() ? kAddSWorkPerVertex : 1;
+  return vertices * (transforms + add);
+}
+
+// RESOURCE_EXHAUSTED before any scoring when the pairs would cost more than kMaxScoringWork.
+Status CheckScoringWork(const std::vector<localization::PartDefinition>& parts, const ScoringPlan& plan) {
+  std::vector<uint64_t> estimates(parts.size()), truths(parts.size());
+  // Unknown part ids are ScoreScan's to refuse, naming the field.
+  for (const localization::EstimatedInstance& e : plan.estimates) {
+    if (e.part_id < parts.size()) ++estimates[e.part_id];
+  }
+  for (const localization::TrueInstance& t : plan.truth) {
+    if (t.part_id < parts.size() && t.visible_fraction >= plan.options.min_visible_fraction) ++truths[t.part_id];
+  }
+  long double work = 0;
+  for (size_t i = 0; i < parts.size(); ++i) {
+    work += static_cast<long double>(estimates[i]) * truths[i] * PairWork(parts[i], plan.options.symmetry_step);
+  }
+  if (work <= kMaxScoringWork) return Status::Ok();
+  return ResourceExhausted("estimates", "scoring every estimate against every true instance of its part takes " +
+                                            std::to_string(static_cast<uint64_t>(work / 1e6)) +
+                                            " million vertex operations (vertices x (symmetry transforms + 1) per "
+                                            "pair), more than the " + std::to_string(kMaxScoringWork / 1000000) +
+                                            " million one call may take; send fewer poses, or a mesh with fewer "
+                                            "vertices");
+}
+
+}  // namespace
+
+StatusOr<localization::ScanScore> ScorePoses(ServiceContext& context, const ScoringPlan& plan,
+                                             const std::atomic<bool>* cancel) {
   std::vector<localization::PartDefinition> parts;
   parts.reserve(plan.parts.size());
   for (size_t i = 0; i < plan.parts.size(); ++i) {
@@ -23,7 +60,10 @@ StatusOr<localization::ScanScore> ScorePoses(ServiceContext& context, const Scor
     if (part.symmetries) definition.symmetries = *part.symmetries;
     parts.push_back(std::move(definition));
   }
-  return localization::ScoreScan(parts, plan.truth, plan.estimates, plan.options);
+  RETURN_IF_ERROR(CheckScoringWork(parts, plan));
+  localization::ScoringOptions options = plan.options;
+  options.cancel = cancel;
+  return localization::ScoreScan(parts, plan.truth, plan.estimates, options);
 }
 
 }  // namespace vscan::service

@@ -99,6 +99,7 @@ PartScore ScorePart(const PartDefinition& part, std::span<const TrueInstance> tr
     scores[static_cast<size_t>(e)] = estimate.score;
     for (Eigen::Index g = 0; g < cols; ++g) {
       if (!valid[static_cast<size_t>(g)]) continue;
+      if (options.cancel != nullptr && options.cancel->load(std::memory_order_relaxed)) return score;
       const Pose3& true_pose = truth[truths[static_cast<size_t>(g)]].world_from_part;
       add(e, g) = score.uses_add_s ? AddSError(part.vertices, estimate.world_from_part, true_pose)
                                    : AddError(part.vertices, estimate.world_from_part, true_pose);
@@ -164,6 +165,7 @@ StatusOr<ScanScore> ScoreScan(std::span<const PartDefinition> parts, std::span<c
   double mssd_correct = 0;  // recall times valid instances, summed over thresholds
   for (const PartDefinition& part : parts) {
     PartScore score = ScorePart(part, truth, estimates, options, thresholds);
+    if (options.cancel != nullptr && options.cancel->load()) return Cancelled("scoring cancelled");
     scan.valid_instances += score.valid_instances;
     add_correct += score.add_correct;
     for (const double r : score.mssd_recalls) mssd_correct += r * static_cast<double>(score.valid_instances);

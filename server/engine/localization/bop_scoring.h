@@ -3,6 +3,7 @@
 // rules: recall of ADD(-S) at 10% of the diameter and the MSSD average recall over thresholds of
 // 5% to 50% of the diameter. Definitions and matching rule: docs/LOCALIZATION.md.
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -47,6 +48,8 @@ struct ScoringOptions {
   // (BOP's n_top = -1 of the ViVo task); false: all of them.
   bool keep_top_estimates = true;
   double symmetry_step = kBopSymmetryStep;
+  // Polled between pairs of instances; once set, ScoreScan ends with CANCELLED.
+  const std::atomic<bool>* cancel = nullptr;
 };
 
 // Per valid true instance: the estimate ADD(-S) matched it to, or none, and the errors of that pair.
@@ -80,7 +83,8 @@ struct ScanScore {
 };
 
 // InvalidArgument (naming "truth[i].part_id", "estimates[i].score", ...) for unknown parts,
-// non-finite values, a part without vertices or a duplicated part id.
+// non-finite values, a part without vertices or a duplicated part id; CANCELLED once
+// options.cancel is set.
 StatusOr<ScanScore> ScoreScan(std::span<const PartDefinition> parts, std::span<const TrueInstance> truth,
                               std::span<const EstimatedInstance> estimates, const ScoringOptions& options = {});
 

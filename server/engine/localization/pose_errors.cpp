@@ -6,9 +6,6 @@
 #include <limits>
 #include <vector>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_reduce.h>
-
 #include "spatial/kd_tree.h"
 
 namespace vscan::localization {
@@ -17,21 +14,6 @@ namespace {
 Eigen::Vector3d Placed(const Pose3& pose, const Eigen::Vector3f& v) { return pose * v.cast<double>(); }
 
 }  // namespace
-
-double Diameter(std::span<const Eigen::Vector3f> vertices) {
-  const size_t n = vertices.size();
-  const double max_sq = tbb::parallel_reduce(
-      tbb::blocked_range<size_t>(0, n), 0.0,
-      [&](const tbb::blocked_range<size_t>& rows, double best) {
-        for (size_t i = rows.begin(); i != rows.end(); ++i) {
-          const Eigen::Vector3d a = vertices[i].cast<double>();
-          for (size_t j = i + 1; j < n; ++j) best = std::max(best, (vertices[j].cast<double>() - a).squaredNorm());
-        }
-        return best;
-      },
-      [](double a, double b) { return std::max(a, b); });
-  return std::sqrt(max_sq);
-}
 
 double AddError(std::span<const Eigen::Vector3f> vertices, const Pose3& estimate, const Pose3& truth) {
   if (vertices.empty()) return 0;

@@ -1,7 +1,9 @@
 #include "localization/pose_errors.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <random>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -31,6 +33,34 @@ TEST(Diameter, OfABoxIsItsSpaceDiagonal) {
 TEST(Diameter, OfOneVertexIsZero) {
   const std::vector<Eigen::Vector3f> one{Eigen::Vector3f(1, 2, 3)};
   EXPECT_EQ(Diameter(one), 0.0);
+}
+
+// Every pair compared, as BOP's calc_pts_diameter does.
+double BruteForceDiameter(const std::vector<Eigen::Vector3f>& points) {
+  double best = 0;
+  for (size_t i = 0; i < points.size(); ++i) {
+    for (size_t j = i + 1; j < points.size(); ++j) {
+      best = std::max(best, (points[i].cast<double>() - points[j].cast<double>()).squaredNorm());
+    }
+  }
+  return std::sqrt(best);
+}
+
+TEST(Diameter, EqualsEveryPairComparedOnSpheresBoxesAndRods) {
+  std::mt19937 rng(5);
+  std::normal_distribution<float> gauss;
+  std::uniform_real_distribution<float> uniform(-1, 1);
+  for (int shape = 0; shape < 4; ++shape) {
+    std::vector<Eigen::Vector3f> points(6000);
+    for (Eigen::Vector3f& p : points) {
+      const Eigen::Vector3f g(gauss(rng), gauss(rng), gauss(rng));
+      if (shape == 0) p = g.normalized() * 0.05f;                                       // a sphere's surface
+      if (shape == 1) p = Eigen::Vector3f(uniform(rng), 0.5f * uniform(rng), 0.1f * uniform(rng));  // a slab
+      if (shape == 2) p = Eigen::Vector3f(0.002f * g.x(), 0.002f * g.y(), 0.3f * uniform(rng));    // a thin pin
+      if (shape == 3) p = Eigen::Vector3f(0.01f * std::round(10 * uniform(rng)), 0, 0);  // many equal points
+    }
+    EXPECT_EQ(Diameter(points), BruteForceDiameter(points)) << "shape " << shape;
+  }
 }
 
 TEST(PoseErrors, IdentityGivesZero) {

@@ -237,5 +237,36 @@ TEST_F(LocalizationServiceScoring, RefusesBadPosesUnknownPartsAndUnknownMeshes) 
   ExpectRefused(ScorePoses(world_.context(), plan), StatusCode::kNotFound, "parts[1].mesh_id");
 }
 
+// 200 x 200 poses of a part with a symmetry axis: each pair places every vertex for each of 315
+// sampled turns, far past the bound. Refused before any scoring, naming the estimates.
+TEST_F(LocalizationServiceScoring, RequestsPastTheWorkBoundAreRefusedUpFront) {
+  ScoringPlan plan;
+  plan.parts.push_back({id(FixturePart::kRound), 1, SymmetriesOf(FixturePart::kRound)});
+  for (int i = 0; i < 200; ++i) {
+    const Pose3 pose = Turned(0.1 * i, Eigen::Vector3d(1, 2, 3), {0.2 * i, 0, 0});
+    plan.truth.push_back({0, pose, 1.0});
+    plan.estimates.push_back({0, pose, 1.0});
+  }
+  const auto refused = ScorePoses(world_.context(), plan);
+  ASSERT_EQ(refused.status().code(), StatusCode::kResourceExhausted) << refused.status().ToString();
+  EXPECT_NE(refused.status().message().find("estimates"), std::string::npos) << refused.status().message();
+  // Truths the scan barely sees are not scored, so they cost nothing.
+  for (auto& truth : plan.truth) truth.visible_fraction = 0.0;
+  plan.truth[0].visible_fraction = 1.0;
+  plan.estimates.resize(2);
+  EXPECT_TRUE(ScorePoses(world_.context(), plan).ok());
+}
+
+TEST_F(LocalizationServiceScoring, ACancelledCallEndsCancelled) {
+  ScoringPlan plan;
+  plan.parts.push_back({id(FixturePart::kAngleBlock), 1, std::nullopt});
+  for (const Pose3& pose : ThreeBlocks()) {
+    plan.truth.push_back({0, pose, 1.0});
+    plan.estimates.push_back({0, pose, 0.5});
+  }
+  const std::atomic<bool> cancel{true};
+  EXPECT_EQ(ScorePoses(world_.context(), plan, &cancel).status().code(), StatusCode::kCancelled);
+}
+
 }  // namespace
 }  // namespace vscan::service
