@@ -186,6 +186,8 @@ StatusOr<PointCloud> ReadPcdStream(std::istream& in, std::optional<std::string_v
   ASSIGN_OR_RETURN(const PcdHeader h, ParseHeader(in, path));
 
   const std::streamoff body = in.tellg();
+  // The header's last line ran to the end of the bytes: nothing follows it.
+  if (body < 0) return DataLoss(path + ": truncated: the header's last line has no end of line and no data follows");
   if (h.data != PcdData::kBinary) {
     std::string copy;
     std::string_view rest;

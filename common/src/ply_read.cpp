@@ -125,6 +125,8 @@ StatusOr<PointCloud> ReadPlyStream(std::istream& in, std::optional<std::string_v
   const std::vector<PlyElement>& elements = header.elements;
 
   const std::streamoff body = in.tellg();
+  // The header's last line ran to the end of the bytes: nothing follows it.
+  if (body < 0) return DataLoss(path + ": truncated: the header's last line has no end of line and no data follows");
   if (header.ascii) {
     if (whole) return ReadAsciiVertices(whole->substr(static_cast<size_t>(body)), elements, path, max_bytes);
     const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};

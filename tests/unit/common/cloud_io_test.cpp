@@ -537,5 +537,18 @@ TEST_F(CloudIoTest, LzfBackReferencesExpandAndHostileStreamsAreRefused) {
             StatusCode::kResourceExhausted);
 }
 
+// A DATA line that runs to the end of the bytes (its data after a vertical tab, which the header's
+// word split takes as a space) left the readers at position -1 (found by cloud_upload_fuzzer).
+TEST(CloudHeaderAtTheEnd, AHeaderWithoutItsLastNewlineIsTruncatedNotAThrow) {
+  const std::string fields = "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nPOINTS 1\n";
+  for (const char* data : {"DATA ascii\v1 2 3", "DATA binary_compressed\v12345678", "DATA binary"}) {
+    const Status status = ParsePcd(fields + data, "cloud data", 1 << 20).status();
+    EXPECT_EQ(status.code(), StatusCode::kDataLoss) << data;
+  }
+  const std::string ply = "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                          "property float z\nend_header";
+  EXPECT_EQ(ParsePly(ply, "cloud data", 1 << 20).status().code(), StatusCode::kDataLoss);
+}
+
 }  // namespace
 }  // namespace vscan
