@@ -28,8 +28,12 @@ bool LzfDecompress(std::string_view in, char* out, size_t out_size) {
     if (ip >= in_end) return false;
     const size_t distance = ((ctrl & 0x1fu) << 8) + *ip++ + 1;
     if (distance > op || out_size - op < len) return false;
-    // Byte by byte: the source may overlap what this run writes.
-    for (size_t i = 0; i < len; ++i, ++op) out[op] = out[op - distance];
+    if (distance >= len) {
+      std::memcpy(out + op, out + op - distance, len);
+      op += len;
+    } else {  // byte by byte: the run repeats what it writes
+      for (size_t i = 0; i < len; ++i, ++op) out[op] = out[op - distance];
+    }
   }
   return op == out_size;
 }
