@@ -31,14 +31,9 @@ int CheckOutput(Context& ctx, const std::string& output, bool organized) {
 
 namespace {
 
-// The request with the pixel field added (and the default fields spelled out when none were asked).
+// The request with the pixel field added (to the default fields when none were asked).
 v1::ScanRequest WithPixels(v1::ScanRequest request) {
-  if (request.fields().empty()) {
-    for (const auto f : {v1::POINT_FIELD_POSITION, v1::POINT_FIELD_NORMAL, v1::POINT_FIELD_RANGE,
-                         v1::POINT_FIELD_INTENSITY, v1::POINT_FIELD_INSTANCE_ID}) {
-      request.add_fields(f);
-    }
-  }
+  if (request.fields().empty()) FieldsToProto(kFieldsDefault, request.mutable_fields());
   const auto& fields = request.fields();
   if (std::find(fields.begin(), fields.end(), v1::POINT_FIELD_PIXEL) == fields.end()) {
     request.add_fields(v1::POINT_FIELD_PIXEL);
