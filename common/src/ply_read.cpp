@@ -102,10 +102,11 @@ StatusOr<PointCloud> ReadAsciiVertices(std::string_view body, const std::vector<
       break;
     }
     if (e.has_list) return InvalidArgument(path + ": list element '" + e.name + "' before the vertices");
-    if (e.layout.properties.size() != 0 && e.count > std::numeric_limits<size_t>::max() / e.layout.properties.size()) {
+    const size_t values = e.layout.properties.size();
+    if (values != 0 && e.count > (std::numeric_limits<size_t>::max() - skip) / values) {
       return InvalidArgument(path + ": element '" + e.name + "': count " + std::to_string(e.count) + " is too large");
     }
-    skip += e.count * e.layout.properties.size();
+    skip += e.count * values;
   }
   if (!vertex) return InvalidArgument(path + ": no vertex element");
   if (vertex->has_list) return InvalidArgument(path + ": vertex element has list properties");

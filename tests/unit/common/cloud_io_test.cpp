@@ -460,6 +460,12 @@ TEST_F(CloudIoTest, HostileAsciiIsRefusedNamingWhereItWentWrong) {
   const std::string huge = "ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\n"
                            "property float z\nend_header\n1 2 3\n";
   EXPECT_EQ(ParsePly(huge, "cloud data", UINT64_MAX).status().code(), StatusCode::kDataLoss);
+  // Elements before the vertices whose value counts add up past 2^64.
+  const std::string wrapping = "ply\nformat ascii 1.0\nelement a 9223372036854775807\nproperty float v\n"
+                               "element b 9223372036854775807\nproperty float v\nelement c 2\nproperty float v\n"
+                               "element vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
+                               "end_header\n1 2 3\n";
+  EXPECT_EQ(ParsePly(wrapping, "cloud data", UINT64_MAX).status().code(), StatusCode::kInvalidArgument);
   const std::string pcd = "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nPOINTS 18446744073709551615\n"
                           "DATA ascii\n1 2 3\n";
   EXPECT_EQ(ParsePcd(pcd, "cloud data", UINT64_MAX).status().code(), StatusCode::kDataLoss);
