@@ -20,6 +20,7 @@ namespace {
 struct BinScanArgs {
   std::string job_id;
   std::string output;
+  bool organized = false;
   std::string preset = "ideal-vga";
   std::optional<double> distance;
   std::string fields = "all";
@@ -120,7 +121,7 @@ std::string Fixed(double v, int digits) {
 }
 
 int RunBinScan(Context& ctx, const BinScanArgs& args) {
-  if (const int rc = CheckOutput(ctx, args.output); rc != kExitOk) return rc;
+  if (const int rc = CheckOutput(ctx, args.output, args.organized); rc != kExitOk) return rc;
   const auto fields = ParseFields(args.fields);
   if (!fields.ok()) return ctx.UsageError(fields.status().message());
   auto* client = ctx.GetClient();
@@ -175,7 +176,7 @@ int RunBinScan(Context& ctx, const BinScanArgs& args) {
   request.set_ground_truth(true);
 
   ScannedFile scanned;
-  if (const int rc = ScanToFile(ctx, request, args.output, &scanned); rc != kExitOk) return rc;
+  if (const int rc = ScanToFile(ctx, request, args.output, &scanned, args.organized); rc != kExitOk) return rc;
   const std::string truth_path = std::filesystem::path(args.output).replace_extension(".gt.json").string();
   if (const Status written = WriteGroundTruth(truth_path, args, *job, scanned.result, scanned.points); !written.ok()) {
     return ctx.LocalError(written);
@@ -208,6 +209,7 @@ void AddBinScan(CLI::App& group, Context& ctx) {
   auto* cmd = group.add_subcommand("scan", "Scan a filled bin from above; write the cloud and OUT.gt.json");
   cmd->add_option("JOB", args->job_id, "The bin fill's job id")->required();
   cmd->add_option("-o,--output", args->output, "Output cloud, .ply or .pcd (with instance ids)")->required();
+  cmd->add_flag("--organized", args->organized, "Write the range image as an organised PCD, as for `vscan scan`");
   cmd->add_option("--preset", args->preset, "Sensor preset (see `vscan sensors`)")->capture_default_str();
   cmd->add_option("--distance", args->distance,
                   "Height of the sensor above the bin's floor, metres (default: the opening fills the view)");

@@ -67,7 +67,7 @@ int RunUpload(Context& ctx, const UploadArgs& args) {
 }
 
 void AddUpload(CLI::App& group, Context& ctx) {
-  auto* cmd = group.add_subcommand("upload", "Upload a point cloud (binary PLY or PCD, every field vscan writes)");
+  auto* cmd = group.add_subcommand("upload", "Upload a point cloud (PLY binary or ASCII; PCD binary, ASCII or binary_compressed)");
   auto args = std::make_shared<UploadArgs>();
   cmd->add_option("FILE", args->file, "Cloud file")->required();
   cmd->add_option("--name", args->name, "Cloud name (default: the file name)");

@@ -18,6 +18,7 @@ namespace {
 struct ScanCommandArgs {
   ScanArgs scan;
   std::string output;
+  bool organized = false;
 };
 
 std::string Fixed(double v, int digits) {
@@ -61,10 +62,10 @@ void PrintSummary(Context& ctx, const client::ScanResult& result, uint64_t point
 int RunScan(Context& ctx, const ScanCommandArgs& args) {
   const auto request = BuildScanRequest(args.scan);
   if (!request.ok()) return ctx.UsageError(request.status().message());
-  if (const int rc = CheckOutput(ctx, args.output); rc != kExitOk) return rc;
+  if (const int rc = CheckOutput(ctx, args.output, args.organized); rc != kExitOk) return rc;
 
   ScannedFile scanned;
-  if (const int rc = ScanToFile(ctx, *request, args.output, &scanned); rc != kExitOk) return rc;
+  if (const int rc = ScanToFile(ctx, *request, args.output, &scanned, args.organized); rc != kExitOk) return rc;
   const client::ScanResult* result = &scanned.result;
   ClientTimes times{scanned.first_chunk_ms, scanned.total_ms};
   const uint64_t points = scanned.points;
@@ -108,6 +109,9 @@ void AddScanCommand(CLI::App& app, Context& ctx) {
   auto* cmd = app.add_subcommand("scan", "Scan a scene with a pinhole depth camera and write the cloud");
   cmd->add_option("SCENE", s.scene_id, "Scene id")->required();
   cmd->add_option("-o,--output", args->output, "Output file, .ply or .pcd")->required();
+  cmd->add_flag("--organized", args->organized,
+                "Write the range image: an organised PCD of width x height points, NaN where no point came "
+                "back, the sensor pose as VIEWPOINT (adds the pixel field)");
 
   cmd->add_option("--preset", s.preset, "Sensor preset name instead of the camera options below");
   cmd->add_option("--width", s.width, "Image width in pixels")->capture_default_str();

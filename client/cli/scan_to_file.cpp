@@ -1,5 +1,6 @@
 #include "scan_to_file.h"
 
+#include <algorithm>
 #include <cctype>
 #include <chrono>
 #include <filesystem>
@@ -8,15 +9,17 @@
 #include "args.h"
 #include "progress.h"
 #include "vscan/common/cloud_file_writer.h"
+#include "vscan/common/organized_pcd.h"
 #include "vscan/common/point_chunks.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::cli {
 
-int CheckOutput(Context& ctx, const std::string& output) {
+int CheckOutput(Context& ctx, const std::string& output, bool organized) {
   std::string ext = std::filesystem::path(output).extension().string();
   for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   if (ext != ".ply" && ext != ".pcd") return ctx.UsageError("-o: output must end in .ply or .pcd");
+  if (organized && ext != ".pcd") return ctx.UsageError("-o: --organized writes a PCD; output must end in .pcd");
   std::filesystem::path dir = std::filesystem::path(output).parent_path();
   if (dir.empty()) dir = ".";
   std::error_code ec;
@@ -26,7 +29,63 @@ int CheckOutput(Context& ctx, const std::string& output) {
   return kExitOk;
 }
 
-int ScanToFile(Context& ctx, const v1::ScanRequest& request, const std::string& output, ScannedFile* out) {
+namespace {
+
+// The request with the pixel field added (to the default fields when none were asked).
+v1::ScanRequest WithPixels(v1::ScanRequest request) {
+  if (request.fields().empty()) FieldsToProto(kFieldsDefault, request.mutable_fields());
+  const auto& fields = request.fields();
+  if (std::find(fields.begin(), fields.end(), v1::POINT_FIELD_PIXEL) == fields.end()) {
+    request.add_fields(v1::POINT_FIELD_PIXEL);
+  }
+  return request;
+}
+
+// Scans into memory and writes the organised PCD once the scan has ended well.
+int ScanToOrganizedPcd(Context& ctx, const v1::ScanRequest& request, const std::string& output, ScannedFile* out) {
+  auto* client = ctx.GetClient();
+  if (!client) return ctx.last_exit();
+  const auto start = std::chrono::steady_clock::now();
+  const auto ms_since_start = [&start] {
+    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  };
+  ProgressBar bar("scan", "points", !ctx.quiet() && !ctx.json());
+  PointCloud cloud;
+  client::ScanCallbacks callbacks;
+  callbacks.on_header = [&](const v1::ScanHeader& header) {
+    const auto fields = FieldsFromProto(header.fields(), "header.fields");
+    cloud.fields = fields.ok() ? *fields : kFieldPosition;
+  };
+  callbacks.on_chunk = [&](const v1::PointChunk& chunk) -> Status {
+    if (out->first_chunk_ms < 0) out->first_chunk_ms = ms_since_start();
+    return AppendChunk(chunk, &cloud);
+  };
+  callbacks.on_progress = [&bar](uint64_t done, uint64_t total) { bar.Update(done, total); };
+  auto result = client->Scan(WithPixels(request), callbacks);
+  out->total_ms = ms_since_start();
+  bar.Finish();
+  if (!result.ok()) return ctx.ServerError(result.status());
+  const v1::ScanHeader& header = result->header;
+  RangeImageLayout image;
+  image.width = header.width();
+  image.height = header.height();
+  // Sensor-frame points were seen from the origin; world-frame ones from the sensor's pose.
+  if (header.frame() != v1::FRAME_SENSOR) {
+    const auto pose = PoseFromProto(header.sensor_pose(), "header.sensor_pose");
+    if (!pose.ok()) return ctx.LocalError(pose.status());
+    image.viewpoint = *pose;
+  }
+  if (const Status written = WriteOrganizedPcd(cloud, image, output); !written.ok()) return ctx.LocalError(written);
+  out->points = cloud.size();
+  out->result = std::move(result).value();
+  return kExitOk;
+}
+
+}  // namespace
+
+int ScanToFile(Context& ctx, const v1::ScanRequest& request, const std::string& output, ScannedFile* out,
+               bool organized) {
+  if (organized) return ScanToOrganizedPcd(ctx, request, output, out);
   auto* client = ctx.GetClient();
   if (!client) return ctx.last_exit();
   const auto start = std::chrono::steady_clock::now();

@@ -16,10 +16,15 @@ struct ScannedFile {
   double total_ms = 0;
 };
 
-// Exit 2 unless output ends in .ply or .pcd, 5 when its directory does not exist.
-int CheckOutput(Context& ctx, const std::string& output);
+// Exit 2 unless output ends in .ply or .pcd (only .pcd when organized), 5 when its directory does
+// not exist.
+int CheckOutput(Context& ctx, const std::string& output, bool organized = false);
 
-// Returns an exit code; the file is complete only when it is kExitOk.
-int ScanToFile(Context& ctx, const v1::ScanRequest& request, const std::string& output, ScannedFile* out);
+// Returns an exit code; the file is complete only when it is kExitOk. organized: the file is the
+// range image, an organised PCD (organized_pcd.h) of the camera's width x height with the sensor pose
+// as VIEWPOINT; the pixel field is asked for when the request lacks it, and the cloud is held in
+// memory until the scan ends.
+int ScanToFile(Context& ctx, const v1::ScanRequest& request, const std::string& output, ScannedFile* out,
+               bool organized = false);
 
 }  // namespace vscan::cli

@@ -1,11 +1,13 @@
 #include "cloud_columns.h"
 
+#include <cstdio>
+
 namespace vscan::cloud_file {
 namespace {
 
 const char* PlyType(const Column& c) {
   if (c.size == 1) return "uchar";
-  return c.is_float ? "float" : "uint";
+  return c.is_float ? "float" : "int";
 }
 
 }  // namespace
@@ -77,18 +79,38 @@ std::string PlyHeader(const std::vector<Column>& cols, uint64_t points, std::opt
   return header + "end_header\n";
 }
 
-std::string PcdHeader(const std::vector<Column>& cols, uint64_t points, std::optional<size_t> pad) {
+namespace {
+
+std::string PcdHeaderWith(const std::vector<Column>& cols, uint64_t width, uint64_t height,
+                          const std::string& viewpoint, size_t pad) {
   std::string fields, sizes, types, counts;
   for (const Column& c : cols) {
     fields += std::string(" ") + c.pcd_name;
     sizes += " " + std::to_string(c.size);
-    types += c.is_float ? " F" : " U";
+    // The 1-byte status stays unsigned (uchar in PLY); 4-byte integers are signed as in the PLY.
+    types += c.is_float ? " F" : c.size == 1 ? " U" : " I";
     counts += " 1";
   }
-  const std::string n = std::to_string(points);
-  return "# .PCD v0.7 - Point Cloud Data file format" + std::string(pad.value_or(0), ' ') + "\nVERSION 0.7\nFIELDS" +
-         fields + "\nSIZE" + sizes + "\nTYPE" + types + "\nCOUNT" + counts + "\nWIDTH " + n +
-         "\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS " + n + "\nDATA binary\n";
+  return "# .PCD v0.7 - Point Cloud Data file format" + std::string(pad, ' ') + "\nVERSION 0.7\nFIELDS" + fields +
+         "\nSIZE" + sizes + "\nTYPE" + types + "\nCOUNT" + counts + "\nWIDTH " + std::to_string(width) +
+         "\nHEIGHT " + std::to_string(height) + "\nVIEWPOINT " + viewpoint + "\nPOINTS " +
+         std::to_string(width * height) + "\nDATA binary\n";
+}
+
+}  // namespace
+
+std::string PcdHeader(const std::vector<Column>& cols, uint64_t points, std::optional<size_t> pad) {
+  return PcdHeaderWith(cols, points, 1, "0 0 0 1 0 0 0", pad.value_or(0));
+}
+
+std::string PcdHeader(const std::vector<Column>& cols, const PcdImage& image) {
+  std::string viewpoint;
+  for (const double v : image.viewpoint) {
+    char text[32];
+    std::snprintf(text, sizeof(text), "%.9g", v);
+    viewpoint += (viewpoint.empty() ? "" : " ") + std::string(text);
+  }
+  return PcdHeaderWith(cols, image.width, image.height, viewpoint, 0);
 }
 
 }  // namespace vscan::cloud_file

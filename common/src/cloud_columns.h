@@ -2,6 +2,7 @@
 // The record layout of the binary PLY and PCD files: one column per scalar, interleaved per point.
 
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -11,8 +12,9 @@
 
 namespace vscan::cloud_file {
 
-// One scalar column of the interleaved record (4-byte float/uint or 1-byte uchar), with its names
-// in each format.
+// One scalar column of the interleaved record (4-byte float or int, or 1-byte uchar), with its
+// names in each format. Integers are int32 rather than uint32: Open3D's PLY reader drops uint32
+// properties, and PCL reads both.
 struct Column {
   const char* ply_name;
   const char* pcd_name;
@@ -32,5 +34,12 @@ Status CheckConsistent(const PointCloud& cloud);
 // many extra spaces, so that a header written before the count was known can be rewritten in place.
 std::string PlyHeader(const std::vector<Column>& cols, uint64_t points, std::optional<size_t> pad);
 std::string PcdHeader(const std::vector<Column>& cols, uint64_t points, std::optional<size_t> pad);
+
+// An organised PCD's WIDTH x HEIGHT and VIEWPOINT (tx ty tz qw qx qy qz), the points given row by row.
+struct PcdImage {
+  uint32_t width = 0, height = 0;
+  double viewpoint[7] = {0, 0, 0, 1, 0, 0, 0};
+};
+std::string PcdHeader(const std::vector<Column>& cols, const PcdImage& image);
 
 }  // namespace vscan::cloud_file

@@ -95,7 +95,13 @@ struct FieldMap {
     const auto f = [&](Property p) { return static_cast<float>(LoadScalar(record + p->offset, p->type)); };
     const auto v = [&](const Vec3& p) { return Eigen::Vector3f(f(p.parts[0]), f(p.parts[1]), f(p.parts[2])); };
     // Converting an out-of-range double to an integer is undefined; such foreign values read as 0.
+    // vscan writes its uint32 fields as int32 (what Open3D reads); the bits are the value.
     const auto u = [&](Property p) {
+      if (p->type == ScalarType::kInt32) {
+        int32_t bits;
+        std::memcpy(&bits, record + p->offset, 4);
+        return static_cast<uint32_t>(bits);
+      }
       const double value = LoadScalar(record + p->offset, p->type);
       return value >= 0 && value <= std::numeric_limits<uint32_t>::max() ? static_cast<uint32_t>(value) : 0u;
     };
@@ -131,12 +137,12 @@ size_t ScalarSize(ScalarType type) {
 }
 
 void RecordLayout::Add(std::string name, ScalarType type, size_t count) {
-  properties.push_back({std::move(name), type, stride});
+  properties.push_back({std::move(name), type, stride, count});
   stride += ScalarSize(type) * count;
 }
 
-StatusOr<PointCloud> ReadRecords(std::istream& in, const RecordLayout& layout, size_t count,
-                                 const std::string& path, uint64_t max_bytes) {
+StatusOr<PointCloud> DecodeRecords(const RecordLayout& layout, size_t count, const std::string& path,
+                                   uint64_t max_bytes, const RecordSource& source) {
   const FieldMap map(layout);
   if (!map.position) return InvalidArgument(path + ": the points need x, y and z");
   PointCloud cloud;
@@ -152,12 +158,20 @@ StatusOr<PointCloud> ReadRecords(std::istream& in, const RecordLayout& layout, s
   std::vector<char> block(std::min(count, kBlockPoints) * layout.stride);
   for (size_t begin = 0; begin < count; begin += kBlockPoints) {
     const size_t points = std::min(kBlockPoints, count - begin);
-    if (!in.read(block.data(), static_cast<std::streamsize>(points * layout.stride))) {
-      return DataLoss(path + ": read failed at point " + std::to_string(begin));
-    }
+    RETURN_IF_ERROR(source(block.data(), begin, points));
     for (size_t k = 0; k < points; ++k) map.Decode(block.data() + k * layout.stride, begin + k, cloud);
   }
   return cloud;
+}
+
+StatusOr<PointCloud> ReadRecords(std::istream& in, const RecordLayout& layout, size_t count,
+                                 const std::string& path, uint64_t max_bytes) {
+  return DecodeRecords(layout, count, path, max_bytes, [&](char* out, size_t first, size_t points) -> Status {
+    if (!in.read(out, static_cast<std::streamsize>(points * layout.stride))) {
+      return DataLoss(path + ": read failed at point " + std::to_string(first));
+    }
+    return Status::Ok();
+  });
 }
 
 }  // namespace vscan::cloud_records

@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <istream>
 #include <string>
 #include <vector>
@@ -24,6 +25,7 @@ struct RecordProperty {
   std::string name;
   ScalarType type = ScalarType::kFloat32;
   size_t offset = 0;  // bytes from the start of the record
+  size_t count = 1;   // values of `type` in a row (PCD COUNT)
 };
 
 struct RecordLayout {
@@ -41,5 +43,12 @@ struct RecordLayout {
 // stream ends early.
 StatusOr<PointCloud> ReadRecords(std::istream& in, const RecordLayout& layout, size_t count,
                                  const std::string& path, uint64_t max_bytes);
+
+// Writes `points` records (points * layout.stride bytes) starting at record `first` into `out`;
+// called with consecutive blocks, and only after the max_bytes check has passed.
+using RecordSource = std::function<Status(char* out, size_t first, size_t points)>;
+// As ReadRecords, with the records coming from `source` (ASCII text, decompressed data).
+StatusOr<PointCloud> DecodeRecords(const RecordLayout& layout, size_t count, const std::string& path,
+                                   uint64_t max_bytes, const RecordSource& source);
 
 }  // namespace vscan::cloud_records

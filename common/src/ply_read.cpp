@@ -1,14 +1,17 @@
-// ReadPly and ParsePly: the header of a binary little-endian PLY; the vertex records are decoded in
-// cloud_records.
+// ReadPly and ParsePly: the header of a binary little-endian or ASCII PLY; the vertex records are
+// decoded in cloud_records (ASCII ones through ascii_records).
 
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <optional>
 #include <sstream>
+#include <string_view>
 #include <vector>
 
+#include "ascii_records.h"
 #include "cloud_records.h"
 #include "memory_stream.h"
 #include "vscan/common/cloud_io.h"
@@ -38,10 +41,16 @@ std::optional<ScalarType> PlyScalarType(const std::string& t) {
   return std::nullopt;
 }
 
-StatusOr<std::vector<PlyElement>> ParsePlyHeader(std::istream& in, const std::string& path) {
-  std::string line;
-  if (!std::getline(in, line) || line != "ply") return InvalidArgument(path + ": not a PLY file");
+struct PlyHeader {
   std::vector<PlyElement> elements;
+  bool ascii = false;
+};
+
+StatusOr<PlyHeader> ParsePlyHeader(std::istream& in, const std::string& path) {
+  std::string line;
+  if (!std::getline(in, line) || (line != "ply" && line != "ply\r")) return InvalidArgument(path + ": not a PLY file");
+  PlyHeader header;
+  std::vector<PlyElement>& elements = header.elements;
   bool format_ok = false;
   while (std::getline(in, line)) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
@@ -49,13 +58,14 @@ StatusOr<std::vector<PlyElement>> ParsePlyHeader(std::istream& in, const std::st
     std::string word;
     ss >> word;
     if (word == "end_header") {
-      if (!format_ok) return InvalidArgument(path + ": only binary_little_endian PLY is supported");
-      return elements;
+      if (!format_ok) return InvalidArgument(path + ": format: only binary_little_endian and ascii PLY are supported");
+      return header;
     }
     if (word == "format") {
       std::string fmt;
       ss >> fmt;
-      format_ok = fmt == "binary_little_endian";
+      format_ok = fmt == "binary_little_endian" || fmt == "ascii";
+      header.ascii = fmt == "ascii";
     } else if (word == "element") {
       PlyElement e;
       ss >> e.name >> e.count;
@@ -81,10 +91,48 @@ StatusOr<std::vector<PlyElement>> ParsePlyHeader(std::istream& in, const std::st
   return InvalidArgument(path + ": header has no end_header");
 }
 
-StatusOr<PointCloud> ReadPlyStream(std::istream& in, const std::string& path, uint64_t max_bytes) {
-  ASSIGN_OR_RETURN(const std::vector<PlyElement> elements, ParsePlyHeader(in, path));
+// The vertices of an ASCII body: the records before them are stepped over value by value.
+StatusOr<PointCloud> ReadAsciiVertices(std::string_view body, const std::vector<PlyElement>& elements,
+                                       const std::string& path, uint64_t max_bytes) {
+  size_t skip = 0;
+  const PlyElement* vertex = nullptr;
+  for (const auto& e : elements) {
+    if (e.name == "vertex") {
+      vertex = &e;
+      break;
+    }
+    if (e.has_list) return InvalidArgument(path + ": list element '" + e.name + "' before the vertices");
+    const size_t values = e.layout.properties.size();
+    if (values != 0 && e.count > (std::numeric_limits<size_t>::max() - skip) / values) {
+      return InvalidArgument(path + ": element '" + e.name + "': count " + std::to_string(e.count) + " is too large");
+    }
+    skip += e.count * values;
+  }
+  if (!vertex) return InvalidArgument(path + ": no vertex element");
+  if (vertex->has_list) return InvalidArgument(path + ": vertex element has list properties");
+  cloud_records::AsciiRecords records(body, vertex->layout, path, "vertex");
+  RETURN_IF_ERROR(records.CheckRoom(vertex->count, skip));
+  RETURN_IF_ERROR(records.Skip(skip));
+  return cloud_records::DecodeRecords(vertex->layout, vertex->count, path, max_bytes,
+                                      [&](char* out, size_t first, size_t points) {
+                                        return records.Fill(out, first, points);
+                                      });
+}
+
+// `whole`, when set, is the stream's bytes (an upload), read in place rather than copied.
+StatusOr<PointCloud> ReadPlyStream(std::istream& in, std::optional<std::string_view> whole, const std::string& path,
+                                   uint64_t max_bytes) {
+  ASSIGN_OR_RETURN(const PlyHeader header, ParsePlyHeader(in, path));
+  const std::vector<PlyElement>& elements = header.elements;
 
   const std::streamoff body = in.tellg();
+  // The header's last line ran to the end of the bytes: nothing follows it.
+  if (body < 0) return DataLoss(path + ": truncated: the header's last line has no end of line and no data follows");
+  if (header.ascii) {
+    if (whole) return ReadAsciiVertices(whole->substr(static_cast<size_t>(body)), elements, path, max_bytes);
+    const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    return ReadAsciiVertices(text, elements, path, max_bytes);
+  }
   in.seekg(0, std::ios::end);
   size_t remaining = static_cast<size_t>(in.tellg()) - static_cast<size_t>(body);
   const auto take = [&](const PlyElement& e) -> Status {
@@ -121,12 +169,12 @@ StatusOr<PointCloud> ReadPlyStream(std::istream& in, const std::string& path, ui
 StatusOr<PointCloud> ReadPly(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return NotFound(path + ": cannot open: " + std::strerror(errno));
-  return ReadPlyStream(in, path, std::numeric_limits<uint64_t>::max());
+  return ReadPlyStream(in, std::nullopt, path, std::numeric_limits<uint64_t>::max());
 }
 
 StatusOr<PointCloud> ParsePly(std::string_view bytes, const std::string& where, uint64_t max_bytes) {
   cloud_records::MemoryStream in(bytes);
-  return ReadPlyStream(in, where, max_bytes);
+  return ReadPlyStream(in, bytes, where, max_bytes);
 }
 
 }  // namespace vscan

@@ -46,6 +46,32 @@ Status CheckPositions(const std::vector<Eigen::Vector3f>& points, std::string_vi
   return Status::Ok();
 }
 
+bool IsHole(const Eigen::Vector3f& p) { return std::isnan(p.x()) && std::isnan(p.y()) && std::isnan(p.z()); }
+
+// Drops the points whose x, y and z are all NaN: the holes of an organised cloud (a range image
+// written by vscan scan --organized, PCL or Open3D), which carry no measurement.
+void DropHoles(PointCloud& cloud) {
+  size_t kept = 0;
+  for (size_t i = 0; i < cloud.size(); ++i) {
+    if (IsHole(cloud.positions[i])) continue;
+    const auto move = [&](auto& v) {
+      if (!v.empty()) v[kept] = v[i];
+    };
+    move(cloud.positions);
+    move(cloud.normals);
+    move(cloud.ranges);
+    move(cloud.intensities);
+    move(cloud.instance_ids);
+    move(cloud.pixels);
+    move(cloud.clean_positions);
+    move(cloud.incidence_angles);
+    move(cloud.statuses);
+    move(cloud.estimated_normals);
+    ++kept;
+  }
+  cloud.Resize(kept);
+}
+
 }  // namespace
 
 std::optional<CloudFileFormat> DetectCloudFormat(std::string_view bytes) {
@@ -69,7 +95,13 @@ StatusOr<PointCloud> ParseUploadedCloud(std::string_view bytes, CloudFileFormat 
   StatusOr<PointCloud> cloud = format == CloudFileFormat::kPly ? ParsePly(bytes, kWhere, max_bytes)
                                                                : ParsePcd(bytes, kWhere, max_bytes);
   if (!cloud.ok()) return AsUploadError(cloud.status());
-  if (cloud->size() == 0) return InvalidArgument(kWhere, "the file holds no points");
+  const size_t declared = cloud->size();
+  DropHoles(*cloud);
+  if (cloud->size() == 0) {
+    return InvalidArgument(kWhere, declared == 0 ? "the file holds no points"
+                                                 : "the file holds no points: all " + std::to_string(declared) +
+                                                       " have NaN x, y and z (holes of an organised cloud)");
+  }
   RETURN_IF_ERROR(CheckPositions(cloud->positions, "x, y, z"));
   if (cloud->Has(kFieldCleanPosition)) {
     RETURN_IF_ERROR(CheckPositions(cloud->clean_positions, "clean_x, clean_y, clean_z"));

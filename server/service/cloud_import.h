@@ -21,9 +21,11 @@ enum class CloudFileFormat { kDetect, kPly, kPcd };
 // VERSION or FIELDS line; else nothing.
 std::optional<CloudFileFormat> DetectCloudFormat(std::string_view bytes);
 
-// The cloud the bytes hold. INVALID_ARGUMENT for a format that cannot be told, a malformed or
-// truncated file, a file without points, and a position (or clean position) that is NaN, infinite
-// or beyond kMaxCoordinateM; RESOURCE_EXHAUSTED when the cloud's arrays would pass max_bytes.
+// The cloud the bytes hold: binary or ASCII PLY; binary, ASCII or binary_compressed PCD. Points whose
+// x, y and z are all NaN (the holes of an organised cloud) are dropped. INVALID_ARGUMENT for a
+// format that cannot be told, a malformed or truncated file (a count that lies, a declared size the
+// bytes cannot hold), a file without points, and a position (or clean position) that is NaN,
+// infinite or beyond kMaxCoordinateM; RESOURCE_EXHAUSTED when the cloud's arrays would pass max_bytes.
 StatusOr<PointCloud> ParseUploadedCloud(std::string_view bytes, CloudFileFormat format, uint64_t max_bytes);
 
 }  // namespace vscan::service

@@ -1,6 +1,7 @@
-"""Stored clouds through a real vscand: PLY and PCD files vscan writes keep every field, list, get,
-read and delete, refusals that name their field and leave nothing behind, a campaign's scans as
-clouds of their job, and the CLI round trip."""
+"""Stored clouds through a real vscand: PLY and PCD files vscan writes keep every field (in vscan, in
+Open3D), list, get, read and delete, refusals that name their field and leave nothing behind, files
+Open3D and PCL write in each of their encodings, organised scans, a campaign's scans as clouds of
+their job, and the CLI round trip."""
 
 import json
 import math
@@ -12,6 +13,7 @@ import unittest
 
 import grpc
 import numpy as np
+import open3d as o3d
 
 from harness import BUNNY, VSCAN, Server, common_pb2
 from test_campaign_service import CampaignFixture, camera, spec
@@ -37,6 +39,36 @@ def xyz_ply(points):
     head = f"ply\nformat binary_little_endian 1.0\nelement vertex {len(points)}\nproperty float x\n" \
            "property float y\nproperty float z\nend_header\n"
     return head.encode() + b"".join(struct.pack("<3f", *p) for p in points)
+
+
+DATA = os.path.join(os.path.dirname(os.path.abspath(__file__)), "data")
+# vscan's field names in each format, and Open3D's attribute for each (normals it renames).
+O3D_ATTRIBUTES = (("positions", "positions", "positions"), ("normals", "normals", "normals"),
+                  ("ranges", "range", "range"), ("intensities", "intensity", "intensity"),
+                  ("instance_ids", "instance", "instance"), ("pixels", "pixel", "pixel"),
+                  ("clean_positions", ("clean_x", "clean_y", "clean_z"), ("clean_x", "clean_y", "clean_z")),
+                  ("incidence_angles", "incidence", "incidence"), ("statuses", "status", "status"),
+                  ("estimated_normals", ("enx", "eny", "enz"), ("est_normal_x", "est_normal_y", "est_normal_z")))
+
+
+def open3d_values(cloud, names):
+    """One vscan field as Open3D's tensor cloud holds it (a 1- or 3-column array)."""
+    if isinstance(names, tuple):
+        return np.concatenate([cloud.point[name].numpy() for name in names], axis=1)
+    values = cloud.point[names].numpy()
+    return values if values.shape[1] == 3 else values[:, 0]
+
+
+def pcd_header(data):
+    """The header lines of a PCD, up to and with DATA, as a dict."""
+    header = {}
+    for line in data.split(b"\n"):
+        words = line.decode("ascii").split()
+        if words and not words[0].startswith("#"):
+            header[words[0]] = words[1:]
+        if words[:1] == ["DATA"]:
+            break
+    return header
 
 
 def run(*args, server):
@@ -163,6 +195,66 @@ class CloudUploadTest(unittest.TestCase):
         self.assertEqual((len(self.client.list_clouds()), bytes_under(self.blobs)), before)
         return ctx.exception.details()
 
+    def test_open3d_reads_every_field_of_vscans_files(self):
+        """Open3D's tensor reader keeps custom attributes of the types it knows; every field vscan
+        writes must be one of them, value for value."""
+        sent = parse_ply(self.read_bytes(self.ply))
+        for path, column in ((self.ply, 1), (self.pcd, 2)):
+            cloud = o3d.t.io.read_point_cloud(path)
+            for attribute, *names in O3D_ATTRIBUTES:
+                np.testing.assert_array_equal(open3d_values(cloud, names[column - 1]),
+                                              getattr(sent, attribute).astype(np.float64), err_msg=f"{path} {attribute}")
+            self.assertEqual(cloud.point["instance"].dtype, o3d.core.int32)
+            self.assertEqual(cloud.point["status"].dtype, o3d.core.uint8)
+
+    def test_an_organised_scan_is_its_range_image(self):
+        path = os.path.join(self.tmp.name, "organised.pcd")
+        out = run("--json", "scan", self.scene, "-o", path, "--organized", "--width", "96", "--height", "72",
+                  "--hfov", "40", "--eye", "0.3,0.2,0.5", "--target", "0,0.1,0", "--up", "0,1,0",
+                  "--fields", "position,range,instance", server=self.server)
+        self.assertEqual(out.returncode, 0, out.stderr)
+        pose = np.reshape([float(v) for v in json.loads(out.stdout)["header"]["sensorPose"]["values"]], (4, 4))
+        flat = os.path.join(self.tmp.name, "flat.ply")
+        out = run("-q", "scan", self.scene, "-o", flat, "--width", "96", "--height", "72", "--hfov", "40",
+                  "--eye", "0.3,0.2,0.5", "--target", "0,0.1,0", "--up", "0,1,0", "--fields", "position,range,instance,pixel",
+                  server=self.server)
+        self.assertEqual(out.returncode, 0, out.stderr)
+        data = self.read_bytes(path)
+        header = pcd_header(data)
+        self.assertEqual((header["WIDTH"], header["HEIGHT"], header["POINTS"]), (["96"], ["72"], [str(96 * 72)]))
+        self.assertEqual(header["FIELDS"], ["x", "y", "z", "range", "instance", "pixel"])
+        # VIEWPOINT is the sensor pose: tx ty tz qw qx qy qz.
+        viewpoint = np.array([float(v) for v in header["VIEWPOINT"]])
+        np.testing.assert_allclose(viewpoint[:3], pose[:3, 3], atol=1e-6)
+        w, x, y, z = viewpoint[3:]
+        rotation = np.array([[1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)],
+                             [2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)],
+                             [2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)]])
+        np.testing.assert_allclose(rotation, pose[:3, :3], atol=1e-6)
+        # Each point of the flat scan sits at its pixel; every other pixel is a NaN hole.
+        body = data[data.index(b"DATA binary\n") + len(b"DATA binary\n"):]
+        grid = np.frombuffer(body, dtype=[("x", "<f4"), ("y", "<f4"), ("z", "<f4"), ("range", "<f4"),
+                                          ("instance", "<i4"), ("pixel", "<i4")], count=96 * 72)
+        points = parse_ply(self.read_bytes(flat))
+        self.assertGreater(len(points), 100)
+        np.testing.assert_array_equal(grid["pixel"], np.arange(96 * 72))
+        hit = np.zeros(96 * 72, dtype=bool)
+        hit[points.pixels] = True
+        np.testing.assert_array_equal(np.stack([grid["x"], grid["y"], grid["z"]], axis=1)[points.pixels],
+                                      points.positions)
+        np.testing.assert_array_equal(grid["range"][points.pixels], points.ranges)
+        self.assertTrue(np.isnan(grid["x"][~hit]).all() and np.isnan(grid["range"][~hit]).all())
+        np.testing.assert_array_equal(grid["instance"][points.pixels], points.instance_ids)
+        self.assertTrue((grid["instance"][~hit] == 0).all() and (points.instance_ids > 0).any())
+        # Open3D reads it; an upload keeps the points and drops the holes.
+        self.assertEqual(len(o3d.t.io.read_point_cloud(path).point["positions"]), 96 * 72)
+        cloud = self.client.upload_cloud(path)
+        self.assertEqual(cloud.points, len(points))
+        refused = run("scan", self.scene, "-o", os.path.join(self.tmp.name, "o.ply"), "--organized",
+                      "--eye", "0,0.1,0.5", "--target", "0,0.1,0", "--up", "0,1,0", server=self.server)
+        self.assertEqual(refused.returncode, 2, refused.stderr)
+        self.assertIn("--organized writes a PCD", refused.stderr)
+
     def upload_requests(self, data, **header):
         return [cloud_pb2.UploadCloudRequest(header=cloud_pb2.CloudHeader(**header)),
                 cloud_pb2.UploadCloudRequest(chunk=data)]
@@ -204,6 +296,123 @@ class CloudUploadTest(unittest.TestCase):
                                                intrinsics=sensor_pb2.Intrinsics(fx=50, fy=50, cx=32, cy=24))))
         self.assertRefusedAndNothingStored(C.INVALID_ARGUMENT, "header.name", self.upload_requests(good, name="a\nb"))
         self.assertRefusedAndNothingStored(C.INVALID_ARGUMENT, "header.frame", self.upload_requests(good, frame=9))
+
+
+def pcl_expected():
+    """The 200 PointXYZINormal points tests/integration/data/pcl holds (its README)."""
+    i = np.arange(200, dtype=np.float32)
+    a = np.float32(0.05) * i
+    positions = np.stack([np.float32(0.1) * np.cos(a), np.float32(0.1) * np.sin(a),
+                          np.float32(0.5) + np.float32(0.001) * i], axis=1).astype(np.float32)
+    normals = np.stack([np.cos(a), np.sin(a), np.zeros_like(a)], axis=1).astype(np.float32)
+    return positions, normals, (np.float32(0.005) * i).astype(np.float32)
+
+
+class ForeignFileUploadTest(unittest.TestCase):
+    """Files Open3D and PCL write, in each of their encodings, uploaded through the CLI and read back
+    from the server; hostile variants refused as INVALID_ARGUMENT naming what is wrong."""
+
+    @classmethod
+    def setUpClass(cls):
+        cls.server = Server().start()
+        cls.addClassCleanup(cls.server.cleanup)
+        cls.client = Client(cls.server.address, stream_timeout=120)
+        cls.addClassCleanup(cls.client.close)
+        cls.tmp = tempfile.TemporaryDirectory(prefix="vscan-foreign-")
+        cls.addClassCleanup(cls.tmp.cleanup)
+
+    def upload_with_cli(self, path):
+        out = run("--json", "cloud", "upload", path, server=self.server)
+        self.assertEqual(out.returncode, 0, out.stderr)
+        cloud_id = json.loads(out.stdout)["cloudId"]
+        back = os.path.join(self.tmp.name, cloud_id + ".ply")
+        out = run("-q", "cloud", "download", cloud_id, "-o", back, server=self.server)
+        self.assertEqual(out.returncode, 0, out.stderr)
+        with open(back, "rb") as f:
+            return parse_ply(f.read())
+
+    def check(self, points, positions, normals, intensities, text, ulp=False):
+        # Text encodings print a limited number of digits (Open3D's PLY six, PCL's eight); ulp: the
+        # expected values come from numpy's float32 sin and cos, which may differ from the C
+        # library's that made the file by a unit in the last place.
+        tolerance = dict(rtol=1e-5, atol=1e-6) if text else dict(rtol=2.5e-7, atol=1e-9) if ulp else dict(rtol=0, atol=0)
+        self.assertEqual(len(points), len(positions))
+        np.testing.assert_allclose(points.positions, positions, **tolerance)
+        np.testing.assert_allclose(points.normals, normals, **tolerance)
+        np.testing.assert_allclose(points.intensities, intensities, **tolerance)
+
+    def test_files_open3d_writes(self):
+        rng = np.random.default_rng(7)
+        positions = rng.uniform(-0.3, 0.3, (500, 3)).astype(np.float32)
+        normals = rng.normal(size=(500, 3)).astype(np.float32)
+        normals /= np.linalg.norm(normals, axis=1, keepdims=True)
+        intensities = rng.uniform(0, 1, (500, 1)).astype(np.float32)
+        cloud = o3d.t.geometry.PointCloud()
+        cloud.point.positions = o3d.core.Tensor(positions)
+        cloud.point.normals = o3d.core.Tensor(normals)
+        cloud.point.intensity = o3d.core.Tensor(intensities)
+        for name, options in (("ascii.ply", dict(write_ascii=True)), ("binary.ply", {}),
+                              ("ascii.pcd", dict(write_ascii=True)), ("binary.pcd", {}),
+                              ("compressed.pcd", dict(compressed=True))):
+            with self.subTest(name):
+                path = os.path.join(self.tmp.name, "open3d_" + name)
+                self.assertTrue(o3d.t.io.write_point_cloud(path, cloud, **options))
+                points = self.upload_with_cli(path)
+                self.check(points, positions, normals, intensities[:, 0], name.startswith("ascii"))
+
+    def test_files_pcl_writes(self):
+        positions, normals, intensities = pcl_expected()
+        for name in ("pcl_ascii.ply", "pcl_binary.ply", "pcl_ascii.pcd", "pcl_binary.pcd", "pcl_compressed.pcd"):
+            with self.subTest(name):
+                points = self.upload_with_cli(os.path.join(DATA, "pcl", name))
+                self.check(points, positions, normals, intensities, "ascii" in name, ulp=True)
+
+    def test_organised_pcl_files_keep_their_points_and_drop_their_holes(self):
+        u, v = np.meshgrid(np.arange(8), np.arange(6))
+        keep = ((u + v) % 3 != 0).ravel()
+        expected = np.stack([0.01 * u.ravel(), 0.01 * v.ravel(), np.full(48, 0.75)], axis=1)[keep]
+        for name in ("pcl_organised_ascii.pcd", "pcl_organised_binary.pcd", "pcl_organised_compressed.pcd"):
+            with self.subTest(name):
+                points = self.client.read_cloud_points(
+                    self.client.upload_cloud(os.path.join(DATA, "pcl", name)).cloud_id)
+                np.testing.assert_allclose(points.positions, expected.astype(np.float32), rtol=1e-6)
+
+    def refused(self, data, *needles):
+        with self.assertRaises(VscanError) as ctx:
+            self.client.upload_cloud(data=data, name="hostile")
+        self.assertEqual(ctx.exception.code, C.INVALID_ARGUMENT, ctx.exception.message)
+        self.assertTrue(ctx.exception.message.startswith("cloud data: "), ctx.exception.message)
+        for needle in needles:
+            self.assertIn(needle, ctx.exception.message)
+
+    def test_hostile_variants_are_invalid_and_name_what_is_wrong(self):
+        before = len(self.client.list_clouds())
+        with open(os.path.join(DATA, "pcl", "pcl_ascii.ply"), "rb") as f:
+            ascii_ply = f.read()
+        with open(os.path.join(DATA, "pcl", "pcl_ascii.pcd"), "rb") as f:
+            ascii_pcd = f.read()
+        with open(os.path.join(DATA, "pcl", "pcl_compressed.pcd"), "rb") as f:
+            compressed = f.read()
+        body = ascii_ply.index(b"end_header\n") + len(b"end_header\n")
+        # Truncated: the text stops inside the vertices.
+        self.refused(ascii_ply[:body + 300], "truncated")
+        self.refused(ascii_pcd[:-40], "truncated")
+        self.refused(compressed[:-100], "truncated", "compressed bytes")
+        # A count that lies.
+        self.refused(ascii_ply.replace(b"element vertex 200", b"element vertex 900"), "truncated", "vertex")
+        self.refused(ascii_pcd.replace(b"POINTS 200", b"POINTS 201"), "truncated")
+        self.refused(compressed.replace(b"POINTS 200", b"POINTS 199"), "POINTS 199")
+        # Huge declared sizes over a few bytes.
+        self.refused(ascii_ply.replace(b"element vertex 200", b"element vertex 4000000000"), "truncated")
+        self.refused(ascii_pcd.replace(b"POINTS 200", b"POINTS 18446744073709551615"), "truncated")
+        huge = compressed.replace(b"POINTS 200", b"POINTS 100000000")
+        sizes = huge.index(b"DATA binary_compressed\n") + len(b"DATA binary_compressed\n")
+        huge = huge[:sizes + 4] + struct.pack("<I", 100000000 * 32) + huge[sizes + 8:]  # 32-byte points
+        self.refused(huge, "more than LZF can expand to")
+        # A value that is no number, named by its point and property.
+        self.refused(ascii_pcd.replace(b"\n0.1 0 0.5", b"\n0.1 zero 0.5", 1), "point 0, property 'y'",
+                     "'zero' is not a number")
+        self.assertEqual(len(self.client.list_clouds()), before)
 
 
 class CloudLimitTest(unittest.TestCase):

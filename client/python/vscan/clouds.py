@@ -88,6 +88,8 @@ def parse_ply(data, cloud=None):
     for attribute, names in _PLY_FIELDS:
         if all(name in rows.dtype.names for name in names):
             values = np.stack([rows[name] for name in names], axis=1) if len(names) == 3 else rows[names[0]].copy()
+            if attribute in ("instance_ids", "pixels") and values.dtype == np.dtype("<i4"):
+                values = values.view("<u4")  # vscan writes these uint32 values as int32 (what Open3D reads)
             arrays[attribute] = values
     if "positions" not in arrays:
         raise ValueError("the vertices need x, y and z")

@@ -69,7 +69,7 @@ def read_ply(path):
     header = data[:end].decode().splitlines()
     assert "format binary_little_endian 1.0" in header
     count = int(next(line for line in header if line.startswith("element vertex")).split()[2])
-    kinds = {"float": "<f4", "uint": "<u4", "uchar": "u1", "double": "<f8"}
+    kinds = {"float": "<f4", "uint": "<u4", "int": "<i4", "uchar": "u1", "double": "<f8"}
     fields = [(line.split()[2], kinds[line.split()[1]]) for line in header if line.startswith("property")]
     return np.frombuffer(data[end:], dtype=np.dtype(fields), count=count)
 

@@ -120,14 +120,36 @@ TEST_F(CloudStoreTest, BadFilesAreRefusedNamingCloudDataAndStoreNothing) {
   const std::string ply = Ply(test::MakeCloud(kFieldsDefault, 10));
   ExpectRefused("", upload, StatusCode::kInvalidArgument, "cloud data");
   ExpectRefused(std::string_view(ply).substr(0, ply.size() - 7), upload, StatusCode::kInvalidArgument, "cloud data");
-  ExpectRefused("ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
-                "end_header\n1 2 3\n",
+  // ASCII PLY is read now (Open3D, PCL and CloudCompare write it); big-endian PLY is still refused.
+  ExpectRefused("ply\nformat binary_big_endian 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
+                "property float z\nend_header\n123456789012",
                 upload, StatusCode::kInvalidArgument, "cloud data");
+  // A lying count and a word where a number goes in ASCII.
+  const std::string ascii = "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                            "property float z\nend_header\n";
+  ExpectRefused(ascii + "1 2 3\n", upload, StatusCode::kInvalidArgument, "cloud data");
+  ExpectRefused(ascii + "1 2 3\n4 5 6\n7 eight 9\n", upload, StatusCode::kInvalidArgument, "cloud data");
   ExpectRefused(Ply(test::MakeCloud(kFieldsDefault, 0)), upload, StatusCode::kInvalidArgument, "cloud data");
   CloudUpload as_pcd;
   as_pcd.format = CloudFileFormat::kPcd;
   ExpectRefused(ply, as_pcd, StatusCode::kInvalidArgument, "cloud data");
   ExpectRefused("solid cube\nfacet normal 0 0 1\n", upload, StatusCode::kInvalidArgument, "format");
+}
+
+TEST_F(CloudStoreTest, AnOrganisedAsciiCloudKeepsItsPointsAndDropsItsHoles) {
+  const std::string pcd = "# .PCD v0.7\nVERSION 0.7\nFIELDS x y z intensity\nSIZE 4 4 4 4\nTYPE F F F F\nCOUNT 1 1 1 1\n"
+                          "WIDTH 2\nHEIGHT 2\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 4\nDATA ascii\n"
+                          "0.5 0 1 0.25\nnan nan nan nan\n-0.5 0 1.5 0.75\nnan nan nan 0\n";
+  const store::CloudRecord record = ImportCloud(world_.context(), pcd, CloudUpload{}).value();
+  EXPECT_EQ(record.points, 2u);
+  const PointCloud stored = ParsePly(LoadCloud(world_.context(), record.cloud_id).value().ply, "stored", UINT64_MAX).value();
+  ASSERT_EQ(stored.size(), 2u);
+  EXPECT_EQ(stored.positions[1], Eigen::Vector3f(-0.5f, 0, 1.5f));
+  EXPECT_EQ(stored.intensities, (std::vector<float>{0.25f, 0.75f}));
+  // Only some coordinates NaN is no hole but a bad point; all holes is no points.
+  const std::string head = "FIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nPOINTS 2\nDATA ascii\n";
+  ExpectRefused(head + "1 2 3\n1 nan 3\n", CloudUpload{}, StatusCode::kInvalidArgument, "cloud data");
+  ExpectRefused(head + "nan nan nan\nnan nan nan\n", CloudUpload{}, StatusCode::kInvalidArgument, "cloud data");
 }
 
 TEST_F(CloudStoreTest, PositionsMustBeFiniteAndWithinTheWorld) {

@@ -1,5 +1,8 @@
 #pragma once
-// Point cloud files: binary PLY and PCD, written and read back with every field vscan writes.
+// Point cloud files: binary PLY and PCD written with every field vscan has, in types Open3D and PCL
+// both read (float32; instance and pixel int32, since Open3D drops uint32 PLY properties; status
+// uint8); read back from binary, ASCII and (PCD) binary_compressed files. Organised PCD (a scan as
+// its range image): organized_pcd.h.
 
 #include <cstdint>
 #include <string>
@@ -10,11 +13,11 @@
 
 namespace vscan {
 
-// Binary little-endian PLY: x y z [nx ny nz] [range] [intensity] [instance] [pixel]
+// Binary little-endian PLY: x y z [nx ny nz] [range] [intensity] [instance (int)] [pixel (int)]
 // [clean_x clean_y clean_z] [incidence] [status (uchar)] [enx eny enz].
 Status WritePly(const PointCloud& cloud, const std::string& path);
-// Binary PCD v0.7 with the same fields (normal_x.., range, intensity, instance, pixel, clean_x..,
-// incidence, status (1-byte U), est_normal_x..).
+// Binary PCD v0.7 with the same fields (normal_x.., range, intensity, instance and pixel (4-byte I),
+// clean_x.., incidence, status (1-byte U), est_normal_x..).
 Status WritePcd(const PointCloud& cloud, const std::string& path);
 // Picks the writer from the extension (.ply or .pcd).
 Status WriteCloud(const PointCloud& cloud, const std::string& path);
@@ -23,15 +26,17 @@ StatusOr<std::string> EncodePly(const PointCloud& cloud);
 
 // The readers take back every field the writers write (positions, normals, range, intensity,
 // instance, pixel, and the ground truth: clean position, incidence, status, estimated normal),
-// each under its PLY or its PCD name, in any order and any scalar type; fields they do not know
-// are skipped. NOT_FOUND when the file cannot be opened, INVALID_ARGUMENT when it is malformed or
-// lacks x, y or z, DATA_LOSS when it is truncated.
+// each under its PLY or its PCD name, in any order and any scalar type (an int32 instance or pixel
+// is taken as the bits of the uint32); fields they do not know are skipped. NOT_FOUND when the file
+// cannot be opened, INVALID_ARGUMENT when it is malformed or lacks x, y or z, DATA_LOSS when it is
+// truncated (a count the bytes cannot hold is caught before anything is allocated).
 
-// Binary little-endian PLY: the vertex element; fixed-size elements before it and any after it
-// (faces) are skipped.
+// PLY, binary little-endian or ASCII: the vertex element; fixed-size elements before it and any
+// after it (faces, PCL's camera) are skipped.
 StatusOr<PointCloud> ReadPly(const std::string& path);
-// Binary PCD v0.7 (DATA binary; 1/2/4/8-byte F, U and I fields; the first value of a COUNT > 1
-// field). WIDTH and HEIGHT are ignored: the cloud is POINTS long.
+// PCD v0.7, DATA binary, ascii or binary_compressed (LZF; both sizes checked against POINTS and the
+// file before decompressing); 1/2/4/8-byte F, U and I fields; the first value of a COUNT > 1
+// field. WIDTH and HEIGHT are ignored: the cloud is POINTS long, holes (NaN) included.
 StatusOr<PointCloud> ReadPcd(const std::string& path);
 // Picks the reader from the extension (.ply or .pcd).
 StatusOr<PointCloud> ReadCloud(const std::string& path);
