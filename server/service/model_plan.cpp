@@ -408,6 +408,17 @@ StatusOr<ModelPlan> PlanModel(ServiceContext& context, CampaignRecords& campaign
   if (plan.reconstruct) {
     ASSIGN_OR_RETURN(plan.reconstruction, ResolveReconstruction(request, plan.clouds));
   }
+  if (plan.reconstruct && plan.reconstruction == ReconstructionKind::kTsdf) {
+    // Fusion holds every cloud's depth and weight images (4 + 4 bytes a pixel) beside the points.
+    uint64_t pixels = 0;
+    for (const ModelCloud& cloud : plan.clouds) {
+      if (cloud.record.camera) pixels += uint64_t{cloud.record.camera->width} * cloud.record.camera->height;
+    }
+    RETURN_IF_ERROR(CheckRequestMemory(plan.total_points * kHeldBytesPerPoint + pixels * 8, context.options.limits,
+                                       "reconstruction.method",
+                                       "fusing " + std::to_string(plan.clouds.size()) + " depth images of " +
+                                           std::to_string(pixels) + " pixels in all"));
+  }
   ASSIGN_OR_RETURN(plan.scene, ResolveScene(context, request, plan.clouds));
   RETURN_IF_ERROR(CheckEvaluationScene(plan));
   ASSIGN_OR_RETURN(plan.mount_id, ResolveMount(context, campaigns, request, plan.clouds, plan.scene));

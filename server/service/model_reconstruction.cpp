@@ -1,6 +1,7 @@
 #include "service/model_reconstruction.h"
 
 #include <chrono>
+#include <string>
 #include <vector>
 
 #include "reconstruction/poisson_pipeline.h"
@@ -42,7 +43,14 @@ StatusOr<TriangleMesh> Tsdf(ServiceContext& context, const ModelPlan& plan, cons
   if (Stopped(cancel)) return Cancelled("model job stopped");
   reconstruction::TsdfFusionOptions options;
   options.tsdf.voxel_size = static_cast<float>(voxel_size);
-  return reconstruction::FuseRangeImages(images, options);
+  options.tsdf.max_block_bytes = context.options.limits.max_request_memory_bytes;
+  auto fused = reconstruction::FuseRangeImages(images, options);
+  if (fused.status().code() == StatusCode::kResourceExhausted) {
+    // The engine names its own option; the client set reconstruction.voxel_size, bounded by the flag.
+    return ResourceExhausted("reconstruction.voxel_size",
+                             std::string(fused.status().text()) + " (--max-request-memory-mib)");
+  }
+  return fused;
 }
 
 StatusOr<TriangleMesh> Poisson(const PlacedScans& placed, const ModelPlan& plan, double voxel_size) {

@@ -123,6 +123,65 @@ class StreamMemory(LimitTest):
         np.testing.assert_array_equal(points[-1], np.array([3999.999, 0, 0.5], dtype="<f4"))
 
 
+def pixel_cloud(columns, rows, spacing, depth):
+    """A wall `depth` metres in front of the sensor (sensor frame), one point a pixel, `spacing` apart."""
+    header = ("ply\nformat binary_little_endian 1.0\n"
+              f"element vertex {columns * rows}\nproperty float x\nproperty float y\nproperty float z\n"
+              "property int pixel\nend_header\n")
+    points = np.zeros(columns * rows, dtype=[("xyz", "<f4", 3), ("pixel", "<i4")])
+    v, u = np.divmod(np.arange(columns * rows), columns)
+    points["xyz"][:, 0] = (u - columns / 2 + 0.5) * spacing
+    points["xyz"][:, 1] = (v - rows / 2 + 0.5) * spacing
+    points["xyz"][:, 2] = depth
+    points["pixel"] = v * columns + u
+    return header.encode() + points.tobytes()
+
+
+class FusionMemory(LimitTest):
+    """TSDF fusion counts its depth images and its voxel blocks against --max-request-memory-mib."""
+
+    def upload(self, client, columns, rows, spacing=0.005, depth=2.0, camera_side=None):
+        width = height = camera_side or columns
+        f = depth / spacing
+        camera = (width, height, f, f, width / 2, height / 2, 0.1, 10.0)
+        return client.upload_cloud(data=pixel_cloud(columns, rows, spacing, depth), format="ply", frame="sensor",
+                                   sensor_pose=np.eye(4), camera=camera).cloud_id
+
+    def small_scan_seconds(self, client, scene_id):
+        start = time.time()
+        client.scan(scene_id, width=64, height=48, eye=(0.5, 0, 0.2), target=(0, 0, 0.07))
+        return time.time() - start
+
+    def test_depth_images_and_voxel_blocks_past_the_bound_are_refused(self):
+        server = self.start("--max-request-memory-mib", "512")
+        with Client(server.address) as client:
+            scene_id = RequestMemory.bunny_scene(self, client)
+            # 1000 points whose camera declares 16384 x 16384 pixels: 2 GiB of images, refused up front.
+            huge = self.upload(client, 40, 25, camera_side=16384)
+            for clouds in ([huge], [self.upload(client, 40, 25, camera_side=6000) for _ in range(2)]):
+                with self.assertRaises(VscanError) as refused:
+                    client.start_model(clouds, skip_alignment=True, reconstruct=True, method="tsdf")
+                self.assertEqual(refused.exception.code, C.RESOURCE_EXHAUSTED, refused.exception.message)
+                self.assertIn("reconstruction.method", refused.exception.message)
+                self.assertIn("--max-request-memory-mib", refused.exception.message)
+            self.assertEqual(list(client.list_jobs()), [])
+
+            # 250,000 points 5 mm apart at a 0.2 mm voxel: the blocks are counted before any is made.
+            wall = self.upload(client, 500, 500)
+            job = client.start_model([wall], skip_alignment=True, reconstruct=True, method="tsdf",
+                                     reconstruction_voxel_size=0.0002)
+            ended = client.wait_job(job.job_id, timeout=120)
+            self.assertEqual(ended.state, job_pb2.JOB_STATE_FAILED, ended.message)
+            self.assertIn("reconstruction.voxel_size", ended.message)
+            self.assertIn("--max-request-memory-mib", ended.message)
+            self.assertLess(self.small_scan_seconds(client, scene_id), 2.0)
+            # The same wall at a 2 mm voxel fits.
+            job = client.start_model([wall], skip_alignment=True, reconstruct=True, method="tsdf",
+                                     reconstruction_voxel_size=0.002)
+            self.assertEqual(client.wait_job(job.job_id, timeout=120).state, job_pb2.JOB_STATE_SUCCEEDED)
+        self.assertLess(status_mib(server.process.pid, "VmHWM"), 1024)
+
+
 class RequestMemory(LimitTest):
     def bunny_scene(self, client):
         mesh = client.upload_mesh(os.path.join(DATA, "meshes", "bunny", "bunny_zipper_res2.ply"), unit="m")

@@ -250,8 +250,19 @@ StatusOr<VoxelBlocks> IntegrateRangeImages(std::span<const RangeImage> images, c
   for (View& view : views) {
     ComputeWeights(view, truncation);
   }
+  std::vector<uint64_t> keys = TouchedBlocks(views, options.voxel_size, truncation);
+  const uint64_t block_bytes = sizeof(TsdfVoxel) * VoxelBlocks::kVoxels + sizeof(Eigen::Vector3i) + 32;
+  if (options.max_block_bytes > 0 && keys.size() * block_bytes > options.max_block_bytes) {
+    return ResourceExhausted("tsdf.voxel_size", "a voxel of " + std::to_string(options.voxel_size * 1e3) +
+                                                    " mm needs " + std::to_string(keys.size()) + " blocks (" +
+                                                    std::to_string((keys.size() * block_bytes) >> 20) +
+                                                    " MiB), more than the " +
+                                                    std::to_string(options.max_block_bytes >> 20) +
+                                                    " MiB allowed; choose a larger voxel");
+  }
   VoxelBlocks grid(options.voxel_size);
-  grid.Allocate(TouchedBlocks(views, options.voxel_size, truncation));
+  grid.Allocate(keys);
+  keys = {};
   tbb::parallel_for(tbb::blocked_range<size_t>(0, grid.block_count(), 4), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t b = r.begin(); b != r.end(); ++b) IntegrateBlock(grid, b, views, truncation, options.carve_empty_pixels);
   });

@@ -3,6 +3,7 @@
 // sparse voxel grid: blocks are allocated along each pixel's ray near its surface point, then every
 // block integrates every image in parallel.
 
+#include <cstdint>
 #include <span>
 
 #include "reconstruction/range_image.h"
@@ -22,9 +23,13 @@ struct TsdfOptions {
   // seen. Right for ray-cast scans, where no hit means no surface; turn it off for sensors that
   // drop returns on dark or shiny surfaces.
   bool carve_empty_pixels = true;
+  // The voxel blocks may take at most this many bytes (0: no bound); past it the integration ends
+  // with RESOURCE_EXHAUSTED naming tsdf.voxel_size before any block is allocated.
+  uint64_t max_block_bytes = 0;
 };
 
-// InvalidArgument names "tsdf.voxel_size", "tsdf.truncation_voxels" or "images[i]...".
+// InvalidArgument names "tsdf.voxel_size", "tsdf.truncation_voxels" or "images[i]..."; see
+// max_block_bytes for RESOURCE_EXHAUSTED.
 StatusOr<VoxelBlocks> IntegrateRangeImages(std::span<const RangeImage> images, const TsdfOptions& options);
 
 }  // namespace vscan::reconstruction

@@ -111,6 +111,22 @@ TEST(TsdfFusion, SmallPiecesAreRemovedOnRequest) {
   for (const auto& v : cleaned->vertices) EXPECT_LT(v.x(), 0.14f);
 }
 
+// The blocks a fine voxel needs are counted before any is allocated: past max_block_bytes the
+// fusion is refused, naming the voxel; the same view fits a bound just above what it took.
+TEST_F(PlaneFromOneView, BlocksPastTheBoundAreRefusedBeforeAllocation) {
+  TsdfFusionStats stats;
+  ASSERT_TRUE(FuseRangeImages(images_, Options(), &stats).ok());
+  ASSERT_GT(stats.blocks, 10u);
+  const uint64_t block_bytes = sizeof(TsdfVoxel) * VoxelBlocks::kVoxels;
+  TsdfFusionOptions bounded = Options();
+  bounded.tsdf.max_block_bytes = stats.blocks * block_bytes / 2;
+  const auto refused = FuseRangeImages(images_, bounded);
+  ASSERT_EQ(refused.status().code(), StatusCode::kResourceExhausted) << refused.status().ToString();
+  EXPECT_EQ(refused.status().field(), "tsdf.voxel_size");
+  bounded.tsdf.max_block_bytes = stats.blocks * (block_bytes + 64);
+  EXPECT_TRUE(FuseRangeImages(images_, bounded).ok());
+}
+
 TEST(TsdfFusion, RejectsBadOptions) {
   TsdfFusionOptions options;
   options.tsdf.voxel_size = 0;
