@@ -12,6 +12,7 @@ import math
 import os
 import subprocess
 import tempfile
+import time
 
 import grpc
 import numpy as np
@@ -166,6 +167,20 @@ class LocalizationTest(ServerTestCase):
         self.assertEqual(ctx.exception.code(), grpc.StatusCode.DEADLINE_EXCEEDED)
         score = self.stub.ScorePoses(localization_pb2.ScorePosesRequest(
             parts=[localization_pb2.ScoredPart(mesh_id=self.mesh_id)]), timeout=30)
+        self.assertFalse(score.HasField("add_recall"))
+
+    def test_a_hair_fine_voxel_is_refused_at_once_and_the_server_carries_on(self):
+        for voxel in (1e-5, 3e-4):
+            request = localization_pb2.LocalizeRequest(mesh_id=self.mesh_id)
+            request.points.positions = self.positions[:2000].astype("<f4").tobytes()
+            request.options.voxel_size = voxel
+            request.options.viewpoint.z = 1
+            start = time.time()
+            self.assertCode(grpc.StatusCode.RESOURCE_EXHAUSTED, lambda: self.stub.Localize(request, timeout=60),
+                            "options.voxel_size")
+            self.assertLess(time.time() - start, 5.0)
+        score = self.stub.ScorePoses(localization_pb2.ScorePosesRequest(
+            parts=[localization_pb2.ScoredPart(mesh_id=self.mesh_id)]), timeout=5)
         self.assertFalse(score.HasField("add_recall"))
 
     def test_refusals_name_their_field(self):

@@ -21,6 +21,8 @@
 namespace vscan::localization {
 namespace {
 
+// The most part points the point-pair table is built over (it holds every ordered pair).
+constexpr size_t kMaxPpfModelPoints = 3000;
 // Fewer remaining scan points than this cannot hold another instance worth a search.
 constexpr size_t kMinSearchPoints = 100;
 // Parts are compared at this many voxels across their bounding box's diagonal by default.
@@ -261,6 +263,16 @@ StatusOr<LocalizationResult> LocalizeInstances(const TriangleMesh& part, std::sp
   const OrientedPoints all_samples{samples.points, samples.normals};
   const OrientedPoints model = Thin(all_samples, voxel);
   const OrientedPoints ppf_model_points = Thin(all_samples, ppf_step);
+  // The pair table grows with the square of these points: 3000 make 9 million pairs (144 MiB).
+  if (ppf_model_points.points.size() > kMaxPpfModelPoints) {
+    return ResourceExhausted("options.voxel_size",
+                             "a voxel of " + std::to_string(voxel * 1e3) + " mm leaves " +
+                                 std::to_string(ppf_model_points.points.size()) +
+                                 " points on the part for its pair table, more than the " +
+                                 std::to_string(kMaxPpfModelPoints) +
+                                 " it may hold; use a larger voxel (0 picks one from the part's size)");
+  }
+  if (IsCancelled(cancel)) return Cancelled("localization cancelled");
   PpfSettings settings;
   settings.distance_step = ppf_step;
   settings.angle_step_rad = options.ppf_angle_step_deg * std::numbers::pi / 180;
