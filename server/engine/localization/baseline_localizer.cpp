@@ -259,11 +259,16 @@ StatusOr<LocalizationResult> LocalizeInstances(const TriangleMesh& part, std::sp
   LocalizationResult result;
   const double voxel = options.voxel_size > 0 ? options.voxel_size : DefaultVoxel(part);
   result.voxel_size = voxel;
-  const double ppf_step = options.ppf_step_voxels * voxel;
+  double ppf_step = options.ppf_step_voxels * voxel;
   const OrientedPoints all_samples{samples.points, samples.normals};
   const OrientedPoints model = Thin(all_samples, voxel);
-  const OrientedPoints ppf_model_points = Thin(all_samples, ppf_step);
-  // The pair table grows with the square of these points: 3000 make 9 million pairs (144 MiB).
+  OrientedPoints ppf_model_points = Thin(all_samples, ppf_step);
+  // The pair table grows with the square of these points: 3000 make 9 million pairs (144 MiB). A
+  // voxel of the localizer's own choosing (a long thin part's) coarsens the table's step to fit.
+  while (options.voxel_size == 0 && ppf_model_points.points.size() > kMaxPpfModelPoints) {
+    ppf_step *= 1.05 * std::sqrt(static_cast<double>(ppf_model_points.points.size()) / kMaxPpfModelPoints);
+    ppf_model_points = Thin(all_samples, ppf_step);
+  }
   if (ppf_model_points.points.size() > kMaxPpfModelPoints) {
     return ResourceExhausted("options.voxel_size",
                              "a voxel of " + std::to_string(voxel * 1e3) + " mm leaves " +

@@ -9,6 +9,7 @@
 #include "localization/bop_scoring.h"
 #include "localization/pose_errors.h"
 #include "parts_scene.h"
+#include "vscan_test/meshes.h"
 
 namespace vscan::localization {
 namespace {
@@ -141,6 +142,20 @@ TEST(BaselineLocalizer, RejectsBadInputsAndHonoursCancel) {
   EXPECT_EQ(LocalizeInstances(*AngleBlock(), points, {}, options).status().field(), "localizer.ppf_step_voxels");
   std::atomic<bool> cancel{true};
   EXPECT_EQ(LocalizeInstances(*AngleBlock(), points, {}, {}, &cancel).status().code(), StatusCode::kCancelled);
+}
+
+// A long thin pin at the localizer's own voxel would leave thousands of points for the pair table:
+// its step is coarsened to fit. A voxel the caller chose too fine is refused, naming it.
+TEST(BaselineLocalizer, BoundsThePairTable) {
+  const TriangleMesh pin =
+      test::MakeBox(Eigen::Vector3d(-0.25, -0.0015, -0.0015), Eigen::Vector3d(0.25, 0.0015, 0.0015));
+  const std::vector<Eigen::Vector3f> points(200, Eigen::Vector3f::Zero());
+  EXPECT_TRUE(LocalizeInstances(pin, points, {}).ok());
+  LocalizerOptions options;
+  options.voxel_size = 1e-5;
+  const auto refused = LocalizeInstances(*AngleBlock(), points, {}, options);
+  EXPECT_EQ(refused.status().code(), StatusCode::kResourceExhausted) << refused.status().ToString();
+  EXPECT_EQ(refused.status().field(), "options.voxel_size");
 }
 
 }  // namespace
