@@ -7,6 +7,8 @@
 #include <limits>
 #include <utility>
 
+#include "vscan/common/text_excerpt.h"
+
 namespace vscan::cloud_records {
 namespace {
 
@@ -99,7 +101,7 @@ Status AsciiRecords::Fill(char* out, size_t first, size_t points) {
         if (token.empty()) return DataLoss(where() + ": truncated: the text ends here");
         double v = 0;
         if (!ParseNumber(token, &v)) {
-          return InvalidArgument(where() + ": '" + std::string(token.substr(0, 32)) + "' is not a number");
+          return InvalidArgument(where() + ": '" + TextExcerpt(token, 32) + "' is not a number");
         }
         if (!Store(v, p.type, record + p.offset + c * size)) {
           return InvalidArgument(where() + ": " + std::string(token.substr(0, 32)) + " does not fit its type");

@@ -16,6 +16,7 @@
 #include "lzf_decode.h"
 #include "memory_stream.h"
 #include "vscan/common/cloud_io.h"
+#include "vscan/common/text_excerpt.h"
 
 namespace vscan {
 namespace {
@@ -92,7 +93,7 @@ StatusOr<PcdHeader> ParseHeader(std::istream& in, const std::string& path) {
     } else if (key == "COUNT") {
       RETURN_IF_ERROR(ReadList(ss, fields, &PcdField::count, path, "COUNT"));
     } else if (key == "POINTS") {
-      if (!(ss >> h.points)) return InvalidArgument(path + ": malformed POINTS line: " + line);
+      if (!(ss >> h.points)) return InvalidArgument(path + ": malformed POINTS line: " + TextExcerpt(line));
     } else if (key == "DATA") {
       std::string kind;
       ss >> kind;

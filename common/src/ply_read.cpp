@@ -15,6 +15,7 @@
 #include "cloud_records.h"
 #include "memory_stream.h"
 #include "vscan/common/cloud_io.h"
+#include "vscan/common/text_excerpt.h"
 
 namespace vscan {
 namespace {
@@ -69,7 +70,7 @@ StatusOr<PlyHeader> ParsePlyHeader(std::istream& in, const std::string& path) {
     } else if (word == "element") {
       PlyElement e;
       ss >> e.name >> e.count;
-      if (!ss) return InvalidArgument(path + ": malformed element line: " + line);
+      if (!ss) return InvalidArgument(path + ": malformed element line: " + TextExcerpt(line));
       elements.push_back(std::move(e));
     } else if (word == "property") {
       if (elements.empty()) return InvalidArgument(path + ": property before any element");
@@ -82,10 +83,10 @@ StatusOr<PlyHeader> ParsePlyHeader(std::istream& in, const std::string& path) {
       }
       ss >> name;
       const std::optional<ScalarType> scalar = PlyScalarType(type);
-      if (!scalar || name.empty()) return InvalidArgument(path + ": unsupported property: " + line);
+      if (!scalar || name.empty()) return InvalidArgument(path + ": unsupported property: " + TextExcerpt(line));
       e.layout.Add(std::move(name), *scalar);
     } else if (word != "comment" && word != "obj_info" && !word.empty()) {
-      return InvalidArgument(path + ": unexpected header line: " + line);
+      return InvalidArgument(path + ": unexpected header line: " + TextExcerpt(line));
     }
   }
   return InvalidArgument(path + ": header has no end_header");

@@ -15,6 +15,7 @@
 
 #include <unistd.h>
 
+#include "vscan/common/text_excerpt.h"
 #include "vscan_test/clouds.h"
 
 namespace vscan {
@@ -554,6 +555,27 @@ TEST(CloudHeaderAtTheEnd, AHeaderWithoutItsLastNewlineIsTruncatedNotAThrow) {
   const std::string ply = "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
                           "property float z\nend_header";
   EXPECT_EQ(ParsePly(ply, "cloud data", 1 << 20).status().code(), StatusCode::kDataLoss);
+}
+
+}  // namespace
+}  // namespace vscan
+
+namespace vscan {
+namespace {
+
+// A header of NUL bytes or non-ASCII text is quoted as \xNN escapes, cut short: no raw bytes reach
+// the client's message.
+TEST(CloudHeaderQuotes, UntrustedBytesAreEscapedAndCut) {
+  const Status nul = ParsePly("ply\nformat binary_little_endian 1.0\n" + std::string(120, '\0'), "cloud data", 1 << 20)
+                         .status();
+  EXPECT_EQ(nul.code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(nul.message().find('\0'), std::string::npos);
+  EXPECT_NE(nul.message().find("\\x00\\x00"), std::string::npos) << nul.message();
+  EXPECT_LT(nul.message().size(), 320u) << nul.message();
+  const Status accented = ParsePly("ply\nformat ascii 1.0\nelement vertex 1\n\xc3\xa9t\xc3\xa9\n", "cloud data", 1 << 20)
+                              .status();
+  EXPECT_NE(accented.message().find("\\xc3\\xa9t\\xc3\\xa9"), std::string::npos) << accented.message();
+  EXPECT_EQ(TextExcerpt("abc\ndef", 5), "abc\\x0ad...");
 }
 
 }  // namespace
