@@ -111,6 +111,17 @@ enum class FillEnd {
 
 const char* FillEndName(FillEnd end);
 
+// How far the settled parts' triangle meshes overlap one another and the bin: for each pair, the
+// deepest vertex or edge point of either mesh inside the other (metres, >= 0), measured to within
+// resolution_m (the true depth of that deepest point lies at most that much deeper).
+struct MeshOverlaps {
+  double max_part_part_m = 0.0;
+  double max_part_bin_m = 0.0;
+  double p95_part_part_m = 0.0;  // 95th percentile over the overlapping pairs (0 when none)
+  size_t overlapping_pairs = 0;  // part-part pairs whose meshes overlap at all
+  double resolution_m = 0.0;
+};
+
 struct FillResult {
   std::vector<PlacedPart> parts;    // in the bin at the end (not those outside)
   std::vector<PlacedPart> outside;  // ended outside the bin's inner box and were removed
@@ -120,10 +131,14 @@ struct FillResult {
   double simulated_s = 0.0;
   uint64_t steps = 0;
   double setup_wall_s = 0.0;  // shapes and world
-  double step_wall_s = 0.0;   // stepping, spawning and the final contact pass
-  // Deepest overlap in Bullet's contact manifolds after a final collision pass (metres, >= 0).
+  double step_wall_s = 0.0;   // stepping, spawning, the final contact pass and measure_wall_s
+  double measure_wall_s = 0.0;  // MeasureMeshOverlaps
+  // Deepest overlap of the collision shapes in Bullet's contact manifolds after a final collision
+  // pass (metres, >= 0): what the solver saw, not the parts.
   double max_part_part_penetration_m = 0.0;
   double max_part_bin_penetration_m = 0.0;
+  // The parts' own triangle meshes at their settled poses (MeasureMeshOverlaps).
+  MeshOverlaps mesh_overlap;
 };
 
 inline constexpr size_t kMaxFillParts = 500;
