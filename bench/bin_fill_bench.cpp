@@ -4,7 +4,7 @@
 // Then (sections "machined" and "decomposition") fills bins of procedural machined parts (risers and
 // many-sided prisms, hulls of 100-300 vertices) and of the fixture parts, each as convex hulls and
 // as convex decompositions, and reports how deep the settled meshes overlap.
-// Usage: bin_fill_bench [seeds=3] [sections=fixture,machined,decomposition] [max simulated s=60]
+// Usage: bin_fill_bench [seeds=3] [sections=fixture,machined,decomposition(,hull-only)] [max simulated s=60]
 
 #include <algorithm>
 #include <atomic>
@@ -87,7 +87,7 @@ Run FillPlain(const physics::BinSpec& bin, const std::vector<physics::PartType>&
   const double cpu_start = ThreadCpuSeconds();
   std::vector<physics::PartGeometry> geometry;
   for (const auto& part : parts) {
-    geometry.push_back(physics::MakePartGeometry(part, std::numeric_limits<int>::max()));
+    geometry.push_back(physics::MakePartGeometry(part, 0.0));
   }
   auto world = MakePlainFillWorld(bin, parts, geometry, options);
   Run run{physics::RunFill(bin, parts, geometry, options, *world, nullptr), 0.0, 0.0};
@@ -219,10 +219,11 @@ physics::PartType Procedural(TriangleMesh mesh, const std::string& name, size_t 
 // The same parts filled as hulls and as convex decompositions, seeds 1..seeds each: one line per
 // fill, a summary per collision kind and the ratio of their median wall times.
 void CompareCollisions(const std::string& title, const physics::BinSpec& bin, std::vector<physics::PartType> parts,
-                       int seeds, double max_simulated_s) {
+                       int seeds, double max_simulated_s, bool hull_only) {
   std::printf("%s, %d seeds, max simulated %.0f s\n", title.c_str(), seeds, max_simulated_s);
   std::map<std::string, std::vector<double>> wall, wall_per_sim;
   for (const auto collision : {physics::PartCollision::kConvexHull, physics::PartCollision::kConvexDecomposition}) {
+    if (hull_only && collision != physics::PartCollision::kConvexHull) break;
     const std::string name = collision == physics::PartCollision::kConvexHull ? "hull" : "decomp";
     for (auto& part : parts) part.collision = collision;
     Summary summary;
@@ -249,6 +250,7 @@ void CompareCollisions(const std::string& title, const physics::BinSpec& bin, st
                 Median(wall[name]), *std::min_element(wall[name].begin(), wall[name].end()),
                 *std::max_element(wall[name].begin(), wall[name].end()), Median(wall_per_sim[name]));
   }
+  if (hull_only) return;
   std::printf("  decomp / hull: median wall %.2f, median wall per simulated s %.2f\n",
               Median(wall["decomp"]) / Median(wall["hull"]), Median(wall_per_sim["decomp"]) / Median(wall_per_sim["hull"]));
 }
@@ -276,12 +278,12 @@ int main(int argc, char** argv) {
     CompareCollisions("bin 30 x 20 x 15 cm, 10 risers (40 x 30 x 18 mm, bosses and pockets) + 10 96-sided prisms "
                       "(24 x 20 mm)",
                       bin, {Procedural(physics::test::Riser(), "riser", 10), Procedural(physics::test::ManySidedPrism(), "prism", 10)},
-                      seeds, max_simulated_s);
+                      seeds, max_simulated_s, wanted("hull-only"));
   }
   if (wanted("decomposition")) {
     CompareCollisions("bin 30 x 20 x 15 cm, 11 angle blocks + 11 pins", bin,
                       {LoadPart("angle_block.STL", 0.0254, "angle_block", 11), LoadPart("round.stl", 0.0013, "round", 11)},
-                      seeds, max_simulated_s);
+                      seeds, max_simulated_s, wanted("hull-only"));
   }
   if (!wanted("fixture")) return 0;
   std::printf("bin 30 x 20 x 15 cm, 25 angle blocks (3.4 x 2.5 x 3.4 cm) + 25 pins (6.6 mm x 79 mm), %d seeds\n",

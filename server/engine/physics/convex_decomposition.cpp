@@ -17,7 +17,7 @@ constexpr double kHacdConcavity = 20.0;
 }  // namespace
 
 std::vector<std::vector<Eigen::Vector3d>> ConvexPieces(const TriangleMesh& mesh, const Eigen::Vector3d& centre,
-                                                       int max_vertices_per_piece) {
+                                                       double hull_tolerance_m) {
   std::vector<HACD::Vec3<HACD::Real>> points;
   points.reserve(mesh.vertices.size());
   for (const Eigen::Vector3f& v : mesh.vertices) points.emplace_back(v.x(), v.y(), v.z());
@@ -36,7 +36,7 @@ std::vector<std::vector<Eigen::Vector3d>> ConvexPieces(const TriangleMesh& mesh,
   hacd.SetNClusters(1);
   hacd.SetCompacityWeight(0.1);
   hacd.SetVolumeWeight(0.0);
-  hacd.SetNVerticesPerCH(static_cast<size_t>(std::max(4, max_vertices_per_piece)));
+  hacd.SetNVerticesPerCH(1000);  // SimplifiedHull reduces each piece, by distance
   hacd.SetAddExtraDistPoints(true);
   hacd.SetAddFacesPoints(true);
 
@@ -49,10 +49,10 @@ std::vector<std::vector<Eigen::Vector3d>> ConvexPieces(const TriangleMesh& mesh,
       std::vector<Eigen::Vector3d> piece;
       piece.reserve(hull_points.size());
       for (const auto& p : hull_points) piece.push_back(Eigen::Vector3d(p.X(), p.Y(), p.Z()) - centre);
-      pieces.push_back(FarthestPoints(piece, max_vertices_per_piece));
+      pieces.push_back(SimplifiedHull(piece, hull_tolerance_m));
     }
   }
-  if (pieces.empty()) pieces.push_back(FarthestPoints(ExactHull(mesh, centre), max_vertices_per_piece));
+  if (pieces.empty()) pieces.push_back(SimplifiedHull(ExactHull(mesh, centre), hull_tolerance_m));
   return pieces;
 }
 

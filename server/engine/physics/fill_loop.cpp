@@ -245,7 +245,10 @@ class Filler {
     result.max_part_part_penetration_m = depths.part_part;
     result.max_part_bin_penetration_m = depths.part_bin;
     const auto measure_start = Clock::now();
-    result.mesh_overlap = MeasureMeshOverlaps(bin_, parts_, result.parts);
+    result.mesh_overlap = options_.max_mesh_overlap_m > 0
+                              ? SeparateMeshOverlaps(bin_, parts_, result.parts, options_.max_mesh_overlap_m,
+                                                     options_.separation_rounds)
+                              : MeasureMeshOverlaps(bin_, parts_, result.parts);
     result.measure_wall_s = std::chrono::duration<double>(Clock::now() - measure_start).count();
   }
 

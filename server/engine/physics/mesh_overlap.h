@@ -20,4 +20,12 @@ inline constexpr double kMeshOverlapResolution = 0.00002;
 MeshOverlaps MeasureMeshOverlaps(const BinSpec& bin, const std::vector<PartType>& parts,
                                  const std::vector<PlacedPart>& placed);
 
+// After a fill: while some pair of parts (or a part and a box bin) overlaps by more than `bound`,
+// moves the parts apart, at most `rounds` times: each overlapping pair half its depth (plus a
+// quarter of the bound) each way, from the deepest point to the nearest surface; a part in a box
+// bin's slab all of it, out through the slab's nearest face. Translations only. Returns the
+// overlaps measured after the last move (bound not met when rounds ran out).
+MeshOverlaps SeparateMeshOverlaps(const BinSpec& bin, const std::vector<PartType>& parts,
+                                  std::vector<PlacedPart>& placed, double bound, int rounds);
+
 }  // namespace vscan::physics

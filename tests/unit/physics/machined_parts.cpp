@@ -7,12 +7,14 @@
 namespace vscan::physics::test {
 
 TriangleMesh Riser() {
-  constexpr double kStep = 0.0005, kLengthX = 0.040, kLengthY = 0.030, kBase = 0.012;
+  constexpr double kStep = 0.001, kLengthX = 0.040, kLengthY = 0.030, kBase = 0.012;
   const int nx = static_cast<int>(std::lround(kLengthX / kStep)) + 1;
   const int ny = static_cast<int>(std::lround(kLengthY / kStep)) + 1;
   const auto height = [&](double x, double y) {
     for (double bx : {-0.010, 0.010}) {
-      if (std::hypot(x - bx, y) <= 0.006) return kBase + 0.006;
+      // Crowned tops: every grid point of a boss's top is a corner of the hull.
+      const double r = std::hypot(x - bx, y);
+      if (r <= 0.006) return kBase + 0.005 + 0.001 * (1 - r * r / 0.000036);
     }
     if (std::abs(x) <= 0.004 && std::abs(std::abs(y) - 0.0095) <= 0.003) return kBase - 0.004;
     return kBase;

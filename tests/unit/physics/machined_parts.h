@@ -6,8 +6,8 @@
 
 namespace vscan::physics::test {
 
-// 40 x 30 mm block, 12 mm high, two round bosses (6 mm radius, 6 mm high) and two 4 mm deep
-// pockets, as a height field on a 0.5 mm grid closed by walls and a floor.
+// 40 x 30 mm block, 12 mm high, two round bosses (6 mm radius, 5-6 mm high, crowned) and two 4 mm
+// deep pockets, as a height field on a 1 mm grid closed by walls and a floor.
 TriangleMesh Riser();
 
 // A prism of `sides` sides around z, `radius` to its corners, `height` tall.
