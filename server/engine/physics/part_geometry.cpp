@@ -134,6 +134,32 @@ std::vector<size_t> FarthestIndices(const std::vector<Eigen::Vector3d>& points, 
 
 }  // namespace
 
+double HullVolume(const std::vector<Eigen::Vector3d>& points) {
+  if (points.size() < 4) return 0.0;
+  double volume = 0.0;
+  for (const Facet& f : HullFacets(points)) {
+    Eigen::Vector3d area = Eigen::Vector3d::Zero();
+    for (size_t i = 0; i < f.corners.size(); ++i) area += f.corners[i].cross(f.corners[(i + 1) % f.corners.size()]);
+    volume += f.offset * 0.5 * area.norm() / 3.0;
+  }
+  return std::max(0.0, volume);
+}
+
+double MeshVolume(const TriangleMesh& mesh) { return EnclosedVolume(mesh).volume; }
+
+std::vector<Eigen::Vector3d> HullVertices(const std::vector<Eigen::Vector3d>& points) {
+  std::vector<double> coords;
+  for (const auto& p : points) coords.insert(coords.end(), {p.x(), p.y(), p.z()});
+  btConvexHullComputer computer;
+  computer.compute(coords.data(), 3 * sizeof(double), static_cast<int>(points.size()), 0, 0);
+  if (computer.vertices.size() < 4) return points;
+  std::vector<Eigen::Vector3d> out;
+  for (int i = 0; i < computer.vertices.size(); ++i) {
+    out.emplace_back(computer.vertices[i].x(), computer.vertices[i].y(), computer.vertices[i].z());
+  }
+  return out;
+}
+
 double DistanceOutsideHull(const Eigen::Vector3d& point, const std::vector<Eigen::Vector3d>& hull) {
   const std::vector<Facet> facets = HullFacets(hull);
   return PlaneDistance(point, facets) <= 0 ? 0.0 : OutsideDistance(point, facets);

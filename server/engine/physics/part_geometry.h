@@ -40,6 +40,13 @@ std::vector<Eigen::Vector3d> FarthestPoints(const std::vector<Eigen::Vector3d>& 
 // farther than the tolerance. All the points when they need all. Deterministic.
 std::vector<Eigen::Vector3d> SimplifiedHull(const std::vector<Eigen::Vector3d>& points, double tolerance);
 
+// The volume of the points' convex hull (0 when flat), and the volume a closed mesh encloses.
+double HullVolume(const std::vector<Eigen::Vector3d>& points);
+double MeshVolume(const TriangleMesh& mesh);
+
+// The vertices of the points' convex hull (all of them when flat).
+std::vector<Eigen::Vector3d> HullVertices(const std::vector<Eigen::Vector3d>& points);
+
 // How far the point lies outside the hull of `hull` (0 inside); the hull must span a volume.
 double DistanceOutsideHull(const Eigen::Vector3d& point, const std::vector<Eigen::Vector3d>& hull);
 
