@@ -1,7 +1,10 @@
 // Fills a 30 x 20 x 15 cm bin with 50 fixture parts (angle blocks and pins) with FillBin and with
 // a plain PyBullet-like Bullet world under the same spawn and settle rules, over several seeds;
 // then scans each settled bin of ours at 1280 x 1024.
-// Usage: bin_fill_bench [seeds=3]
+// Then (sections "machined" and "decomposition") fills bins of procedural machined parts (risers and
+// many-sided prisms, hulls of 100-300 vertices) and of the fixture parts, each as convex hulls and
+// as convex decompositions, and reports how deep the settled meshes overlap.
+// Usage: bin_fill_bench [seeds=3] [sections=fixture,machined,decomposition(,hull-only)] [max simulated s=60]
 
 #include <algorithm>
 #include <atomic>
@@ -20,6 +23,7 @@
 #include <vector>
 
 #include "bin_fill_plain_world.h"
+#include "machined_parts.h"
 #include "geometry/mesh_import.h"
 #include "physics/bin_fill.h"
 #include "physics/fill_loop.h"
@@ -83,7 +87,7 @@ Run FillPlain(const physics::BinSpec& bin, const std::vector<physics::PartType>&
   const double cpu_start = ThreadCpuSeconds();
   std::vector<physics::PartGeometry> geometry;
   for (const auto& part : parts) {
-    geometry.push_back(physics::MakePartGeometry(part, std::numeric_limits<int>::max()));
+    geometry.push_back(physics::MakePartGeometry(part, 0.0));
   }
   auto world = MakePlainFillWorld(bin, parts, geometry, options);
   Run run{physics::RunFill(bin, parts, geometry, options, *world, nullptr), 0.0, 0.0};
@@ -158,7 +162,7 @@ double Median(std::vector<double> v) {
 
 struct Summary {
   std::vector<double> per_minute, per_cpu_minute, simulated_s, steps, wall_s;
-  double max_penetration_m = 0.0;
+  double max_penetration_m = 0.0, max_mesh_overlap_m = 0.0;
   size_t outside = 0, placed = 0;
   std::map<std::string, int> ends;
 
@@ -170,6 +174,8 @@ struct Summary {
     steps.push_back(static_cast<double>(run.fill.steps));
     max_penetration_m = std::max(
         {max_penetration_m, run.fill.max_part_part_penetration_m, run.fill.max_part_bin_penetration_m});
+    max_mesh_overlap_m = std::max(
+        {max_mesh_overlap_m, run.fill.mesh_overlap.max_part_part_m, run.fill.mesh_overlap.max_part_bin_m});
     outside += run.fill.outside.size();
     placed += run.fill.parts.size();
     ++ends[physics::FillEndName(run.fill.end)];
@@ -179,10 +185,10 @@ struct Summary {
     std::string ends_text;
     for (const auto& [end, count] : ends) ends_text += end + "=" + std::to_string(count) + " ";
     std::printf("%-6s fills/min median %6.1f min %6.1f max %6.1f | per CPU minute median %6.1f | sim s median %5.2f | steps median %6.0f | "
-                "max penetration %.2f mm | parts in bins %zu, outside %zu | %s\n",
+                "max penetration %.2f mm, mesh overlap %.3f mm | parts in bins %zu, outside %zu | %s\n",
                 name, Median(per_minute), *std::min_element(per_minute.begin(), per_minute.end()),
                 *std::max_element(per_minute.begin(), per_minute.end()), Median(per_cpu_minute), Median(simulated_s), Median(steps),
-                max_penetration_m * 1e3, placed, outside, ends_text.c_str());
+                max_penetration_m * 1e3, max_mesh_overlap_m * 1e3, placed, outside, ends_text.c_str());
   }
 };
 
@@ -202,6 +208,53 @@ double BinsPerMinuteOnAllCores(unsigned workers, int bins, FillAndScan fill_and_
   return 60.0 * bins / Since(start);
 }
 
+physics::PartType Procedural(TriangleMesh mesh, const std::string& name, size_t count) {
+  physics::PartType part;
+  part.name = name;
+  part.mesh = std::move(mesh);
+  part.count = count;
+  return part;
+}
+
+// The same parts filled as hulls and as convex decompositions, seeds 1..seeds each: one line per
+// fill, a summary per collision kind and the ratio of their median wall times.
+void CompareCollisions(const std::string& title, const physics::BinSpec& bin, std::vector<physics::PartType> parts,
+                       int seeds, double max_simulated_s, bool hull_only) {
+  std::printf("%s, %d seeds, max simulated %.0f s\n", title.c_str(), seeds, max_simulated_s);
+  std::map<std::string, std::vector<double>> wall, wall_per_sim;
+  for (const auto collision : {physics::PartCollision::kConvexHull, physics::PartCollision::kConvexDecomposition}) {
+    if (hull_only && collision != physics::PartCollision::kConvexHull) break;
+    const std::string name = collision == physics::PartCollision::kConvexHull ? "hull" : "decomp";
+    for (auto& part : parts) part.collision = collision;
+    Summary summary;
+    for (int seed = 1; seed <= seeds; ++seed) {
+      physics::FillOptions options;
+      options.seed = static_cast<uint64_t>(seed);
+      options.max_simulated_s = max_simulated_s;
+      const Run run = FillOurs(bin, parts, options);
+      const physics::MeshOverlaps& overlap = run.fill.mesh_overlap;
+      std::printf("  %-6s seed %d  %.3f s (CPU %.3f, set-up %.3f, overlap measure %.3f) %s sim %.2f s, %zu in, "
+                  "%zu out | shapes %.3f/%.3f mm | meshes part-part max %.3f p95 %.3f (%zu pairs) part-bin %.3f mm\n",
+                  name.c_str(), seed, run.wall_s, run.cpu_s, run.fill.setup_wall_s, run.fill.measure_wall_s,
+                  physics::FillEndName(run.fill.end), run.fill.simulated_s, run.fill.parts.size(),
+                  run.fill.outside.size(), run.fill.max_part_part_penetration_m * 1e3,
+                  run.fill.max_part_bin_penetration_m * 1e3, overlap.max_part_part_m * 1e3,
+                  overlap.p95_part_part_m * 1e3, overlap.overlapping_pairs, overlap.max_part_bin_m * 1e3);
+      std::fflush(stdout);
+      summary.Add(run);
+      wall[name].push_back(run.wall_s);
+      wall_per_sim[name].push_back(run.wall_s / std::max(run.fill.simulated_s, 1e-9));
+    }
+    summary.Print(name.c_str());
+    std::printf("  %-6s wall median %.3f s (min %.3f max %.3f), wall per simulated s median %.3f\n", name.c_str(),
+                Median(wall[name]), *std::min_element(wall[name].begin(), wall[name].end()),
+                *std::max_element(wall[name].begin(), wall[name].end()), Median(wall_per_sim[name]));
+  }
+  if (hull_only) return;
+  std::printf("  decomp / hull: median wall %.2f, median wall per simulated s %.2f\n",
+              Median(wall["decomp"]) / Median(wall["hull"]), Median(wall_per_sim["decomp"]) / Median(wall_per_sim["hull"]));
+}
+
 }  // namespace
 }  // namespace vscan::bench
 
@@ -209,6 +262,9 @@ int main(int argc, char** argv) {
   using namespace vscan;
   using namespace vscan::bench;
   const int seeds = argc > 1 ? std::max(1, std::atoi(argv[1])) : 3;
+  const std::string sections = argc > 2 ? argv[2] : "fixture,machined,decomposition";
+  const double max_simulated_s = argc > 3 ? std::atof(argv[3]) : 60.0;
+  const auto wanted = [&](const char* section) { return sections.find(section) != std::string::npos; };
   physics::BinSpec bin;
   bin.inner_size = Eigen::Vector3d(0.30, 0.20, 0.15);
   bin.wall_thickness = 0.01;
@@ -218,6 +274,18 @@ int main(int argc, char** argv) {
                                                 LoadPart("round.stl", 0.0013, "round", 25)};
   std::vector<std::shared_ptr<const TriangleMesh>> part_meshes;
   for (const auto& part : parts) part_meshes.push_back(std::make_shared<const TriangleMesh>(part.mesh));
+  if (wanted("machined")) {
+    CompareCollisions("bin 30 x 20 x 15 cm, 10 risers (40 x 30 x 18 mm, bosses and pockets) + 10 96-sided prisms "
+                      "(24 x 20 mm)",
+                      bin, {Procedural(physics::test::Riser(), "riser", 10), Procedural(physics::test::ManySidedPrism(), "prism", 10)},
+                      seeds, max_simulated_s, wanted("hull-only"));
+  }
+  if (wanted("decomposition")) {
+    CompareCollisions("bin 30 x 20 x 15 cm, 11 angle blocks + 11 pins", bin,
+                      {LoadPart("angle_block.STL", 0.0254, "angle_block", 11), LoadPart("round.stl", 0.0013, "round", 11)},
+                      seeds, max_simulated_s, wanted("hull-only"));
+  }
+  if (!wanted("fixture")) return 0;
   std::printf("bin 30 x 20 x 15 cm, 25 angle blocks (3.4 x 2.5 x 3.4 cm) + 25 pins (6.6 mm x 79 mm), %d seeds\n",
               seeds);
 
@@ -229,12 +297,15 @@ int main(int argc, char** argv) {
     const Run our_run = FillOurs(bin, parts, options);
     const ScanTiming scan = ScanBin(bin, part_meshes, our_run.fill);
     const Run plain_run = FillPlain(bin, parts, options);
-    std::printf("seed %d  ours %.3f s (CPU %.3f s, set-up %.3f, steps %.3f) %s sim %.2f s, %zu in, %zu out, pen %.2f/%.2f mm | "
+    std::printf("seed %d  ours %.3f s (CPU %.3f s, set-up %.3f, steps %.3f, of which overlap measure %.3f) %s sim %.2f s, "
+                "%zu in, %zu out, pen %.2f/%.2f mm, mesh overlap part-part max %.3f p95 %.3f (%zu pairs) part-bin %.3f mm | "
                 "scan %.3f s %zu points | plain %.3f s (CPU %.3f s) %s sim %.2f s, %zu in, %zu out, pen %.2f/%.2f mm\n",
                 seed, our_run.wall_s, our_run.cpu_s, our_run.fill.setup_wall_s, our_run.fill.step_wall_s,
-                physics::FillEndName(our_run.fill.end), our_run.fill.simulated_s, our_run.fill.parts.size(),
-                our_run.fill.outside.size(), our_run.fill.max_part_part_penetration_m * 1e3,
-                our_run.fill.max_part_bin_penetration_m * 1e3, scan.wall_s, scan.points, plain_run.wall_s, plain_run.cpu_s,
+                our_run.fill.measure_wall_s, physics::FillEndName(our_run.fill.end), our_run.fill.simulated_s,
+                our_run.fill.parts.size(), our_run.fill.outside.size(), our_run.fill.max_part_part_penetration_m * 1e3,
+                our_run.fill.max_part_bin_penetration_m * 1e3, our_run.fill.mesh_overlap.max_part_part_m * 1e3,
+                our_run.fill.mesh_overlap.p95_part_part_m * 1e3, our_run.fill.mesh_overlap.overlapping_pairs,
+                our_run.fill.mesh_overlap.max_part_bin_m * 1e3, scan.wall_s, scan.points, plain_run.wall_s, plain_run.cpu_s,
                 physics::FillEndName(plain_run.fill.end), plain_run.fill.simulated_s, plain_run.fill.parts.size(),
                 plain_run.fill.outside.size(), plain_run.fill.max_part_part_penetration_m * 1e3,
                 plain_run.fill.max_part_bin_penetration_m * 1e3);

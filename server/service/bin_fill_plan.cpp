@@ -106,7 +106,7 @@ StatusOr<BinFillPlan> PlanBinFill(ServiceContext& context, BinFillRequest reques
     return plan;
   }
   RETURN_IF_ERROR(physics::CheckFillInput(request.bin, plan.parts, request.options));
-  plan.geometry = physics::MakePartGeometries(plan.parts, request.options.max_hull_vertices);
+  plan.geometry = physics::MakePartGeometries(plan.parts, request.options.hull_tolerance_m);
   for (size_t i = 0; i < plan.parts.size(); ++i) {
     if (!(plan.geometry[i].mass_kg > 0)) {
       return InvalidArgument(PartField(i, "mass_kg"), "the mesh encloses no volume: give a mass");

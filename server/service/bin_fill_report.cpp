@@ -85,6 +85,16 @@ void WriteParts(const BinFillPlan& plan, const BinFillReport& report, JsonWriter
 
 }  // namespace
 
+void WriteMeshOverlap(const physics::MeshOverlaps& overlap, JsonWriter& json) {
+  json.Open('{');
+  json.Key("max_part_part_m").Value(overlap.max_part_part_m);
+  json.Key("p95_part_part_m").Value(overlap.p95_part_part_m);
+  json.Key("overlapping_pairs").Value(uint64_t{overlap.overlapping_pairs});
+  json.Key("max_part_bin_m").Value(overlap.max_part_bin_m);
+  json.Key("resolution_m").Value(overlap.resolution_m);
+  json.Close('}');
+}
+
 const char* UnitName(store::LengthUnit unit) {
   switch (unit) {
     case store::LengthUnit::kMetre: return "m";
@@ -129,6 +139,8 @@ std::string BinFillJson(const BinFillPlan& plan, const BinFillReport& report) {
     json.Key("steps").Value(result.steps);
     json.Key("max_part_part_penetration_m").Value(result.max_part_part_penetration_m);
     json.Key("max_part_bin_penetration_m").Value(result.max_part_bin_penetration_m);
+    json.Key("mesh_overlap");
+    WriteMeshOverlap(result.mesh_overlap, json);
     json.Key("setup_wall_s").Value(result.setup_wall_s);
     json.Key("step_wall_s").Value(result.step_wall_s);
     WriteParts(plan, report, json);

@@ -8,6 +8,7 @@
 #include "physics/bin_fill.h"
 #include "service/bin_fill_plan.h"
 #include "service/bin_scene.h"
+#include "service/json_writer.h"
 #include "store/job_catalogue.h"
 
 namespace vscan::service {
@@ -23,6 +24,10 @@ struct BinFillReport {
 };
 
 std::string BinFillJson(const BinFillPlan& plan, const BinFillReport& report);
+
+// {"max_part_part_m", "p95_part_part_m", "overlapping_pairs", "max_part_bin_m", "resolution_m"}:
+// the settled meshes' overlaps (physics::MeshOverlaps) as bin.json and a dataset scene record hold them.
+void WriteMeshOverlap(const physics::MeshOverlaps& overlap, JsonWriter& json);
 
 // "m", "mm", "in", ... as the plan files name units.
 const char* UnitName(store::LengthUnit unit);

@@ -47,7 +47,7 @@ StatusOr<DatasetBinSetup> PrepareBin(const dataset::DatasetBinFill& fill, const 
     ASSIGN_OR_RETURN(part.mesh, ScaledMesh(asked, load, part_field));
     part.name = asked.name;
     part.count = asked.count;
-    if (!(physics::MakePartGeometry(part, bin.options.max_hull_vertices).mass_kg > 0)) {
+    if (!(physics::MakePartGeometry(part, bin.options.hull_tolerance_m).mass_kg > 0)) {
       return InvalidArgument(part_field + ".mesh", "the mesh encloses no volume");
     }
     const auto [found, added] = obj_ids.emplace(KeyOf(asked), static_cast<uint32_t>(models.size() + 1));

@@ -42,7 +42,7 @@ StatusOr<FillResult> FillBin(const BinSpec& bin, const std::vector<PartType>& pa
                              const std::atomic<bool>* cancel) {
   RETURN_IF_ERROR(CheckFillInput(bin, parts, options));
   const auto start = std::chrono::steady_clock::now();
-  const std::vector<PartGeometry> geometry = MakePartGeometries(parts, options.max_hull_vertices);
+  const std::vector<PartGeometry> geometry = MakePartGeometries(parts, options.hull_tolerance_m);
   for (size_t i = 0; i < parts.size(); ++i) {
     if (!(geometry[i].mass_kg > 0)) {
       return Status(StatusCode::kInvalidArgument, "parts[" + std::to_string(i) + "].mass_kg",

@@ -39,9 +39,9 @@ struct BinInterior {
 BinInterior InteriorOf(const BinSpec& bin);
 
 enum class PartCollision {
-  kConvexHull,  // the convex hull of the mesh, reduced to at most FillOptions::max_hull_vertices
-  // A compound of convex pieces (HACD), each reduced like the hull; a part's concave notches stay
-  // open. Computed once per distinct mesh in a fill.
+  kConvexHull,  // the convex hull of the mesh, simplified within FillOptions::hull_tolerance_m
+  // A compound of convex pieces (HACD), each simplified like the hull; a part's concave notches
+  // stay open. Computed once per distinct mesh in a fill.
   kConvexDecomposition,
 };
 
@@ -59,8 +59,9 @@ struct FillOptions {
   double time_step_s = 1.0 / 240.0;  // one step; within [1e-4, 0.05]
   int substeps = 1;                  // internal Bullet steps per step (time_step_s / substeps each)
   int solver_iterations = 10;
-  // Hull points kept per part: the farthest-point subset of the hull's vertices.
-  int max_hull_vertices = 24;
+  // A collision hull keeps the fewest of the exact hull's vertices (greedily) such that every
+  // exact hull vertex lies within this distance of it; the full hull where that needs all of them.
+  double hull_tolerance_m = 0.00005;
   double collision_margin_m = 0.0005;
   double friction = 0.6;
   double restitution = 0.0;
@@ -92,6 +93,10 @@ struct FillOptions {
   double drop_clearance_m = 0.02;
   double drop_interval_s = 1.0;
   int spawn_attempts = 24;
+  // Once at rest, parts whose meshes overlap one another (or a box bin) by more than this are
+  // moved apart (SeparateMeshOverlaps, up to separation_rounds times); 0 only measures.
+  double max_mesh_overlap_m = 0.0003;
+  int separation_rounds = 24;
   // A part at rest reaching more than this above the rim makes the bin full.
   double rim_tolerance_m = 0.005;
 };
@@ -111,6 +116,22 @@ enum class FillEnd {
 
 const char* FillEndName(FillEnd end);
 
+// How far the settled parts' triangle meshes overlap one another and the bin: for each pair, the
+// deepest vertex or edge point of either mesh inside the other (metres, >= 0), measured to within
+// resolution_m (the true depth of that deepest point lies at most that much deeper).
+struct MeshOverlaps {
+  double max_part_part_m = 0.0;
+  double max_part_bin_m = 0.0;
+  double p95_part_part_m = 0.0;  // 95th percentile over the overlapping pairs (0 when none)
+  size_t overlapping_pairs = 0;  // part-part pairs whose meshes overlap at all
+  double resolution_m = 0.0;
+  // The separation after the fill (FillOptions::max_mesh_overlap_m): parts moved, the longest
+  // move (metres) and the rounds of moves.
+  size_t moved_parts = 0;
+  double max_move_m = 0.0;
+  int rounds = 0;
+};
+
 struct FillResult {
   std::vector<PlacedPart> parts;    // in the bin at the end (not those outside)
   std::vector<PlacedPart> outside;  // ended outside the bin's inner box and were removed
@@ -120,10 +141,14 @@ struct FillResult {
   double simulated_s = 0.0;
   uint64_t steps = 0;
   double setup_wall_s = 0.0;  // shapes and world
-  double step_wall_s = 0.0;   // stepping, spawning and the final contact pass
-  // Deepest overlap in Bullet's contact manifolds after a final collision pass (metres, >= 0).
+  double step_wall_s = 0.0;   // stepping, spawning, the final contact pass and measure_wall_s
+  double measure_wall_s = 0.0;  // MeasureMeshOverlaps
+  // Deepest overlap of the collision shapes in Bullet's contact manifolds after a final collision
+  // pass (metres, >= 0): what the solver saw, not the parts.
   double max_part_part_penetration_m = 0.0;
   double max_part_bin_penetration_m = 0.0;
+  // The parts' own triangle meshes at their settled poses (MeasureMeshOverlaps).
+  MeshOverlaps mesh_overlap;
 };
 
 inline constexpr size_t kMaxFillParts = 500;

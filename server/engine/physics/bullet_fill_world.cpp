@@ -26,7 +26,7 @@ class BulletFillWorld final : public FillWorld {
       if (!part.pieces.empty()) {
         auto compound = std::make_unique<btCompoundShape>(true, static_cast<int>(part.pieces.size()));
         for (const auto& piece : part.pieces) {
-          type.pieces.push_back(HullShape(piece));
+          type.pieces.push_back(HullShape(piece, false));
           compound->addChildShape(btTransform::getIdentity(), type.pieces.back().get());
         }
         type.shape = std::move(compound);
@@ -95,12 +95,13 @@ class BulletFillWorld final : public FillWorld {
     btVector3 inertia;
   };
 
-  std::unique_ptr<btCollisionShape> HullShape(const std::vector<Eigen::Vector3d>& points) const {
+  std::unique_ptr<btCollisionShape> HullShape(const std::vector<Eigen::Vector3d>& points,
+                                              bool polyhedral = true) const {
     auto shape = std::make_unique<btConvexHullShape>();
     for (const auto& p : points) shape->addPoint(ToBullet(p), false);
     shape->recalcLocalAabb();
     shape->setMargin(btScalar(options_.collision_margin_m));
-    if (options_.polyhedral_contacts) shape->initializePolyhedralFeatures();
+    if (options_.polyhedral_contacts && polyhedral) shape->initializePolyhedralFeatures();
     return shape;
   }
 

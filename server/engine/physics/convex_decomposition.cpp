@@ -3,6 +3,10 @@
 #include <HACD/hacdHACD.h>
 
 #include <algorithm>
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <utility>
 
 #include "physics/part_geometry.h"
 
@@ -14,10 +18,58 @@ constexpr double kHacdScale = 1000.0;
 // Deepest concavity a piece may keep: 2% of the part's size.
 constexpr double kHacdConcavity = 20.0;
 
-}  // namespace
+// A mesh enclosing this share of its hull's volume is convex enough to be its hull, one piece.
+constexpr double kConvexShare = 0.98;
+// Two pieces merge while their union's hull adds at most this share of the part's hull volume to
+// theirs: HACD leaves many slivers on a mesh whose triangles do not share edges, and a compound's
+// cost grows with its pieces squared.
+constexpr double kMergeShare = 0.03;
 
-std::vector<std::vector<Eigen::Vector3d>> ConvexPieces(const TriangleMesh& mesh, const Eigen::Vector3d& centre,
-                                                       int max_vertices_per_piece) {
+std::vector<std::vector<Eigen::Vector3d>> Merged(std::vector<std::vector<Eigen::Vector3d>> pieces, double limit) {
+  const size_t n = pieces.size();
+  std::vector<double> volume(n);
+  for (size_t i = 0; i < n; ++i) volume[i] = HullVolume(pieces[i]);
+  const auto added = [&](size_t i, size_t j) {
+    std::vector<Eigen::Vector3d> both = pieces[i];
+    both.insert(both.end(), pieces[j].begin(), pieces[j].end());
+    return HullVolume(both) - volume[i] - volume[j];
+  };
+  std::vector<std::vector<double>> cost(n, std::vector<double>(n, 0.0));
+  for (size_t i = 0; i < n; ++i) {
+    for (size_t j = i + 1; j < n; ++j) cost[i][j] = added(i, j);
+  }
+  std::vector<bool> alive(n, true);
+  for (;;) {
+    size_t bi = n, bj = n;
+    double best = limit;
+    for (size_t i = 0; i < n; ++i) {
+      for (size_t j = i + 1; j < n && alive[i]; ++j) {
+        if (alive[j] && cost[i][j] <= best) best = cost[i][j], bi = i, bj = j;
+      }
+    }
+    if (bi == n) break;
+    pieces[bi].insert(pieces[bi].end(), pieces[bj].begin(), pieces[bj].end());
+    pieces[bi] = HullVertices(pieces[bi]);
+    volume[bi] = HullVolume(pieces[bi]);
+    alive[bj] = false;
+    for (size_t k = 0; k < n; ++k) {
+      if (!alive[k] || k == bi) continue;
+      (k < bi ? cost[k][bi] : cost[bi][k]) = added(std::min(k, bi), std::max(k, bi));
+    }
+  }
+  std::vector<std::vector<Eigen::Vector3d>> out;
+  for (size_t i = 0; i < n; ++i) {
+    if (alive[i]) out.push_back(std::move(pieces[i]));
+  }
+  return out;
+}
+
+// HACD's clusters, merged while cheap, each simplified; the hull alone for a convex mesh.
+std::vector<std::vector<Eigen::Vector3d>> ComputePieces(const TriangleMesh& mesh, const Eigen::Vector3d& centre,
+                                                        double hull_tolerance_m) {
+  const std::vector<Eigen::Vector3d> hull = ExactHull(mesh, centre);
+  const double hull_volume = HullVolume(hull);
+  if (MeshVolume(mesh) >= kConvexShare * hull_volume) return {SimplifiedHull(hull, hull_tolerance_m)};
   std::vector<HACD::Vec3<HACD::Real>> points;
   points.reserve(mesh.vertices.size());
   for (const Eigen::Vector3f& v : mesh.vertices) points.emplace_back(v.x(), v.y(), v.z());
@@ -36,11 +88,13 @@ std::vector<std::vector<Eigen::Vector3d>> ConvexPieces(const TriangleMesh& mesh,
   hacd.SetNClusters(1);
   hacd.SetCompacityWeight(0.1);
   hacd.SetVolumeWeight(0.0);
-  hacd.SetNVerticesPerCH(static_cast<size_t>(std::max(4, max_vertices_per_piece)));
-  hacd.SetAddExtraDistPoints(true);
+  hacd.SetNVerticesPerCH(1000);  // SimplifiedHull reduces each piece, by distance
+  // Concavity at points cast from the faces (without them an L comes back whole), not at HACD's
+  // extra distance points: those cost most of its time and split a tube's wall into slivers.
+  hacd.SetAddExtraDistPoints(false);
   hacd.SetAddFacesPoints(true);
 
-  std::vector<std::vector<Eigen::Vector3d>> pieces;
+  std::vector<std::vector<Eigen::Vector3d>> raw;
   if (!triangles.empty() && hacd.Compute()) {
     for (size_t c = 0; c < hacd.GetNClusters(); ++c) {
       std::vector<HACD::Vec3<HACD::Real>> hull_points(hacd.GetNPointsCH(c));
@@ -49,10 +103,62 @@ std::vector<std::vector<Eigen::Vector3d>> ConvexPieces(const TriangleMesh& mesh,
       std::vector<Eigen::Vector3d> piece;
       piece.reserve(hull_points.size());
       for (const auto& p : hull_points) piece.push_back(Eigen::Vector3d(p.X(), p.Y(), p.Z()) - centre);
-      pieces.push_back(FarthestPoints(piece, max_vertices_per_piece));
+      raw.push_back(std::move(piece));
     }
   }
-  if (pieces.empty()) pieces.push_back(FarthestPoints(ExactHull(mesh, centre), max_vertices_per_piece));
+  std::vector<std::vector<Eigen::Vector3d>> pieces;
+  for (const auto& piece : Merged(std::move(raw), kMergeShare * hull_volume)) {
+    pieces.push_back(SimplifiedHull(piece, hull_tolerance_m));
+  }
+  if (pieces.empty()) pieces.push_back(SimplifiedHull(hull, hull_tolerance_m));
+  return pieces;
+}
+
+// Decompositions already made in this process, by mesh, centre and tolerance: a dataset fills many
+// bins of the same parts, and HACD takes about a second a part. FNV-1a over the bytes.
+uint64_t KeyOf(const TriangleMesh& mesh, const Eigen::Vector3d& centre, double tolerance) {
+  uint64_t h = 1469598103934665603ull;
+  const auto add = [&](const void* data, size_t bytes) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 1099511628211ull;
+  };
+  add(mesh.vertices.data(), mesh.vertices.size() * sizeof(mesh.vertices[0]));
+  add(mesh.triangles.data(), mesh.triangles.size() * sizeof(mesh.triangles[0]));
+  add(centre.data(), 3 * sizeof(double));
+  add(&tolerance, sizeof(tolerance));
+  return h;
+}
+
+struct PiecesCache {
+  std::mutex mutex;
+  std::map<uint64_t, std::pair<TriangleMesh, std::vector<std::vector<Eigen::Vector3d>>>> entries;
+};
+
+PiecesCache& Cache() {
+  static PiecesCache cache;
+  return cache;
+}
+
+constexpr size_t kCachedMeshes = 32;
+
+}  // namespace
+
+std::vector<std::vector<Eigen::Vector3d>> ConvexPieces(const TriangleMesh& mesh, const Eigen::Vector3d& centre,
+                                                       double hull_tolerance_m) {
+  const uint64_t key = KeyOf(mesh, centre, hull_tolerance_m);
+  {
+    std::lock_guard lock(Cache().mutex);
+    const auto it = Cache().entries.find(key);
+    // The mesh itself is compared too: a hash collision must not hand out another part's pieces.
+    if (it != Cache().entries.end() && it->second.first.vertices == mesh.vertices &&
+        it->second.first.triangles == mesh.triangles) {
+      return it->second.second;
+    }
+  }
+  auto pieces = ComputePieces(mesh, centre, hull_tolerance_m);
+  std::lock_guard lock(Cache().mutex);
+  if (Cache().entries.size() >= kCachedMeshes) Cache().entries.erase(Cache().entries.begin());
+  Cache().entries[key] = {mesh, pieces};
   return pieces;
 }
 

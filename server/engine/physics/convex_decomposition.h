@@ -9,9 +9,10 @@
 
 namespace vscan::physics {
 
-// The convex pieces of the mesh, each as the points of its hull relative to `centre` (at most
-// max_vertices_per_piece each). A mesh HACD cannot split comes back as one piece: its hull.
+// The convex pieces of the mesh, each as the points of its hull relative to `centre`, simplified
+// within hull_tolerance_m (SimplifiedHull). A mesh HACD cannot split comes back as one piece: its
+// hull.
 std::vector<std::vector<Eigen::Vector3d>> ConvexPieces(const TriangleMesh& mesh, const Eigen::Vector3d& centre,
-                                                       int max_vertices_per_piece);
+                                                       double hull_tolerance_m);
 
 }  // namespace vscan::physics

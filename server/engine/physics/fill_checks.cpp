@@ -83,9 +83,7 @@ Status CheckOptions(const FillOptions& o) {
   if (o.solver_iterations < 1 || o.solver_iterations > 200) {
     return Bad("options.solver_iterations", "must be within [1, 200]");
   }
-  if (o.max_hull_vertices < 4 || o.max_hull_vertices > 1000) {
-    return Bad("options.max_hull_vertices", "must be within [4, 1000]");
-  }
+  if (!in(o.hull_tolerance_m, 0, 0.01)) return Bad("options.hull_tolerance_m", "must be within [0, 0.01] m");
   if (!in(o.collision_margin_m, 0, 0.05)) return Bad("options.collision_margin_m", "must be within [0, 0.05] m");
   if (!in(o.friction, 0, 10)) return Bad("options.friction", "must be within [0, 10]");
   if (!in(o.restitution, 0, 1)) return Bad("options.restitution", "must be within [0, 1]");
@@ -106,6 +104,10 @@ Status CheckOptions(const FillOptions& o) {
   if (!Positive(o.drop_interval_s)) return Bad("options.drop_interval_s", "must be finite and positive");
   if (o.spawn_attempts < 1 || o.spawn_attempts > 10000) {
     return Bad("options.spawn_attempts", "must be within [1, 10000]");
+  }
+  if (!in(o.max_mesh_overlap_m, 0, 0.01)) return Bad("options.max_mesh_overlap_m", "must be within [0, 0.01] m");
+  if (o.separation_rounds < 0 || o.separation_rounds > 100) {
+    return Bad("options.separation_rounds", "must be within [0, 100]");
   }
   if (!NonNegative(o.rim_tolerance_m)) return Bad("options.rim_tolerance_m", "must be finite and not negative");
   return Status::Ok();

@@ -9,6 +9,7 @@
 
 #include <Eigen/Geometry>
 
+#include "physics/mesh_overlap.h"
 #include "random/seeded_draws.h"
 
 namespace vscan::physics {
@@ -55,7 +56,7 @@ class Filler {
  public:
   Filler(const BinSpec& bin, const std::vector<PartType>& parts, const std::vector<PartGeometry>& geometry,
          const FillOptions& options, FillWorld& world)
-      : bin_(bin), geometry_(geometry), options_(options), world_(world), draws_(options.seed),
+      : bin_(bin), parts_(parts), geometry_(geometry), options_(options), world_(world), draws_(options.seed),
         bin_from_world_(bin.world_from_bin.inverse()), interior_(InteriorOf(bin)), rim_(interior_.hi.z()),
         max_steps_(static_cast<uint64_t>(std::ceil(options.max_simulated_s / options.time_step_s - 1e-9))) {
     order_ = SpawnOrder(parts, draws_);
@@ -243,11 +244,18 @@ class Filler {
     result.steps = steps_;
     result.max_part_part_penetration_m = depths.part_part;
     result.max_part_bin_penetration_m = depths.part_bin;
+    const auto measure_start = Clock::now();
+    result.mesh_overlap = options_.max_mesh_overlap_m > 0
+                              ? SeparateMeshOverlaps(bin_, parts_, result.parts, options_.max_mesh_overlap_m,
+                                                     options_.separation_rounds)
+                              : MeasureMeshOverlaps(bin_, parts_, result.parts);
+    result.measure_wall_s = std::chrono::duration<double>(Clock::now() - measure_start).count();
   }
 
   double Seconds() const { return static_cast<double>(steps_) * options_.time_step_s; }
 
   const BinSpec& bin_;
+  const std::vector<PartType>& parts_;
   const std::vector<PartGeometry>& geometry_;
   const FillOptions& options_;
   FillWorld& world_;

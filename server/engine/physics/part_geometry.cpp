@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "physics/convex_decomposition.h"
+#include "physics/mesh_depth.h"
 
 namespace vscan::physics {
 namespace {
@@ -43,7 +44,161 @@ Eigen::Vector3d BoundsCentre(const TriangleMesh& mesh, double& box_volume) {
   return (0.5f * (lo + hi)).cast<double>();
 }
 
+// A face of a convex hull: inside is normal . x <= offset.
+struct Facet {
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  double offset = 0.0;
+  std::vector<Eigen::Vector3d> corners;
+};
+
+std::vector<Facet> HullFacets(const std::vector<Eigen::Vector3d>& points) {
+  std::vector<double> coords;
+  coords.reserve(3 * points.size());
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& p : points) {
+    coords.insert(coords.end(), {p.x(), p.y(), p.z()});
+    mean += p;
+  }
+  mean /= static_cast<double>(points.size());
+  btConvexHullComputer computer;
+  computer.compute(coords.data(), 3 * sizeof(double), static_cast<int>(points.size()), 0, 0);
+  const auto vertex = [&](int i) {
+    const btVector3& v = computer.vertices[i];
+    return Eigen::Vector3d(v.x(), v.y(), v.z());
+  };
+  std::vector<Facet> facets;
+  for (int f = 0; f < computer.faces.size(); ++f) {
+    Facet facet;
+    const btConvexHullComputer::Edge* first = &computer.edges[computer.faces[f]];
+    const btConvexHullComputer::Edge* edge = first;
+    do {
+      facet.corners.push_back(vertex(edge->getSourceVertex()));
+      edge = edge->getNextEdgeOfFace();
+    } while (edge != first && facet.corners.size() < 4096);
+    const size_t n = facet.corners.size();
+    if (n < 3) continue;
+    // Newell's normal: robust for polygons with nearly collinear corners.
+    for (size_t i = 0; i < n; ++i) facet.normal += facet.corners[i].cross(facet.corners[(i + 1) % n]);
+    if (!(facet.normal.norm() > 0)) continue;
+    facet.normal.normalize();
+    facet.offset = facet.normal.dot(facet.corners[0]);
+    if (facet.normal.dot(mean) - facet.offset > 1e-12) {  // the winding faced inward
+      facet.normal = -facet.normal;
+      facet.offset = -facet.offset;
+    }
+    facets.push_back(std::move(facet));
+  }
+  return facets;
+}
+
+double PlaneDistance(const Eigen::Vector3d& p, const std::vector<Facet>& facets) {
+  double out = -std::numeric_limits<double>::infinity();
+  for (const Facet& f : facets) out = std::max(out, f.normal.dot(p) - f.offset);
+  return out;
+}
+
+// Euclidean distance from a point outside the hull to it: the nearest point of a face it sees.
+double OutsideDistance(const Eigen::Vector3d& p, const std::vector<Facet>& facets) {
+  double best = std::numeric_limits<double>::infinity();
+  for (const Facet& f : facets) {
+    if (f.normal.dot(p) - f.offset <= 0) continue;
+    for (size_t i = 1; i + 1 < f.corners.size(); ++i) {
+      best = std::min(best, (ClosestPointOnTriangle(p, f.corners[0], f.corners[i], f.corners[i + 1]) - p).norm());
+    }
+  }
+  return std::isfinite(best) ? best : 0.0;
+}
+
+std::vector<size_t> FarthestIndices(const std::vector<Eigen::Vector3d>& points, size_t count) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& p : points) mean += p;
+  mean /= static_cast<double>(points.size());
+  std::vector<double> nearest(points.size(), std::numeric_limits<double>::infinity());
+  std::vector<size_t> kept;
+  size_t next = 0;
+  double best = -1;
+  for (size_t i = 0; i < points.size(); ++i) {
+    const double d = (points[i] - mean).squaredNorm();
+    if (d > best) best = d, next = i;
+  }
+  while (kept.size() < std::min(count, points.size())) {
+    kept.push_back(next);
+    best = -1;
+    for (size_t i = 0; i < points.size(); ++i) {
+      nearest[i] = std::min(nearest[i], (points[i] - points[kept.back()]).squaredNorm());
+      if (nearest[i] > best) best = nearest[i], next = i;
+    }
+  }
+  return kept;
+}
+
 }  // namespace
+
+double HullVolume(const std::vector<Eigen::Vector3d>& points) {
+  if (points.size() < 4) return 0.0;
+  double volume = 0.0;
+  for (const Facet& f : HullFacets(points)) {
+    Eigen::Vector3d area = Eigen::Vector3d::Zero();
+    for (size_t i = 0; i < f.corners.size(); ++i) area += f.corners[i].cross(f.corners[(i + 1) % f.corners.size()]);
+    volume += f.offset * 0.5 * area.norm() / 3.0;
+  }
+  return std::max(0.0, volume);
+}
+
+double MeshVolume(const TriangleMesh& mesh) { return EnclosedVolume(mesh).volume; }
+
+std::vector<Eigen::Vector3d> HullVertices(const std::vector<Eigen::Vector3d>& points) {
+  std::vector<double> coords;
+  for (const auto& p : points) coords.insert(coords.end(), {p.x(), p.y(), p.z()});
+  btConvexHullComputer computer;
+  computer.compute(coords.data(), 3 * sizeof(double), static_cast<int>(points.size()), 0, 0);
+  if (computer.vertices.size() < 4) return points;
+  std::vector<Eigen::Vector3d> out;
+  for (int i = 0; i < computer.vertices.size(); ++i) {
+    out.emplace_back(computer.vertices[i].x(), computer.vertices[i].y(), computer.vertices[i].z());
+  }
+  return out;
+}
+
+double DistanceOutsideHull(const Eigen::Vector3d& point, const std::vector<Eigen::Vector3d>& hull) {
+  const std::vector<Facet> facets = HullFacets(hull);
+  return PlaneDistance(point, facets) <= 0 ? 0.0 : OutsideDistance(point, facets);
+}
+
+std::vector<Eigen::Vector3d> SimplifiedHull(const std::vector<Eigen::Vector3d>& points, double tolerance) {
+  if (points.size() <= 4 || !(tolerance > 0)) return points;
+  std::vector<bool> used(points.size(), false);
+  std::vector<Eigen::Vector3d> kept;
+  for (size_t i : FarthestIndices(points, 4)) used[i] = true, kept.push_back(points[i]);
+  while (kept.size() < points.size()) {
+    const std::vector<Facet> facets = HullFacets(kept);
+    if (facets.size() < 2) return points;
+    // The point farthest outside by its planes (a lower bound of its distance) while one lies
+    // farther than the tolerance; then the Euclidean distances of those nearer.
+    size_t worst = points.size();
+    double worst_distance = tolerance;
+    std::vector<size_t> near;
+    for (size_t i = 0; i < points.size(); ++i) {
+      if (used[i]) continue;
+      const double d = PlaneDistance(points[i], facets);
+      if (d > worst_distance) {
+        worst = i, worst_distance = d;
+      } else if (d > 0) {
+        near.push_back(i);
+      }
+    }
+    if (worst == points.size()) {
+      for (size_t i : near) {
+        const double d = OutsideDistance(points[i], facets);
+        if (d > worst_distance) worst = i, worst_distance = d;
+      }
+    }
+    if (worst == points.size()) break;
+    used[worst] = true;
+    kept.push_back(points[worst]);
+  }
+  return kept;
+}
 
 std::vector<Eigen::Vector3d> ExactHull(const TriangleMesh& mesh, const Eigen::Vector3d& centre) {
   std::vector<double> coords;
@@ -67,30 +222,12 @@ std::vector<Eigen::Vector3d> ExactHull(const TriangleMesh& mesh, const Eigen::Ve
 
 std::vector<Eigen::Vector3d> FarthestPoints(const std::vector<Eigen::Vector3d>& points, int count) {
   if (points.size() <= static_cast<size_t>(count)) return points;
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const auto& p : points) mean += p;
-  mean /= static_cast<double>(points.size());
-  std::vector<double> nearest(points.size(), std::numeric_limits<double>::infinity());
   std::vector<Eigen::Vector3d> kept;
-  kept.reserve(static_cast<size_t>(count));
-  size_t next = 0;
-  double best = -1;
-  for (size_t i = 0; i < points.size(); ++i) {
-    const double d = (points[i] - mean).squaredNorm();
-    if (d > best) best = d, next = i;
-  }
-  while (kept.size() < static_cast<size_t>(count)) {
-    kept.push_back(points[next]);
-    best = -1;
-    for (size_t i = 0; i < points.size(); ++i) {
-      nearest[i] = std::min(nearest[i], (points[i] - kept.back()).squaredNorm());
-      if (nearest[i] > best) best = nearest[i], next = i;
-    }
-  }
+  for (size_t i : FarthestIndices(points, static_cast<size_t>(count))) kept.push_back(points[i]);
   return kept;
 }
 
-PartGeometry MakePartGeometry(const PartType& part, int max_hull_vertices) {
+PartGeometry MakePartGeometry(const PartType& part, double hull_tolerance_m) {
   PartGeometry out;
   const VolumeAndCentre enclosed = EnclosedVolume(part.mesh);
   double box_volume = 0.0;
@@ -100,15 +237,15 @@ PartGeometry MakePartGeometry(const PartType& part, int max_hull_vertices) {
   out.centre = closed ? enclosed.centre : box_centre;
   const double volume = closed ? enclosed.volume : box_volume;
   out.mass_kg = part.mass_kg.value_or(part.density_kg_per_m3 * volume);
-  out.hull = FarthestPoints(ExactHull(part.mesh, out.centre), max_hull_vertices);
+  out.hull = SimplifiedHull(ExactHull(part.mesh, out.centre), hull_tolerance_m);
   for (const auto& p : out.hull) out.radius = std::max(out.radius, p.norm());
   if (part.collision == PartCollision::kConvexDecomposition) {
-    out.pieces = ConvexPieces(part.mesh, out.centre, max_hull_vertices);
+    out.pieces = ConvexPieces(part.mesh, out.centre, hull_tolerance_m);
   }
   return out;
 }
 
-std::vector<PartGeometry> MakePartGeometries(const std::vector<PartType>& parts, int max_hull_vertices) {
+std::vector<PartGeometry> MakePartGeometries(const std::vector<PartType>& parts, double hull_tolerance_m) {
   std::vector<PartGeometry> out;
   out.reserve(parts.size());
   for (size_t i = 0; i < parts.size(); ++i) {
@@ -121,7 +258,7 @@ std::vector<PartGeometry> MakePartGeometries(const std::vector<PartType>& parts,
     while (same < i && !same_mesh(same)) ++same;
     const bool reuse = parts[i].collision == PartCollision::kConvexDecomposition && same < i;
     if (reuse) hull_only.collision = PartCollision::kConvexHull;
-    out.push_back(MakePartGeometry(reuse ? hull_only : parts[i], max_hull_vertices));
+    out.push_back(MakePartGeometry(reuse ? hull_only : parts[i], hull_tolerance_m));
     if (reuse) out.back().pieces = out[same].pieces;  // same mesh, same centre: the same pieces
   }
   return out;

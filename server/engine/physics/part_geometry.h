@@ -22,10 +22,11 @@ struct PartGeometry {
 
 // The body frame is the part frame moved to the centre of mass: world_from_part =
 // world_from_body * Translation(-centre).
-PartGeometry MakePartGeometry(const PartType& part, int max_hull_vertices);
+// Hulls and pieces are simplified within hull_tolerance_m (SimplifiedHull).
+PartGeometry MakePartGeometry(const PartType& part, double hull_tolerance_m);
 
 // The geometry of every part type; a convex decomposition is computed once per distinct mesh.
-std::vector<PartGeometry> MakePartGeometries(const std::vector<PartType>& parts, int max_hull_vertices);
+std::vector<PartGeometry> MakePartGeometries(const std::vector<PartType>& parts, double hull_tolerance_m);
 
 // The hull's vertices (exact, before reduction), relative to `centre`.
 std::vector<Eigen::Vector3d> ExactHull(const TriangleMesh& mesh, const Eigen::Vector3d& centre);
@@ -33,5 +34,20 @@ std::vector<Eigen::Vector3d> ExactHull(const TriangleMesh& mesh, const Eigen::Ve
 // At most `count` of the points: the first farthest from their mean, then each the farthest from
 // those kept (deterministic).
 std::vector<Eigen::Vector3d> FarthestPoints(const std::vector<Eigen::Vector3d>& points, int count);
+
+// A subset of the points whose hull holds every point within `tolerance` (Euclidean distance to
+// that hull): from four farthest points, the point farthest outside is added until none lies
+// farther than the tolerance. All the points when they need all. Deterministic.
+std::vector<Eigen::Vector3d> SimplifiedHull(const std::vector<Eigen::Vector3d>& points, double tolerance);
+
+// The volume of the points' convex hull (0 when flat), and the volume a closed mesh encloses.
+double HullVolume(const std::vector<Eigen::Vector3d>& points);
+double MeshVolume(const TriangleMesh& mesh);
+
+// The vertices of the points' convex hull (all of them when flat).
+std::vector<Eigen::Vector3d> HullVertices(const std::vector<Eigen::Vector3d>& points);
+
+// How far the point lies outside the hull of `hull` (0 inside); the hull must span a volume.
+double DistanceOutsideHull(const Eigen::Vector3d& point, const std::vector<Eigen::Vector3d>& hull);
 
 }  // namespace vscan::physics

@@ -59,7 +59,7 @@ double OutsideBy(const Eigen::Vector3d& p, const std::vector<Eigen::Vector3d>& p
 TEST(ConvexDecomposition, AnLShapeSplitsIntoPiecesThatLeaveItsNotchOpen) {
   const TriangleMesh mesh = LPrism();
   const Eigen::Vector3d centre(0.01, 0.01, 0.005);
-  const auto pieces = ConvexPieces(mesh, centre, 24);
+  const auto pieces = ConvexPieces(mesh, centre, 0.00005);
   ASSERT_GE(pieces.size(), 2u);
   const auto hull = ExactHull(mesh, centre);
   // The middle of the notch is inside the hull but more than 2 mm outside every piece.
@@ -82,7 +82,7 @@ TEST(ConvexDecomposition, PartsOfOneMeshShareTheirPieces) {
   part.collision = PartCollision::kConvexDecomposition;
   PartType hull_part = part;
   hull_part.collision = PartCollision::kConvexHull;
-  const auto geometry = MakePartGeometries({part, hull_part, part}, 24);
+  const auto geometry = MakePartGeometries({part, hull_part, part}, 0.00005);
   ASSERT_EQ(geometry.size(), 3u);
   EXPECT_GE(geometry[0].pieces.size(), 2u);
   EXPECT_TRUE(geometry[1].pieces.empty());

@@ -141,6 +141,14 @@ TEST(BinFill, SettledPartsBecomeTheScenesObjectsInOneRevision) {
   RunBinFill(world.context(), recorder, "job_test", *plan, control);
   ASSERT_EQ(recorder.end_state, store::JobState::kSucceeded) << recorder.end_message;
   EXPECT_NE(recorder.bin_json.find("\"applied\":true"), std::string::npos);
+  // The settled meshes' overlaps, as measured on the parts, within the fill's 0.5 mm bound.
+  for (const std::string key : {"\"max_part_part_m\":", "\"max_part_bin_m\":"}) {
+    const size_t at = recorder.bin_json.find("\"mesh_overlap\":{");
+    ASSERT_NE(at, std::string::npos);
+    const size_t value = recorder.bin_json.find(key, at);
+    ASSERT_NE(value, std::string::npos) << key;
+    EXPECT_LE(std::stod(recorder.bin_json.substr(value + key.size())), 0.0005) << key;
+  }
   EXPECT_GE(recorder.messages.size(), 2u);  // the intent and at least one second of progress
 
   // The same plan simulated again gives the same bits: the poses the job placed.
