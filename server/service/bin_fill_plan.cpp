@@ -106,7 +106,11 @@ StatusOr<BinFillPlan> PlanBinFill(ServiceContext& context, BinFillRequest reques
     return plan;
   }
   RETURN_IF_ERROR(physics::CheckFillInput(request.bin, plan.parts, request.options));
-  plan.geometry = physics::MakePartGeometries(plan.parts, request.options.hull_tolerance_m);
+  // Hulls only: a convex decomposition (seconds of HACD on a large mesh) is made on the job's own
+  // thread when the fill starts, never on the threads that answer calls.
+  std::vector<physics::PartType> hulls = plan.parts;
+  for (physics::PartType& part : hulls) part.collision = physics::PartCollision::kConvexHull;
+  plan.geometry = physics::MakePartGeometries(hulls, request.options.hull_tolerance_m);
   for (size_t i = 0; i < plan.parts.size(); ++i) {
     if (!(plan.geometry[i].mass_kg > 0)) {
       return InvalidArgument(PartField(i, "mass_kg"), "the mesh encloses no volume: give a mass");

@@ -43,7 +43,8 @@ struct BinFillPlan {
   // parts[i]: the mesh scaled into the part's frame, named and counted as asked.
   std::vector<physics::PartType> parts;
   std::vector<store::MeshRecord> meshes;
-  // What the physics needs of each part (centre of mass, mass, reduced hull), made once here.
+  // What the physics needs of each part (centre of mass, mass, simplified hull), made once here;
+  // convex decompositions are made when the fill runs (SimulateBinFill).
   std::vector<physics::PartGeometry> geometry;
   size_t parts_total() const;
 };

@@ -15,7 +15,7 @@ import grpc
 import numpy as np
 
 from harness import DATA, SOURCE_DIR, VSCAN, Server, icosphere_ply
-from vscan import Client, VscanError
+from vscan import Client, VscanError, bin_part
 from vscan.v1 import cloud_pb2, cloud_pb2_grpc, job_pb2
 
 C = grpc.StatusCode
@@ -180,6 +180,22 @@ class FusionMemory(LimitTest):
                                      reconstruction_voxel_size=0.002)
             self.assertEqual(client.wait_job(job.job_id, timeout=120).state, job_pb2.JOB_STATE_SUCCEEDED)
         self.assertLess(status_mib(server.process.pid, "VmHWM"), 1024)
+
+
+class DecompositionOffTheCallThreads(LimitTest):
+    def test_validating_a_decomposed_part_does_not_decompose_it(self):
+        server = self.start()
+        with Client(server.address) as client:
+            mesh = client.upload_mesh(os.path.join(DATA, "meshes", "bunny", "bunny_zipper_res2.ply"), unit="m")
+            scene_id = client.create_scene("decomposed").scene_id
+            start = time.time()
+            client.validate_bin_fill(scene_id, (0.3, 0.3, 0.2),
+                                     [bin_part(mesh.mesh_id, 2, scale=0.5, collision="convex_decomposition")])
+            # The thousands of triangles HACD would take seconds over wait for the fill's own thread.
+            self.assertLess(time.time() - start, 3.0)
+            start = time.time()
+            client.create_scene("beside")
+            self.assertLess(time.time() - start, 1.0)
 
 
 class RequestMemory(LimitTest):
