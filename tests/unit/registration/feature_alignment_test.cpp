@@ -319,8 +319,9 @@ struct BracketViews {
   testing::MachinedPart part = testing::MakeMachinedPart(0);
   Pose3 world_from_a = testing::ViewOfPart(-70.0, 35.0, 0.35);
   Pose3 world_from_b = testing::ViewOfPart(-40.0, 35.0, 0.35);
-  std::vector<Eigen::Vector3f> a = testing::ScanPart(part, world_from_a, 0.0002, 1);
-  std::vector<Eigen::Vector3f> b = testing::ScanPart(part, world_from_b, 0.0002, 2);
+  testing::PartCamera camera{.width = 320, .height = 240, .fov_deg = 60.0};
+  std::vector<Eigen::Vector3f> a = testing::ScanPart(part, world_from_a, 0.0002, 1, camera);
+  std::vector<Eigen::Vector3f> b = testing::ScanPart(part, world_from_b, 0.0002, 2, camera);
 };
 
 TEST(NormalOrientationTest, SensorOrientedNormalsFaceTheSensor) {

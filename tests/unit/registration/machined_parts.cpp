@@ -95,11 +95,11 @@ Pose3 ViewOfPart(double azimuth_deg, double elevation_deg, double distance) {
 }
 
 std::vector<Eigen::Vector3f> ScanPart(const MachinedPart& part, const Pose3& world_from_sensor, double noise_sigma,
-                                      uint32_t seed) {
+                                      uint32_t seed, const PartCamera& view) {
   raycast::ScanOptions options;
   options.fields = kFieldPosition;
   options.frame = raycast::ScanFrame::kSensor;
-  const auto camera = sensor::CameraFromFov(320, 240, 60.0, 0.05, 2.0);
+  const auto camera = sensor::CameraFromFov(view.width, view.height, view.fov_deg, 0.05, 2.0);
   std::vector<Eigen::Vector3f> points = raycast::Scan(*part.scene, camera, world_from_sensor, options).value().positions;
   std::mt19937 rng(seed);
   std::normal_distribution<float> noise(0.0f, static_cast<float>(noise_sigma));

@@ -30,9 +30,13 @@ constexpr int kMachinedParts = 3;
 // the xy plane) in degrees, looking at the origin.
 Pose3 ViewOfPart(double azimuth_deg, double elevation_deg, double distance);
 
-// A 320 x 240 depth scan (60 degrees across) in the sensor frame, with Gaussian noise of noise_sigma
-// (metres) on each coordinate.
+// A width x height depth scan (fov_deg across) in the sensor frame, with Gaussian noise of
+// noise_sigma (metres) on each coordinate.
+struct PartCamera {
+  uint32_t width = 640, height = 480;
+  double fov_deg = 45.0;
+};
 std::vector<Eigen::Vector3f> ScanPart(const MachinedPart& part, const Pose3& world_from_sensor, double noise_sigma,
-                                      uint32_t seed);
+                                      uint32_t seed, const PartCamera& camera = {});
 
 }  // namespace vscan::registration::testing
