@@ -26,6 +26,8 @@ constexpr double kIcpReachInInlierDistances = 2.0;
 // The fitness counts source points within this many voxels of the target.
 constexpr double kFitnessVoxels = 2.0;
 constexpr int kMaxRansacIterations = 10'000'000;
+// The last ICP runs on clouds thinned to the voxel over this.
+constexpr double kFineVoxelDivisor = 2.0;
 
 Status Validate(const FeatureAlignmentOptions& o) {
   const auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
@@ -220,6 +222,22 @@ StatusOr<FeatureAlignmentResult> AlignByFeatures(std::span<const Eigen::Vector3f
   }
   result.found = true;
   result.target_from_source = refined.target_from_source;
+  // The pose is right; the last ICP on clouds thinned to half a voxel takes out most of what the
+  // coarse voxels' centroids leave (they shift where a voxel is cut by an edge, differently per view).
+  // ICP ignores the normals' signs, so the fine normals are turned towards any point (no spanning tree).
+  FeatureCloudOptions fine{.voxel = voxel / kFineVoxelDivisor,
+                           .normal_radius = options.normal_radius_voxels * voxel,
+                           .keypoint_spacing = options.keypoint_spacing_voxels * voxel,
+                           .viewpoint = Eigen::Vector3f::Zero(),
+                           .cancel = cancel};
+  ASSIGN_OR_RETURN(const FeatureCloud fine_from, PrepareFeatureCloud(source, fine));
+  ASSIGN_OR_RETURN(const FeatureCloud fine_to, PrepareFeatureCloud(target, fine));
+  IcpOptions fine_icp;
+  fine_icp.max_correspondence_distance = voxel;
+  ASSIGN_OR_RETURN(const IcpResult polished, PointToPlaneIcp(fine_from.points, fine_to.points, fine_to.normals,
+                                                             refined.target_from_source, fine_icp, fine_from.normals));
+  if (IsCancelled(cancel)) return Cancelled("features: cancelled");
+  if (polished.converged) result.target_from_source = polished.target_from_source;
   return result;
 }
 
