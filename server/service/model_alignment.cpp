@@ -149,6 +149,7 @@ class ModelAligner::Impl {
         registration::FeatureAlignmentOptions features;
         features.voxel_size = 2 * options_.voxel_size;
         features.min_fitness = settings_.min_fitness;
+        features.source_viewpoint = scan.sensor_origin;
         const std::vector<Eigen::Vector3f> target = aligner_->UnionPoints();
         ASSIGN_OR_RETURN(const registration::FeatureAlignmentResult match,
                          registration::AlignByFeatures(scan.points, target, features, cancel_));

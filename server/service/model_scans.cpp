@@ -46,6 +46,7 @@ ModelScan ModelScanFromPoints(const ModelPlan& plan, const ModelCloud& cloud, si
   const Pose3 sensor_from_points = record.frame == store::CloudFrame::kWorld && world_from_sensor
                                        ? world_from_sensor->inverse()
                                        : Pose3::Identity();
+  if (record.frame != store::CloudFrame::kWorld || world_from_sensor) scan.sensor_origin = Eigen::Vector3f::Zero();
   const Pose3 world_from_points = record.frame == store::CloudFrame::kWorld ? Pose3::Identity()
                                                                             : world_from_sensor.value_or(Pose3::Identity());
 

@@ -29,6 +29,9 @@ struct ModelScan {
   // The pixel of each point, when the cloud has them.
   std::vector<uint32_t> pixels;
   std::optional<sensor::PinholeCamera> camera;
+  // Where the sensor stood in the points' frame, when known (the origin of a sensor-frame cloud, or
+  // of a world-frame cloud with a sensor pose, which is brought into its sensor frame).
+  std::optional<Eigen::Vector3f> sensor_origin;
   // The initial pose is unknown: alignment finds it from features.
   bool features = false;
   Pose3 initial_model_from_sensor = Pose3::Identity();

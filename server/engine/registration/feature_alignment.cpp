@@ -26,6 +26,8 @@ constexpr double kIcpReachInInlierDistances = 2.0;
 // The fitness counts source points within this many voxels of the target.
 constexpr double kFitnessVoxels = 2.0;
 constexpr int kMaxRansacIterations = 10'000'000;
+// The last ICP runs on clouds thinned to the voxel over this.
+constexpr double kFineVoxelDivisor = 2.0;
 
 Status Validate(const FeatureAlignmentOptions& o) {
   const auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
@@ -101,23 +103,13 @@ double Fitness(std::span<const Eigen::Vector3f> source, const spatial::KdTree& t
 // The positions of the mutually nearest keypoints by SHOT descriptor, pair by pair.
 struct MatchedKeypoints {
   std::vector<Eigen::Vector3f> source, target;
-  size_t keypoints_source = 0;  // with a descriptor
-  size_t keypoints_target = 0;
 };
 
-StatusOr<MatchedKeypoints> DescribeAndMatch(const FeatureCloud& from, const FeatureCloud& to,
-                                            const FeatureAlignmentOptions& options, const std::atomic<bool>* cancel) {
-  const double radius = options.descriptor_radius_voxels * options.voxel_size;
-  ASSIGN_OR_RETURN(const ShotDescriptors from_shot,
-                   DescribeWithShot(from.points, from.normals, from.keypoints, radius, cancel));
-  ASSIGN_OR_RETURN(const ShotDescriptors to_shot,
-                   DescribeWithShot(to.points, to.normals, to.keypoints, radius, cancel));
-  MatchedKeypoints matched;
-  matched.keypoints_source = from_shot.points.size();
-  matched.keypoints_target = to_shot.points.size();
-  if (matched.keypoints_source < options.min_inliers || matched.keypoints_target < options.min_inliers) return matched;
+StatusOr<MatchedKeypoints> Match(const FeatureCloud& from, const ShotDescriptors& from_shot, const FeatureCloud& to,
+                                 const ShotDescriptors& to_shot, const std::atomic<bool>* cancel) {
   ASSIGN_OR_RETURN(const std::vector<DescriptorMatch> matches,
                    MatchMutualNearest(from_shot.values, to_shot.values, cancel));
+  MatchedKeypoints matched;
   matched.source.reserve(matches.size());
   matched.target.reserve(matches.size());
   for (const DescriptorMatch& m : matches) {
@@ -126,6 +118,12 @@ StatusOr<MatchedKeypoints> DescribeAndMatch(const FeatureCloud& from, const Feat
   }
   return matched;
 }
+
+// One sign of the source's normals: its matches and their consensus.
+struct SignedConsensus {
+  size_t matches = 0;
+  Consensus consensus;
+};
 
 }  // namespace
 
@@ -138,13 +136,15 @@ StatusOr<FeatureAlignmentResult> AlignByFeatures(std::span<const Eigen::Vector3f
   const double inlier_distance = options.inlier_distance_voxels * voxel;
   FeatureAlignmentResult result;
 
-  const FeatureCloudOptions prepare{.voxel = voxel,
-                                    .normal_radius = options.normal_radius_voxels * voxel,
-                                    .keypoint_spacing = options.keypoint_spacing_voxels * voxel,
-                                    .cancel = cancel};
-  ASSIGN_OR_RETURN(const FeatureCloud from, PrepareFeatureCloud(source, prepare));
+  FeatureCloudOptions prepare{.voxel = voxel,
+                              .normal_radius = options.normal_radius_voxels * voxel,
+                              .keypoint_spacing = options.keypoint_spacing_voxels * voxel,
+                              .viewpoint = options.source_viewpoint,
+                              .cancel = cancel};
+  ASSIGN_OR_RETURN(FeatureCloud from, PrepareFeatureCloud(source, prepare));
+  prepare.viewpoint = options.target_viewpoint;
   ASSIGN_OR_RETURN(const FeatureCloud to, PrepareFeatureCloud(target, prepare));
-  for (const auto& [cloud, name] : {std::pair{&from, "source"}, std::pair{&to, "target"}}) {
+  for (const auto& [cloud, name] : {std::pair{static_cast<const FeatureCloud*>(&from), "source"}, std::pair{&to, "target"}}) {
     if (cloud->points.size() < kMinPoints) {
       return NotAligned(result, std::string("too few points: the ") + name + " has " +
                                     std::to_string(cloud->points.size()) + " with normals after thinning to " +
@@ -153,28 +153,53 @@ StatusOr<FeatureAlignmentResult> AlignByFeatures(std::span<const Eigen::Vector3f
     }
   }
 
-  ASSIGN_OR_RETURN(const MatchedKeypoints matched, DescribeAndMatch(from, to, options, cancel));
-  result.keypoints_source = matched.keypoints_source;
-  result.keypoints_target = matched.keypoints_target;
-  result.matches = matched.source.size();
+  const double radius = options.descriptor_radius_voxels * voxel;
+  ASSIGN_OR_RETURN(const ShotDescriptors to_shot, DescribeWithShot(to.points, to.normals, to.keypoints, radius, cancel));
+  ASSIGN_OR_RETURN(ShotDescriptors from_shot,
+                   DescribeWithShot(from.points, from.normals, from.keypoints, radius, cancel));
+  result.keypoints_source = from_shot.points.size();
+  result.keypoints_target = to_shot.points.size();
   if (result.keypoints_source < options.min_inliers || result.keypoints_target < options.min_inliers) {
     return NotAligned(result, "too few keypoints: " + std::to_string(result.keypoints_source) + " in the source and " +
                                   std::to_string(result.keypoints_target) + " in the target, min_inliers is " +
                                   std::to_string(options.min_inliers));
   }
-  if (result.matches < options.min_inliers) {
-    return NotAligned(result, "too few matches: " + std::to_string(result.matches) +
-                                  " mutual nearest descriptors, min_inliers is " + std::to_string(options.min_inliers));
-  }
   const ConsensusOptions consensus_options{.iterations = options.ransac_iterations,
                                            .inlier_distance = inlier_distance,
                                            .seed = options.seed,
                                            .cancel = cancel};
-  ASSIGN_OR_RETURN(const Consensus consensus, FindMatchConsensus(matched.source, matched.target, consensus_options));
-  result.inliers = consensus.inliers;
+  const auto seek = [&](const FeatureCloud& source_cloud,
+                        const ShotDescriptors& source_shot) -> StatusOr<SignedConsensus> {
+    ASSIGN_OR_RETURN(const MatchedKeypoints matched, Match(source_cloud, source_shot, to, to_shot, cancel));
+    SignedConsensus found{.matches = matched.source.size(), .consensus = {}};
+    if (found.matches < options.min_inliers) return found;
+    ASSIGN_OR_RETURN(found.consensus, FindMatchConsensus(matched.source, matched.target, consensus_options));
+    return found;
+  };
+  ASSIGN_OR_RETURN(SignedConsensus best, seek(from, from_shot));
+  const bool signs_known = options.source_viewpoint.has_value() && options.target_viewpoint.has_value();
+  if (!signs_known) {
+    for (Eigen::Vector3f& n : from.normals) n = -n;
+    ASSIGN_OR_RETURN(from_shot, DescribeWithShot(from.points, from.normals, from.keypoints, radius, cancel));
+    ASSIGN_OR_RETURN(const SignedConsensus other, seek(from, from_shot));
+    if (other.consensus.inliers > best.consensus.inliers) {
+      best = other;
+      result.flipped_normals = true;
+    } else {
+      for (Eigen::Vector3f& n : from.normals) n = -n;
+    }
+  }
+  result.matches = best.matches;
+  result.inliers = best.consensus.inliers;
+  const Consensus& consensus = best.consensus;
+  if (result.matches < options.min_inliers) {
+    return NotAligned(result, "too few matches: " + std::to_string(result.matches) +
+                                  " mutual nearest descriptors, min_inliers is " + std::to_string(options.min_inliers));
+  }
   if (result.inliers < options.min_inliers) {
     return NotAligned(result, "no consensus: the best of " + std::to_string(options.ransac_iterations) +
-                                  " hypotheses has " + std::to_string(result.inliers) + " inliers among " +
+                                  " hypotheses" + (signs_known ? "" : " (for either sign of the source's normals)") +
+                                  " has " + std::to_string(result.inliers) + " inliers among " +
                                   std::to_string(result.matches) + " matches, min_inliers is " +
                                   std::to_string(options.min_inliers));
   }
@@ -197,6 +222,22 @@ StatusOr<FeatureAlignmentResult> AlignByFeatures(std::span<const Eigen::Vector3f
   }
   result.found = true;
   result.target_from_source = refined.target_from_source;
+  // The pose is right; the last ICP on clouds thinned to half a voxel takes out most of what the
+  // coarse voxels' centroids leave (they shift where a voxel is cut by an edge, differently per view).
+  // ICP ignores the normals' signs, so the fine normals are turned towards any point (no spanning tree).
+  FeatureCloudOptions fine{.voxel = voxel / kFineVoxelDivisor,
+                           .normal_radius = options.normal_radius_voxels * voxel,
+                           .keypoint_spacing = options.keypoint_spacing_voxels * voxel,
+                           .viewpoint = Eigen::Vector3f::Zero(),
+                           .cancel = cancel};
+  ASSIGN_OR_RETURN(const FeatureCloud fine_from, PrepareFeatureCloud(source, fine));
+  ASSIGN_OR_RETURN(const FeatureCloud fine_to, PrepareFeatureCloud(target, fine));
+  IcpOptions fine_icp;
+  fine_icp.max_correspondence_distance = voxel;
+  ASSIGN_OR_RETURN(const IcpResult polished, PointToPlaneIcp(fine_from.points, fine_to.points, fine_to.normals,
+                                                             refined.target_from_source, fine_icp, fine_from.normals));
+  if (IsCancelled(cancel)) return Cancelled("features: cancelled");
+  if (polished.converged) result.target_from_source = polished.target_from_source;
   return result;
 }
 

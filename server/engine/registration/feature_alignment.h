@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -33,6 +34,12 @@ struct FeatureAlignmentOptions {
   size_t min_inliers = 12;
   double min_fitness = 0.3;
   uint64_t seed = 1;
+  // Where the sensor stood, in each cloud's own frame, when known (a scan in its sensor frame: the
+  // origin). Normals then face it, which gives both clouds the same sign where they overlap.
+  // Otherwise the sign is the shape's call and can differ between two views of one surface, so
+  // the consensus is sought with the source's normals as they are and flipped, and the better kept.
+  std::optional<Eigen::Vector3f> source_viewpoint;
+  std::optional<Eigen::Vector3f> target_viewpoint;
 };
 
 struct FeatureAlignmentResult {
@@ -44,6 +51,8 @@ struct FeatureAlignmentResult {
   size_t matches = 0;
   size_t inliers = 0;
   double fitness = 0;  // after ICP
+  // The source's normals were flipped against the target's to reach the consensus.
+  bool flipped_normals = false;
 };
 
 // InvalidArgument names "features.<option>" for an option out of range; Cancelled when cancel

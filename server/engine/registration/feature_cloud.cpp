@@ -101,7 +101,8 @@ StatusOr<FeatureCloud> PrepareFeatureCloud(std::span<const Eigen::Vector3f> poin
   normal_options.k =
       static_cast<int>(std::clamp(std::ceil(std::numbers::pi * radius_in_voxels * radius_in_voxels), 8.0, 256.0));
   normal_options.max_distance = static_cast<float>(options.normal_radius);
-  normal_options.orient_towards_viewpoint = false;
+  normal_options.orient_towards_viewpoint = options.viewpoint.has_value();
+  if (options.viewpoint) normal_options.viewpoint = *options.viewpoint;
   normal_options.cancel = options.cancel;
   ASSIGN_OR_RETURN(const std::vector<Eigen::Vector3f> normals, normals::EstimateNormals(thinned, normal_options));
 
@@ -113,8 +114,10 @@ StatusOr<FeatureCloud> PrepareFeatureCloud(std::span<const Eigen::Vector3f> poin
     cloud.points.push_back(thinned[i]);
     cloud.normals.push_back(normals[i]);
   }
-  OrientNormalsConsistently(cloud.points, cloud.normals, kOrientationNeighbours,
-                            static_cast<float>(options.normal_radius));
+  if (!options.viewpoint) {
+    OrientNormalsConsistently(cloud.points, cloud.normals, kOrientationNeighbours,
+                              static_cast<float>(options.normal_radius));
+  }
   if (IsCancelled(options.cancel)) return Cancelled("features: cancelled");
   cloud.keypoints = SpreadKeypoints(cloud.points, options.keypoint_spacing);
   return cloud;

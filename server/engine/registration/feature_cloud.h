@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
@@ -15,7 +16,9 @@ namespace vscan::registration {
 
 struct FeatureCloud {
   std::vector<Eigen::Vector3f> points;
-  // Unit length, one per point, facing the same side of the surface along each connected part.
+  // Unit length, one per point: towards the viewpoint when it is known, otherwise facing the same
+  // side of the surface along each connected part (which side is the shape's call, see
+  // OrientNormalsConsistently, and may differ between two views of one surface).
   std::vector<Eigen::Vector3f> normals;
   // Indices into points.
   std::vector<uint32_t> keypoints;
@@ -31,11 +34,14 @@ struct FeatureCloudOptions {
   double voxel = 0.003;
   double normal_radius = 0.009;
   double keypoint_spacing = 0.006;
+  // Where the sensor stood, in the cloud's frame, when known: each normal is turned to face it.
+  std::optional<Eigen::Vector3f> viewpoint;
   const std::atomic<bool>* cancel = nullptr;
 };
 
 // Thins, estimates normals from the neighbours within normal_radius (points with too few of them
-// are dropped), orients them and spreads the keypoints. Cancelled when cancel becomes true.
+// are dropped), orients them (towards the viewpoint, or consistently without one) and spreads the
+// keypoints. Cancelled when cancel becomes true.
 StatusOr<FeatureCloud> PrepareFeatureCloud(std::span<const Eigen::Vector3f> points, const FeatureCloudOptions& options);
 
 }  // namespace vscan::registration

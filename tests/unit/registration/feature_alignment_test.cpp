@@ -14,6 +14,7 @@
 #include <tbb/task_arena.h>
 
 #include "icp_test_util.h"
+#include "machined_parts.h"
 #include "reference_pair.h"
 #include "registration/descriptor_matching.h"
 #include "registration/feature_cloud.h"
@@ -300,6 +301,68 @@ TEST(NormalOrientationTest, ExactNormalsWithRandomSignsBecomeOutward) {
   size_t outward = 0;
   for (size_t i = 0; i < points.size(); ++i) outward += sphere_normals[i].dot(sphere_truth[i]) > 0.0f ? 1 : 0;
   EXPECT_EQ(outward, points.size());
+}
+
+// The share of a view's prepared normals that face its sensor (at the origin of the sensor frame).
+double ShareFacingSensor(const FeatureCloud& prepared, const Eigen::Vector3f& sensor) {
+  size_t facing = 0;
+  for (size_t i = 0; i < prepared.points.size(); ++i) {
+    facing += prepared.normals[i].dot(sensor - prepared.points[i]) > 0.0f ? 1 : 0;
+  }
+  return static_cast<double>(facing) / static_cast<double>(prepared.points.size());
+}
+
+// Two views of the bracket 30 degrees apart whose normals, oriented by shape alone, come out on
+// opposite sides of the surface: one view is mostly the concave corner of plate and riser, the
+// other mostly convex edges.
+struct BracketViews {
+  testing::MachinedPart part = testing::MakeMachinedPart(0);
+  Pose3 world_from_a = testing::ViewOfPart(-70.0, 35.0, 0.35);
+  Pose3 world_from_b = testing::ViewOfPart(-40.0, 35.0, 0.35);
+  testing::PartCamera camera{.width = 320, .height = 240, .fov_deg = 60.0};
+  std::vector<Eigen::Vector3f> a = testing::ScanPart(part, world_from_a, 0.0002, 1, camera);
+  std::vector<Eigen::Vector3f> b = testing::ScanPart(part, world_from_b, 0.0002, 2, camera);
+};
+
+TEST(NormalOrientationTest, SensorOrientedNormalsFaceTheSensor) {
+  const BracketViews views;
+  for (const Pose3& pose : {Pose3::Identity(), Motion(130.0, {0.2, -1.0, 0.5}, {0.3, 0.1, -0.2})}) {
+    const Eigen::Vector3f sensor = pose.translation().cast<float>();
+    FeatureCloudOptions options{.voxel = 0.002, .normal_radius = 0.006, .keypoint_spacing = 0.006};
+    options.viewpoint = sensor;
+    const auto prepared = PrepareFeatureCloud(MovedPoints(views.a, pose), options);
+    ASSERT_TRUE(prepared.ok());
+    ASSERT_GT(prepared->points.size(), 1000u);
+    EXPECT_EQ(ShareFacingSensor(*prepared, sensor), 1.0);
+  }
+}
+
+TEST(FeatureAlignmentTest, FlatFacedViewsWhoseShapeSignsDisagreeAlign) {
+  const BracketViews views;
+  const Pose3 truth = views.world_from_b.inverse() * views.world_from_a;  // b_from_a
+  const FeatureCloudOptions prepare{.voxel = 0.002, .normal_radius = 0.006, .keypoint_spacing = 0.006};
+  const auto a = PrepareFeatureCloud(views.a, prepare);
+  const auto b = PrepareFeatureCloud(views.b, prepare);
+  ASSERT_TRUE(a.ok() && b.ok());
+  // The case this guards: without a viewpoint the two views' signs disagree.
+  const double a_facing = ShareFacingSensor(*a, Eigen::Vector3f::Zero());
+  const double b_facing = ShareFacingSensor(*b, Eigen::Vector3f::Zero());
+  ASSERT_TRUE((a_facing > 0.9 && b_facing < 0.1) || (a_facing < 0.1 && b_facing > 0.9)) << a_facing << " " << b_facing;
+
+  FeatureAlignmentOptions options;
+  options.voxel_size = 0.002;
+  for (const bool viewpoints : {false, true}) {
+    if (viewpoints) {
+      options.source_viewpoint = Eigen::Vector3f::Zero();
+      options.target_viewpoint = Eigen::Vector3f::Zero();
+    }
+    const auto result = AlignByFeatures(views.a, views.b, options);
+    ASSERT_TRUE(result.ok()) << result.status().ToString();
+    ASSERT_TRUE(result->found) << result->reason << (viewpoints ? " (viewpoints)" : " (no viewpoints)");
+    EXPECT_LT(RotationErrorDeg(result->target_from_source, truth), 0.2) << viewpoints;
+    EXPECT_LT(TranslationErrorMm(result->target_from_source, truth), 1.0) << viewpoints;
+    EXPECT_EQ(result->flipped_normals, !viewpoints);
+  }
 }
 
 TEST(DescriptorMatchingTest, MutualNearestAgreesWithAPlainSearch) {
