@@ -40,6 +40,7 @@ uint64_t SceneNoiseSeed(const dataset::SceneKey& key) {
 struct FilledBin {
   scenes::ScanTarget target;
   std::vector<uint32_t> obj_ids;  // per part instance, from kFirstPartInstance on
+  uint64_t parts_planned = 0;
 };
 
 StatusOr<FilledBin> FillAndBuild(const DatasetBinSetup& bin, uint64_t seed, const std::atomic<bool>* cancel) {
@@ -58,6 +59,7 @@ StatusOr<FilledBin> FillAndBuild(const DatasetBinSetup& bin, uint64_t seed, cons
   auto instances = std::make_shared<std::vector<raycast::SceneInstance>>();
   instances->push_back({bin.bin_mesh, bin.spec.world_from_bin, 1.0, kBinInstance});
   FilledBin filled;
+  filled.parts_planned = asked;
   filled.target.scene.revision = 1;
   for (size_t k = 0; k < result.parts.size(); ++k) {
     const physics::PlacedPart& placed = result.parts[k];
@@ -79,7 +81,8 @@ StatusOr<FilledBin> FillAndBuild(const DatasetBinSetup& bin, uint64_t seed, cons
 dataset::ImageBox AloneBox(const ObjectTruth& truth) {
   if (truth.alone_u1 <= truth.alone_u0) return {};
   return {static_cast<int32_t>(truth.alone_u0), static_cast<int32_t>(truth.alone_v0),
-          static_cast<int32_t>(truth.alone_u1 - truth.alone_u0), static_cast<int32_t>(truth.alone_v1 - truth.alone_v0)};
+          static_cast<int32_t>(truth.alone_u1 - 1 - truth.alone_u0),
+          static_cast<int32_t>(truth.alone_v1 - 1 - truth.alone_v0)};
 }
 
 // The scan as images: each returned point's depth along the optical axis and its instance at its
@@ -114,6 +117,8 @@ StatusOr<dataset::DatasetFrame> ScanFilledBin(const FilledBin& filled, const Dat
   frame.camera = {sensor.camera.fx, sensor.camera.fy, sensor.camera.cx, sensor.camera.cy, sensor.camera.width,
                   sensor.camera.height};
   frame.world_from_camera = world_from_camera;
+  frame.parts_planned = filled.parts_planned;
+  frame.parts_placed = filled.obj_ids.size();
   FillImages(cloud, world_from_camera, frame);
   for (const ObjectTruth& truth : truths) {
     dataset::GroundTruthObject object;
@@ -122,6 +127,7 @@ StatusOr<dataset::DatasetFrame> ScanFilledBin(const FilledBin& filled, const Dat
     object.world_from_object = truth.world_from_object;
     object.visible_fraction = truth.visible_fraction;
     object.visible_pixels = truth.visible_points;
+    object.alone_pixels = truth.unoccluded_points;
     object.full_box = AloneBox(truth);
     frame.objects.push_back(object);
   }

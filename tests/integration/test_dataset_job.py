@@ -117,7 +117,7 @@ class DatasetJobTest(unittest.TestCase):
             self.assertLess(time.time(), deadline, "the job made no progress")
             time.sleep(0.02)
         self.server.kill9()
-        scenes = os.path.join(self.dataset_dir(job_id), "scenes")
+        scenes = os.path.join(self.dataset_dir(job_id), "train_pbr")
         finished = sorted(n for n in os.listdir(scenes) if not n.endswith(".partial"))
         self.assertGreaterEqual(len(finished), 3)
         self.assertLess(len(finished), 24, "the job ended before the kill; the plan is too small")
@@ -141,7 +141,7 @@ class DatasetJobTest(unittest.TestCase):
         self.assertEqual(merged.returncode, 0, merged.stderr)
 
     def finished_scenes(self, job_id):
-        scenes = os.path.join(self.dataset_dir(job_id), "scenes")
+        scenes = os.path.join(self.dataset_dir(job_id), "train_pbr")
         return sorted(n for n in os.listdir(scenes) if not n.endswith(".partial"))
 
     def test_cancelled_job_resumes_skipping_finished_scenes(self):
@@ -157,7 +157,7 @@ class DatasetJobTest(unittest.TestCase):
         self.assertEqual(cancelled.returncode, 0, cancelled.stderr)
         watched = self.vscan("--json", "dataset", "watch", job_id)
         self.assertEqual(json.loads(watched.stdout)["job"]["state"], "JOB_STATE_CANCELLED")
-        scenes = os.path.join(self.dataset_dir(job_id), "scenes")
+        scenes = os.path.join(self.dataset_dir(job_id), "train_pbr")
         self.assertEqual([n for n in os.listdir(scenes) if n.endswith(".partial")], [])
         finished = self.finished_scenes(job_id)
         self.assertGreaterEqual(len(finished), 2)

@@ -65,18 +65,24 @@ class DatasetShardsTest(unittest.TestCase):
         with open(os.path.join(self.whole, "models", "models_info.json")) as f:
             models = json.load(f)
         self.assertEqual(sorted(models), ["1", "2"])  # angle_block and the short round
+        for obj_id in (1, 2):
+            self.assertTrue(os.path.isfile(os.path.join(self.whole, "models", "obj_%06d.ply" % obj_id)))
         self.assertAlmostEqual(models["2"]["size_z"], 152.4, delta=0.5)  # 60.96 cm x 0.25, in mm
         for scene in index["scenes"]:
-            scene_dir = os.path.join(self.whole, "scenes", f"{scene['scene_id']:06d}")
+            scene_dir = os.path.join(self.whole, "train_pbr", f"{scene['scene_id']:06d}")
             with open(os.path.join(scene_dir, "scene_gt.json")) as f:
                 gt = json.load(f)["0"]
             with open(os.path.join(scene_dir, "scene_gt_info.json")) as f:
                 info = json.load(f)["0"]
             self.assertGreaterEqual(len(gt), 2, scene)
+            with open(os.path.join(scene_dir, "scene_fill.json")) as f:
+                fill = json.load(f)
+            self.assertEqual(fill["underfilled"], fill["parts_placed"] < fill["parts_planned"], scene)
             self.assertEqual(len(gt), len(info))
             seen = [entry for entry in info if entry["px_count_visib"] > 0]
             self.assertTrue(seen, scene)
             for entry in info:
+                self.assertIsInstance(entry["px_count_all"], int)
                 self.assertGreaterEqual(entry["visib_fract"], 0.0)
                 self.assertLessEqual(entry["visib_fract"], 1.0)
             for entry in gt:

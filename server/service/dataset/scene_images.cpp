@@ -67,8 +67,7 @@ std::vector<VisibleStats> VisibleStatsOf(const std::vector<uint16_t>& object_ind
   for (size_t object = 0; object < object_count; ++object) {
     const Extent& e = extents[object];
     if (e.max_x < 0) continue;
-    stats[object].box = {int32_t(e.min_x), int32_t(e.min_y), int32_t(e.max_x - e.min_x + 1),
-                         int32_t(e.max_y - e.min_y + 1)};
+    stats[object].box = {int32_t(e.min_x), int32_t(e.min_y), int32_t(e.max_x - e.min_x), int32_t(e.max_y - e.min_y)};
   }
   return stats;
 }

@@ -71,6 +71,7 @@ Status WriteSceneFiles(const DatasetPlan& plan, const SceneKey& key, const Datas
   RETURN_IF_ERROR(files.Write("scene_camera.json", SceneCameraJson(frame, plan.depth_scale_mm)));
   RETURN_IF_ERROR(files.Write("scene_gt.json", SceneGtJson(frame)));
   RETURN_IF_ERROR(files.Write("scene_gt_info.json", SceneGtInfoJson(frame, visible)));
+  RETURN_IF_ERROR(files.Write(kSceneFillFile, SceneFillJson(frame)));
   RETURN_IF_ERROR(files.WriteEncoded(std::string("depth/") + kImage + ".png", EncodeGray16Png(width, height, depth)));
   RETURN_IF_ERROR(
       files.WriteEncoded(std::string("instances/") + kImage + ".png", EncodeGray16Png(width, height, object_index)));
