@@ -200,6 +200,19 @@ class DatasetJobTest(unittest.TestCase):
             self.assertEqual(refused.exception.code, grpc.StatusCode.INVALID_ARGUMENT)
             self.assertIn("bins[0].parts[0].count", refused.exception.message)
 
+    def test_a_bin_too_small_for_its_parts_is_reported_or_fails_the_plan_that_asks(self):
+        small = plan_text(1).replace("inner_size_m: [0.20, 0.15, 0.10]", "inner_size_m: [0.07, 0.07, 0.03]")
+        small = small.replace("unit: in, count: 4", "unit: in, count: 30")
+        run = self.vscan("dataset", "run", self.write_plan("small.yaml", small), "--watch")
+        self.assertEqual(run.returncode, 0, run.stderr + self.server.log())
+        self.assertIn("scenes hold fewer parts than planned (bin full), see their scene_fill.json: 0",
+                      run.stdout + run.stderr)
+        strict = self.vscan("dataset", "run", self.write_plan("strict.yaml", small + "fail_on_underfilled_bin: true\n"),
+                            "--watch")
+        self.assertNotEqual(strict.returncode, 0, strict.stdout)
+        self.assertIn("scenes[0]: the bin took", strict.stdout + strict.stderr)
+        self.assertIn("of 30 parts and the plan sets fail_on_underfilled_bin", strict.stdout + strict.stderr)
+
     def test_bad_plans_are_refused_naming_the_key(self):
         good = plan_text(2)
         cases = [

@@ -7,6 +7,8 @@ import subprocess
 import tempfile
 import unittest
 
+import numpy as np
+
 from harness import SOURCE_DIR, VSCAND
 
 PLAN = os.path.join(SOURCE_DIR, "tests", "integration", "data", "small_dataset_plan.yaml")
@@ -22,6 +24,21 @@ def shard(plan, out, index, count):
 
 def merge(plan, out):
     return vscand("--dataset-merge", plan, "--out", out)
+
+
+# The table under the bin: in the cloud with this instance id, never in the ground truth.
+TABLE_INSTANCE = 0xFFFFFFFE
+
+
+def read_cloud(path):
+    with open(path, "rb") as f:
+        data = f.read()
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    header = data[:end].decode().splitlines()
+    count = int(next(line for line in header if line.startswith("element vertex")).split()[2])
+    kinds = {"float": "<f4", "uint": "<u4", "uchar": "u1", "double": "<f8"}
+    fields = [(line.split()[2], kinds[line.split()[1]]) for line in header if line.startswith("property")]
+    return np.frombuffer(data[end:], dtype=np.dtype(fields), count=count)
 
 
 def tree(root):
@@ -85,6 +102,16 @@ class DatasetShardsTest(unittest.TestCase):
                 self.assertIsInstance(entry["px_count_all"], int)
                 self.assertGreaterEqual(entry["visib_fract"], 0.0)
                 self.assertLessEqual(entry["visib_fract"], 1.0)
+            self.assertNotIn(TABLE_INSTANCE, [entry["instance_id"] for entry in gt])
+            with open(os.path.join(scene_dir, "scene_camera.json")) as f:
+                world_from_camera = np.array(json.load(f)["0"]["world_from_camera"]).reshape(4, 4)
+            cloud = read_cloud(os.path.join(scene_dir, "cloud", "000000.ply"))
+            table = cloud[cloud["instance"] == TABLE_INSTANCE]
+            self.assertGreater(len(table), 100, scene)
+            xyz = np.stack([table["x"], table["y"], table["z"]], axis=1).astype(np.float64)
+            in_camera = (xyz - world_from_camera[:3, 3]) @ world_from_camera[:3, :3]
+            # The table's top is the bin's outer floor: 0.6 m plus the 10 mm floor below the camera.
+            self.assertAlmostEqual(float(np.median(in_camera[:, 2])), 0.61, delta=0.01)
             for entry in gt:
                 # Parts lie in the bin, 0.6 m below the camera less the bin's depth at most.
                 self.assertGreater(entry["cam_t_m2c"][2], 480)
