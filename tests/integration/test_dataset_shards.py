@@ -82,6 +82,9 @@ class DatasetShardsTest(unittest.TestCase):
         with open(os.path.join(self.whole, "models", "models_info.json")) as f:
             models = json.load(f)
         self.assertEqual(sorted(models), ["1", "2"])  # angle_block and the short round
+        with open(os.path.join(self.whole, "camera.json")) as f:
+            camera = json.load(f)  # one sensor: BOP's single camera file
+        self.assertEqual((camera["width"], camera["height"]), (128, 106))
         for obj_id in (1, 2):
             self.assertTrue(os.path.isfile(os.path.join(self.whole, "models", "obj_%06d.ply" % obj_id)))
         self.assertAlmostEqual(models["2"]["size_z"], 152.4, delta=0.5)  # 60.96 cm x 0.25, in mm

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 namespace vscan::service::dataset {
 
@@ -21,6 +22,9 @@ inline constexpr const char* kSceneRecordFile = "scene_files.json";
 inline constexpr const char* kSceneFillFile = "scene_fill.json";
 // A scene being written lives in "<scene_id>.partial" until it is complete.
 inline constexpr const char* kPartialSuffix = ".partial";
+
+// BOP's root camera file: camera.json for a plan of one sensor, else camera_<sensor>.json per sensor.
+std::string CameraFileName(const std::vector<std::string>& sensors, size_t sensor_index);
 
 // Six digits, zero-padded: "000042".
 std::string SixDigits(uint64_t n);

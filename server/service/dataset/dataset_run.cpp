@@ -80,7 +80,13 @@ StatusOr<DatasetProgress> RunDatasetShard(const std::filesystem::path& root, con
       }
       progress.underfilled.push_back(id);
     }
-    const Status written = WriteScene(root, plan, SceneAt(plan, id), *frame);
+    const SceneKey key = SceneAt(plan, id);
+    Status written = WriteScene(root, plan, key, *frame);
+    // Every scene of a sensor has its intrinsics; the first one a shard writes publishes them.
+    if (written.ok()) {
+      written = EnsureRootFile(root, CameraFileName(plan.sensors, key.sensor_index),
+                               CameraParamsJson(*frame, plan.depth_scale_mm), "shard-" + std::to_string(run.shard_index));
+    }
     if (!written.ok()) return written.WithFieldPrefix("scenes[" + std::to_string(id) + "]");
     ++progress.written;
     ++progress.done;

@@ -70,6 +70,21 @@ std::string SceneGtJson(const DatasetFrame& frame) {
   return json.str() + "\n";
 }
 
+std::string CameraParamsJson(const DatasetFrame& frame, double depth_scale_mm) {
+  const CameraIntrinsics& k = frame.camera;
+  JsonWriter json;
+  json.Open('{');
+  json.Key("cx").Value(k.cx - 0.5);
+  json.Key("cy").Value(k.cy - 0.5);
+  json.Key("depth_scale").Value(depth_scale_mm);
+  json.Key("fx").Value(k.fx);
+  json.Key("fy").Value(k.fy);
+  json.Key("height").Value(uint64_t{k.height});
+  json.Key("width").Value(uint64_t{k.width});
+  json.Close('}');
+  return json.str() + "\n";
+}
+
 std::string SceneFillJson(const DatasetFrame& frame) {
   JsonWriter json;
   json.Open('{');

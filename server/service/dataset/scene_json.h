@@ -19,6 +19,8 @@ std::string SceneCameraJson(const DatasetFrame& frame, double depth_scale_mm);
 std::string SceneGtJson(const DatasetFrame& frame);
 // bbox_obj, bbox_visib, px_count_all, px_count_valid, px_count_visib, visib_fract per object.
 std::string SceneGtInfoJson(const DatasetFrame& frame, const std::vector<VisibleStats>& visible);
+// BOP's camera.json: cx, cy (as in cam_K), depth_scale, fx, fy, height, width.
+std::string CameraParamsJson(const DatasetFrame& frame, double depth_scale_mm);
 // parts_planned, parts_placed and underfilled (fewer placed than planned): vscan's, not BOP's.
 std::string SceneFillJson(const DatasetFrame& frame);
 // Whether a scene_fill.json's bytes say the bin was underfilled.

@@ -94,6 +94,20 @@ class BopToolkitReadsTheDatasetTest(unittest.TestCase):
         self.assertEqual(sorted(os.listdir(self.split["split_path"])),
                          ["%06d" % e["scene_id"] for e in self.scenes])
 
+    def test_camera_files_load_and_match_every_scene_of_their_sensor(self):
+        # A plan of several sensors has camera_<sensor>.json, named as dataset_params names T-LESS's.
+        os.symlink(self.root, os.path.join(self.tmp.name, "tless"))
+        sensors = sorted({e["sensor"] for e in self.scenes})
+        self.assertGreater(len(sensors), 1)
+        for sensor in sensors:
+            camera = self.dataset_params.get_camera_params(self.tmp.name, "tless", cam_type=sensor)
+            for entry in (e for e in self.scenes if e["sensor"] == sensor):
+                scene = self.inout.load_scene_camera(self.split["scene_camera_tpath"].format(scene_id=entry["scene_id"]))
+                np.testing.assert_array_equal(camera["K"], scene[0]["cam_K"])
+                self.assertEqual(camera["depth_scale"], scene[0]["depth_scale"])
+                depth = self.inout.load_depth(self.split["depth_tpath"].format(scene_id=entry["scene_id"], im_id=0))
+                self.assertEqual(camera["im_size"], (depth.shape[1], depth.shape[0]))
+
     def test_models_load_in_millimetres_and_match_models_info(self):
         info = self.inout.load_json(self.models["models_info_path"], keys_to_int=True)
         self.assertEqual(sorted(info), [1, 2])

@@ -153,6 +153,14 @@ class DatasetLayoutTest(unittest.TestCase):
             np.testing.assert_allclose(r_w2c @ (world_from_camera[:3, 3] * 1000.0) + t_w2c, 0, atol=1e-9)
             self.assertAlmostEqual(world_from_camera[2, 3] * 1000.0, CAMERA_HEIGHT_MM)
 
+    def test_one_camera_file_per_sensor_matches_its_scenes(self):
+        for entry, scene in self.scene_dirs():
+            camera = load(os.path.join(self.root, "camera_%s.json" % entry["sensor"]))
+            k = np.array(load(os.path.join(scene, "scene_camera.json"))["0"]["cam_K"]).reshape(3, 3)
+            self.assertEqual([camera["fx"], camera["fy"], camera["cx"], camera["cy"]],
+                             [k[0, 0], k[1, 1], k[0, 2], k[1, 2]])
+        self.assertFalse(os.path.exists(os.path.join(self.root, "camera.json")))
+
     def test_depth_of_the_floor_is_the_camera_height(self):
         for _, scene in self.scene_dirs():
             camera = load(os.path.join(scene, "scene_camera.json"))["0"]
