@@ -151,6 +151,7 @@ StatusOr<dataset::DatasetFrame> ScanFilledBin(const FilledBin& filled, const Dat
     object.visible_fraction = truth.visible_fraction;
     object.visible_pixels = truth.visible_points;
     object.alone_pixels = truth.unoccluded_points;
+    object.alone_mask = truth.alone_pixels;
     object.full_box = AloneBox(truth);
     frame.objects.push_back(object);
   }

@@ -106,6 +106,9 @@ class DatasetShardsTest(unittest.TestCase):
                 self.assertGreaterEqual(entry["visib_fract"], 0.0)
                 self.assertLessEqual(entry["visib_fract"], 1.0)
             self.assertNotIn(TABLE_INSTANCE, [entry["instance_id"] for entry in gt])
+            for gt_id in range(len(gt)):
+                for folder in ("mask", "mask_visib"):
+                    self.assertTrue(os.path.isfile(os.path.join(scene_dir, folder, "000000_%06d.png" % gt_id)))
             with open(os.path.join(scene_dir, "scene_camera.json")) as f:
                 world_from_camera = np.array(json.load(f)["0"]["world_from_camera"]).reshape(4, 4)
             cloud = read_cloud(os.path.join(scene_dir, "cloud", "000000.ply"))

@@ -40,6 +40,7 @@ struct GroundTruthObject {
   double visible_fraction = 0;  // visible pixels over the pixels of the part alone in the view
   uint64_t visible_pixels = 0;  // must equal its pixel count in the instance image
   uint64_t alone_pixels = 0;    // pixels of the part alone in the view (BOP's px_count_all)
+  std::vector<uint32_t> alone_mask;  // v * width + u of those pixels: BOP's mask/ (may be left empty)
   ImageBox full_box;            // the box of the part alone in the view (occlusion ignored); width 0 when outside
 };
 

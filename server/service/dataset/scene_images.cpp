@@ -80,6 +80,14 @@ std::vector<uint8_t> VisibleMask(const std::vector<uint16_t>& object_index, size
   return mask;
 }
 
+std::vector<uint8_t> AloneMask(const GroundTruthObject& object, size_t pixels) {
+  std::vector<uint8_t> mask(pixels, 0);
+  for (const uint32_t p : object.alone_mask) {
+    if (p < pixels) mask[p] = 255;
+  }
+  return mask;
+}
+
 Status CheckFrame(const DatasetFrame& frame) {
   const CameraIntrinsics& camera = frame.camera;
   if (camera.width == 0 || camera.height == 0) return InvalidArgument("camera", "has no pixels");
@@ -110,6 +118,9 @@ Status CheckFrame(const DatasetFrame& frame) {
     }
     if (!object.world_from_object.matrix().allFinite()) {
       return InvalidArgument(path + ".world_from_object", "is not finite");
+    }
+    for (const uint32_t p : object.alone_mask) {
+      if (p >= pixels) return InvalidArgument(path + ".alone_mask", "pixel " + std::to_string(p) + " is outside the image");
     }
     const auto found = counts.find(object.instance_id);
     const uint64_t seen = found == counts.end() ? 0 : found->second;

@@ -56,7 +56,7 @@ Status MakeDirectories(const std::filesystem::path& partial) {
   std::error_code ec;
   std::filesystem::remove_all(partial, ec);
   if (ec) return Internal("cannot remove " + partial.string() + ": " + ec.message());
-  for (const char* sub : {"depth", "mask_visib", "instances", "cloud"}) {
+  for (const char* sub : {"depth", "mask", "mask_visib", "instances", "cloud"}) {
     std::filesystem::create_directories(partial / sub, ec);
     if (ec) return Internal("cannot create " + (partial / sub).string() + ": " + ec.message());
   }
@@ -78,6 +78,8 @@ Status WriteSceneFiles(const DatasetPlan& plan, const SceneKey& key, const Datas
   for (size_t i = 0; i < frame.objects.size(); ++i) {
     const std::string name = std::string("mask_visib/") + kImage + "_" + SixDigits(i) + ".png";
     RETURN_IF_ERROR(files.WriteEncoded(name, EncodeGray8Png(width, height, VisibleMask(object_index, i))));
+    const std::string full = std::string("mask/") + kImage + "_" + SixDigits(i) + ".png";
+    RETURN_IF_ERROR(files.WriteEncoded(full, EncodeGray8Png(width, height, AloneMask(frame.objects[i], width * height))));
   }
   RETURN_IF_ERROR(files.WriteEncoded(std::string("cloud/") + kImage + ".ply", EncodePly(LayoutCloud(frame.cloud))));
   return files.Write(kSceneRecordFile, SceneRecordJson(plan, key, files.Sorted()));
@@ -97,7 +99,7 @@ Status WriteScene(const std::filesystem::path& root, const DatasetPlan& plan, co
   RETURN_IF_ERROR(MakeDirectories(partial));
   SceneFiles files(partial);
   RETURN_IF_ERROR(WriteSceneFiles(plan, key, frame, files));
-  for (const char* sub : {"depth", "mask_visib", "instances", "cloud"}) RETURN_IF_ERROR(SyncDirectory(partial / sub));
+  for (const char* sub : {"depth", "mask", "mask_visib", "instances", "cloud"}) RETURN_IF_ERROR(SyncDirectory(partial / sub));
   RETURN_IF_ERROR(SyncDirectory(partial));
   return RenameDurably(partial, final_dir);
 }

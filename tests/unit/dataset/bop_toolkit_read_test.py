@@ -148,6 +148,12 @@ class BopToolkitReadsTheDatasetTest(unittest.TestCase):
                     self.assertEqual(info["px_count_visib"], int(visible.sum()))
                     self.assertEqual(info["px_count_valid"], int((visible & (depth_mm > 0)).sum()))
                     self.assertGreaterEqual(info["px_count_all"], info["px_count_visib"])
+                    full = np.asarray(self.inout.load_im(p["mask_tpath"].format(
+                        scene_id=scene_id, im_id=im_id, gt_id=gt_id))) > 0
+                    self.assertEqual(info["px_count_all"], int(full.sum()))
+                    self.assertTrue(np.all(full[visible]))
+                    fys, fxs = np.nonzero(full)
+                    self.assertEqual(info["bbox_obj"], [int(v) for v in self.misc.calc_2d_bbox(fxs, fys)])
                     ys, xs = np.nonzero(visible)
                     self.assertEqual(info["bbox_visib"], [int(v) for v in self.misc.calc_2d_bbox(xs, ys)])
 

@@ -195,6 +195,12 @@ class DatasetLayoutTest(unittest.TestCase):
                 self.assertEqual(entry["bbox_visib"], box)
                 self.assertGreaterEqual(entry["px_count_all"], entry["px_count_visib"])
                 self.assertAlmostEqual(entry["visib_fract"], entry["px_count_visib"] / entry["px_count_all"])
+                full, _ = read_png(os.path.join(scene, "mask", "000000_%06d.png" % i))
+                self.assertTrue(set(np.unique(full)) <= {0, 255})
+                self.assertTrue(np.all(full[mask == 255] == 255), "the visible part lies in the full silhouette")
+                self.assertEqual(int((full == 255).sum()), entry["px_count_all"])
+                fys, fxs = np.nonzero(full)
+                self.assertEqual(entry["bbox_obj"], [fxs.min(), fys.min(), fxs.max() - fxs.min(), fys.max() - fys.min()])
                 bx, by, bw, bh = entry["bbox_obj"]
                 self.assertTrue(bx <= box[0] and by <= box[1])
                 self.assertTrue(bx + bw >= box[0] + box[2] and by + bh >= box[1] + box[3])
