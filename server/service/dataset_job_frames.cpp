@@ -20,6 +20,27 @@ namespace {
 
 constexpr uint32_t kBinInstance = 1;
 constexpr uint32_t kFirstPartInstance = 2;
+// The table the bin stands on: seen in depth, never a ground-truth object (not in the scene's objects).
+constexpr uint32_t kTableInstance = 0xFFFFFFFEu;
+constexpr double kTableThicknessM = 0.02;
+constexpr double kTableMinSideM = 2.0;
+
+// A square slab under the bin in its frame: its top touches the bin's outer floor (z = -wall), its
+// side the larger of kTableMinSideM and four times the bin's outer diagonal, so that it fills the view.
+TriangleMesh TableMesh(const physics::BinSpec& spec) {
+  const Eigen::Vector3d outer = spec.inner_size + Eigen::Vector3d::Constant(2 * spec.wall_thickness);
+  const double half = 0.5 * std::max(kTableMinSideM, 4 * outer.head<2>().norm());
+  const double top = -spec.wall_thickness, bottom = top - kTableThicknessM;
+  TriangleMesh mesh;
+  for (int i = 0; i < 8; ++i) {
+    mesh.vertices.emplace_back(float((i & 1) ? half : -half), float((i & 2) ? half : -half),
+                               float((i & 4) ? top : bottom));
+  }
+  // Two outward-facing triangles per face of the box.
+  mesh.triangles = {{0, 2, 1}, {1, 2, 3}, {4, 5, 6}, {5, 7, 6}, {0, 1, 4}, {1, 5, 4},
+                    {2, 6, 3}, {3, 6, 7}, {0, 4, 2}, {2, 4, 6}, {1, 3, 5}, {3, 7, 5}};
+  return mesh;
+}
 // Fills kept for the sensors of one (seed, bin) and the frames being captured ahead.
 constexpr size_t kFillsKept = 16;
 
@@ -40,6 +61,7 @@ uint64_t SceneNoiseSeed(const dataset::SceneKey& key) {
 struct FilledBin {
   scenes::ScanTarget target;
   std::vector<uint32_t> obj_ids;  // per part instance, from kFirstPartInstance on
+  uint64_t parts_planned = 0;
 };
 
 StatusOr<FilledBin> FillAndBuild(const DatasetBinSetup& bin, uint64_t seed, const std::atomic<bool>* cancel) {
@@ -57,7 +79,10 @@ StatusOr<FilledBin> FillAndBuild(const DatasetBinSetup& bin, uint64_t seed, cons
   for (const physics::PartType& part : bin.parts) meshes.push_back(std::make_shared<const TriangleMesh>(part.mesh));
   auto instances = std::make_shared<std::vector<raycast::SceneInstance>>();
   instances->push_back({bin.bin_mesh, bin.spec.world_from_bin, 1.0, kBinInstance});
+  instances->push_back(
+      {std::make_shared<const TriangleMesh>(TableMesh(bin.spec)), bin.spec.world_from_bin, 1.0, kTableInstance});
   FilledBin filled;
+  filled.parts_planned = asked;
   filled.target.scene.revision = 1;
   for (size_t k = 0; k < result.parts.size(); ++k) {
     const physics::PlacedPart& placed = result.parts[k];
@@ -79,7 +104,8 @@ StatusOr<FilledBin> FillAndBuild(const DatasetBinSetup& bin, uint64_t seed, cons
 dataset::ImageBox AloneBox(const ObjectTruth& truth) {
   if (truth.alone_u1 <= truth.alone_u0) return {};
   return {static_cast<int32_t>(truth.alone_u0), static_cast<int32_t>(truth.alone_v0),
-          static_cast<int32_t>(truth.alone_u1 - truth.alone_u0), static_cast<int32_t>(truth.alone_v1 - truth.alone_v0)};
+          static_cast<int32_t>(truth.alone_u1 - 1 - truth.alone_u0),
+          static_cast<int32_t>(truth.alone_v1 - 1 - truth.alone_v0)};
 }
 
 // The scan as images: each returned point's depth along the optical axis and its instance at its
@@ -114,6 +140,8 @@ StatusOr<dataset::DatasetFrame> ScanFilledBin(const FilledBin& filled, const Dat
   frame.camera = {sensor.camera.fx, sensor.camera.fy, sensor.camera.cx, sensor.camera.cy, sensor.camera.width,
                   sensor.camera.height};
   frame.world_from_camera = world_from_camera;
+  frame.parts_planned = filled.parts_planned;
+  frame.parts_placed = filled.obj_ids.size();
   FillImages(cloud, world_from_camera, frame);
   for (const ObjectTruth& truth : truths) {
     dataset::GroundTruthObject object;
@@ -122,6 +150,8 @@ StatusOr<dataset::DatasetFrame> ScanFilledBin(const FilledBin& filled, const Dat
     object.world_from_object = truth.world_from_object;
     object.visible_fraction = truth.visible_fraction;
     object.visible_pixels = truth.visible_points;
+    object.alone_pixels = truth.unoccluded_points;
+    object.alone_mask = truth.alone_pixels;
     object.full_box = AloneBox(truth);
     frame.objects.push_back(object);
   }

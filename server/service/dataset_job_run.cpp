@@ -13,6 +13,16 @@
 namespace vscan::service {
 namespace {
 
+// "; 2 scenes hold fewer parts than planned (bin full): 3, 7" or nothing.
+std::string UnderfilledNote(const dataset::DatasetProgress& progress) {
+  if (progress.underfilled.empty()) return "";
+  std::string note = "; " + std::to_string(progress.underfilled.size()) +
+                     " scenes hold fewer parts than planned (bin full), see their scene_fill.json:";
+  for (size_t i = 0; i < progress.underfilled.size() && i < 10; ++i) note += " " + std::to_string(progress.underfilled[i]);
+  if (progress.underfilled.size() > 10) note += " ...";
+  return note;
+}
+
 // Datasets up to this size also become one artifact; larger ones stay in the data directory only.
 constexpr uint64_t kMaxTarArtifactBytes = 1ull << 30;
 
@@ -100,7 +110,7 @@ class DatasetJobRun {
     if (status.ok()) {
       message = std::to_string(progress.total) + " scenes in " + job_.root.string() + " (" +
                 std::to_string(progress.written) + " written, " + std::to_string(progress.skipped) +
-                " found finished)";
+                " found finished)" + UnderfilledNote(progress);
     } else if (control_.stop_requested()) {
       state = StoppedState(control_.reason());
       message = std::string(state == store::JobState::kCancelled ? "cancelled" : "server stopped while the job ran") +

@@ -155,6 +155,11 @@ StatusOr<std::vector<ObjectTruth>> ObjectGroundTruth(const scenes::ScanTarget& t
       truth.alone_v0 = box.v0 + covered.v0;
       truth.alone_u1 = box.u0 + covered.u1;
       truth.alone_v1 = box.v0 + covered.v1;
+      truth.alone_pixels.reserve(alone_cloud.pixels.size());
+      for (const uint32_t p : alone_cloud.pixels) {
+        truth.alone_pixels.push_back((box.v0 + p / crop.width) * camera.width + box.u0 + p % crop.width);
+      }
+      std::sort(truth.alone_pixels.begin(), truth.alone_pixels.end());
     }
     out.push_back(std::move(truth));
   }

@@ -28,6 +28,8 @@ struct ObjectTruth {
   double visible_fraction = 0.0;    // visible over unoccluded (0 when unoccluded is 0)
   // The pixels [u0, u1) x [v0, v1) the object covers cast alone; all 0 when it covers none.
   uint32_t alone_u0 = 0, alone_v0 = 0, alone_u1 = 0, alone_v1 = 0;
+  // v * width + u of each pixel the object covers cast alone, ascending (its full silhouette).
+  std::vector<uint32_t> alone_pixels;
 };
 
 // The fields a scan with ground truth must carry to be counted: the asked ones plus instance ids

@@ -117,7 +117,7 @@ class DatasetJobTest(unittest.TestCase):
             self.assertLess(time.time(), deadline, "the job made no progress")
             time.sleep(0.02)
         self.server.kill9()
-        scenes = os.path.join(self.dataset_dir(job_id), "scenes")
+        scenes = os.path.join(self.dataset_dir(job_id), "train_pbr")
         finished = sorted(n for n in os.listdir(scenes) if not n.endswith(".partial"))
         self.assertGreaterEqual(len(finished), 3)
         self.assertLess(len(finished), 24, "the job ended before the kill; the plan is too small")
@@ -141,7 +141,7 @@ class DatasetJobTest(unittest.TestCase):
         self.assertEqual(merged.returncode, 0, merged.stderr)
 
     def finished_scenes(self, job_id):
-        scenes = os.path.join(self.dataset_dir(job_id), "scenes")
+        scenes = os.path.join(self.dataset_dir(job_id), "train_pbr")
         return sorted(n for n in os.listdir(scenes) if not n.endswith(".partial"))
 
     def test_cancelled_job_resumes_skipping_finished_scenes(self):
@@ -157,7 +157,7 @@ class DatasetJobTest(unittest.TestCase):
         self.assertEqual(cancelled.returncode, 0, cancelled.stderr)
         watched = self.vscan("--json", "dataset", "watch", job_id)
         self.assertEqual(cli_result(watched.stdout)["job"]["state"], "JOB_STATE_CANCELLED")
-        scenes = os.path.join(self.dataset_dir(job_id), "scenes")
+        scenes = os.path.join(self.dataset_dir(job_id), "train_pbr")
         self.assertEqual([n for n in os.listdir(scenes) if n.endswith(".partial")], [])
         finished = self.finished_scenes(job_id)
         self.assertGreaterEqual(len(finished), 2)
@@ -199,6 +199,19 @@ class DatasetJobTest(unittest.TestCase):
                 client.validate_dataset(self.write_plan("bad.yaml", plan_text(2).replace("count: 4", "count: 0")))
             self.assertEqual(refused.exception.code, grpc.StatusCode.INVALID_ARGUMENT)
             self.assertIn("bins[0].parts[0].count", refused.exception.message)
+
+    def test_a_bin_too_small_for_its_parts_is_reported_or_fails_the_plan_that_asks(self):
+        small = plan_text(1).replace("inner_size_m: [0.20, 0.15, 0.10]", "inner_size_m: [0.07, 0.07, 0.03]")
+        small = small.replace("unit: in, count: 4", "unit: in, count: 30")
+        run = self.vscan("dataset", "run", self.write_plan("small.yaml", small), "--watch")
+        self.assertEqual(run.returncode, 0, run.stderr + self.server.log())
+        self.assertIn("scenes hold fewer parts than planned (bin full), see their scene_fill.json: 0",
+                      run.stdout + run.stderr)
+        strict = self.vscan("dataset", "run", self.write_plan("strict.yaml", small + "fail_on_underfilled_bin: true\n"),
+                            "--watch")
+        self.assertNotEqual(strict.returncode, 0, strict.stdout)
+        self.assertIn("scenes[0]: the bin took", strict.stdout + strict.stderr)
+        self.assertIn("of 30 parts and the plan sets fail_on_underfilled_bin", strict.stdout + strict.stderr)
 
     def test_bad_plans_are_refused_naming_the_key(self):
         good = plan_text(2)

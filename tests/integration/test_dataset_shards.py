@@ -7,6 +7,8 @@ import subprocess
 import tempfile
 import unittest
 
+import numpy as np
+
 from harness import SOURCE_DIR, VSCAND
 
 PLAN = os.path.join(SOURCE_DIR, "tests", "integration", "data", "small_dataset_plan.yaml")
@@ -22,6 +24,21 @@ def shard(plan, out, index, count):
 
 def merge(plan, out):
     return vscand("--dataset-merge", plan, "--out", out)
+
+
+# The table under the bin: in the cloud with this instance id, never in the ground truth.
+TABLE_INSTANCE = 0xFFFFFFFE
+
+
+def read_cloud(path):
+    with open(path, "rb") as f:
+        data = f.read()
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    header = data[:end].decode().splitlines()
+    count = int(next(line for line in header if line.startswith("element vertex")).split()[2])
+    kinds = {"float": "<f4", "uint": "<u4", "uchar": "u1", "double": "<f8"}
+    fields = [(line.split()[2], kinds[line.split()[1]]) for line in header if line.startswith("property")]
+    return np.frombuffer(data[end:], dtype=np.dtype(fields), count=count)
 
 
 def tree(root):
@@ -65,20 +82,42 @@ class DatasetShardsTest(unittest.TestCase):
         with open(os.path.join(self.whole, "models", "models_info.json")) as f:
             models = json.load(f)
         self.assertEqual(sorted(models), ["1", "2"])  # angle_block and the short round
+        with open(os.path.join(self.whole, "camera.json")) as f:
+            camera = json.load(f)  # one sensor: BOP's single camera file
+        self.assertEqual((camera["width"], camera["height"]), (128, 106))
+        for obj_id in (1, 2):
+            self.assertTrue(os.path.isfile(os.path.join(self.whole, "models", "obj_%06d.ply" % obj_id)))
         self.assertAlmostEqual(models["2"]["size_z"], 152.4, delta=0.5)  # 60.96 cm x 0.25, in mm
         for scene in index["scenes"]:
-            scene_dir = os.path.join(self.whole, "scenes", f"{scene['scene_id']:06d}")
+            scene_dir = os.path.join(self.whole, "train_pbr", f"{scene['scene_id']:06d}")
             with open(os.path.join(scene_dir, "scene_gt.json")) as f:
                 gt = json.load(f)["0"]
             with open(os.path.join(scene_dir, "scene_gt_info.json")) as f:
                 info = json.load(f)["0"]
             self.assertGreaterEqual(len(gt), 2, scene)
+            with open(os.path.join(scene_dir, "scene_fill.json")) as f:
+                fill = json.load(f)
+            self.assertEqual(fill["underfilled"], fill["parts_placed"] < fill["parts_planned"], scene)
             self.assertEqual(len(gt), len(info))
             seen = [entry for entry in info if entry["px_count_visib"] > 0]
             self.assertTrue(seen, scene)
             for entry in info:
+                self.assertIsInstance(entry["px_count_all"], int)
                 self.assertGreaterEqual(entry["visib_fract"], 0.0)
                 self.assertLessEqual(entry["visib_fract"], 1.0)
+            self.assertNotIn(TABLE_INSTANCE, [entry["instance_id"] for entry in gt])
+            for gt_id in range(len(gt)):
+                for folder in ("mask", "mask_visib"):
+                    self.assertTrue(os.path.isfile(os.path.join(scene_dir, folder, "000000_%06d.png" % gt_id)))
+            with open(os.path.join(scene_dir, "scene_camera.json")) as f:
+                world_from_camera = np.array(json.load(f)["0"]["world_from_camera"]).reshape(4, 4)
+            cloud = read_cloud(os.path.join(scene_dir, "cloud", "000000.ply"))
+            table = cloud[cloud["instance"] == TABLE_INSTANCE]
+            self.assertGreater(len(table), 100, scene)
+            xyz = np.stack([table["x"], table["y"], table["z"]], axis=1).astype(np.float64)
+            in_camera = (xyz - world_from_camera[:3, 3]) @ world_from_camera[:3, :3]
+            # The table's top is the bin's outer floor: 0.6 m plus the 10 mm floor below the camera.
+            self.assertAlmostEqual(float(np.median(in_camera[:, 2])), 0.61, delta=0.01)
             for entry in gt:
                 # Parts lie in the bin, 0.6 m below the camera less the bin's depth at most.
                 self.assertGreater(entry["cam_t_m2c"][2], 480)

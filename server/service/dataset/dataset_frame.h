@@ -24,7 +24,8 @@ struct CameraIntrinsics {
   uint32_t height = 0;
 };
 
-// A pixel rectangle: left column, top row, width and height in pixels (BOP's [x, y, w, h]).
+// A pixel rectangle as BOP's calc_2d_bbox makes it: left column, top row, and width and height as
+// max - min of the covered columns and rows (a one-pixel part has width 0); [-1, -1, 0, 0] when empty.
 struct ImageBox {
   int32_t x = -1;
   int32_t y = -1;
@@ -38,6 +39,8 @@ struct GroundTruthObject {
   Pose3 world_from_object = Pose3::Identity();
   double visible_fraction = 0;  // visible pixels over the pixels of the part alone in the view
   uint64_t visible_pixels = 0;  // must equal its pixel count in the instance image
+  uint64_t alone_pixels = 0;    // pixels of the part alone in the view (BOP's px_count_all)
+  std::vector<uint32_t> alone_mask;  // v * width + u of those pixels: BOP's mask/ (may be left empty)
   ImageBox full_box;            // the box of the part alone in the view (occlusion ignored); width 0 when outside
 };
 
@@ -50,6 +53,9 @@ struct DatasetFrame {
   std::vector<uint32_t> instance_ids;
   PointCloud cloud;  // world frame; positions, and normals and instance ids when present are written
   std::vector<GroundTruthObject> objects;
+  // The bin's fill: parts it asked for and parts that settled in it (fewer when the bin was full).
+  uint64_t parts_planned = 0;
+  uint64_t parts_placed = 0;
 };
 
 // A part type for models/models_info.json.

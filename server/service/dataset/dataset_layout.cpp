@@ -10,6 +10,10 @@ std::string SixDigits(uint64_t n) {
   return buffer;
 }
 
+std::string CameraFileName(const std::vector<std::string>& sensors, size_t sensor_index) {
+  return sensors.size() == 1 ? "camera.json" : "camera_" + sensors[sensor_index] + ".json";
+}
+
 std::filesystem::path SceneDir(const std::filesystem::path& root, uint64_t scene_id) {
   return root / kScenesDir / SixDigits(scene_id);
 }

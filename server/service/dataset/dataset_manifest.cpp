@@ -48,6 +48,7 @@ void Fills(JsonWriter& json, const DatasetPlan& plan) {
   }
   json.Close(']');
   json.Key("camera_height_m").Value(plan.camera_height_m);
+  json.Key("fail_on_underfilled_bin").Value(plan.fail_on_underfilled_bin);
 }
 
 }  // namespace

@@ -11,7 +11,7 @@
 namespace vscan::service::dataset {
 
 // FailedPrecondition when dataset.json belongs to another plan, models_info.json or a scene is
-// missing (the message names up to ten missing scene ids and how many there are), or scenes/
+// missing (the message names up to ten missing scene ids and how many there are), or train_pbr/
 // holds anything else (a partial directory of an unfinished shard, an unknown name). DataLoss when
 // a scene's files differ from its record (missing, extra or changed bytes) or the record names
 // another scene of the plan.

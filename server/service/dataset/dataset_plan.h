@@ -22,6 +22,9 @@ struct DatasetPlan {
   // Empty, or one per sensor: its preset and resolution.
   std::vector<DatasetSensor> sensor_setups;
   double camera_height_m = 0.6;  // above each bin's floor, looking straight down at its centre
+  // A bin that takes fewer parts than its fill asks for: the scene is written and says so in
+  // scene_fill.json and the job's result (false), or the run fails naming the scene (true).
+  bool fail_on_underfilled_bin = false;
 };
 
 struct SceneKey {

@@ -71,11 +71,14 @@ StatusOr<std::vector<uint64_t>> Seeds(const YAML::Node& node, const std::string&
 
 StatusOr<DatasetPlan> PlanFromNode(const YAML::Node& root, const std::string& source) {
   if (!root.IsMap()) return InvalidArgument(source + ": the plan must be a mapping");
-  static const std::set<std::string> kKeys = {"name", "bins", "seeds", "sensors", "depth_scale_mm", "camera_height_m"};
+  static const std::set<std::string> kKeys = {"name",           "bins",           "seeds",
+                                              "sensors",        "depth_scale_mm", "camera_height_m",
+                                              "fail_on_underfilled_bin"};
   for (const auto& entry : root) {
     if (!kKeys.contains(entry.first.Scalar())) {
       return Refuse(source, entry.first.Scalar(),
-                    "is not a key (name, bins, seeds, sensors, depth_scale_mm, camera_height_m)");
+                    "is not a key (name, bins, seeds, sensors, depth_scale_mm, camera_height_m, "
+                    "fail_on_underfilled_bin)");
     }
   }
   for (const char* key : {"bins", "seeds", "sensors"}) {
@@ -99,6 +102,12 @@ StatusOr<DatasetPlan> PlanFromNode(const YAML::Node& root, const std::string& so
     if (!root["camera_height_m"].IsScalar() ||
         !YAML::convert<double>::decode(root["camera_height_m"], plan.camera_height_m)) {
       return Refuse(source, "camera_height_m", "must be a number");
+    }
+  }
+  if (root["fail_on_underfilled_bin"]) {
+    if (!root["fail_on_underfilled_bin"].IsScalar() ||
+        !YAML::convert<bool>::decode(root["fail_on_underfilled_bin"], plan.fail_on_underfilled_bin)) {
+      return Refuse(source, "fail_on_underfilled_bin", "must be true or false");
     }
   }
   const Status checked = CheckPlan(plan);

@@ -1,12 +1,16 @@
 #include "service/dataset/dataset_run.h"
 
+#include <algorithm>
 #include <deque>
 #include <future>
 
 #include "service/dataset/dataset_layout.h"
 #include "service/dataset/dataset_manifest.h"
 #include "service/dataset/dataset_merge.h"
+#include "service/dataset/model_ply.h"
 #include "service/dataset/models_info.h"
+#include "service/dataset/durable_file.h"
+#include "service/dataset/scene_json.h"
 #include "service/dataset/scene_writer.h"
 
 namespace vscan::service::dataset {
@@ -20,7 +24,12 @@ Status PrepareRoot(const std::filesystem::path& root, const DatasetPlan& plan, c
   const std::string writer = "shard-" + std::to_string(shard_index);
   RETURN_IF_ERROR(EnsureRootFile(root, kManifestFile, DatasetManifestJson(plan), writer));
   ASSIGN_OR_RETURN(const std::string models_info, ModelsInfoJson(parts));
-  return EnsureRootFile(root, kModelsInfoFile, models_info, writer);
+  RETURN_IF_ERROR(EnsureRootFile(root, kModelsInfoFile, models_info, writer));
+  for (const PartModel& part : parts) {
+    ASSIGN_OR_RETURN(const std::string ply, EncodeModelPly(part));
+    RETURN_IF_ERROR(EnsureRootFile(root, ModelPlyPath(part.obj_id), ply, writer));
+  }
+  return Status::Ok();
 }
 
 }  // namespace
@@ -38,6 +47,8 @@ StatusOr<DatasetProgress> RunDatasetShard(const std::filesystem::path& root, con
     std::error_code ec;
     if (std::filesystem::exists(SceneDir(root, id), ec)) {
       ++progress.skipped;
+      const StatusOr<std::string> fill = ReadWholeFile(SceneDir(root, id) / kSceneFillFile);
+      if (fill.ok() && SceneFillSaysUnderfilled(*fill)) progress.underfilled.push_back(id);
       continue;
     }
     std::filesystem::remove_all(PartialSceneDir(root, id), ec);
@@ -61,12 +72,27 @@ StatusOr<DatasetProgress> RunDatasetShard(const std::filesystem::path& root, con
     StatusOr<DatasetFrame> frame = in_flight.front().second.get();
     in_flight.pop_front();
     if (!frame.ok()) return frame.status().WithFieldPrefix("scenes[" + std::to_string(id) + "]");
-    const Status written = WriteScene(root, plan, SceneAt(plan, id), *frame);
+    if (frame->parts_placed < frame->parts_planned) {
+      if (plan.fail_on_underfilled_bin) {
+        return FailedPrecondition("scenes[" + std::to_string(id) + "]: the bin took " +
+                                  std::to_string(frame->parts_placed) + " of " + std::to_string(frame->parts_planned) +
+                                  " parts and the plan sets fail_on_underfilled_bin");
+      }
+      progress.underfilled.push_back(id);
+    }
+    const SceneKey key = SceneAt(plan, id);
+    Status written = WriteScene(root, plan, key, *frame);
+    // Every scene of a sensor has its intrinsics; the first one a shard writes publishes them.
+    if (written.ok()) {
+      written = EnsureRootFile(root, CameraFileName(plan.sensors, key.sensor_index),
+                               CameraParamsJson(*frame, plan.depth_scale_mm), "shard-" + std::to_string(run.shard_index));
+    }
     if (!written.ok()) return written.WithFieldPrefix("scenes[" + std::to_string(id) + "]");
     ++progress.written;
     ++progress.done;
     if (run.on_progress) run.on_progress(progress);
   }
+  std::sort(progress.underfilled.begin(), progress.underfilled.end());
   return progress;
 }
 

@@ -23,6 +23,8 @@ struct DatasetProgress {
   uint64_t done = 0;     // skipped + written
   uint64_t skipped = 0;  // found complete when the run started
   uint64_t written = 0;  // written by this run
+  // Scenes whose bin took fewer parts than planned (found or written), ids ascending.
+  std::vector<uint64_t> underfilled;
 };
 
 struct ShardRun {

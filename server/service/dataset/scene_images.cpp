@@ -67,8 +67,7 @@ std::vector<VisibleStats> VisibleStatsOf(const std::vector<uint16_t>& object_ind
   for (size_t object = 0; object < object_count; ++object) {
     const Extent& e = extents[object];
     if (e.max_x < 0) continue;
-    stats[object].box = {int32_t(e.min_x), int32_t(e.min_y), int32_t(e.max_x - e.min_x + 1),
-                         int32_t(e.max_y - e.min_y + 1)};
+    stats[object].box = {int32_t(e.min_x), int32_t(e.min_y), int32_t(e.max_x - e.min_x), int32_t(e.max_y - e.min_y)};
   }
   return stats;
 }
@@ -77,6 +76,14 @@ std::vector<uint8_t> VisibleMask(const std::vector<uint16_t>& object_index, size
   std::vector<uint8_t> mask(object_index.size(), 0);
   for (size_t i = 0; i < mask.size(); ++i) {
     if (object_index[i] == object + 1) mask[i] = 255;
+  }
+  return mask;
+}
+
+std::vector<uint8_t> AloneMask(const GroundTruthObject& object, size_t pixels) {
+  std::vector<uint8_t> mask(pixels, 0);
+  for (const uint32_t p : object.alone_mask) {
+    if (p < pixels) mask[p] = 255;
   }
   return mask;
 }
@@ -111,6 +118,9 @@ Status CheckFrame(const DatasetFrame& frame) {
     }
     if (!object.world_from_object.matrix().allFinite()) {
       return InvalidArgument(path + ".world_from_object", "is not finite");
+    }
+    for (const uint32_t p : object.alone_mask) {
+      if (p >= pixels) return InvalidArgument(path + ".alone_mask", "pixel " + std::to_string(p) + " is outside the image");
     }
     const auto found = counts.find(object.instance_id);
     const uint64_t seen = found == counts.end() ? 0 : found->second;

@@ -30,6 +30,8 @@ std::vector<VisibleStats> VisibleStatsOf(const std::vector<uint16_t>& object_ind
 
 // 255 where the object with this index is seen, else 0.
 std::vector<uint8_t> VisibleMask(const std::vector<uint16_t>& object_index, size_t object);
+// 255 at the object's alone_mask pixels (its silhouette, occlusion ignored), else 0.
+std::vector<uint8_t> AloneMask(const GroundTruthObject& object, size_t pixels);
 
 // The frame's sizes agree, the intrinsics are positive and finite, objects are 1-based part types
 // with distinct instance ids (at most 65535 of them), and each object's visible_pixels equals its

@@ -70,6 +70,35 @@ std::string SceneGtJson(const DatasetFrame& frame) {
   return json.str() + "\n";
 }
 
+std::string CameraParamsJson(const DatasetFrame& frame, double depth_scale_mm) {
+  const CameraIntrinsics& k = frame.camera;
+  JsonWriter json;
+  json.Open('{');
+  json.Key("cx").Value(k.cx - 0.5);
+  json.Key("cy").Value(k.cy - 0.5);
+  json.Key("depth_scale").Value(depth_scale_mm);
+  json.Key("fx").Value(k.fx);
+  json.Key("fy").Value(k.fy);
+  json.Key("height").Value(uint64_t{k.height});
+  json.Key("width").Value(uint64_t{k.width});
+  json.Close('}');
+  return json.str() + "\n";
+}
+
+std::string SceneFillJson(const DatasetFrame& frame) {
+  JsonWriter json;
+  json.Open('{');
+  json.Key("parts_planned").Value(frame.parts_planned);
+  json.Key("parts_placed").Value(frame.parts_placed);
+  json.Key("underfilled").Value(frame.parts_placed < frame.parts_planned);
+  json.Close('}');
+  return json.str() + "\n";
+}
+
+bool SceneFillSaysUnderfilled(std::string_view bytes) {
+  return bytes.find("\"underfilled\":true") != std::string_view::npos;
+}
+
 std::string SceneGtInfoJson(const DatasetFrame& frame, const std::vector<VisibleStats>& visible) {
   JsonWriter json;
   json.Open('{').Key("0").Open('[');
@@ -79,6 +108,7 @@ std::string SceneGtInfoJson(const DatasetFrame& frame, const std::vector<Visible
     Box(json, frame.objects[i].full_box);
     json.Key("bbox_visib");
     Box(json, visible[i].box);
+    json.Key("px_count_all").Value(frame.objects[i].alone_pixels);
     json.Key("px_count_valid").Value(visible[i].with_depth);
     json.Key("px_count_visib").Value(visible[i].pixels);
     json.Key("visib_fract").Value(frame.objects[i].visible_fraction);

@@ -4,6 +4,7 @@
 // millimetres, rotations as row-major 3x3 lists.
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "service/dataset/dataset_frame.h"
@@ -16,7 +17,13 @@ namespace vscan::service::dataset {
 std::string SceneCameraJson(const DatasetFrame& frame, double depth_scale_mm);
 // obj_id, instance_id, cam_R_m2c, cam_t_m2c per object, in the frame's order.
 std::string SceneGtJson(const DatasetFrame& frame);
-// bbox_obj, bbox_visib, px_count_valid, px_count_visib, visib_fract per object.
+// bbox_obj, bbox_visib, px_count_all, px_count_valid, px_count_visib, visib_fract per object.
 std::string SceneGtInfoJson(const DatasetFrame& frame, const std::vector<VisibleStats>& visible);
+// BOP's camera.json: cx, cy (as in cam_K), depth_scale, fx, fy, height, width.
+std::string CameraParamsJson(const DatasetFrame& frame, double depth_scale_mm);
+// parts_planned, parts_placed and underfilled (fewer placed than planned): vscan's, not BOP's.
+std::string SceneFillJson(const DatasetFrame& frame);
+// Whether a scene_fill.json's bytes say the bin was underfilled.
+bool SceneFillSaysUnderfilled(std::string_view bytes);
 
 }  // namespace vscan::service::dataset

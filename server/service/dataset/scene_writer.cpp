@@ -56,7 +56,7 @@ Status MakeDirectories(const std::filesystem::path& partial) {
   std::error_code ec;
   std::filesystem::remove_all(partial, ec);
   if (ec) return Internal("cannot remove " + partial.string() + ": " + ec.message());
-  for (const char* sub : {"depth", "mask_visib", "instances", "cloud"}) {
+  for (const char* sub : {"depth", "mask", "mask_visib", "instances", "cloud"}) {
     std::filesystem::create_directories(partial / sub, ec);
     if (ec) return Internal("cannot create " + (partial / sub).string() + ": " + ec.message());
   }
@@ -71,12 +71,15 @@ Status WriteSceneFiles(const DatasetPlan& plan, const SceneKey& key, const Datas
   RETURN_IF_ERROR(files.Write("scene_camera.json", SceneCameraJson(frame, plan.depth_scale_mm)));
   RETURN_IF_ERROR(files.Write("scene_gt.json", SceneGtJson(frame)));
   RETURN_IF_ERROR(files.Write("scene_gt_info.json", SceneGtInfoJson(frame, visible)));
+  RETURN_IF_ERROR(files.Write(kSceneFillFile, SceneFillJson(frame)));
   RETURN_IF_ERROR(files.WriteEncoded(std::string("depth/") + kImage + ".png", EncodeGray16Png(width, height, depth)));
   RETURN_IF_ERROR(
       files.WriteEncoded(std::string("instances/") + kImage + ".png", EncodeGray16Png(width, height, object_index)));
   for (size_t i = 0; i < frame.objects.size(); ++i) {
     const std::string name = std::string("mask_visib/") + kImage + "_" + SixDigits(i) + ".png";
     RETURN_IF_ERROR(files.WriteEncoded(name, EncodeGray8Png(width, height, VisibleMask(object_index, i))));
+    const std::string full = std::string("mask/") + kImage + "_" + SixDigits(i) + ".png";
+    RETURN_IF_ERROR(files.WriteEncoded(full, EncodeGray8Png(width, height, AloneMask(frame.objects[i], width * height))));
   }
   RETURN_IF_ERROR(files.WriteEncoded(std::string("cloud/") + kImage + ".ply", EncodePly(LayoutCloud(frame.cloud))));
   return files.Write(kSceneRecordFile, SceneRecordJson(plan, key, files.Sorted()));
@@ -96,7 +99,7 @@ Status WriteScene(const std::filesystem::path& root, const DatasetPlan& plan, co
   RETURN_IF_ERROR(MakeDirectories(partial));
   SceneFiles files(partial);
   RETURN_IF_ERROR(WriteSceneFiles(plan, key, frame, files));
-  for (const char* sub : {"depth", "mask_visib", "instances", "cloud"}) RETURN_IF_ERROR(SyncDirectory(partial / sub));
+  for (const char* sub : {"depth", "mask", "mask_visib", "instances", "cloud"}) RETURN_IF_ERROR(SyncDirectory(partial / sub));
   RETURN_IF_ERROR(SyncDirectory(partial));
   return RenameDurably(partial, final_dir);
 }

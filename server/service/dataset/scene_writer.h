@@ -1,6 +1,6 @@
 #pragma once
 // Writes one scene directory (docs/DATASETS.md, "A scene"): everything goes into
-// scenes/<id>.partial first and is renamed to scenes/<id> once complete and flushed, so a scene
+// train_pbr/<id>.partial first and is renamed to train_pbr/<id> once complete and flushed, so a scene
 // directory either is whole or does not exist.
 
 #include <filesystem>

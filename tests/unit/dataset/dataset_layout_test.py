@@ -13,6 +13,8 @@ import zlib
 import numpy as np
 
 FIXTURE = os.environ.get("VSCAN_DATASET_FIXTURE", "")
+# BOP's split folder for synthetic training images ("train" + "_" + split type "pbr").
+SPLIT = "train_pbr"
 CAMERA_HEIGHT_MM = 800.0
 # Half a depth unit of quantisation plus float rounding of the back-projection.
 SURFACE_TOLERANCE_MM = 0.2
@@ -74,6 +76,23 @@ def read_ply(path):
     return np.frombuffer(data[end:], dtype=np.dtype(fields), count=count)
 
 
+def read_ply_mesh(path):
+    """Vertices of a binary PLY mesh whose vertices are float x, y, z and faces uchar/int lists."""
+    with open(path, "rb") as f:
+        data = f.read()
+    end = data.index(b"end_header\n") + len(b"end_header\n")
+    header = data[:end].decode().splitlines()
+    assert "format binary_little_endian 1.0" in header
+    vertices = int(next(line for line in header if line.startswith("element vertex")).split()[2])
+    faces = int(next(line for line in header if line.startswith("element face")).split()[2])
+    assert "property list uchar int vertex_indices" in header
+    xyz = np.frombuffer(data[end:], dtype="<f4", count=3 * vertices).reshape(vertices, 3)
+    face = np.frombuffer(data[end + 12 * vertices:], dtype=np.dtype([("n", "u1"), ("i", "<i4", 3)]), count=faces)
+    assert np.all(face["n"] == 3) and np.all(face["i"] < vertices) and np.all(face["i"] >= 0)
+    assert len(data) == end + 12 * vertices + 13 * faces
+    return xyz.astype(np.float64)
+
+
 def load(path):
     with open(path) as f:
         return json.load(f)
@@ -95,16 +114,16 @@ class DatasetLayoutTest(unittest.TestCase):
 
     def scene_dirs(self):
         for entry in self.index["scenes"]:
-            yield entry, os.path.join(self.root, "scenes", "%06d" % entry["scene_id"])
+            yield entry, os.path.join(self.root, SPLIT, "%06d" % entry["scene_id"])
 
     def test_index_follows_the_plan_seed_then_bin_then_sensor(self):
         plan = self.manifest["plan"]
-        self.assertEqual(self.manifest["layout_version"], 1)
+        self.assertEqual(self.manifest["layout_version"], 2)
         expected = [(s, b, c) for s in plan["seeds"] for b in plan["bins"] for c in plan["sensors"]]
         got = [(e["seed"], e["bin"], e["sensor"]) for e in self.index["scenes"]]
         self.assertEqual(got, expected)
         self.assertEqual([e["scene_id"] for e in self.index["scenes"]], list(range(len(expected))))
-        self.assertEqual(sorted(os.listdir(os.path.join(self.root, "scenes"))),
+        self.assertEqual(sorted(os.listdir(os.path.join(self.root, SPLIT))),
                          ["%06d" % i for i in range(len(expected))])
 
     def test_records_match_the_files_on_disk(self):
@@ -133,6 +152,14 @@ class DatasetLayoutTest(unittest.TestCase):
             np.testing.assert_allclose(r_w2c @ world_from_camera[:3, :3], np.eye(3), atol=1e-12)
             np.testing.assert_allclose(r_w2c @ (world_from_camera[:3, 3] * 1000.0) + t_w2c, 0, atol=1e-9)
             self.assertAlmostEqual(world_from_camera[2, 3] * 1000.0, CAMERA_HEIGHT_MM)
+
+    def test_one_camera_file_per_sensor_matches_its_scenes(self):
+        for entry, scene in self.scene_dirs():
+            camera = load(os.path.join(self.root, "camera_%s.json" % entry["sensor"]))
+            k = np.array(load(os.path.join(scene, "scene_camera.json"))["0"]["cam_K"]).reshape(3, 3)
+            self.assertEqual([camera["fx"], camera["fy"], camera["cx"], camera["cy"]],
+                             [k[0, 0], k[1, 1], k[0, 2], k[1, 2]])
+        self.assertFalse(os.path.exists(os.path.join(self.root, "camera.json")))
 
     def test_depth_of_the_floor_is_the_camera_height(self):
         for _, scene in self.scene_dirs():
@@ -163,8 +190,17 @@ class DatasetLayoutTest(unittest.TestCase):
                 ys, xs = np.nonzero(mask)
                 self.assertEqual(entry["px_count_visib"], len(xs))
                 self.assertEqual(entry["px_count_valid"], int(((mask == 255) & (depth > 0)).sum()))
-                box = [xs.min(), ys.min(), xs.max() - xs.min() + 1, ys.max() - ys.min() + 1]
+                # BOP's calc_2d_bbox: width and height are max - min, not the pixel count across.
+                box = [xs.min(), ys.min(), xs.max() - xs.min(), ys.max() - ys.min()]
                 self.assertEqual(entry["bbox_visib"], box)
+                self.assertGreaterEqual(entry["px_count_all"], entry["px_count_visib"])
+                self.assertAlmostEqual(entry["visib_fract"], entry["px_count_visib"] / entry["px_count_all"])
+                full, _ = read_png(os.path.join(scene, "mask", "000000_%06d.png" % i))
+                self.assertTrue(set(np.unique(full)) <= {0, 255})
+                self.assertTrue(np.all(full[mask == 255] == 255), "the visible part lies in the full silhouette")
+                self.assertEqual(int((full == 255).sum()), entry["px_count_all"])
+                fys, fxs = np.nonzero(full)
+                self.assertEqual(entry["bbox_obj"], [fxs.min(), fys.min(), fxs.max() - fxs.min(), fys.max() - fys.min()])
                 bx, by, bw, bh = entry["bbox_obj"]
                 self.assertTrue(bx <= box[0] and by <= box[1])
                 self.assertTrue(bx + bw >= box[0] + box[2] and by + bh >= box[1] + box[3])
@@ -206,6 +242,24 @@ class DatasetLayoutTest(unittest.TestCase):
             self.assertEqual(len(cloud), int((depth > 0).sum()))
             for pose, entry in zip(gt, info):
                 self.assertEqual(int((cloud["instance"] == pose["instance_id"]).sum()), entry["px_count_visib"])
+
+    def test_scene_fill_says_which_bins_took_fewer_parts_than_planned(self):
+        underfilled = []
+        for entry, scene in self.scene_dirs():
+            fill = load(os.path.join(scene, "scene_fill.json"))
+            self.assertEqual(fill["underfilled"], fill["parts_placed"] < fill["parts_planned"])
+            self.assertEqual(fill["parts_placed"], len(load(os.path.join(scene, "scene_gt.json"))["0"]))
+            if fill["underfilled"]:
+                underfilled.append((entry["seed"], entry["bin"]))
+        # The synthetic plan's seed 12 far-pair asks for a part more than it holds, for both sensors.
+        self.assertEqual(underfilled, [(12, "far-pair"), (12, "far-pair")])
+
+    def test_model_meshes_in_millimetres_beside_models_info(self):
+        for obj_id, info in self.models.items():
+            ply = read_ply_mesh(os.path.join(self.root, "models", "obj_%06d.ply" % int(obj_id)))
+            lo, hi = ply.min(axis=0), ply.max(axis=0)
+            np.testing.assert_allclose(lo, [info["min_x"], info["min_y"], info["min_z"]], atol=1e-3)
+            np.testing.assert_allclose(hi - lo, [info["size_x"], info["size_y"], info["size_z"]], atol=1e-3)
 
     def test_models_info_in_millimetres_with_symmetries(self):
         self.assertEqual(sorted(self.models), ["1", "2"])

@@ -103,12 +103,26 @@ TEST(DatasetPlanYaml, ReadsAListOfSeedsAndDefaultsTheScale) {
   EXPECT_DOUBLE_EQ(plan->depth_scale_mm, 0.1);
 }
 
+TEST(DatasetPlanYaml, FailOnUnderfilledBinIsOffUnlessSetAndMustBeABoolean) {
+  const std::string base = "bins: [b]\nseeds: [1]\nsensors: [s]\n";
+  StatusOr<DatasetPlan> plan = ParseDatasetPlanYaml(base, "p.yaml");
+  ASSERT_TRUE(plan.ok()) << plan.status().ToString();
+  EXPECT_FALSE(plan->fail_on_underfilled_bin);
+  plan = ParseDatasetPlanYaml(base + "fail_on_underfilled_bin: true\n", "p.yaml");
+  ASSERT_TRUE(plan.ok()) << plan.status().ToString();
+  EXPECT_TRUE(plan->fail_on_underfilled_bin);
+  const Status refused = ParseDatasetPlanYaml(base + "fail_on_underfilled_bin: sometimes\n", "p.yaml").status();
+  EXPECT_EQ(refused.code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(refused.message(), "p.yaml: fail_on_underfilled_bin: must be true or false");
+}
+
 TEST(DatasetPlanYaml, NamesTheKeyItRefuses) {
   const auto message = [](const std::string& text) {
     return ParseDatasetPlanYaml(text, "p.yaml").status().message();
   };
   EXPECT_EQ(message("bins: [b]\nseeds: [1]\nsensors: [s]\ncolour: red\n"),
-            "p.yaml: colour: is not a key (name, bins, seeds, sensors, depth_scale_mm, camera_height_m)");
+            "p.yaml: colour: is not a key (name, bins, seeds, sensors, depth_scale_mm, camera_height_m, "
+            "fail_on_underfilled_bin)");
   EXPECT_EQ(message("bins: [b]\nsensors: [s]\n"), "p.yaml: seeds: is missing");
   EXPECT_EQ(message("bins: [b]\nseeds: {first: 1}\nsensors: [s]\n"), "p.yaml: seeds: needs both first and count");
   EXPECT_EQ(message("bins: [b]\nseeds: [1, -2]\nsensors: [s]\n"),

@@ -77,7 +77,8 @@ TEST(DatasetRun, TwoShardsMergedMatchOneProcessByteForByte) {
   EXPECT_TRUE(expected.contains("scenes.json"));
   EXPECT_TRUE(expected.contains("dataset.json"));
   EXPECT_TRUE(expected.contains("models/models_info.json"));
-  EXPECT_TRUE(expected.contains("scenes/000011/depth/000000.png"));
+  EXPECT_TRUE(expected.contains("models/obj_000002.ply"));
+  EXPECT_TRUE(expected.contains("train_pbr/000011/depth/000000.png"));
   ASSERT_EQ(expected.size(), actual.size());
   for (const auto& [path, bytes] : expected) {
     const auto found = actual.find(path);
@@ -156,6 +157,8 @@ TEST(DatasetRun, ARestartedRunSkipsFinishedScenesAndRedoesHalfWrittenOnes) {
   EXPECT_EQ(resumed->written, 7u);
   EXPECT_EQ(resumed->done, 12u);
   EXPECT_EQ(resumed->total, 12u);
+  // Seed 12's far-pair (scenes 6 and 7) took fewer parts than planned.
+  EXPECT_EQ(resumed->underfilled, (std::vector<uint64_t>{6, 7}));
   ASSERT_EQ(reports.size(), 8u);
   for (size_t i = 0; i < reports.size(); ++i) {
     EXPECT_EQ(reports[i].done, 5 + i);
@@ -169,6 +172,21 @@ TEST(DatasetRun, ARestartedRunSkipsFinishedScenesAndRedoesHalfWrittenOnes) {
   ASSERT_TRUE(nothing_left.ok());
   EXPECT_TRUE(idle.scenes.empty());
   EXPECT_EQ(nothing_left->skipped, 12u);
+  // Found again in the scenes' scene_fill.json when no scene is written.
+  EXPECT_EQ(nothing_left->underfilled, (std::vector<uint64_t>{6, 7}));
+}
+
+TEST(DatasetRun, APlanThatFailsOnUnderfilledBinsStopsAtTheFirstOne) {
+  DatasetPlan plan = SmallPlan();
+  plan.fail_on_underfilled_bin = true;
+  test::TempDir root;
+  CountingSource source;
+  const Status status = RunShard(root.path(), plan, 0, 1, source.Source()).status();
+  EXPECT_EQ(status.code(), StatusCode::kFailedPrecondition);
+  EXPECT_NE(status.ToString().find("scenes[6]: the bin took 2 of 3 parts"), std::string::npos) << status.ToString();
+  EXPECT_NE(status.ToString().find("fail_on_underfilled_bin"), std::string::npos) << status.ToString();
+  EXPECT_TRUE(std::filesystem::exists(SceneDir(root.path(), 5)));
+  EXPECT_FALSE(std::filesystem::exists(SceneDir(root.path(), 6)));
 }
 
 TEST(DatasetRun, ARootOfAnotherPlanIsRefused) {

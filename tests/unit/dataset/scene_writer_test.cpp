@@ -118,8 +118,10 @@ TEST_F(SceneWriterTest, RecordListsEveryFileWithItsSizeAndChecksum) {
   std::vector<std::string> names;
   for (const SceneFileEntry& file : *files) names.push_back(file.path);
   EXPECT_EQ(names, (std::vector<std::string>{"cloud/000000.ply", "depth/000000.png", "instances/000000.png",
+                                             "mask/000000_000000.png", "mask/000000_000001.png",
                                              "mask_visib/000000_000000.png", "mask_visib/000000_000001.png",
-                                             "scene_camera.json", "scene_gt.json", "scene_gt_info.json"}));
+                                             "scene_camera.json", "scene_fill.json", "scene_gt.json",
+                                             "scene_gt_info.json"}));
   StatusOr<std::string> record = ReadWholeFile(Scene() / kSceneRecordFile);
   ASSERT_TRUE(record.ok());
   EXPECT_EQ(*record, SceneRecordJson(plan_, key_, *files));

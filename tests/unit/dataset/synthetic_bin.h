@@ -28,6 +28,8 @@ service::dataset::CameraIntrinsics SyntheticCamera(size_t sensor_index);
 // Looks straight down from kCameraHeightM above the floor's centre.
 Pose3 SyntheticWorldFromCamera();
 service::dataset::DatasetFrame SyntheticFrame(const service::dataset::SceneKey& key);
+// Seed 12's far-pair asks for one part more than its two boxes: a bin that was full.
+bool SyntheticUnderfilled(const service::dataset::SceneKey& key);
 // The two box types as part models: obj 1 with its two-fold turn about z, obj 2 with its four-fold.
 std::vector<service::dataset::PartModel> SyntheticParts();
 

@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <memory>
 
 #include "raycast/raycast_scene.h"
@@ -50,7 +51,7 @@ TEST(ScanGroundTruth, ASmallObjectAtTheImageEdgeCountsAsItDoesOverTheWholeImage)
         Eigen::Vector3d(-(camera.cx - 1.0) / camera.fx, -(camera.cy - 1.0) / camera.fy, 1)}) {
     const scenes::ScanTarget target = OneObject(position);
     raycast::ScanOptions options;
-    options.fields = kFieldPosition | kFieldInstanceId;
+    options.fields = kFieldPosition | kFieldInstanceId | kFieldPixel;
     auto whole = raycast::Scan(*target.raycast, camera, Pose3::Identity(), options);
     ASSERT_TRUE(whole.ok()) << whole.status().ToString();
     ASSERT_GT(whole->size(), 0u) << position.transpose();
@@ -63,6 +64,10 @@ TEST(ScanGroundTruth, ASmallObjectAtTheImageEdgeCountsAsItDoesOverTheWholeImage)
     EXPECT_LT((*truth)[0].alone_u0, (*truth)[0].alone_u1);
     EXPECT_LE((*truth)[0].alone_u1, camera.width);
     EXPECT_LE((*truth)[0].alone_v1, camera.height);
+    // The silhouette from the cropped cast alone is the whole image's pixels of the object.
+    std::vector<uint32_t> pixels = whole->pixels;
+    std::sort(pixels.begin(), pixels.end());
+    EXPECT_EQ((*truth)[0].alone_pixels, pixels) << position.transpose();
   }
 }
 
