@@ -62,6 +62,7 @@ struct FilledBin {
   scenes::ScanTarget target;
   std::vector<uint32_t> obj_ids;  // per part instance, from kFirstPartInstance on
   uint64_t parts_planned = 0;
+  physics::MeshOverlaps mesh_overlap;
 };
 
 StatusOr<FilledBin> FillAndBuild(const DatasetBinSetup& bin, uint64_t seed, const std::atomic<bool>* cancel) {
@@ -83,6 +84,7 @@ StatusOr<FilledBin> FillAndBuild(const DatasetBinSetup& bin, uint64_t seed, cons
       {std::make_shared<const TriangleMesh>(TableMesh(bin.spec)), bin.spec.world_from_bin, 1.0, kTableInstance});
   FilledBin filled;
   filled.parts_planned = asked;
+  filled.mesh_overlap = result.mesh_overlap;
   filled.target.scene.revision = 1;
   for (size_t k = 0; k < result.parts.size(); ++k) {
     const physics::PlacedPart& placed = result.parts[k];
@@ -142,6 +144,8 @@ StatusOr<dataset::DatasetFrame> ScanFilledBin(const FilledBin& filled, const Dat
   frame.world_from_camera = world_from_camera;
   frame.parts_planned = filled.parts_planned;
   frame.parts_placed = filled.obj_ids.size();
+  frame.deepest_part_overlap_m = filled.mesh_overlap.max_part_part_m;
+  frame.deepest_bin_overlap_m = filled.mesh_overlap.max_part_bin_m;
   FillImages(cloud, world_from_camera, frame);
   for (const ObjectTruth& truth : truths) {
     dataset::GroundTruthObject object;

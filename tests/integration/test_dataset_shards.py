@@ -98,6 +98,9 @@ class DatasetShardsTest(unittest.TestCase):
             with open(os.path.join(scene_dir, "scene_fill.json")) as f:
                 fill = json.load(f)
             self.assertEqual(fill["underfilled"], fill["parts_placed"] < fill["parts_planned"], scene)
+            # The fill's overlaps measured on the parts' true meshes: within the 0.5 mm bound.
+            self.assertLessEqual(fill["mesh_overlap"]["max_part_part_m"], 0.0005, scene)
+            self.assertLessEqual(fill["mesh_overlap"]["max_part_bin_m"], 0.0005, scene)
             self.assertEqual(len(gt), len(info))
             seen = [entry for entry in info if entry["px_count_visib"] > 0]
             self.assertTrue(seen, scene)

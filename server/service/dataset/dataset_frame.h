@@ -56,6 +56,10 @@ struct DatasetFrame {
   // The bin's fill: parts it asked for and parts that settled in it (fewer when the bin was full).
   uint64_t parts_planned = 0;
   uint64_t parts_placed = 0;
+  // How deep the settled parts' own meshes overlap each other and the bin (metres, measured on the
+  // true meshes, not the collision shapes).
+  double deepest_part_overlap_m = 0;
+  double deepest_bin_overlap_m = 0;
 };
 
 // A part type for models/models_info.json.

@@ -91,6 +91,10 @@ std::string SceneFillJson(const DatasetFrame& frame) {
   json.Key("parts_planned").Value(frame.parts_planned);
   json.Key("parts_placed").Value(frame.parts_placed);
   json.Key("underfilled").Value(frame.parts_placed < frame.parts_planned);
+  json.Key("mesh_overlap").Open('{');
+  json.Key("max_part_part_m").Value(frame.deepest_part_overlap_m);
+  json.Key("max_part_bin_m").Value(frame.deepest_bin_overlap_m);
+  json.Close('}');
   json.Close('}');
   return json.str() + "\n";
 }
