@@ -36,7 +36,7 @@ def read_cloud(path):
     end = data.index(b"end_header\n") + len(b"end_header\n")
     header = data[:end].decode().splitlines()
     count = int(next(line for line in header if line.startswith("element vertex")).split()[2])
-    kinds = {"float": "<f4", "uint": "<u4", "uchar": "u1", "double": "<f8"}
+    kinds = {"float": "<f4", "int": "<i4", "uint": "<u4", "uchar": "u1", "double": "<f8"}
     fields = [(line.split()[2], kinds[line.split()[1]]) for line in header if line.startswith("property")]
     return np.frombuffer(data[end:], dtype=np.dtype(fields), count=count)
 
@@ -115,7 +115,8 @@ class DatasetShardsTest(unittest.TestCase):
             with open(os.path.join(scene_dir, "scene_camera.json")) as f:
                 world_from_camera = np.array(json.load(f)["0"]["world_from_camera"]).reshape(4, 4)
             cloud = read_cloud(os.path.join(scene_dir, "cloud", "000000.ply"))
-            table = cloud[cloud["instance"] == TABLE_INSTANCE]
+            # vscan writes instance ids as int32 (what Open3D reads); the table's id is 0xFFFFFFFE as uint32.
+            table = cloud[cloud["instance"].astype(np.uint32) == TABLE_INSTANCE]
             self.assertGreater(len(table), 100, scene)
             xyz = np.stack([table["x"], table["y"], table["z"]], axis=1).astype(np.float64)
             in_camera = (xyz - world_from_camera[:3, 3]) @ world_from_camera[:3, :3]
