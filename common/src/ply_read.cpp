@@ -92,25 +92,34 @@ StatusOr<PlyHeader> ParsePlyHeader(std::istream& in, const std::string& path) {
   return InvalidArgument(path + ": header has no end_header");
 }
 
+// The vertex element; `before` sees each fixed-size element that precedes it. Elements of lists
+// before the vertices, list properties in them, or no vertex element at all are refused.
+template <typename Before>
+StatusOr<const PlyElement*> FindVertices(const std::vector<PlyElement>& elements, const std::string& path,
+                                         Before before) {
+  for (const auto& e : elements) {
+    if (e.name == "vertex") {
+      if (e.has_list) return InvalidArgument(path + ": vertex element has list properties");
+      return &e;
+    }
+    if (e.has_list) return InvalidArgument(path + ": list element '" + e.name + "' before the vertices");
+    RETURN_IF_ERROR(before(e));
+  }
+  return InvalidArgument(path + ": no vertex element");
+}
+
 // The vertices of an ASCII body: the records before them are stepped over value by value.
 StatusOr<PointCloud> ReadAsciiVertices(std::string_view body, const std::vector<PlyElement>& elements,
                                        const std::string& path, uint64_t max_bytes) {
   size_t skip = 0;
-  const PlyElement* vertex = nullptr;
-  for (const auto& e : elements) {
-    if (e.name == "vertex") {
-      vertex = &e;
-      break;
-    }
-    if (e.has_list) return InvalidArgument(path + ": list element '" + e.name + "' before the vertices");
+  ASSIGN_OR_RETURN(const PlyElement* vertex, FindVertices(elements, path, [&](const PlyElement& e) -> Status {
     const size_t values = e.layout.properties.size();
     if (values != 0 && e.count > (std::numeric_limits<size_t>::max() - skip) / values) {
       return InvalidArgument(path + ": element '" + e.name + "': count " + std::to_string(e.count) + " is too large");
     }
     skip += e.count * values;
-  }
-  if (!vertex) return InvalidArgument(path + ": no vertex element");
-  if (vertex->has_list) return InvalidArgument(path + ": vertex element has list properties");
+    return Status::Ok();
+  }));
   cloud_records::AsciiRecords records(body, vertex->layout, path, "vertex");
   RETURN_IF_ERROR(records.CheckRoom(vertex->count, skip));
   RETURN_IF_ERROR(records.Skip(skip));
@@ -148,18 +157,11 @@ StatusOr<PointCloud> ReadPlyStream(std::istream& in, std::optional<std::string_v
 
   // Skip fixed-size elements that precede the vertices.
   size_t skip = 0;
-  const PlyElement* vertex = nullptr;
-  for (const auto& e : elements) {
-    if (e.name == "vertex") {
-      vertex = &e;
-      break;
-    }
-    if (e.has_list) return InvalidArgument(path + ": list element '" + e.name + "' before the vertices");
+  ASSIGN_OR_RETURN(const PlyElement* vertex, FindVertices(elements, path, [&](const PlyElement& e) -> Status {
     RETURN_IF_ERROR(take(e));
     skip += e.count * e.layout.stride;
-  }
-  if (!vertex) return InvalidArgument(path + ": no vertex element");
-  if (vertex->has_list) return InvalidArgument(path + ": vertex element has list properties");
+    return Status::Ok();
+  }));
   RETURN_IF_ERROR(take(*vertex));
   in.seekg(body + static_cast<std::streamoff>(skip));
   return cloud_records::ReadRecords(in, vertex->layout, vertex->count, path, max_bytes);

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "fixture_parts.h"
+#include "hull_support.h"
 #include "machined_parts.h"
 #include "physics/bin_fill.h"
 #include "physics/part_geometry.h"
@@ -10,27 +11,8 @@
 namespace vscan::physics {
 namespace {
 
-// Directions spread over the sphere (a Fibonacci lattice).
-std::vector<Eigen::Vector3d> Directions(int count) {
-  std::vector<Eigen::Vector3d> out;
-  const double golden = M_PI * (3.0 - std::sqrt(5.0));
-  for (int i = 0; i < count; ++i) {
-    const double z = 1.0 - 2.0 * (i + 0.5) / count, r = std::sqrt(1.0 - z * z);
-    out.emplace_back(r * std::cos(golden * i), r * std::sin(golden * i), z);
-  }
-  return out;
-}
-
-// How far p lies outside the hull of `points` by support functions (a lower bound of the distance).
 double OutsideBy(const Eigen::Vector3d& p, const std::vector<Eigen::Vector3d>& points) {
-  static const std::vector<Eigen::Vector3d> directions = Directions(2000);
-  double out = 0.0;
-  for (const auto& d : directions) {
-    double support = -INFINITY;
-    for (const auto& q : points) support = std::max(support, d.dot(q));
-    out = std::max(out, d.dot(p) - support);
-  }
-  return out;
+  return test::OutsideHullBy(p, points, 2000);
 }
 
 constexpr double kTolerance = 0.00005;

@@ -5,6 +5,7 @@
 #include <array>
 #include <cmath>
 
+#include "hull_support.h"
 #include "physics/bin_fill.h"
 #include "physics/part_geometry.h"
 
@@ -33,27 +34,8 @@ TriangleMesh LPrism() {
   return mesh;
 }
 
-// Directions spread over the sphere (a Fibonacci lattice).
-std::vector<Eigen::Vector3d> Directions(int count) {
-  std::vector<Eigen::Vector3d> out;
-  const double golden = M_PI * (3.0 - std::sqrt(5.0));
-  for (int i = 0; i < count; ++i) {
-    const double z = 1.0 - 2.0 * (i + 0.5) / count, r = std::sqrt(1.0 - z * z);
-    out.emplace_back(r * std::cos(golden * i), r * std::sin(golden * i), z);
-  }
-  return out;
-}
-
-// How far p lies outside the convex hull of `points`, seen over many directions (0 when inside).
 double OutsideBy(const Eigen::Vector3d& p, const std::vector<Eigen::Vector3d>& points) {
-  static const std::vector<Eigen::Vector3d> directions = Directions(4000);
-  double out = 0.0;
-  for (const auto& d : directions) {
-    double support = -INFINITY;
-    for (const auto& q : points) support = std::max(support, d.dot(q));
-    out = std::max(out, d.dot(p) - support);
-  }
-  return out;
+  return test::OutsideHullBy(p, points, 4000);
 }
 
 TEST(ConvexDecomposition, AnLShapeSplitsIntoPiecesThatLeaveItsNotchOpen) {
