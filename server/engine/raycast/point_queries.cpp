@@ -5,6 +5,7 @@
 
 #include <tbb/parallel_for.h>
 
+#include "geometry/closest_point.h"
 #include "raycast/embree_scene.h"
 
 namespace vscan::raycast {
@@ -43,26 +44,9 @@ bool TriangleQuery(RTCPointQueryFunctionArguments* args) {
 
 }  // namespace
 
-// Region tests on the barycentric parameters (Ericson, Real-Time Collision Detection, 5.1.5).
 Eigen::Vector3f ClosestPointOnTriangle(const Eigen::Vector3f& p, const Eigen::Vector3f& a, const Eigen::Vector3f& b,
                                        const Eigen::Vector3f& c) {
-  const Eigen::Vector3f ab = b - a, ac = c - a, ap = p - a;
-  const float d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0 && d2 <= 0) return a;
-  const Eigen::Vector3f bp = p - b;
-  const float d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0 && d4 <= d3) return b;
-  const float vc = d1 * d4 - d3 * d2;
-  if (vc <= 0 && d1 >= 0 && d3 <= 0) return a + (d1 / (d1 - d3)) * ab;
-  const Eigen::Vector3f cp = p - c;
-  const float d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0 && d5 <= d6) return c;
-  const float vb = d5 * d2 - d1 * d6;
-  if (vb <= 0 && d2 >= 0 && d6 <= 0) return a + (d2 / (d2 - d6)) * ac;
-  const float va = d3 * d6 - d5 * d4;
-  if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0) return b + ((d4 - d3) / ((d4 - d3) + (d5 - d6))) * (c - b);
-  const float denom = 1.0f / (va + vb + vc);
-  return a + ab * (vb * denom) + ac * (vc * denom);
+  return geometry::ClosestPointOnTriangle<float>(p, a, b, c);
 }
 
 std::vector<float> DistancesToSurface(const RaycastScene& scene, std::span<const Eigen::Vector3f> points,
