@@ -41,29 +41,38 @@ v1::ScanRequest WithPixels(v1::ScanRequest request) {
   return request;
 }
 
-// Scans into memory and writes the organised PCD once the scan has ended well.
-int ScanToOrganizedPcd(Context& ctx, const v1::ScanRequest& request, const std::string& output, ScannedFile* out) {
-  auto* client = ctx.GetClient();
-  if (!client) return ctx.last_exit();
+// Runs the scan behind a progress bar, timing its first chunk and its whole into out.
+StatusOr<client::ScanResult> TimedScan(Context& ctx, client::Client& client, const v1::ScanRequest& request,
+                                       client::ScanCallbacks callbacks, ScannedFile* out) {
   const auto start = std::chrono::steady_clock::now();
   const auto ms_since_start = [&start] {
     return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   };
   ProgressBar bar("scan", "points", !ctx.quiet() && !ctx.json());
+  auto on_chunk = std::move(callbacks.on_chunk);
+  callbacks.on_chunk = [&](const v1::PointChunk& chunk) -> Status {
+    if (out->first_chunk_ms < 0) out->first_chunk_ms = ms_since_start();
+    return on_chunk(chunk);
+  };
+  callbacks.on_progress = [&bar](uint64_t done, uint64_t total) { bar.Update(done, total); };
+  auto result = client.Scan(request, callbacks);
+  out->total_ms = ms_since_start();
+  bar.Finish();
+  return result;
+}
+
+// Scans into memory and writes the organised PCD once the scan has ended well.
+int ScanToOrganizedPcd(Context& ctx, const v1::ScanRequest& request, const std::string& output, ScannedFile* out) {
+  auto* client = ctx.GetClient();
+  if (!client) return ctx.last_exit();
   PointCloud cloud;
   client::ScanCallbacks callbacks;
   callbacks.on_header = [&](const v1::ScanHeader& header) {
     const auto fields = FieldsFromProto(header.fields(), "header.fields");
     cloud.fields = fields.ok() ? *fields : kFieldPosition;
   };
-  callbacks.on_chunk = [&](const v1::PointChunk& chunk) -> Status {
-    if (out->first_chunk_ms < 0) out->first_chunk_ms = ms_since_start();
-    return AppendChunk(chunk, &cloud);
-  };
-  callbacks.on_progress = [&bar](uint64_t done, uint64_t total) { bar.Update(done, total); };
-  auto result = client->Scan(WithPixels(request), callbacks);
-  out->total_ms = ms_since_start();
-  bar.Finish();
+  callbacks.on_chunk = [&](const v1::PointChunk& chunk) { return AppendChunk(chunk, &cloud); };
+  auto result = TimedScan(ctx, *client, WithPixels(request), std::move(callbacks), out);
   if (!result.ok()) return ctx.ServerError(result.status());
   const v1::ScanHeader& header = result->header;
   RangeImageLayout image;
@@ -88,11 +97,6 @@ int ScanToFile(Context& ctx, const v1::ScanRequest& request, const std::string& 
   if (organized) return ScanToOrganizedPcd(ctx, request, output, out);
   auto* client = ctx.GetClient();
   if (!client) return ctx.last_exit();
-  const auto start = std::chrono::steady_clock::now();
-  const auto ms_since_start = [&start] {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  };
-  ProgressBar bar("scan", "points", !ctx.quiet() && !ctx.json());
   // Chunks go to the file as they arrive (no cloud held in memory); it is renamed into place once
   // the scan has ended well. The client has checked the header's fields before on_header.
   std::optional<CloudFileWriter> writer;
@@ -110,17 +114,13 @@ int ScanToFile(Context& ctx, const v1::ScanRequest& request, const std::string& 
     }
   };
   callbacks.on_chunk = [&](const v1::PointChunk& chunk) -> Status {
-    if (out->first_chunk_ms < 0) out->first_chunk_ms = ms_since_start();
     if (!writer) return local_io;
     block.Resize(0);
     RETURN_IF_ERROR(AppendChunk(chunk, &block));
     local_io = writer->Append(block);
     return local_io;
   };
-  callbacks.on_progress = [&bar](uint64_t done, uint64_t total) { bar.Update(done, total); };
-  auto result = client->Scan(request, callbacks);
-  out->total_ms = ms_since_start();
-  bar.Finish();
+  auto result = TimedScan(ctx, *client, request, std::move(callbacks), out);
   if (!local_io.ok()) return ctx.LocalError(local_io);
   if (!result.ok()) return ctx.ServerError(result.status());
   if (!writer) return ctx.LocalError(Internal("scan: ended without a header"));
