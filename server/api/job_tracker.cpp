@@ -280,17 +280,18 @@ Status JobTracker::End(const std::string& job_id, const JobEventUpdate& update) 
   const int64_t now_ms = store::NowMs();
   const Status stored =
       catalogue_.UpdateProgress(job_id, {update.state, update.message, update.steps_done, sequence, now_ms});
+  // Until the end is stored the catalogue still says the job runs: the ended job then stays in
+  // memory, so that it does not read as running again (the next start marks it INTERRUPTED).
+  // A stored end drops this run's entry before watchers hear of it, so that a client who deletes
+  // the job on that news never reads the deleted job back from memory.
+  if (stored.ok()) {
+    std::lock_guard lock(mutex_);
+    if (auto it = live_.find(job_id); it != live_.end() && it->second == live) live_.erase(it);
+  }
   // Watchers learn of the end even when it could not be stored; a restart then reports INTERRUPTED.
   live->Publish(MakeEvent(live, update, sequence, now_ms), std::nullopt, true);
   auto [kind, state] = live->KindAndState();
   observability::Metrics().jobs_ended.WithLabels({std::move(kind), std::move(state)}).Increment();
-  // Until the end is stored the catalogue still says the job runs: the ended job then stays in
-  // memory, so that it does not read as running again (the next start marks it INTERRUPTED).
-  if (stored.ok()) {
-    std::lock_guard lock(mutex_);
-    // Once the end is stored the job may be reopened at once: drop only this run's entry.
-    if (auto it = live_.find(job_id); it != live_.end() && it->second == live) live_.erase(it);
-  }
   return stored;
 }
 
