@@ -13,6 +13,7 @@
 #include "raycast/raycast_scene.h"
 #include "service/raster_provider.h"
 #include "service/scan_backends.h"
+#include "service/dataset/view_poses.h"
 #include "service/scan_ground_truth.h"
 
 namespace vscan::service {
@@ -44,16 +45,21 @@ TriangleMesh TableMesh(const physics::BinSpec& spec) {
 // Fills kept for the sensors of one (seed, bin) and the frames being captured ahead.
 constexpr size_t kFillsKept = 16;
 
-// One 64-bit noise seed per scene, from its seed, bin and sensor (splitmix64 steps).
-uint64_t SceneNoiseSeed(const dataset::SceneKey& key) {
-  uint64_t x = key.seed;
-  for (const uint64_t more : {uint64_t{key.bin_index}, uint64_t{key.sensor_index}}) {
-    x += 0x9e3779b97f4a7c15ull + more;
-    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
-    x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
-    x ^= x >> 31;
-  }
-  return x;
+uint64_t MixIn(uint64_t x, uint64_t more) {
+  x += 0x9e3779b97f4a7c15ull + more;
+  x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ull;
+  x = (x ^ (x >> 27)) * 0x94d049bb133111ebull;
+  return x ^ (x >> 31);
+}
+
+// One 64-bit seed per scene, from its seed, bin and sensor (splitmix64 steps).
+uint64_t SceneSeed(const dataset::SceneKey& key) {
+  return MixIn(MixIn(key.seed, key.bin_index), key.sensor_index);
+}
+
+// The first view's noise is the scene's seed, as it was when a scene had one view.
+uint64_t ViewNoiseSeed(const dataset::SceneKey& key, uint32_t view) {
+  return view == 0 ? SceneSeed(key) : MixIn(SceneSeed(key), view);
 }
 
 // The settled bin as a scan target: the bin (instance 1) and each part (2, 3, ...), only the
@@ -164,11 +170,9 @@ StatusOr<dataset::DatasetFrame> ScanFilledBin(const FilledBin& filled, const Dat
 
 }  // namespace
 
-Pose3 DatasetCameraPose(const DatasetBinSetup& bin, double camera_height_m) {
-  Pose3 bin_from_camera = Pose3::Identity();
-  bin_from_camera.linear() << 1, 0, 0, 0, -1, 0, 0, 0, -1;
-  bin_from_camera.translation() = Eigen::Vector3d(0, 0, camera_height_m);
-  return bin.spec.world_from_bin * bin_from_camera;
+Pose3 DatasetCameraPose(const DatasetBinSetup& bin, const dataset::DatasetPlan& plan, const dataset::SceneKey& key,
+                        uint32_t view) {
+  return bin.spec.world_from_bin * dataset::SampleViewPose(plan, dataset::ViewPoseSeed(SceneSeed(key), view));
 }
 
 dataset::FrameSource BinFrameSource(std::shared_ptr<const DatasetSetup> setup, const std::atomic<bool>* cancel) {
@@ -182,7 +186,7 @@ dataset::FrameSource BinFrameSource(std::shared_ptr<const DatasetSetup> setup, c
   };
   auto state = std::make_shared<State>();
   state->setup = std::move(setup);
-  return [state, cancel](const dataset::SceneKey& key) -> StatusOr<dataset::DatasetFrame> {
+  return [state, cancel](const dataset::SceneKey& key, uint32_t view) -> StatusOr<dataset::DatasetFrame> {
     const DatasetSetup& setup = *state->setup;
     const DatasetBinSetup& bin = setup.bins[key.bin_index];
     const FillKey fill_key{key.seed_index, key.bin_index};
@@ -206,8 +210,8 @@ dataset::FrameSource BinFrameSource(std::shared_ptr<const DatasetSetup> setup, c
     }
     const Fill& filled = fill.get();
     if (!filled.ok()) return filled.status();
-    return ScanFilledBin(**filled, setup.sensors[key.sensor_index], DatasetCameraPose(bin, setup.plan.camera_height_m),
-                         SceneNoiseSeed(key), state->raster, cancel);
+    return ScanFilledBin(**filled, setup.sensors[key.sensor_index], DatasetCameraPose(bin, setup.plan, key, view),
+                         ViewNoiseSeed(key, view), state->raster, cancel);
   };
 }
 

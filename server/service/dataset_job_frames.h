@@ -1,8 +1,8 @@
 #pragma once
 // The frames of a dataset from the engine: for a scene (seed, bin, sensor) the bin is filled under
 // the seed, its open box and settled parts become a scene in memory, and the sensor scans it from
-// the plan's camera height straight down (ray casting, the preset's measurement model seeded by
-// the scene), with the scan's ground truth per part. Deterministic for a scene on one build.
+// each of the plan's views (ray casting, the preset's measurement model seeded by the scene and
+// view), with the scan's ground truth per part. Deterministic for a scene on one build.
 
 #include <atomic>
 #include <memory>
@@ -13,9 +13,11 @@
 
 namespace vscan::service {
 
-// world_from_camera for a bin: above the floor's centre at the plan's height, x along the bin's x,
+// world_from_camera of a view of a scene (dataset::SampleViewPose, seeded by the scene and view):
+// with the default views, above the floor's centre at the plan's height, x along the bin's x,
 // looking down its -z.
-Pose3 DatasetCameraPose(const DatasetBinSetup& bin, double camera_height_m);
+Pose3 DatasetCameraPose(const DatasetBinSetup& bin, const dataset::DatasetPlan& plan, const dataset::SceneKey& key,
+                        uint32_t view);
 
 // Keeps the latest fills, so that the sensors of one (seed, bin) share one; safe for concurrent
 // calls (ShardRun::frames_ahead). cancel, when set, stops the fill and the scan with CANCELLED.

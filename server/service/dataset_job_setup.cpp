@@ -1,5 +1,6 @@
 #include "service/dataset_job_setup.h"
 
+#include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <tuple>
@@ -94,6 +95,17 @@ StatusOr<DatasetSensorSetup> PrepareSensor(const dataset::DatasetSensor& asked, 
   return setup;
 }
 
+// Every view's distance to the bin's floor lies within the depths the sensor measures.
+Status CheckWorkingRange(const dataset::DatasetPlan& plan, const sensor::PinholeCamera& camera, size_t sensor_index) {
+  const auto [nearest_m, farthest_m] = dataset::ViewDistanceRange(plan);
+  if (nearest_m >= camera.near && farthest_m <= camera.far) return Status::Ok();
+  const bool ranged = plan.views.max_distance_m > 0;
+  char text[240];
+  std::snprintf(text, sizeof(text), "[%g, %g] m to the bin's floor leaves the working range [%g, %g] m of sensors[%zu] ('%s')",
+                nearest_m, farthest_m, camera.near, camera.far, sensor_index, plan.sensors[sensor_index].c_str());
+  return InvalidArgument(ranged ? "views.distance_m" : "camera_height_m", text);
+}
+
 }  // namespace
 
 DatasetMeshLoader MeshFilesFrom(std::filesystem::path plan_dir) {
@@ -134,6 +146,7 @@ StatusOr<DatasetSetup> PrepareDataset(const dataset::DatasetPlan& plan, const Da
     ASSIGN_OR_RETURN(DatasetSensorSetup sensor,
                      PrepareSensor(asked, "sensors[" + std::to_string(s) + "]", max_rays_per_scan));
     setup.sensors.push_back(std::move(sensor));
+    RETURN_IF_ERROR(CheckWorkingRange(plan, setup.sensors.back().camera, s));
   }
   return setup;
 }

@@ -6,13 +6,19 @@ job."""
 import json
 import os
 import subprocess
+import sys
 import tempfile
 import time
 import unittest
 
 import grpc
+import numpy as np
 from harness import SOURCE_DIR, VSCAN, VSCAND, Server, cli_result
+from test_dataset_shards import read_cloud
 from vscan.v1 import job_pb2
+
+sys.path.insert(0, os.path.join(SOURCE_DIR, "tests", "unit", "dataset"))
+from dataset_layout_test import read_png  # noqa: E402  (the layout test's own PNG decoder)
 
 PARTS = os.path.join(SOURCE_DIR, "data", "parts")
 
@@ -106,6 +112,57 @@ class DatasetJobTest(unittest.TestCase):
         self.assertEqual(len(served_files), len(one_shot_files))
         self.assertEqual(served_files, downloaded_files)
         self.assertEqual(served_files, one_shot_files)
+
+    def test_several_views_a_scene_agree_with_their_clouds_and_the_one_shot_shards(self):
+        views = "views: {count: 3, cone_deg: 30, distance_m: [0.6, 0.8]}\n"
+        plan = self.write_plan("views.yaml", plan_text(1) + views)
+        run = self.vscan("dataset", "run", plan, "--watch")
+        self.assertEqual(run.returncode, 0, run.stderr + self.server.log())
+        job_id = (run.stdout + run.stderr).split("started dataset job ")[1].split()[0]
+        served = self.dataset_dir(job_id)
+        tilts = []
+        for scene_id in range(2):
+            scene = os.path.join(served, "train_pbr", "%06d" % scene_id)
+            with open(os.path.join(scene, "scene_camera.json")) as f:
+                cameras = json.load(f)
+            with open(os.path.join(scene, "scene_gt.json")) as f:
+                gts = json.load(f)
+            self.assertEqual(list(cameras), ["0", "1", "2"])
+            world_parts = None
+            for im_id, camera in cameras.items():
+                world_from_camera = np.array(camera["world_from_camera"]).reshape(4, 4)
+                axis = world_from_camera[:3, 2]
+                tilts.append(np.degrees(np.arccos(-axis[2])))
+                self.assertLessEqual(tilts[-1], 30.0 + 1e-9)
+                # The depth image and the cloud of a view are one measurement: every cloud point
+                # projects to a pixel whose depth is its own.
+                k = np.array(camera["cam_K"]).reshape(3, 3)
+                image, _ = read_png(os.path.join(scene, "depth", "%06d.png" % int(im_id)))
+                depth = image.astype(float) * camera["depth_scale"]
+                cloud = read_cloud(os.path.join(scene, "cloud", "%06d.ply" % int(im_id)))
+                self.assertEqual(len(cloud), int((depth > 0).sum()))
+                points = np.stack([cloud["x"], cloud["y"], cloud["z"]], axis=1).astype(float) * 1000.0
+                in_camera = (points - world_from_camera[:3, 3] * 1000.0) @ world_from_camera[:3, :3]
+                u = np.floor(in_camera[:, 0] / in_camera[:, 2] * k[0, 0] + k[0, 2] + 0.5).astype(int)
+                v = np.floor(in_camera[:, 1] / in_camera[:, 2] * k[1, 1] + k[1, 2] + 0.5).astype(int)
+                np.testing.assert_allclose(depth[v, u], in_camera[:, 2], atol=0.1)
+                # The parts stand where they stand whichever view sees them.
+                parts = []
+                for gt in gts[im_id]:
+                    pose = np.eye(4)
+                    pose[:3, :3] = np.array(gt["cam_R_m2c"]).reshape(3, 3)
+                    pose[:3, 3] = np.array(gt["cam_t_m2c"]) / 1000.0
+                    parts.append(world_from_camera @ pose)
+                if world_parts is None:
+                    world_parts = parts
+                np.testing.assert_allclose(parts, world_parts, atol=1e-9)
+        self.assertGreater(max(tilts), 5.0)
+        one_shot = os.path.join(self.tmp.name, "one-shot-views")
+        for args in (["--dataset-shard", plan, "--shard-index", "0", "--shard-count", "1"], ["--dataset-merge", plan]):
+            done = subprocess.run([VSCAND, "--log-level", "warn", *args, "--out", one_shot], capture_output=True,
+                                  text=True, timeout=300)
+            self.assertEqual(done.returncode, 0, done.stderr)
+        self.assertEqual(tree(served), tree(one_shot))
 
     def test_killed_job_resumes_keeping_finished_scenes(self):
         plan = self.write_plan("plan.yaml", plan_text(12))
@@ -221,6 +278,10 @@ class DatasetJobTest(unittest.TestCase):
             (good.replace("seeds:", "colour: red\nseeds:"), "spec.plan_yaml: colour"),
             (good.replace("inner_size_m: [0.20, 0.15, 0.10]", "inner_size_m: [0.20, 0.15, -1]"),
              "spec.plan_yaml: bins[0].box.inner_size_m"),
+            (good + "views: {count: 0}\n", "spec.plan_yaml: views.count: must be within [1, 1000]"),
+            (good + "views: {count: 4, distance_m: [0.3, 0.7]}\n",
+             "views.distance_m: [0.3, 0.7] m to the bin's floor leaves the working range [0.5, 4.5] m of sensors[0]"),
+            (good + "camera_height_m: 5\n", "camera_height_m: [5, 5] m to the bin's floor leaves the working range"),
         ]
         for text, key in cases:
             refused = self.vscan("dataset", "run", self.write_plan("bad.yaml", text))

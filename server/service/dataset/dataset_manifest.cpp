@@ -51,6 +51,17 @@ void Fills(JsonWriter& json, const DatasetPlan& plan) {
   json.Key("fail_on_underfilled_bin").Value(plan.fail_on_underfilled_bin);
 }
 
+// Only a plan that asks for other views than the single one straight down names them, so that a
+// dataset written before views existed resumes under the same manifest.
+void Views(JsonWriter& json, const DatasetPlan& plan) {
+  const auto [nearest_m, farthest_m] = ViewDistanceRange(plan);
+  json.Key("views").Open('{');
+  json.Key("count").Value(uint64_t{plan.views.count});
+  json.Key("cone_deg").Value(plan.views.cone_deg);
+  json.Key("distance_m").Open('[').Value(nearest_m).Value(farthest_m).Close(']');
+  json.Close('}');
+}
+
 }  // namespace
 
 std::string DatasetManifestJson(const DatasetPlan& plan) {
@@ -71,6 +82,7 @@ std::string DatasetManifestJson(const DatasetPlan& plan) {
   Names(json, plan.sensors);
   json.Key("depth_scale_mm").Value(plan.depth_scale_mm);
   if (!plan.bin_fills.empty()) Fills(json, plan);
+  if (plan.views != DatasetViews{}) Views(json, plan);
   json.Close('}').Close('}');
   return json.str() + "\n";
 }

@@ -24,7 +24,29 @@ Status CheckNames(const std::vector<std::string>& names, const std::string& fiel
   return Status::Ok();
 }
 
+Status CheckViews(const DatasetViews& views) {
+  if (views.count < 1 || views.count > kMaxViewsPerScene) {
+    return InvalidArgument("views.count", "must be within [1, " + std::to_string(kMaxViewsPerScene) + "]");
+  }
+  if (!std::isfinite(views.cone_deg) || views.cone_deg < 0 || views.cone_deg > kMaxViewConeDeg) {
+    return InvalidArgument("views.cone_deg", "must be within [0, 80] degrees of straight down");
+  }
+  if (views.min_distance_m == 0 && views.max_distance_m == 0) return Status::Ok();
+  const bool finite = std::isfinite(views.min_distance_m) && std::isfinite(views.max_distance_m);
+  if (!finite || views.min_distance_m <= 0 || views.max_distance_m > 100 || views.min_distance_m > views.max_distance_m) {
+    return InvalidArgument("views.distance_m", "must be [min, max] with 0 < min <= max <= 100 m");
+  }
+  return Status::Ok();
+}
+
 }  // namespace
+
+std::pair<double, double> ViewDistanceRange(const DatasetPlan& plan) {
+  if (plan.views.min_distance_m == 0 && plan.views.max_distance_m == 0) {
+    return {plan.camera_height_m, plan.camera_height_m};
+  }
+  return {plan.views.min_distance_m, plan.views.max_distance_m};
+}
 
 std::vector<uint64_t> SeedRange(uint64_t first, uint64_t count) {
   std::vector<uint64_t> seeds(count);
@@ -60,17 +82,20 @@ Status CheckPlan(const DatasetPlan& plan) {
   if (!std::isfinite(plan.camera_height_m) || plan.camera_height_m <= 0 || plan.camera_height_m > 100) {
     return InvalidArgument("camera_height_m", "must be within (0, 100] m");
   }
-  // The camera looks straight down, so the bin's floor is the deepest pixel a depth image holds.
-  if (plan.camera_height_m * 1000.0 / plan.depth_scale_mm > 65535.0) {
-    char text[160];
-    std::snprintf(text, sizeof(text), "the floor %g m below the camera (camera_height_m) does not fit %s of %g mm",
-                  plan.camera_height_m, "16-bit depth units", plan.depth_scale_mm);
+  RETURN_IF_ERROR(CheckViews(plan.views));
+  // The floor's centre is the deepest point on the optical axis a depth image must hold.
+  const double farthest_m = ViewDistanceRange(plan).second;
+  if (farthest_m * 1000.0 / plan.depth_scale_mm > 65535.0) {
+    char text[200];
+    std::snprintf(text, sizeof(text), "the floor %g m from the camera (%s) does not fit %s of %g mm", farthest_m,
+                  plan.views.max_distance_m > 0 ? "views.distance_m" : "camera_height_m", "16-bit depth units",
+                  plan.depth_scale_mm);
     return InvalidArgument("depth_scale_mm", text);
   }
   const double scenes = double(plan.seeds.size()) * double(plan.bins.size()) * double(plan.sensors.size());
-  if (scenes > double(kMaxScenes)) {
-    return InvalidArgument("seeds", "seeds x bins x sensors must be at most " + std::to_string(kMaxScenes) +
-                                        " scenes, the plan makes " + std::to_string(uint64_t(scenes)));
+  if (scenes * plan.views.count > double(kMaxScenes)) {
+    return InvalidArgument("seeds", "seeds x bins x sensors x views must be at most " + std::to_string(kMaxScenes) +
+                                        " images, the plan makes " + std::to_string(uint64_t(scenes * plan.views.count)));
   }
   return Status::Ok();
 }

@@ -4,12 +4,30 @@
 
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "service/dataset/dataset_bins.h"
 #include "vscan/common/status.h"
 
 namespace vscan::service::dataset {
+
+// The images of each scene: camera poses sampled about the bin. Each view looks at the centre of the
+// bin's floor from a direction within cone_deg of straight down (uniform over that spherical cap)
+// at a distance uniform in [min_distance_m, max_distance_m], image x along the bin's x as far as
+// the tilt allows. The default is one view straight down from camera_height_m.
+struct DatasetViews {
+  uint32_t count = 1;
+  double cone_deg = 0;
+  double min_distance_m = 0;  // 0 with max_distance_m 0: camera_height_m
+  double max_distance_m = 0;
+  bool operator==(const DatasetViews&) const = default;
+};
+
+// Views per scene and the steepest tilt a plan may ask for (image x follows the bin's x, which a
+// view along it would lose).
+inline constexpr uint32_t kMaxViewsPerScene = 1000;
+inline constexpr double kMaxViewConeDeg = 80.0;
 
 struct DatasetPlan {
   std::string name;
@@ -22,6 +40,7 @@ struct DatasetPlan {
   // Empty, or one per sensor: its preset and resolution.
   std::vector<DatasetSensor> sensor_setups;
   double camera_height_m = 0.6;  // above each bin's floor, looking straight down at its centre
+  DatasetViews views;
   // A bin that takes fewer parts than its fill asks for: the scene is written and says so in
   // scene_fill.json and the job's result (false), or the run fails naming the scene (true).
   bool fail_on_underfilled_bin = false;
@@ -35,14 +54,18 @@ struct SceneKey {
   uint64_t seed = 0;
 };
 
-// Six digits name a scene directory.
+// Six digits name a scene directory and an image in it; a plan holds at most this many images.
 inline constexpr uint64_t kMaxScenes = 1'000'000;
+
+// The distances views are sampled from: the plan's range, or camera_height_m when it sets none.
+std::pair<double, double> ViewDistanceRange(const DatasetPlan& plan);
 
 // first, first + 1, ..., first + count - 1.
 std::vector<uint64_t> SeedRange(uint64_t first, uint64_t count);
 
 // Non-empty lists, distinct names and seeds, names usable as they are in JSON and paths (printable
-// ASCII without '/'), a finite positive depth scale and at most kMaxScenes scenes.
+// ASCII without '/'), a finite positive depth scale, views within their bounds and at most kMaxScenes
+// images (scenes x views).
 Status CheckPlan(const DatasetPlan& plan);
 // shard_count >= 1 and shard_index < shard_count.
 Status CheckShard(uint32_t shard_index, uint32_t shard_count);

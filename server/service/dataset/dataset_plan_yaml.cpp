@@ -69,15 +69,54 @@ StatusOr<std::vector<uint64_t>> Seeds(const YAML::Node& node, const std::string&
   return SeedRange(first, count);
 }
 
+StatusOr<double> Number(const YAML::Node& node, const std::string& source, const std::string& key) {
+  double value = 0;
+  if (!node.IsScalar() || !YAML::convert<double>::decode(node, value)) return Refuse(source, key, "must be a number");
+  return value;
+}
+
+// {count, cone_deg, distance_m}: distance_m one number or [min, max].
+Status ReadViews(const YAML::Node& node, const std::string& source, DatasetViews& views) {
+  if (!node.IsMap()) return Refuse(source, "views", "must be a mapping (count, cone_deg, distance_m)");
+  for (const auto& entry : node) {
+    const std::string key = entry.first.Scalar();
+    if (key != "count" && key != "cone_deg" && key != "distance_m") {
+      return Refuse(source, "views." + key, "is not a key (count, cone_deg, distance_m)");
+    }
+  }
+  if (node["count"]) {
+    ASSIGN_OR_RETURN(const uint64_t count, Count(node["count"], source, "views.count"));
+    if (count < 1 || count > kMaxViewsPerScene) {
+      return Refuse(source, "views.count", "must be within [1, " + std::to_string(kMaxViewsPerScene) + "]");
+    }
+    views.count = static_cast<uint32_t>(count);
+  }
+  if (node["cone_deg"]) {
+    ASSIGN_OR_RETURN(views.cone_deg, Number(node["cone_deg"], source, "views.cone_deg"));
+  }
+  if (const YAML::Node distance = node["distance_m"]) {
+    if (distance.IsSequence()) {
+      if (distance.size() != 2) return Refuse(source, "views.distance_m", "must be one distance or [min, max]");
+      ASSIGN_OR_RETURN(views.min_distance_m, Number(distance[0], source, "views.distance_m[0]"));
+      ASSIGN_OR_RETURN(views.max_distance_m, Number(distance[1], source, "views.distance_m[1]"));
+    } else {
+      ASSIGN_OR_RETURN(views.min_distance_m, Number(distance, source, "views.distance_m"));
+      views.max_distance_m = views.min_distance_m;
+    }
+    if (views.max_distance_m <= 0) return Refuse(source, "views.distance_m", "must be positive");
+  }
+  return Status::Ok();
+}
+
 StatusOr<DatasetPlan> PlanFromNode(const YAML::Node& root, const std::string& source) {
   if (!root.IsMap()) return InvalidArgument(source + ": the plan must be a mapping");
   static const std::set<std::string> kKeys = {"name",           "bins",           "seeds",
                                               "sensors",        "depth_scale_mm", "camera_height_m",
-                                              "fail_on_underfilled_bin"};
+                                              "fail_on_underfilled_bin", "views"};
   for (const auto& entry : root) {
     if (!kKeys.contains(entry.first.Scalar())) {
       return Refuse(source, entry.first.Scalar(),
-                    "is not a key (name, bins, seeds, sensors, depth_scale_mm, camera_height_m, "
+                    "is not a key (name, bins, seeds, sensors, depth_scale_mm, camera_height_m, views, "
                     "fail_on_underfilled_bin)");
     }
   }
@@ -104,6 +143,7 @@ StatusOr<DatasetPlan> PlanFromNode(const YAML::Node& root, const std::string& so
       return Refuse(source, "camera_height_m", "must be a number");
     }
   }
+  if (root["views"]) RETURN_IF_ERROR(ReadViews(root["views"], source, plan.views));
   if (root["fail_on_underfilled_bin"]) {
     if (!root["fail_on_underfilled_bin"].IsScalar() ||
         !YAML::convert<bool>::decode(root["fail_on_underfilled_bin"], plan.fail_on_underfilled_bin)) {

@@ -6,6 +6,7 @@
 //   sensors: [kinect-v2-class]      # preset names, or {name, preset, width, height}
 //   depth_scale_mm: 0.1             # optional
 //   camera_height_m: 0.6            # optional
+//   views: {count: 8, cone_deg: 30, distance_m: [0.5, 0.8]}  # optional: images per scene
 //   fail_on_underfilled_bin: false  # optional
 
 #include <string>

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <deque>
 #include <future>
+#include <optional>
 
 #include "service/dataset/dataset_layout.h"
 #include "service/dataset/dataset_manifest.h"
@@ -57,36 +58,58 @@ StatusOr<DatasetProgress> RunDatasetShard(const std::filesystem::path& root, con
   }
   progress.done = progress.skipped;
   if (run.on_progress) run.on_progress(progress);
-  // Frames in flight, oldest first; a frame is written once it and every frame before it are done.
-  std::deque<std::pair<uint64_t, std::future<StatusOr<DatasetFrame>>>> in_flight;
-  size_t next = 0;
-  while (next < missing.size() || !in_flight.empty()) {
-    while (next < missing.size() && in_flight.size() <= run.frames_ahead) {
+  const uint32_t views = plan.views.count;
+  // Frames in flight, oldest first: (scene, view) in order, each written once it and every frame
+  // before it are done.
+  struct Pending {
+    uint64_t scene_id;
+    uint32_t view;
+    std::future<StatusOr<DatasetFrame>> frame;
+  };
+  std::deque<Pending> in_flight;
+  const uint64_t frame_count = uint64_t{missing.size()} * views;
+  uint64_t next = 0;
+  std::optional<SceneWriter> writer;
+  while (next < frame_count || !in_flight.empty()) {
+    while (next < frame_count && in_flight.size() <= run.frames_ahead) {
       if (run.stop_requested && run.stop_requested()) return Cancelled("the dataset run was stopped");
-      const uint64_t id = missing[next++];
+      const uint64_t id = missing[next / views];
+      const auto view = static_cast<uint32_t>(next % views);
+      ++next;
       const SceneKey key = SceneAt(plan, id);
       const auto policy = run.frames_ahead == 0 ? std::launch::deferred : std::launch::async;
-      in_flight.emplace_back(id, std::async(policy, [&source, key] { return source(key); }));
+      in_flight.push_back({id, view, std::async(policy, [&source, key, view] { return source(key, view); })});
     }
-    const uint64_t id = in_flight.front().first;
-    StatusOr<DatasetFrame> frame = in_flight.front().second.get();
+    const uint64_t id = in_flight.front().scene_id;
+    const uint32_t view = in_flight.front().view;
+    StatusOr<DatasetFrame> frame = in_flight.front().frame.get();
     in_flight.pop_front();
-    if (!frame.ok()) return frame.status().WithFieldPrefix("scenes[" + std::to_string(id) + "]");
-    if (frame->parts_placed < frame->parts_planned) {
-      if (plan.fail_on_underfilled_bin) {
-        return FailedPrecondition("scenes[" + std::to_string(id) + "]: the bin took " +
-                                  std::to_string(frame->parts_placed) + " of " + std::to_string(frame->parts_planned) +
-                                  " parts and the plan sets fail_on_underfilled_bin");
-      }
-      progress.underfilled.push_back(id);
-    }
+    const std::string field = "scenes[" + std::to_string(id) + "]" + (views > 1 ? ".views[" + std::to_string(view) + "]" : "");
+    if (!frame.ok()) return frame.status().WithFieldPrefix(field);
     const SceneKey key = SceneAt(plan, id);
-    Status written = WriteScene(root, plan, key, *frame);
+    if (view == 0) {
+      if (frame->parts_placed < frame->parts_planned) {
+        if (plan.fail_on_underfilled_bin) {
+          return FailedPrecondition("scenes[" + std::to_string(id) + "]: the bin took " +
+                                    std::to_string(frame->parts_placed) + " of " + std::to_string(frame->parts_planned) +
+                                    " parts and the plan sets fail_on_underfilled_bin");
+        }
+        progress.underfilled.push_back(id);
+      }
+      StatusOr<SceneWriter> begun = SceneWriter::Begin(root, plan, key);
+      if (!begun.ok()) return begun.status().WithFieldPrefix("scenes[" + std::to_string(id) + "]");
+      writer.emplace(std::move(*begun));
+    }
+    Status written = writer->AddView(*frame);
     // Every scene of a sensor has its intrinsics; the first one a shard writes publishes them.
-    if (written.ok()) {
+    if (written.ok() && view == 0) {
       written = EnsureRootFile(root, CameraFileName(plan.sensors, key.sensor_index),
                                CameraParamsJson(*frame, plan.depth_scale_mm), "shard-" + std::to_string(run.shard_index));
     }
+    if (!written.ok()) return written.WithFieldPrefix(field);
+    if (view + 1 < views) continue;
+    written = writer->Finish();
+    writer.reset();
     if (!written.ok()) return written.WithFieldPrefix("scenes[" + std::to_string(id) + "]");
     ++progress.written;
     ++progress.done;

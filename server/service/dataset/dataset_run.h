@@ -14,9 +14,9 @@
 
 namespace vscan::service::dataset {
 
-// Captures the view of one scene (bin fill under the seed, seen by the sensor). With
-// ShardRun::frames_ahead > 0 it is called from several threads at once.
-using FrameSource = std::function<StatusOr<DatasetFrame>(const SceneKey&)>;
+// Captures one view (0 .. views.count - 1) of one scene (bin fill under the seed, seen by the
+// sensor). With ShardRun::frames_ahead > 0 it is called from several threads at once.
+using FrameSource = std::function<StatusOr<DatasetFrame>(const SceneKey&, uint32_t view)>;
 
 struct DatasetProgress {
   uint64_t total = 0;    // scenes of the shard

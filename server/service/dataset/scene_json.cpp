@@ -29,44 +29,54 @@ void Box(JsonWriter& json, const ImageBox& box) {
 
 }  // namespace
 
-std::string SceneCameraJson(const DatasetFrame& frame, double depth_scale_mm) {
-  const CameraIntrinsics& k = frame.camera;
-  const Pose3 camera_from_world = frame.world_from_camera.inverse();
+std::string SceneCameraJson(const std::vector<ViewRecord>& views, double depth_scale_mm) {
   JsonWriter json;
-  json.Open('{').Key("0").Open('{');
-  // BOP and OpenCV put pixel (u, v)'s centre at (u, v), vscan at (u + 0.5, v + 0.5).
-  const double cx = k.cx - 0.5, cy = k.cy - 0.5;
-  json.Key("cam_K").Open('[');
-  for (const double v : {k.fx, 0.0, cx, 0.0, k.fy, cy, 0.0, 0.0, 1.0}) json.Value(v);
-  json.Close(']');
-  json.Key("depth_scale").Value(depth_scale_mm);
-  json.Key("width").Value(uint64_t{k.width});
-  json.Key("height").Value(uint64_t{k.height});
-  json.Key("cam_R_w2c");
-  Rotation(json, camera_from_world);
-  json.Key("cam_t_w2c");
-  TranslationMm(json, camera_from_world);
-  json.Key("world_from_camera").Matrix(frame.world_from_camera);
-  json.Close('}').Close('}');
+  json.Open('{');
+  for (size_t v = 0; v < views.size(); ++v) {
+    const DatasetFrame& frame = views[v].frame;
+    const CameraIntrinsics& k = frame.camera;
+    const Pose3 camera_from_world = frame.world_from_camera.inverse();
+    json.Key(std::to_string(v)).Open('{');
+    // BOP and OpenCV put pixel (u, v)'s centre at (u, v), vscan at (u + 0.5, v + 0.5).
+    const double cx = k.cx - 0.5, cy = k.cy - 0.5;
+    json.Key("cam_K").Open('[');
+    for (const double x : {k.fx, 0.0, cx, 0.0, k.fy, cy, 0.0, 0.0, 1.0}) json.Value(x);
+    json.Close(']');
+    json.Key("depth_scale").Value(depth_scale_mm);
+    json.Key("width").Value(uint64_t{k.width});
+    json.Key("height").Value(uint64_t{k.height});
+    json.Key("cam_R_w2c");
+    Rotation(json, camera_from_world);
+    json.Key("cam_t_w2c");
+    TranslationMm(json, camera_from_world);
+    json.Key("world_from_camera").Matrix(frame.world_from_camera);
+    json.Close('}');
+  }
+  json.Close('}');
   return json.str() + "\n";
 }
 
-std::string SceneGtJson(const DatasetFrame& frame) {
-  const Pose3 camera_from_world = frame.world_from_camera.inverse();
+std::string SceneGtJson(const std::vector<ViewRecord>& views) {
   JsonWriter json;
-  json.Open('{').Key("0").Open('[');
-  for (const GroundTruthObject& object : frame.objects) {
-    const Pose3 camera_from_object = camera_from_world * object.world_from_object;
-    json.Open('{');
-    json.Key("obj_id").Value(uint64_t{object.obj_id});
-    json.Key("instance_id").Value(uint64_t{object.instance_id});
-    json.Key("cam_R_m2c");
-    Rotation(json, camera_from_object);
-    json.Key("cam_t_m2c");
-    TranslationMm(json, camera_from_object);
-    json.Close('}');
+  json.Open('{');
+  for (size_t v = 0; v < views.size(); ++v) {
+    const DatasetFrame& frame = views[v].frame;
+    const Pose3 camera_from_world = frame.world_from_camera.inverse();
+    json.Key(std::to_string(v)).Open('[');
+    for (const GroundTruthObject& object : frame.objects) {
+      const Pose3 camera_from_object = camera_from_world * object.world_from_object;
+      json.Open('{');
+      json.Key("obj_id").Value(uint64_t{object.obj_id});
+      json.Key("instance_id").Value(uint64_t{object.instance_id});
+      json.Key("cam_R_m2c");
+      Rotation(json, camera_from_object);
+      json.Key("cam_t_m2c");
+      TranslationMm(json, camera_from_object);
+      json.Close('}');
+    }
+    json.Close(']');
   }
-  json.Close(']').Close('}');
+  json.Close('}');
   return json.str() + "\n";
 }
 
@@ -103,22 +113,28 @@ bool SceneFillSaysUnderfilled(std::string_view bytes) {
   return bytes.find("\"underfilled\":true") != std::string_view::npos;
 }
 
-std::string SceneGtInfoJson(const DatasetFrame& frame, const std::vector<VisibleStats>& visible) {
+std::string SceneGtInfoJson(const std::vector<ViewRecord>& views) {
   JsonWriter json;
-  json.Open('{').Key("0").Open('[');
-  for (size_t i = 0; i < frame.objects.size(); ++i) {
-    json.Open('{');
-    json.Key("bbox_obj");
-    Box(json, frame.objects[i].full_box);
-    json.Key("bbox_visib");
-    Box(json, visible[i].box);
-    json.Key("px_count_all").Value(frame.objects[i].alone_pixels);
-    json.Key("px_count_valid").Value(visible[i].with_depth);
-    json.Key("px_count_visib").Value(visible[i].pixels);
-    json.Key("visib_fract").Value(frame.objects[i].visible_fraction);
-    json.Close('}');
+  json.Open('{');
+  for (size_t v = 0; v < views.size(); ++v) {
+    const DatasetFrame& frame = views[v].frame;
+    const std::vector<VisibleStats>& visible = views[v].visible;
+    json.Key(std::to_string(v)).Open('[');
+    for (size_t i = 0; i < frame.objects.size(); ++i) {
+      json.Open('{');
+      json.Key("bbox_obj");
+      Box(json, frame.objects[i].full_box);
+      json.Key("bbox_visib");
+      Box(json, visible[i].box);
+      json.Key("px_count_all").Value(frame.objects[i].alone_pixels);
+      json.Key("px_count_valid").Value(visible[i].with_depth);
+      json.Key("px_count_visib").Value(visible[i].pixels);
+      json.Key("visib_fract").Value(frame.objects[i].visible_fraction);
+      json.Close('}');
+    }
+    json.Close(']');
   }
-  json.Close(']').Close('}');
+  json.Close('}');
   return json.str() + "\n";
 }
 

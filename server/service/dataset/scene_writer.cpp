@@ -6,41 +6,13 @@
 #include "service/dataset/dataset_layout.h"
 #include "service/dataset/durable_file.h"
 #include "service/dataset/scene_images.h"
-#include "service/dataset/scene_json.h"
-#include "service/dataset/scene_record.h"
 #include "vscan/common/cloud_io.h"
 #include "vscan/common/png_codec.h"
 
 namespace vscan::service::dataset {
 namespace {
 
-// The image id inside a scene; one image per scene.
-constexpr const char* kImage = "000000";
-
-// Writes files under one directory and remembers each for the record.
-class SceneFiles {
- public:
-  explicit SceneFiles(std::filesystem::path dir) : dir_(std::move(dir)) {}
-
-  Status Write(const std::string& relative, std::string_view bytes) {
-    RETURN_IF_ERROR(WriteFileDurably(dir_ / relative, bytes));
-    written_.push_back({relative, bytes.size(), Crc32(bytes)});
-    return Status::Ok();
-  }
-  Status WriteEncoded(const std::string& relative, const StatusOr<std::string>& bytes) {
-    if (!bytes.ok()) return bytes.status();
-    return Write(relative, std::string_view(*bytes));
-  }
-  std::vector<SceneFileEntry> Sorted() const {
-    std::vector<SceneFileEntry> files = written_;
-    std::sort(files.begin(), files.end(), [](const auto& a, const auto& b) { return a.path < b.path; });
-    return files;
-  }
-
- private:
-  std::filesystem::path dir_;
-  std::vector<SceneFileEntry> written_;
-};
+constexpr const char* kImageDirs[] = {"depth", "mask", "mask_visib", "instances", "cloud"};
 
 // Positions, and normals and instance ids when the cloud has them: the fields the layout promises.
 PointCloud LayoutCloud(const PointCloud& cloud) {
@@ -56,52 +28,99 @@ Status MakeDirectories(const std::filesystem::path& partial) {
   std::error_code ec;
   std::filesystem::remove_all(partial, ec);
   if (ec) return Internal("cannot remove " + partial.string() + ": " + ec.message());
-  for (const char* sub : {"depth", "mask", "mask_visib", "instances", "cloud"}) {
+  for (const char* sub : kImageDirs) {
     std::filesystem::create_directories(partial / sub, ec);
     if (ec) return Internal("cannot create " + (partial / sub).string() + ": " + ec.message());
   }
   return Status::Ok();
 }
 
-Status WriteSceneFiles(const DatasetPlan& plan, const SceneKey& key, const DatasetFrame& frame, SceneFiles& files) {
-  const uint32_t width = frame.camera.width, height = frame.camera.height;
-  ASSIGN_OR_RETURN(const std::vector<uint16_t> depth, QuantizeDepth(frame, plan.depth_scale_mm));
-  const std::vector<uint16_t> object_index = ObjectIndexImage(frame);
-  const std::vector<VisibleStats> visible = VisibleStatsOf(object_index, depth, width, frame.objects.size());
-  RETURN_IF_ERROR(files.Write("scene_camera.json", SceneCameraJson(frame, plan.depth_scale_mm)));
-  RETURN_IF_ERROR(files.Write("scene_gt.json", SceneGtJson(frame)));
-  RETURN_IF_ERROR(files.Write("scene_gt_info.json", SceneGtInfoJson(frame, visible)));
-  RETURN_IF_ERROR(files.Write(kSceneFillFile, SceneFillJson(frame)));
-  RETURN_IF_ERROR(files.WriteEncoded(std::string("depth/") + kImage + ".png", EncodeGray16Png(width, height, depth)));
-  RETURN_IF_ERROR(
-      files.WriteEncoded(std::string("instances/") + kImage + ".png", EncodeGray16Png(width, height, object_index)));
-  for (size_t i = 0; i < frame.objects.size(); ++i) {
-    const std::string name = std::string("mask_visib/") + kImage + "_" + SixDigits(i) + ".png";
-    RETURN_IF_ERROR(files.WriteEncoded(name, EncodeGray8Png(width, height, VisibleMask(object_index, i))));
-    const std::string full = std::string("mask/") + kImage + "_" + SixDigits(i) + ".png";
-    RETURN_IF_ERROR(files.WriteEncoded(full, EncodeGray8Png(width, height, AloneMask(frame.objects[i], width * height))));
-  }
-  RETURN_IF_ERROR(files.WriteEncoded(std::string("cloud/") + kImage + ".ply", EncodePly(LayoutCloud(frame.cloud))));
-  return files.Write(kSceneRecordFile, SceneRecordJson(plan, key, files.Sorted()));
+// The frame as the scene's JSON files need it: no images, cloud or masks.
+DatasetFrame Header(const DatasetFrame& frame) {
+  DatasetFrame header;
+  header.camera = frame.camera;
+  header.world_from_camera = frame.world_from_camera;
+  header.objects = frame.objects;
+  for (GroundTruthObject& object : header.objects) object.alone_mask = {};
+  header.parts_planned = frame.parts_planned;
+  header.parts_placed = frame.parts_placed;
+  header.deepest_part_overlap_m = frame.deepest_part_overlap_m;
+  header.deepest_bin_overlap_m = frame.deepest_bin_overlap_m;
+  return header;
 }
 
 }  // namespace
 
+SceneWriter::SceneWriter(const std::filesystem::path& root, const DatasetPlan& plan, const SceneKey& key)
+    : final_dir_(SceneDir(root, key.scene_id)), partial_(PartialSceneDir(root, key.scene_id)), plan_(&plan), key_(key) {}
+
+StatusOr<SceneWriter> SceneWriter::Begin(const std::filesystem::path& root, const DatasetPlan& plan,
+                                         const SceneKey& key) {
+  SceneWriter writer(root, plan, key);
+  std::error_code ec;
+  if (std::filesystem::exists(writer.final_dir_, ec)) {
+    return Status(StatusCode::kAlreadyExists, writer.final_dir_.string() + " is already written");
+  }
+  RETURN_IF_ERROR(MakeDirectories(writer.partial_));
+  return writer;
+}
+
+Status SceneWriter::Write(const std::string& relative, std::string_view bytes) {
+  RETURN_IF_ERROR(WriteFileDurably(partial_ / relative, bytes));
+  written_.push_back({relative, bytes.size(), Crc32(bytes)});
+  return Status::Ok();
+}
+
+Status SceneWriter::WriteEncoded(const std::string& relative, const StatusOr<std::string>& bytes) {
+  if (!bytes.ok()) return bytes.status();
+  return Write(relative, std::string_view(*bytes));
+}
+
+Status SceneWriter::AddView(const DatasetFrame& frame) {
+  if (views_.size() >= plan_->views.count) {
+    return FailedPrecondition(final_dir_.string() + ": the plan has " + std::to_string(plan_->views.count) +
+                              " views per scene, this would be one more");
+  }
+  RETURN_IF_ERROR(CheckFrame(frame));
+  const uint32_t width = frame.camera.width, height = frame.camera.height;
+  const std::string image = SixDigits(views_.size());
+  ASSIGN_OR_RETURN(const std::vector<uint16_t> depth, QuantizeDepth(frame, plan_->depth_scale_mm));
+  const std::vector<uint16_t> object_index = ObjectIndexImage(frame);
+  RETURN_IF_ERROR(WriteEncoded("depth/" + image + ".png", EncodeGray16Png(width, height, depth)));
+  RETURN_IF_ERROR(WriteEncoded("instances/" + image + ".png", EncodeGray16Png(width, height, object_index)));
+  for (size_t i = 0; i < frame.objects.size(); ++i) {
+    RETURN_IF_ERROR(WriteEncoded("mask_visib/" + image + "_" + SixDigits(i) + ".png",
+                                 EncodeGray8Png(width, height, VisibleMask(object_index, i))));
+    RETURN_IF_ERROR(WriteEncoded("mask/" + image + "_" + SixDigits(i) + ".png",
+                                 EncodeGray8Png(width, height, AloneMask(frame.objects[i], width * height))));
+  }
+  RETURN_IF_ERROR(WriteEncoded("cloud/" + image + ".ply", EncodePly(LayoutCloud(frame.cloud))));
+  views_.push_back({Header(frame), VisibleStatsOf(object_index, depth, width, frame.objects.size())});
+  return Status::Ok();
+}
+
+Status SceneWriter::Finish() {
+  if (views_.size() != plan_->views.count) {
+    return FailedPrecondition(final_dir_.string() + ": " + std::to_string(views_.size()) + " of " +
+                              std::to_string(plan_->views.count) + " views written");
+  }
+  RETURN_IF_ERROR(Write("scene_camera.json", SceneCameraJson(views_, plan_->depth_scale_mm)));
+  RETURN_IF_ERROR(Write("scene_gt.json", SceneGtJson(views_)));
+  RETURN_IF_ERROR(Write("scene_gt_info.json", SceneGtInfoJson(views_)));
+  RETURN_IF_ERROR(Write(kSceneFillFile, SceneFillJson(views_.front().frame)));
+  std::vector<SceneFileEntry> files = written_;
+  std::sort(files.begin(), files.end(), [](const auto& a, const auto& b) { return a.path < b.path; });
+  RETURN_IF_ERROR(Write(kSceneRecordFile, SceneRecordJson(*plan_, key_, files)));
+  for (const char* sub : kImageDirs) RETURN_IF_ERROR(SyncDirectory(partial_ / sub));
+  RETURN_IF_ERROR(SyncDirectory(partial_));
+  return RenameDurably(partial_, final_dir_);
+}
+
 Status WriteScene(const std::filesystem::path& root, const DatasetPlan& plan, const SceneKey& key,
                   const DatasetFrame& frame) {
-  RETURN_IF_ERROR(CheckFrame(frame));
-  const std::filesystem::path final_dir = SceneDir(root, key.scene_id);
-  std::error_code ec;
-  if (std::filesystem::exists(final_dir, ec)) {
-    return Status(StatusCode::kAlreadyExists, final_dir.string() + " is already written");
-  }
-  const std::filesystem::path partial = PartialSceneDir(root, key.scene_id);
-  RETURN_IF_ERROR(MakeDirectories(partial));
-  SceneFiles files(partial);
-  RETURN_IF_ERROR(WriteSceneFiles(plan, key, frame, files));
-  for (const char* sub : {"depth", "mask", "mask_visib", "instances", "cloud"}) RETURN_IF_ERROR(SyncDirectory(partial / sub));
-  RETURN_IF_ERROR(SyncDirectory(partial));
-  return RenameDurably(partial, final_dir);
+  ASSIGN_OR_RETURN(SceneWriter writer, SceneWriter::Begin(root, plan, key));
+  RETURN_IF_ERROR(writer.AddView(frame));
+  return writer.Finish();
 }
 
 }  // namespace vscan::service::dataset

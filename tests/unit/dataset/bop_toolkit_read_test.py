@@ -71,6 +71,9 @@ TOOLKIT = find_toolkit()
 @unittest.skipIf(TOOLKIT is None, "bop_toolkit not found: set VSCAN_BOP_TOOLKIT to a checkout holding "
                  "bop_toolkit_lib/ (github.com/thodan/bop_toolkit) to read the dataset with BOP's loaders")
 class BopToolkitReadsTheDatasetTest(unittest.TestCase):
+    FIXTURE_ARGS = []
+    VIEWS = 1
+
     @classmethod
     def setUpClass(cls):
         cls.stand_ins = stand_in_missing_modules()
@@ -80,7 +83,7 @@ class BopToolkitReadsTheDatasetTest(unittest.TestCase):
         cls.tmp = tempfile.TemporaryDirectory()
         # dataset_params knows only the benchmark's dataset names; "lm" gives the generic templates.
         cls.root = os.path.join(cls.tmp.name, "lm")
-        subprocess.run([layout.FIXTURE, cls.root], check=True)
+        subprocess.run([layout.FIXTURE] + cls.FIXTURE_ARGS + [cls.root], check=True)
         cls.split = dataset_params.get_split_params(cls.tmp.name, "lm", "train", "pbr")
         cls.models = dataset_params.get_model_params(cls.tmp.name, "lm")
         cls.scenes = inout.load_json(os.path.join(cls.root, "scenes.json"))["scenes"]
@@ -128,6 +131,7 @@ class BopToolkitReadsTheDatasetTest(unittest.TestCase):
             cameras = self.inout.load_scene_camera(p["scene_camera_tpath"].format(scene_id=scene_id))
             gts = self.inout.load_scene_gt(p["scene_gt_tpath"].format(scene_id=scene_id))
             infos = self.inout.load_json(p["scene_gt_info_tpath"].format(scene_id=scene_id), keys_to_int=True)
+            self.assertEqual(sorted(cameras), list(range(self.VIEWS)))
             self.assertEqual(sorted(cameras), sorted(gts))
             self.assertEqual(sorted(cameras), sorted(infos))
             for im_id, camera in cameras.items():
@@ -157,6 +161,10 @@ class BopToolkitReadsTheDatasetTest(unittest.TestCase):
                     ys, xs = np.nonzero(visible)
                     self.assertEqual(info["bbox_visib"], [int(v) for v in self.misc.calc_2d_bbox(xs, ys)])
 
+
+class BopToolkitReadsAMultiViewDatasetTest(BopToolkitReadsTheDatasetTest):
+    FIXTURE_ARGS = ["--views"]
+    VIEWS = 3
 
 
 if __name__ == "__main__":

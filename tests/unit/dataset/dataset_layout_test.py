@@ -1,6 +1,7 @@
 """Reads a written dataset without vscan's code: its own PNG decoder (zlib and the PNG filters),
 json, numpy and a PLY header parse, and checks the files against each other and the geometry of
-the synthetic bin (a floor 0.8 m below a camera looking straight down, two boxes on it)."""
+the synthetic bin (a floor 0.8 m below a camera looking straight down, two boxes on it), and the
+same bin seen from three sampled views a scene (within 35 degrees of straight down, 0.7-0.9 m away)."""
 
 import json
 import os
@@ -99,11 +100,14 @@ def load(path):
 
 
 class DatasetLayoutTest(unittest.TestCase):
+    FIXTURE_ARGS = []
+    VIEWS = 1
+
     @classmethod
     def setUpClass(cls):
         cls.tmp = tempfile.TemporaryDirectory()
         cls.root = cls.tmp.name
-        subprocess.run([FIXTURE, cls.root], check=True)
+        subprocess.run([FIXTURE] + cls.FIXTURE_ARGS + [cls.root], check=True)
         cls.manifest = load(os.path.join(cls.root, "dataset.json"))
         cls.index = load(os.path.join(cls.root, "scenes.json"))
         cls.models = load(os.path.join(cls.root, "models", "models_info.json"))
@@ -116,6 +120,18 @@ class DatasetLayoutTest(unittest.TestCase):
         for entry in self.index["scenes"]:
             yield entry, os.path.join(self.root, SPLIT, "%06d" % entry["scene_id"])
 
+    def images(self):
+        """(scene directory, image name, camera, gt, info) of every image of every scene."""
+        for _, scene in self.scene_dirs():
+            cameras = load(os.path.join(scene, "scene_camera.json"))
+            gts = load(os.path.join(scene, "scene_gt.json"))
+            infos = load(os.path.join(scene, "scene_gt_info.json"))
+            self.assertEqual(list(cameras), [str(i) for i in range(self.VIEWS)])
+            self.assertEqual(list(gts), list(cameras))
+            self.assertEqual(list(infos), list(cameras))
+            for im_id in cameras:
+                yield scene, "%06d" % int(im_id), cameras[im_id], gts[im_id], infos[im_id]
+
     def test_index_follows_the_plan_seed_then_bin_then_sensor(self):
         plan = self.manifest["plan"]
         self.assertEqual(self.manifest["layout_version"], 2)
@@ -125,6 +141,12 @@ class DatasetLayoutTest(unittest.TestCase):
         self.assertEqual([e["scene_id"] for e in self.index["scenes"]], list(range(len(expected))))
         self.assertEqual(sorted(os.listdir(os.path.join(self.root, SPLIT))),
                          ["%06d" % i for i in range(len(expected))])
+
+    def test_manifest_names_views_only_when_the_plan_sets_them(self):
+        if self.VIEWS == 1:
+            self.assertNotIn("views", self.manifest["plan"])
+        else:
+            self.assertEqual(self.manifest["plan"]["views"], {"count": 3, "cone_deg": 35, "distance_m": [0.7, 0.9]})
 
     def test_records_match_the_files_on_disk(self):
         for entry, scene in self.scene_dirs():
@@ -144,46 +166,70 @@ class DatasetLayoutTest(unittest.TestCase):
                 self.assertEqual(zlib.crc32(data), listed["crc32"], listed["path"])
 
     def test_camera_pose_and_its_inverse_agree(self):
-        for _, scene in self.scene_dirs():
-            camera = load(os.path.join(scene, "scene_camera.json"))["0"]
+        for _, _, camera, _, _ in self.images():
             world_from_camera = np.array(camera["world_from_camera"]).reshape(4, 4)
             r_w2c = np.array(camera["cam_R_w2c"]).reshape(3, 3)
             t_w2c = np.array(camera["cam_t_w2c"])
             np.testing.assert_allclose(r_w2c @ world_from_camera[:3, :3], np.eye(3), atol=1e-12)
             np.testing.assert_allclose(r_w2c @ (world_from_camera[:3, 3] * 1000.0) + t_w2c, 0, atol=1e-9)
-            self.assertAlmostEqual(world_from_camera[2, 3] * 1000.0, CAMERA_HEIGHT_MM)
+
+    def test_every_view_looks_at_the_floor_centre_from_within_the_plan(self):
+        tilts = []
+        for _, _, camera, _, _ in self.images():
+            world_from_camera = np.array(camera["world_from_camera"]).reshape(4, 4)
+            position, axes = world_from_camera[:3, 3] * 1000.0, world_from_camera[:3, :3]
+            distance = np.linalg.norm(position)
+            np.testing.assert_allclose(axes[:, 2], -position / distance, atol=1e-9)
+            # Image x is the bin's x projected onto the image plane.
+            self.assertAlmostEqual(float(axes[:, 0] @ np.cross([1.0, 0.0, 0.0], axes[:, 2])), 0.0, places=12)
+            self.assertGreater(axes[0, 0], 0.0)
+            tilts.append(np.degrees(np.arccos(-axes[2, 2])))
+            if self.VIEWS == 1:
+                self.assertAlmostEqual(distance, CAMERA_HEIGHT_MM)
+                np.testing.assert_array_equal(axes, np.diag([1.0, -1.0, -1.0]))
+            else:
+                self.assertTrue(700.0 <= distance <= 900.0, distance)
+        self.assertLessEqual(max(tilts), 35.0 + 1e-9)
+        if self.VIEWS > 1:
+            self.assertGreater(max(tilts), 15.0, "views should spread over the cone")
 
     def test_one_camera_file_per_sensor_matches_its_scenes(self):
         for entry, scene in self.scene_dirs():
             camera = load(os.path.join(self.root, "camera_%s.json" % entry["sensor"]))
-            k = np.array(load(os.path.join(scene, "scene_camera.json"))["0"]["cam_K"]).reshape(3, 3)
-            self.assertEqual([camera["fx"], camera["fy"], camera["cx"], camera["cy"]],
-                             [k[0, 0], k[1, 1], k[0, 2], k[1, 2]])
+            for view in load(os.path.join(scene, "scene_camera.json")).values():
+                k = np.array(view["cam_K"]).reshape(3, 3)
+                self.assertEqual([camera["fx"], camera["fy"], camera["cx"], camera["cy"]],
+                                 [k[0, 0], k[1, 1], k[0, 2], k[1, 2]])
         self.assertFalse(os.path.exists(os.path.join(self.root, "camera.json")))
 
-    def test_depth_of_the_floor_is_the_camera_height(self):
-        for _, scene in self.scene_dirs():
-            camera = load(os.path.join(scene, "scene_camera.json"))["0"]
-            depth, bits = read_png(os.path.join(scene, "depth", "000000.png"))
-            instances, _ = read_png(os.path.join(scene, "instances", "000000.png"))
+    def test_floor_pixels_back_project_onto_the_floor(self):
+        for scene, image, camera, _, _ in self.images():
+            depth, bits = read_png(os.path.join(scene, "depth", image + ".png"))
+            instances, _ = read_png(os.path.join(scene, "instances", image + ".png"))
             self.assertEqual(bits, 16)
             self.assertEqual(depth.shape, (camera["height"], camera["width"]))
             floor = (instances == 0) & (depth > 0)
             self.assertGreater(floor.sum(), 100)
-            np.testing.assert_allclose(depth[floor] * camera["depth_scale"], CAMERA_HEIGHT_MM, atol=1e-9)
+            if self.VIEWS == 1:
+                np.testing.assert_allclose(depth[floor] * camera["depth_scale"], CAMERA_HEIGHT_MM, atol=1e-9)
+            k = np.array(camera["cam_K"]).reshape(3, 3)
+            ys, xs = np.nonzero(floor)
+            z = depth[ys, xs] * camera["depth_scale"]
+            in_camera = np.stack([(xs - k[0, 2]) / k[0, 0] * z, (ys - k[1, 2]) / k[1, 1] * z, z], axis=1)
+            world_from_camera = np.array(camera["world_from_camera"]).reshape(4, 4)
+            in_world = in_camera @ world_from_camera[:3, :3].T + world_from_camera[:3, 3] * 1000.0
+            np.testing.assert_allclose(in_world[:, 2], 0.0, atol=SURFACE_TOLERANCE_MM)
             self.assertGreater((depth == 0).sum(), 0)
 
     def test_masks_boxes_and_counts_agree_with_the_instance_image(self):
         occluded = 0
-        for _, scene in self.scene_dirs():
-            gt = load(os.path.join(scene, "scene_gt.json"))["0"]
-            info = load(os.path.join(scene, "scene_gt_info.json"))["0"]
-            depth, _ = read_png(os.path.join(scene, "depth", "000000.png"))
-            instances, _ = read_png(os.path.join(scene, "instances", "000000.png"))
+        for scene, image, _, gt, info in self.images():
+            depth, _ = read_png(os.path.join(scene, "depth", image + ".png"))
+            instances, _ = read_png(os.path.join(scene, "instances", image + ".png"))
             self.assertEqual(len(gt), len(info))
             self.assertEqual(instances.max(), len(gt))
             for i, entry in enumerate(info):
-                mask, bits = read_png(os.path.join(scene, "mask_visib", "000000_%06d.png" % i))
+                mask, bits = read_png(os.path.join(scene, "mask_visib", image + "_%06d.png" % i))
                 self.assertEqual(bits, 8)
                 self.assertTrue(np.array_equal(mask == 255, instances == i + 1))
                 self.assertTrue(set(np.unique(mask)) <= {0, 255})
@@ -195,7 +241,7 @@ class DatasetLayoutTest(unittest.TestCase):
                 self.assertEqual(entry["bbox_visib"], box)
                 self.assertGreaterEqual(entry["px_count_all"], entry["px_count_visib"])
                 self.assertAlmostEqual(entry["visib_fract"], entry["px_count_visib"] / entry["px_count_all"])
-                full, _ = read_png(os.path.join(scene, "mask", "000000_%06d.png" % i))
+                full, _ = read_png(os.path.join(scene, "mask", image + "_%06d.png" % i))
                 self.assertTrue(set(np.unique(full)) <= {0, 255})
                 self.assertTrue(np.all(full[mask == 255] == 255), "the visible part lies in the full silhouette")
                 self.assertEqual(int((full == 255).sum()), entry["px_count_all"])
@@ -209,12 +255,10 @@ class DatasetLayoutTest(unittest.TestCase):
         self.assertGreater(occluded, 0, "the taller box should hide part of the other in some scene")
 
     def test_every_masked_pixel_back_projects_onto_its_part(self):
-        for _, scene in self.scene_dirs():
-            camera = load(os.path.join(scene, "scene_camera.json"))["0"]
+        for scene, image, camera, gt, _ in self.images():
             k = np.array(camera["cam_K"]).reshape(3, 3)
-            gt = load(os.path.join(scene, "scene_gt.json"))["0"]
-            depth, _ = read_png(os.path.join(scene, "depth", "000000.png"))
-            instances, _ = read_png(os.path.join(scene, "instances", "000000.png"))
+            depth, _ = read_png(os.path.join(scene, "depth", image + ".png"))
+            instances, _ = read_png(os.path.join(scene, "instances", image + ".png"))
             for i, pose in enumerate(gt):
                 model = self.models[str(pose["obj_id"])]
                 lo = np.array([model["min_x"], model["min_y"], model["min_z"]])
@@ -233,11 +277,9 @@ class DatasetLayoutTest(unittest.TestCase):
                 self.assertTrue(np.all(on_face.any(axis=1)), scene)
 
     def test_cloud_holds_one_point_per_measured_pixel_with_its_instance(self):
-        for _, scene in self.scene_dirs():
-            gt = load(os.path.join(scene, "scene_gt.json"))["0"]
-            info = load(os.path.join(scene, "scene_gt_info.json"))["0"]
-            depth, _ = read_png(os.path.join(scene, "depth", "000000.png"))
-            cloud = read_ply(os.path.join(scene, "cloud", "000000.ply"))
+        for scene, image, camera, gt, info in self.images():
+            depth, _ = read_png(os.path.join(scene, "depth", image + ".png"))
+            cloud = read_ply(os.path.join(scene, "cloud", image + ".ply"))
             self.assertEqual(set(cloud.dtype.names), {"x", "y", "z", "nx", "ny", "nz", "instance"})
             self.assertEqual(len(cloud), int((depth > 0).sum()))
             for pose, entry in zip(gt, info):
@@ -248,7 +290,8 @@ class DatasetLayoutTest(unittest.TestCase):
         for entry, scene in self.scene_dirs():
             fill = load(os.path.join(scene, "scene_fill.json"))
             self.assertEqual(fill["underfilled"], fill["parts_placed"] < fill["parts_planned"])
-            self.assertEqual(fill["parts_placed"], len(load(os.path.join(scene, "scene_gt.json"))["0"]))
+            for view in load(os.path.join(scene, "scene_gt.json")).values():
+                self.assertEqual(fill["parts_placed"], len(view))
             if fill["underfilled"]:
                 underfilled.append((entry["seed"], entry["bin"]))
         # The synthetic plan's seed 12 far-pair asks for a part more than it holds, for both sensors.
@@ -271,13 +314,36 @@ class DatasetLayoutTest(unittest.TestCase):
         np.testing.assert_allclose(quarter[:3, :3], [[0, -1, 0], [1, 0, 0], [0, 0, 1]], atol=1e-12)
 
 
+class MultiViewDatasetLayoutTest(DatasetLayoutTest):
+    FIXTURE_ARGS = ["--views"]
+    VIEWS = 3
+
+    def test_views_of_a_scene_differ_and_share_their_parts(self):
+        for _, scene in self.scene_dirs():
+            cameras = load(os.path.join(scene, "scene_camera.json"))
+            poses = [np.array(c["world_from_camera"]) for c in cameras.values()]
+            self.assertFalse(any(np.array_equal(poses[0], p) for p in poses[1:]), scene)
+            gts = list(load(os.path.join(scene, "scene_gt.json")).values())
+            for view, camera in zip(gts, cameras.values()):
+                world_from_camera = np.array(camera["world_from_camera"]).reshape(4, 4)
+                # The same part in the world seen from every view: world_from_model agrees.
+                for pose, first in zip(view, gts[0]):
+                    self.assertEqual(pose["instance_id"], first["instance_id"])
+                    world = world_from_camera[:3, :3] @ np.array(pose["cam_t_m2c"]) + world_from_camera[:3, 3] * 1000
+                    world0 = (np.array(list(cameras.values())[0]["world_from_camera"]).reshape(4, 4))
+                    expected = world0[:3, :3] @ np.array(first["cam_t_m2c"]) + world0[:3, 3] * 1000
+                    np.testing.assert_allclose(world, expected, atol=1e-6)
+
+
 class ShardedDatasetTest(unittest.TestCase):
+    FIXTURE_ARGS = []
+
     def test_two_shard_processes_and_a_merge_write_what_one_process_writes(self):
         with tempfile.TemporaryDirectory() as one, tempfile.TemporaryDirectory() as sharded:
-            subprocess.run([FIXTURE, one], check=True)
+            subprocess.run([FIXTURE] + self.FIXTURE_ARGS + [one], check=True)
             for index in ("1", "0"):
-                subprocess.run([FIXTURE, sharded, index, "2"], check=True)
-            subprocess.run([FIXTURE, sharded, "merge"], check=True)
+                subprocess.run([FIXTURE] + self.FIXTURE_ARGS + [sharded, index, "2"], check=True)
+            subprocess.run([FIXTURE] + self.FIXTURE_ARGS + [sharded, "merge"], check=True)
 
             def tree(root):
                 files = {}
@@ -291,6 +357,10 @@ class ShardedDatasetTest(unittest.TestCase):
             self.assertEqual(sorted(expected), sorted(actual))
             for path in expected:
                 self.assertEqual(expected[path], actual[path], path)
+
+
+class ShardedMultiViewDatasetTest(ShardedDatasetTest):
+    FIXTURE_ARGS = ["--views"]
 
 
 if __name__ == "__main__":

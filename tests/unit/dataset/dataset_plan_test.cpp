@@ -121,7 +121,7 @@ TEST(DatasetPlanYaml, NamesTheKeyItRefuses) {
     return ParseDatasetPlanYaml(text, "p.yaml").status().message();
   };
   EXPECT_EQ(message("bins: [b]\nseeds: [1]\nsensors: [s]\ncolour: red\n"),
-            "p.yaml: colour: is not a key (name, bins, seeds, sensors, depth_scale_mm, camera_height_m, "
+            "p.yaml: colour: is not a key (name, bins, seeds, sensors, depth_scale_mm, camera_height_m, views, "
             "fail_on_underfilled_bin)");
   EXPECT_EQ(message("bins: [b]\nsensors: [s]\n"), "p.yaml: seeds: is missing");
   EXPECT_EQ(message("bins: [b]\nseeds: {first: 1}\nsensors: [s]\n"), "p.yaml: seeds: needs both first and count");
@@ -180,6 +180,68 @@ TEST(DatasetPlanYaml, NamesTheBinKeyItRefuses) {
             "p.yaml: bins[1]: describe every bin's fill or none");
   EXPECT_EQ(message("  - name: a\n" + box + "    parts: [{mesh: a.stl, count: 1, colour: red}]\n"),
             "p.yaml: bins[0].parts[0].colour: is not a key (mesh, mesh_id, unit, scale, count, name)");
+}
+
+
+TEST(DatasetPlanYaml, ReadsViewsAndDefaultsToOneStraightDown) {
+  const std::string base = "bins: [b]\nseeds: [1]\nsensors: [s]\n";
+  StatusOr<DatasetPlan> plan = ParseDatasetPlanYaml(base, "p.yaml");
+  ASSERT_TRUE(plan.ok()) << plan.status().ToString();
+  EXPECT_EQ(plan->views, DatasetViews{});
+  EXPECT_EQ(ViewDistanceRange(*plan), (std::pair<double, double>{0.6, 0.6}));
+  plan = ParseDatasetPlanYaml(base + "views: {count: 12, cone_deg: 30, distance_m: [0.5, 0.9]}\n", "p.yaml");
+  ASSERT_TRUE(plan.ok()) << plan.status().ToString();
+  EXPECT_EQ(plan->views, (DatasetViews{12, 30.0, 0.5, 0.9}));
+  EXPECT_EQ(ViewDistanceRange(*plan), (std::pair<double, double>{0.5, 0.9}));
+  plan = ParseDatasetPlanYaml(base + "views: {count: 2, distance_m: 0.7}\n", "p.yaml");
+  ASSERT_TRUE(plan.ok()) << plan.status().ToString();
+  EXPECT_EQ(ViewDistanceRange(*plan), (std::pair<double, double>{0.7, 0.7}));
+}
+
+TEST(DatasetPlanYaml, RefusesViewsOutsideTheirBoundsNamingTheKey) {
+  const auto message = [](const std::string& views) {
+    return ParseDatasetPlanYaml("bins: [b]\nseeds: [1]\nsensors: [s]\nviews: " + views + "\n", "p.yaml")
+        .status()
+        .message();
+  };
+  EXPECT_EQ(message("{count: 0}"), "p.yaml: views.count: must be within [1, 1000]");
+  EXPECT_EQ(message("{count: 1001}"), "p.yaml: views.count: must be within [1, 1000]");
+  EXPECT_EQ(message("{count: -3}"), "p.yaml: views.count: must be a non-negative whole number");
+  EXPECT_EQ(message("{cone_deg: 85}"), "p.yaml: views.cone_deg: must be within [0, 80] degrees of straight down");
+  EXPECT_EQ(message("{cone_deg: .nan}"), "p.yaml: views.cone_deg: must be within [0, 80] degrees of straight down");
+  EXPECT_EQ(message("{distance_m: [0.9, 0.5]}"), "p.yaml: views.distance_m: must be [min, max] with 0 < min <= max <= 100 m");
+  EXPECT_EQ(message("{distance_m: [0.5, 1e19]}"), "p.yaml: views.distance_m: must be [min, max] with 0 < min <= max <= 100 m");
+  EXPECT_EQ(message("{distance_m: [0, 0]}"), "p.yaml: views.distance_m: must be positive");
+  EXPECT_EQ(message("{distance_m: [0.5, 0.6, 0.7]}"), "p.yaml: views.distance_m: must be one distance or [min, max]");
+  EXPECT_EQ(message("{tilt: 3}"), "p.yaml: views.tilt: is not a key (count, cone_deg, distance_m)");
+  EXPECT_EQ(message("[3]"), "p.yaml: views: must be a mapping (count, cone_deg, distance_m)");
+}
+
+TEST(DatasetPlan, BoundsImagesNotScenes) {
+  DatasetPlan plan;
+  plan.bins = {"b"};
+  plan.sensors = {"s"};
+  plan.seeds = SeedRange(0, 2000);
+  plan.views.count = 500;
+  EXPECT_TRUE(CheckPlan(plan).ok());
+  plan.views.count = 501;
+  const Status refused = CheckPlan(plan);
+  EXPECT_EQ(refused.code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(refused.field(), "seeds");
+  EXPECT_NE(refused.ToString().find("the plan makes 1002000"), std::string::npos) << refused.ToString();
+}
+
+TEST(DatasetPlan, TheFarthestViewMustFitTheDepthImage) {
+  DatasetPlan plan;
+  plan.bins = {"b"};
+  plan.sensors = {"s"};
+  plan.seeds = {1};
+  plan.views = {4, 20.0, 0.5, 7.0};
+  const Status refused = CheckPlan(plan);
+  EXPECT_EQ(refused.field(), "depth_scale_mm");
+  EXPECT_NE(refused.ToString().find("7 m from the camera (views.distance_m)"), std::string::npos) << refused.ToString();
+  plan.depth_scale_mm = 0.2;
+  EXPECT_TRUE(CheckPlan(plan).ok());
 }
 
 }  // namespace

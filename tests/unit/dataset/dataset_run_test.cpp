@@ -38,7 +38,7 @@ std::map<std::string, std::string> Tree(const std::filesystem::path& root) {
 // Counts the frames it hands out.
 struct CountingSource {
   FrameSource Source() {
-    return [this](const SceneKey& key) -> StatusOr<DatasetFrame> {
+    return [this](const SceneKey& key, uint32_t) -> StatusOr<DatasetFrame> {
       scenes.push_back(key.scene_id);
       return test::SyntheticFrame(key);
     };
@@ -87,10 +87,67 @@ TEST(DatasetRun, TwoShardsMergedMatchOneProcessByteForByte) {
   }
 }
 
+TEST(DatasetRun, EveryViewOfASceneLandsInItsDirectoryInOrderAndShardsMergeToTheSameBytes) {
+  const DatasetPlan plan = test::SyntheticMultiViewPlan();
+  test::TempDir one, sharded;
+  std::mutex mutex;
+  std::vector<std::pair<uint64_t, uint32_t>> asked;
+  const FrameSource source = [&](const SceneKey& key, uint32_t view) -> StatusOr<DatasetFrame> {
+    {
+      const std::lock_guard lock(mutex);
+      asked.emplace_back(key.scene_id, view);
+    }
+    return test::SyntheticFrame(plan, key, view);
+  };
+  ASSERT_TRUE(WriteDataset(one.path(), plan, test::SyntheticParts(), source, nullptr).ok());
+  std::vector<std::pair<uint64_t, uint32_t>> expected;
+  for (uint64_t id = 0; id < SceneCount(plan); ++id) {
+    for (uint32_t view = 0; view < 3; ++view) expected.emplace_back(id, view);
+  }
+  EXPECT_EQ(asked, expected);
+  const auto files = Tree(one.path());
+  for (const char* path : {"train_pbr/000004/depth/000002.png", "train_pbr/000004/cloud/000001.ply",
+                           "train_pbr/000004/mask_visib/000002_000001.png", "train_pbr/000004/mask/000000_000000.png"}) {
+    EXPECT_TRUE(files.contains(path)) << path;
+  }
+  EXPECT_FALSE(files.contains("train_pbr/000004/depth/000003.png"));
+  const std::string& cameras = files.at("train_pbr/000004/scene_camera.json");
+  EXPECT_NE(cameras.find("\"2\":{"), std::string::npos) << cameras;
+  EXPECT_EQ(cameras.find("\"3\":"), std::string::npos) << cameras;
+
+  ShardRun run;
+  run.frames_ahead = 4;
+  for (const uint32_t index : {1u, 0u}) {
+    run.shard_index = index;
+    run.shard_count = 2;
+    ASSERT_TRUE(RunDatasetShard(sharded.path(), plan, test::SyntheticParts(), test::SyntheticSource(plan), run).ok());
+  }
+  ASSERT_TRUE(MergeDataset(sharded.path(), plan).ok());
+  EXPECT_EQ(Tree(sharded.path()), files);
+}
+
+TEST(DatasetRun, AFailedViewNamesSceneAndViewAndLeavesOnlyAPartialScene) {
+  const DatasetPlan plan = test::SyntheticMultiViewPlan();
+  test::TempDir root;
+  const FrameSource source = [&plan](const SceneKey& key, uint32_t view) -> StatusOr<DatasetFrame> {
+    if (key.scene_id == 1 && view == 2) return Internal("the scanner overheated");
+    return test::SyntheticFrame(plan, key, view);
+  };
+  const Status status = RunShard(root.path(), plan, 0, 1, source).status();
+  EXPECT_EQ(status.code(), StatusCode::kInternal);
+  EXPECT_EQ(status.field(), "scenes[1].views[2]");
+  EXPECT_TRUE(std::filesystem::exists(SceneDir(root.path(), 0)));
+  EXPECT_FALSE(std::filesystem::exists(SceneDir(root.path(), 1)));
+  // A rerun replaces the half-written scene and finishes the plan.
+  ASSERT_TRUE(RunShard(root.path(), plan, 0, 1, test::SyntheticSource(plan)).ok());
+  ASSERT_TRUE(MergeDataset(root.path(), plan).ok());
+  EXPECT_FALSE(std::filesystem::exists(PartialSceneDir(root.path(), 1)));
+}
+
 TEST(DatasetRun, FramesCapturedAheadOnOtherThreadsWriteTheSameBytesInOrder) {
   const DatasetPlan plan = SmallPlan();
   test::TempDir sequential, ahead;
-  ASSERT_TRUE(WriteDataset(sequential.path(), plan, test::SyntheticParts(), test::SyntheticFrame, nullptr).ok());
+  ASSERT_TRUE(WriteDataset(sequential.path(), plan, test::SyntheticParts(), test::SyntheticSource(plan), nullptr).ok());
 
   std::mutex mutex;
   std::set<std::thread::id> threads;
@@ -98,7 +155,7 @@ TEST(DatasetRun, FramesCapturedAheadOnOtherThreadsWriteTheSameBytesInOrder) {
   ShardRun run;
   run.frames_ahead = 3;
   run.on_progress = [&](const DatasetProgress& p) { written.push_back(p.done); };
-  const FrameSource source = [&](const SceneKey& key) {
+  const FrameSource source = [&](const SceneKey& key, uint32_t) {
     {
       const std::lock_guard lock(mutex);
       threads.insert(std::this_thread::get_id());
@@ -122,7 +179,7 @@ TEST(DatasetRun, AFailedFrameStopsTheRunBeforeAnyLaterSceneIsWritten) {
   test::TempDir root;
   ShardRun run;
   run.frames_ahead = 4;
-  const FrameSource source = [](const SceneKey& key) -> StatusOr<DatasetFrame> {
+  const FrameSource source = [](const SceneKey& key, uint32_t) -> StatusOr<DatasetFrame> {
     if (key.scene_id == 3) return Internal("the bin would not settle");
     return test::SyntheticFrame(key);
   };
@@ -201,7 +258,7 @@ TEST(DatasetRun, ARootOfAnotherPlanIsRefused) {
 
 TEST(DatasetRun, AFailingSourceNamesItsScene) {
   test::TempDir root;
-  const FrameSource failing = [](const SceneKey& key) -> StatusOr<DatasetFrame> {
+  const FrameSource failing = [](const SceneKey& key, uint32_t) -> StatusOr<DatasetFrame> {
     if (key.scene_id == 2) return Unavailable("the scanner is gone");
     return test::SyntheticFrame(key);
   };

@@ -151,6 +151,23 @@ TEST_F(SceneWriterTest, DepthBeyondSixteenBitsIsOutOfRange) {
   EXPECT_FALSE(std::filesystem::exists(Scene()));
 }
 
+TEST_F(SceneWriterTest, AMultiViewSceneIsPlacedOnlyOnceEveryViewIsIn) {
+  plan_.views = {2, 30.0, 0.7, 0.9};
+  StatusOr<SceneWriter> writer = SceneWriter::Begin(dir_.path(), plan_, key_);
+  ASSERT_TRUE(writer.ok()) << writer.status().ToString();
+  ASSERT_TRUE(writer->AddView(test::SyntheticFrame(plan_, key_, 0)).ok());
+  EXPECT_EQ(writer->Finish().code(), StatusCode::kFailedPrecondition);
+  EXPECT_FALSE(std::filesystem::exists(Scene()));
+  ASSERT_TRUE(writer->AddView(test::SyntheticFrame(plan_, key_, 1)).ok());
+  EXPECT_EQ(writer->AddView(test::SyntheticFrame(plan_, key_, 2)).code(), StatusCode::kFailedPrecondition);
+  ASSERT_TRUE(writer->Finish().ok());
+  EXPECT_TRUE(std::filesystem::exists(Scene() / "depth/000001.png"));
+  EXPECT_FALSE(std::filesystem::exists(Scene() / "depth/000002.png"));
+  EXPECT_FALSE(std::filesystem::exists(PartialSceneDir(dir_.path(), 0)));
+  // Each view's depth is its own: the two images differ.
+  EXPECT_NE(ReadPng(Scene() / "depth/000000.png").values, ReadPng(Scene() / "depth/000001.png").values);
+}
+
 TEST(ModelsInfo, DiameterAndBoundsOfABoxInMillimetres) {
   const std::vector<PartModel> parts = test::SyntheticParts();
   EXPECT_NEAR(MeshDiameter(parts[0].mesh), 2 * std::sqrt(0.08 * 0.08 + 0.05 * 0.05 + 0.03 * 0.03), 1e-6);

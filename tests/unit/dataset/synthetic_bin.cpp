@@ -4,6 +4,7 @@
 #include <limits>
 #include <numbers>
 
+#include "service/dataset/view_poses.h"
 #include "vscan_test/meshes.h"
 
 namespace vscan::test {
@@ -109,6 +110,14 @@ service::dataset::DatasetPlan SyntheticPlan() {
   plan.bins = {"near-pair", "far-pair"};
   plan.seeds = service::dataset::SeedRange(11, 3);
   plan.sensors = {"narrow", "wide"};
+  plan.camera_height_m = kCameraHeightM;
+  return plan;
+}
+
+service::dataset::DatasetPlan SyntheticMultiViewPlan() {
+  service::dataset::DatasetPlan plan = SyntheticPlan();
+  plan.name = "synthetic-views";
+  plan.views = {3, 35.0, 0.7, 0.9};
   return plan;
 }
 
@@ -145,10 +154,16 @@ Pose3 SyntheticWorldFromCamera() {
 
 bool SyntheticUnderfilled(const SceneKey& key) { return key.seed == 12 && key.bin_index == 1; }
 
-DatasetFrame SyntheticFrame(const SceneKey& key) {
+DatasetFrame SyntheticFrame(const SceneKey& key) { return SyntheticFrame(SyntheticPlan(), key, 0); }
+
+service::dataset::FrameSource SyntheticSource(const service::dataset::DatasetPlan& plan) {
+  return [&plan](const SceneKey& key, uint32_t view) -> StatusOr<DatasetFrame> { return SyntheticFrame(plan, key, view); };
+}
+
+DatasetFrame SyntheticFrame(const service::dataset::DatasetPlan& plan, const SceneKey& key, uint32_t view) {
   DatasetFrame frame;
   frame.camera = SyntheticCamera(key.sensor_index);
-  frame.world_from_camera = SyntheticWorldFromCamera();
+  frame.world_from_camera = service::dataset::SampleViewPose(plan, service::dataset::ViewPoseSeed(key.scene_id, view));
   const CameraIntrinsics& camera = frame.camera;
   const std::vector<SyntheticBox> boxes = SyntheticBoxes(key);
   frame.parts_placed = boxes.size();
