@@ -17,6 +17,9 @@
 namespace vscan::service::dataset {
 namespace {
 
+// At most this many views of one scene are captured at once (each frame holds its cloud and images).
+constexpr size_t kViewsInFlight = 4;
+
 Status PrepareRoot(const std::filesystem::path& root, const DatasetPlan& plan, const std::vector<PartModel>& parts,
                    uint32_t shard_index) {
   std::error_code ec;
@@ -70,8 +73,11 @@ StatusOr<DatasetProgress> RunDatasetShard(const std::filesystem::path& root, con
   const uint64_t frame_count = uint64_t{missing.size()} * views;
   uint64_t next = 0;
   std::optional<SceneWriter> writer;
+  // The views of a scene wait for its one fill: a window of a scene's views beside the frames
+  // ahead lets the next scene's fill start while this one's views are scanned.
+  const size_t window = run.frames_ahead == 0 ? 1 : run.frames_ahead + std::min<size_t>(views, kViewsInFlight);
   while (next < frame_count || !in_flight.empty()) {
-    while (next < frame_count && in_flight.size() <= run.frames_ahead) {
+    while (next < frame_count && in_flight.size() < window) {
       if (run.stop_requested && run.stop_requested()) return Cancelled("the dataset run was stopped");
       const uint64_t id = missing[next / views];
       const auto view = static_cast<uint32_t>(next % views);

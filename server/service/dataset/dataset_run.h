@@ -35,7 +35,8 @@ struct ShardRun {
   // Asked before each scene; true stops the run with Cancelled (finished scenes stay).
   std::function<bool()> stop_requested;
   // Frames captured concurrently ahead of the one being written (a fill steps its physics on one
-  // thread, so other cores fill the next bins); scenes are still written one by one, in order.
+  // thread, so other cores fill the next bins), plus up to four views of a scene while its fill
+  // runs; scenes are still written one by one, in order.
   size_t frames_ahead = 0;
 };
 
