@@ -34,6 +34,17 @@ constexpr double kReconstructionVoxelPerSize = 1.0 / 250;
 // Samples of the truth that scans aligned by features are laid onto.
 constexpr size_t kPlacementSamples = 50'000;
 
+// Positive when the triangles wind counter-clockwise seen from outside (their normals point out).
+double SignedVolume(const TriangleMesh& mesh) {
+  double six_volume = 0;
+  for (const auto& t : mesh.triangles) {
+    const Eigen::Vector3d a = mesh.vertices[t[0]].cast<double>(), b = mesh.vertices[t[1]].cast<double>(),
+                          c = mesh.vertices[t[2]].cast<double>();
+    six_volume += a.dot(b.cross(c));
+  }
+  return six_volume / 6;
+}
+
 std::string Number(double x) {
   char buffer[32];
   std::snprintf(buffer, sizeof(buffer), "%.3g", x);
@@ -292,12 +303,26 @@ class ModelRun {
   Status PlaceOnTruth() {
     ModelCrop none;
     ASSIGN_OR_RETURN(const PlacedScans placed, PlaceScans(context_, plan_, *aligned_, none, cancel()));
-    const std::vector<Eigen::Vector3f> points = ThinnedUnion(placed, aligned_->voxel_size);
+    // Both sides' normals get their signs from outside the shape (the sensors that saw the points,
+    // the mesh's faces): on flat machined faces a shape-made sign differs between the two clouds.
+    std::vector<Eigen::Vector3f> points, towards_sensor;
+    for (size_t k = 0; k < placed.points.size(); ++k) {
+      for (const Eigen::Vector3f& p : placed.points[k]) {
+        points.push_back(p);
+        towards_sensor.push_back(placed.origins[k] - p);
+      }
+    }
     const TriangleMesh seen = ClipMesh(truth_->mesh, crop_);
-    const std::vector<Eigen::Vector3f> truth = evaluation::SampleSurface(seen, kPlacementSamples, 1);
+    std::vector<Eigen::Vector3f> outward;
+    const std::vector<Eigen::Vector3f> truth = evaluation::SampleSurface(seen, kPlacementSamples, 1, &outward);
+    if (SignedVolume(truth_->mesh) < 0) {
+      for (Eigen::Vector3f& n : outward) n = -n;
+    }
     registration::FeatureAlignmentOptions options;
     options.voxel_size = 2 * aligned_->voxel_size;
     options.min_fitness = plan_.min_fitness;
+    options.source_facing = towards_sensor;
+    options.target_facing = outward;
     ASSIGN_OR_RETURN(const registration::FeatureAlignmentResult match,
                      registration::AlignByFeatures(points, truth, options, cancel()));
     if (!match.found) {

@@ -27,12 +27,14 @@ double SurfaceArea(const TriangleMesh& mesh) {
   return area;
 }
 
-std::vector<Eigen::Vector3f> SampleSurface(const TriangleMesh& mesh, size_t count, uint64_t seed) {
+std::vector<Eigen::Vector3f> SampleSurface(const TriangleMesh& mesh, size_t count, uint64_t seed,
+                                           std::vector<Eigen::Vector3f>* face_normals) {
   std::vector<double> cumulative(mesh.triangles.size());
   double total = 0;
   for (size_t t = 0; t < mesh.triangles.size(); ++t) cumulative[t] = total += TriangleArea(mesh, t);
   if (total <= 0 || count == 0) return {};
   std::vector<Eigen::Vector3f> samples(count);
+  if (face_normals) face_normals->assign(count, Eigen::Vector3f::Zero());
   const uint64_t key = random::SplitMix64(seed);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 4096), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
@@ -48,6 +50,11 @@ std::vector<Eigen::Vector3f> SampleSurface(const TriangleMesh& mesh, size_t coun
                                 s * (1 - w) * mesh.vertices[tri[1]].cast<double>() +
                                 s * w * mesh.vertices[tri[2]].cast<double>();
       samples[i] = p.cast<float>();
+      if (face_normals) {
+        const Eigen::Vector3d a = mesh.vertices[tri[0]].cast<double>();
+        const Eigen::Vector3d n = (mesh.vertices[tri[1]].cast<double>() - a).cross(mesh.vertices[tri[2]].cast<double>() - a);
+        (*face_normals)[i] = n.normalized().cast<float>();
+      }
     }
   });
   return samples;

@@ -1,6 +1,7 @@
 #include "registration/feature_alignment.h"
 
 #include <cmath>
+#include <tuple>
 #include <cstdio>
 #include <string>
 #include <utility>
@@ -28,6 +29,16 @@ constexpr double kFitnessVoxels = 2.0;
 constexpr int kMaxRansacIterations = 10'000'000;
 // The last ICP runs on clouds thinned to the voxel over this.
 constexpr double kFineVoxelDivisor = 2.0;
+// ICP that ran out of iterations while its updates stay under this share of a voxel (and the turn
+// of that move at a voxel's distance) has settled: noisy pairs that change between iterations keep
+// it from the micrometre tolerances, where clouds that slide keep moving by much more.
+constexpr double kSettledVoxels = 0.01;
+constexpr double kSettledRadians = 1e-3;
+
+bool Settled(const IcpResult& icp, double voxel) {
+  return icp.stop == IcpStop::kMaxIterations && icp.last_translation_step < kSettledVoxels * voxel &&
+         icp.last_rotation_step < kSettledRadians;
+}
 
 Status Validate(const FeatureAlignmentOptions& o) {
   const auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
@@ -132,6 +143,13 @@ StatusOr<FeatureAlignmentResult> AlignByFeatures(std::span<const Eigen::Vector3f
                                                  const FeatureAlignmentOptions& options,
                                                  const std::atomic<bool>* cancel) {
   RETURN_IF_ERROR(Validate(options));
+  for (const auto& [facing, points, name] : {std::tuple{options.source_facing, source, "features.source_facing"},
+                                             std::tuple{options.target_facing, target, "features.target_facing"}}) {
+    if (!facing.empty() && facing.size() != points.size()) {
+      return InvalidArgument(name, "has " + std::to_string(facing.size()) + " directions for " +
+                                       std::to_string(points.size()) + " points");
+    }
+  }
   const double voxel = options.voxel_size;
   const double inlier_distance = options.inlier_distance_voxels * voxel;
   FeatureAlignmentResult result;
@@ -140,9 +158,11 @@ StatusOr<FeatureAlignmentResult> AlignByFeatures(std::span<const Eigen::Vector3f
                               .normal_radius = options.normal_radius_voxels * voxel,
                               .keypoint_spacing = options.keypoint_spacing_voxels * voxel,
                               .viewpoint = options.source_viewpoint,
+                              .facing = options.source_facing,
                               .cancel = cancel};
   ASSIGN_OR_RETURN(FeatureCloud from, PrepareFeatureCloud(source, prepare));
   prepare.viewpoint = options.target_viewpoint;
+  prepare.facing = options.target_facing;
   ASSIGN_OR_RETURN(const FeatureCloud to, PrepareFeatureCloud(target, prepare));
   for (const auto& [cloud, name] : {std::pair{static_cast<const FeatureCloud*>(&from), "source"}, std::pair{&to, "target"}}) {
     if (cloud->points.size() < kMinPoints) {
@@ -177,7 +197,8 @@ StatusOr<FeatureAlignmentResult> AlignByFeatures(std::span<const Eigen::Vector3f
     return found;
   };
   ASSIGN_OR_RETURN(SignedConsensus best, seek(from, from_shot));
-  const bool signs_known = options.source_viewpoint.has_value() && options.target_viewpoint.has_value();
+  const bool signs_known = (options.source_viewpoint.has_value() || !options.source_facing.empty()) &&
+                           (options.target_viewpoint.has_value() || !options.target_facing.empty());
   if (!signs_known) {
     for (Eigen::Vector3f& n : from.normals) n = -n;
     ASSIGN_OR_RETURN(from_shot, DescribeWithShot(from.points, from.normals, from.keypoints, radius, cancel));
@@ -211,7 +232,7 @@ StatusOr<FeatureAlignmentResult> AlignByFeatures(std::span<const Eigen::Vector3f
   if (IsCancelled(cancel)) return Cancelled("features: cancelled");
   // From a start this close a real alignment settles within a few iterations; ICP that keeps
   // sliding (shapeless clouds, a plane on a plane) has no single answer.
-  if (!refined.converged) {
+  if (!refined.converged && !Settled(refined, voxel)) {
     return NotAligned(result, std::string("ICP from the consensus did not converge: ") + IcpStopName(refined.stop));
   }
   const spatial::KdTree target_tree(to.points);

@@ -40,6 +40,11 @@ struct FeatureAlignmentOptions {
   // the consensus is sought with the source's normals as they are and flipped, and the better kept.
   std::optional<Eigen::Vector3f> source_viewpoint;
   std::optional<Eigen::Vector3f> target_viewpoint;
+  // Empty, or one per point of that cloud: the direction its surface faces (FeatureCloudOptions::
+  // facing), for clouds with no single viewpoint (a union of views, a sampled mesh). A cloud with a
+  // viewpoint or facing has known signs; when both have, one sign is tried.
+  std::span<const Eigen::Vector3f> source_facing;
+  std::span<const Eigen::Vector3f> target_facing;
 };
 
 struct FeatureAlignmentResult {

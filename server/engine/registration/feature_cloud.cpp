@@ -8,6 +8,7 @@
 
 #include "normals/normal_estimation.h"
 #include "registration/normal_orientation.h"
+#include "spatial/kd_tree.h"
 
 namespace vscan::registration {
 namespace {
@@ -114,7 +115,15 @@ StatusOr<FeatureCloud> PrepareFeatureCloud(std::span<const Eigen::Vector3f> poin
     cloud.points.push_back(thinned[i]);
     cloud.normals.push_back(normals[i]);
   }
-  if (!options.viewpoint) {
+  if (!options.facing.empty()) {
+    const spatial::KdTree input(points);
+    const float reach_sq = static_cast<float>(options.voxel * options.voxel);
+    for (size_t i = 0; i < cloud.points.size(); ++i) {
+      const uint32_t slot = input.NearestTwo(cloud.points[i], reach_sq)[0].slot;
+      if (slot == spatial::KdTree::kNoSlot) continue;
+      if (cloud.normals[i].dot(options.facing[input.original_index(slot)]) < 0) cloud.normals[i] = -cloud.normals[i];
+    }
+  } else if (!options.viewpoint) {
     OrientNormalsConsistently(cloud.points, cloud.normals, kOrientationNeighbours,
                               static_cast<float>(options.normal_radius));
   }

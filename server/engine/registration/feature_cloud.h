@@ -36,11 +36,15 @@ struct FeatureCloudOptions {
   double keypoint_spacing = 0.006;
   // Where the sensor stood, in the cloud's frame, when known: each normal is turned to face it.
   std::optional<Eigen::Vector3f> viewpoint;
+  // Empty, or one per input point: a direction its surface faces (a mesh's face normal, or towards
+  // the sensor that saw it). Each normal is turned to agree with its nearest input point's; this
+  // orients the union of many views, or a sampled mesh, where no single viewpoint exists.
+  std::span<const Eigen::Vector3f> facing;
   const std::atomic<bool>* cancel = nullptr;
 };
 
 // Thins, estimates normals from the neighbours within normal_radius (points with too few of them
-// are dropped), orients them (towards the viewpoint, or consistently without one) and spreads the
+// are dropped), orients them (towards the viewpoint, by facing, or consistently without either) and spreads the
 // keypoints. Cancelled when cancel becomes true.
 StatusOr<FeatureCloud> PrepareFeatureCloud(std::span<const Eigen::Vector3f> points, const FeatureCloudOptions& options);
 

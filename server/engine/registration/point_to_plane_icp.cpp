@@ -263,6 +263,8 @@ StatusOr<IcpResult> PointToPlaneIcp(std::span<const Eigen::Vector3f> source,
     }
     pose = IncrementPose(*increment, index.centroid()) * pose;
     Reorthonormalise(pose);
+    result.last_rotation_step = increment->head<3>().norm();
+    result.last_translation_step = increment->tail<3>().norm();
     const double slack = coarse ? kCoarseTolerance : 1.0;
     if (increment->head<3>().norm() < slack * options.rotation_tolerance &&
         increment->tail<3>().norm() < slack * options.translation_tolerance) {

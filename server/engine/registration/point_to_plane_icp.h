@@ -63,6 +63,9 @@ struct IcpResult {
   // The last iteration's rejection distance and robust residual scale (metres).
   double rejection_distance = 0.0;
   double residual_scale = 0.0;
+  // The last iteration's update: its turn (radians) and move (metres, about the target's centroid).
+  double last_rotation_step = 0.0;
+  double last_translation_step = 0.0;
 };
 
 // Target normals are unit length, one per target point; a target point whose normal or position is

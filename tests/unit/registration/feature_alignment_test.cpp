@@ -365,6 +365,61 @@ TEST(FeatureAlignmentTest, FlatFacedViewsWhoseShapeSignsDisagreeAlign) {
   }
 }
 
+// Points spread uniformly by area over the mesh, with their triangle's normal (winding outward).
+void SampleWithFaceNormals(const TriangleMesh& mesh, size_t count, std::vector<Eigen::Vector3f>& points,
+                           std::vector<Eigen::Vector3f>& normals) {
+  std::vector<double> cumulative;
+  double total = 0;
+  for (const auto& t : mesh.triangles) {
+    total += 0.5 * (mesh.vertices[t[1]] - mesh.vertices[t[0]]).cross(mesh.vertices[t[2]] - mesh.vertices[t[0]]).norm();
+    cumulative.push_back(total);
+  }
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (size_t i = 0; i < count; ++i) {
+    const size_t k = std::lower_bound(cumulative.begin(), cumulative.end(), u(rng) * total) - cumulative.begin();
+    const auto& t = mesh.triangles[std::min(k, mesh.triangles.size() - 1)];
+    const double s = std::sqrt(u(rng)), w = u(rng);
+    const Eigen::Vector3f a = mesh.vertices[t[0]], b = mesh.vertices[t[1]], c = mesh.vertices[t[2]];
+    points.push_back(float(1 - s) * a + float(s * (1 - w)) * b + float(s * w) * c);
+    normals.push_back((b - a).cross(c - a).normalized());
+  }
+}
+
+TEST(FeatureAlignmentTest, AUnionOfViewsLaysOntoItsMeshWithSignsFromSensorsAndFaces) {
+  const testing::MachinedPart part = testing::MakeMachinedPart(0);
+  std::vector<Eigen::Vector3f> union_points, towards_sensor;
+  for (const double azimuth : {-60.0, 20.0, 100.0, 180.0}) {
+    const Pose3 world_from_sensor = testing::ViewOfPart(azimuth, 40.0, 0.35);
+    const Eigen::Vector3f origin = world_from_sensor.translation().cast<float>();
+    for (const Eigen::Vector3f& p : testing::ScanPart(part, world_from_sensor, 0.0002, 7)) {
+      union_points.push_back((world_from_sensor.cast<float>() * p));
+      towards_sensor.push_back(origin - union_points.back());
+    }
+  }
+  std::vector<Eigen::Vector3f> truth, outward;
+  SampleWithFaceNormals(part.mesh, 50000, truth, outward);
+  const Pose3 motion = Motion(110.0, {0.3, -0.5, 0.8}, {0.04, -0.02, 0.01});
+  const std::vector<Eigen::Vector3f> moved = MovedPoints(union_points, motion);
+  std::vector<Eigen::Vector3f> moved_facing;
+  for (const Eigen::Vector3f& d : towards_sensor) moved_facing.push_back(motion.linear().cast<float>() * d);
+
+  FeatureAlignmentOptions options;
+  options.voxel_size = 0.002;
+  options.source_facing = moved_facing;
+  options.target_facing = outward;
+  const auto result = AlignByFeatures(moved, truth, options);
+  ASSERT_TRUE(result.ok()) << result.status().ToString();
+  ASSERT_TRUE(result->found) << result->reason;
+  EXPECT_FALSE(result->flipped_normals);
+  EXPECT_LT(RotationErrorDeg(result->target_from_source, motion.inverse()), 0.3);
+  EXPECT_LT(TranslationErrorMm(result->target_from_source, motion.inverse()), 1.0);
+
+  options.target_facing = std::span<const Eigen::Vector3f>(outward).first(10);
+  const auto refused = AlignByFeatures(moved, truth, options);
+  EXPECT_EQ(refused.status().field(), "features.target_facing");
+}
+
 TEST(DescriptorMatchingTest, MutualNearestAgreesWithAPlainSearch) {
   std::mt19937 rng(4);
   std::normal_distribution<float> g(0.0f, 1.0f);
