@@ -27,7 +27,8 @@ grpc::ServerUnaryReactor* JobService::StartDataset(grpc::CallbackServerContext* 
     ASSIGN_OR_RETURN(v1::Job job, tracker_.CreateDataset(validated.spec, plan.name, total));
     const std::string job_id = job.job_id();
     auto work = std::make_shared<const service::DatasetJob>(
-        service::DatasetJob{validated.setup, DatasetRootOf(validated.spec, job_id, context_.options)});
+        service::DatasetJob{validated.setup, DatasetRootOf(validated.spec, job_id, context_.options),
+                            DatasetDirectoryId(validated.spec, job_id), context_.dataset_directories});
     RETURN_IF_ERROR(Submit(job_id, [this, job_id, work](jobs::JobControl& control) {
       TrackedJobRecorder recorder(tracker_, job_id);
       service::RunDatasetJob(recorder, job_id, *work, control);
