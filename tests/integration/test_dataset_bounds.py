@@ -94,6 +94,10 @@ class DatasetBoundsTest(unittest.TestCase):
                 self.refused(lambda: call(over), C.RESOURCE_EXHAUSTED, "spec.plan_yaml.seeds", "12 scenes",
                              "--max-dataset-scenes", "at most 10")
             client.validate_dataset(self.plan(server, "fits.yaml", plan_text(5)))  # 10 scenes
+            # Parts in a bin have a fixed bound of the plan format (500), not the server's: INVALID_ARGUMENT.
+            crowded = self.plan(server, "crowded.yaml", plan_text(1).replace("unit: in, count: 3", "unit: in, count: 501"))
+            self.refused(lambda: client.validate_dataset(crowded), C.INVALID_ARGUMENT, "spec.plan_yaml",
+                         "bins[0].parts", "at most 500")
             self.assertEqual(self.dataset_jobs(client), [])
         # The default bound (100000) refuses a plan of a million scenes before a mesh is read.
         default = self.start()
