@@ -53,9 +53,13 @@ StatusOr<int> DatasetDirectories::Reconcile(const std::set<std::string>& named) 
       continue;
     }
     if (removing || !named.count(name)) {
-      RETURN_IF_ERROR(RemoveTree(it->path()));
-      ++removed;
-      continue;
+      // An orphan only costs disk space: one that cannot go now is counted and tried next start.
+      const Status gone = RemoveTree(it->path());
+      if (gone.ok()) {
+        ++removed;
+        continue;
+      }
+      spdlog::warn("datasets: {}", gone.ToString());
     }
     if (quota_) {
       std::error_code size_ec;

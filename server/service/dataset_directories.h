@@ -26,8 +26,9 @@ class DatasetDirectories {
   std::filesystem::path Root(const std::string& directory_id) const;
 
   // At start, before any job runs: removes the directories no job names (named: the ids of the
-  // jobs that started them) and those a removal left, and counts the others into the quota.
-  // Returns how many it removed.
+  // jobs that started them) and those a removal left, and counts the others into the quota (and
+  // any it could not remove, tried again next start). Returns how many it removed; an error only
+  // when the directory cannot be listed or measured.
   StatusOr<int> Reconcile(const std::set<std::string>& named);
 
   // Whether bytes more fit the quota, leaving out what directory_id holds already (a resumed
