@@ -128,13 +128,19 @@ uint64_t RemoveDatasetDirectoryOf(const store::JobRecord& job, store::JobCatalog
                                   service::DatasetDirectories& directories) {
   const std::string directory = DatasetDirectoryOf(job);
   if (directory.empty()) return 0;
-  const StatusOr<std::set<std::string>> named = NamedDatasetDirectories(jobs);
-  if (!named.ok()) {
-    spdlog::error("job {}: dataset directory {} kept: {}", job.job_id, directory, named.status().ToString());
-    return 0;
+  StatusOr<std::filesystem::path> aside = std::filesystem::path();
+  {
+    auto names = directories.HoldNames();
+    const StatusOr<std::set<std::string>> named = NamedDatasetDirectories(jobs);
+    if (!named.ok()) {
+      spdlog::error("job {}: dataset directory {} kept: {}", job.job_id, directory, named.status().ToString());
+      return 0;
+    }
+    if (named->count(directory)) return 0;  // a resumption of it is still recorded
+    aside = directories.MoveAside(directory);
   }
-  if (named->count(directory)) return 0;  // a resumption of it is still recorded
-  const StatusOr<uint64_t> removed = directories.Remove(directory);
+  // Files go outside the lock: a large dataset takes a while.
+  const StatusOr<uint64_t> removed = aside.ok() ? directories.RemoveAside(*aside) : StatusOr<uint64_t>(aside.status());
   if (!removed.ok()) {
     spdlog::error("job {}: dataset directory {} kept: {}", job.job_id, directory, removed.status().ToString());
     return 0;

@@ -85,7 +85,7 @@ Status DatasetDirectories::Charge(const std::string& directory_id, uint64_t byte
   return quota_->CheckRoom(next_bytes, what);
 }
 
-StatusOr<uint64_t> DatasetDirectories::Remove(const std::string& directory_id) {
+StatusOr<fs::path> DatasetDirectories::MoveAside(const std::string& directory_id) {
   if (!IsDatasetDirectoryName(directory_id)) {
     return Internal("'" + directory_id + "' does not name a dataset job's directory");
   }
@@ -94,7 +94,7 @@ StatusOr<uint64_t> DatasetDirectories::Remove(const std::string& directory_id) {
   const fs::file_status status = fs::symlink_status(root, ec);
   if (!fs::exists(status)) {
     if (quota_) quota_->ForgetDirectory(directory_id);
-    return uint64_t{0};
+    return fs::path();
   }
   if (!fs::is_directory(status)) return Internal(root.string() + " is not a directory; left alone");
   const fs::path aside = datasets_ / (std::string(kRemovingPrefix) + directory_id);
@@ -103,10 +103,20 @@ StatusOr<uint64_t> DatasetDirectories::Remove(const std::string& directory_id) {
   if (ec) return Unavailable("cannot move " + root.string() + " aside: " + ec.message());
   RETURN_IF_ERROR(dataset::SyncDirectory(datasets_));
   if (quota_) quota_->ForgetDirectory(directory_id);
+  return aside;
+}
+
+StatusOr<uint64_t> DatasetDirectories::RemoveAside(const fs::path& aside) {
+  if (aside.empty()) return uint64_t{0};
   std::error_code size_ec;
   const uint64_t bytes = store::RegularFileBytes(aside, size_ec);
   RETURN_IF_ERROR(RemoveTree(aside));
   return bytes;
+}
+
+StatusOr<uint64_t> DatasetDirectories::Remove(const std::string& directory_id) {
+  ASSIGN_OR_RETURN(const fs::path aside, MoveAside(directory_id));
+  return RemoveAside(aside);
 }
 
 }  // namespace vscan::service

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <memory>
+#include <mutex>
 #include <set>
 #include <string>
 #include <string_view>
@@ -25,6 +26,10 @@ class DatasetDirectories {
 
   std::filesystem::path Root(const std::string& directory_id) const;
 
+  // Held while the jobs naming a directory are read and it is moved aside, and while a job that
+  // resumes a directory is recorded: a directory is never removed under a job just admitted to it.
+  std::unique_lock<std::mutex> HoldNames() { return std::unique_lock(names_mutex_); }
+
   // At start, before any job runs: removes the directories no job names (named: the ids of the
   // jobs that started them) and those a removal left, and counts the others into the quota (and
   // any it could not remove, tried again next start). Returns how many it removed; an error only
@@ -38,13 +43,18 @@ class DatasetDirectories {
   // the quota. The bytes are counted either way: they are on disk.
   Status Charge(const std::string& directory_id, uint64_t bytes, uint64_t next_bytes, std::string_view what);
 
-  // Renames the directory aside (flushed, so that a crash cannot bring it back), then removes it
-  // and gives its bytes back to the quota. Returns the bytes removed; 0 when there is none.
+  // Renames the directory aside (flushed, so that a crash cannot bring it back) and gives its bytes
+  // back to the quota; returns where it now is, empty when there was none.
+  StatusOr<std::filesystem::path> MoveAside(const std::string& directory_id);
+  // Removes what MoveAside returned; returns the bytes removed.
+  StatusOr<uint64_t> RemoveAside(const std::filesystem::path& aside);
+  // Both in turn.
   StatusOr<uint64_t> Remove(const std::string& directory_id);
 
  private:
   const std::filesystem::path datasets_;
   const std::shared_ptr<store::DataQuota> quota_;
+  std::mutex names_mutex_;
 };
 
 }  // namespace vscan::service
