@@ -31,8 +31,13 @@ void AddLimitOptions(CLI::App& app, service::Limits& limits, LimitFlagsMib& mib)
   app.add_option("--max-job-mib", mib.job, "Most bytes one job's artifacts may hold")
       ->capture_default_str()->check(CLI::Range(1, 1 << 30));
   app.add_option("--max-data-mib", mib.data,
-                 "Most bytes the data directory may hold (blobs and catalogue); 0: as much as the disk takes")
+                 "Most bytes the data directory may hold (blobs, dataset directories and catalogue); 0: as much as "
+                 "the disk takes")
       ->envname("VSCAN_MAX_DATA_MIB")->capture_default_str()->check(CLI::Range(0, 1 << 30));
+  // Six-digit scene directories cap a plan at 1,000,000 scenes whatever the flag says.
+  app.add_option("--max-dataset-scenes", limits.max_dataset_scenes,
+                 "Most scenes (seeds x bins x sensors) of one dataset job's plan")
+      ->capture_default_str()->check(CLI::Range(1, 1'000'000));
 }
 
 void ApplyLimitFlags(const LimitFlagsMib& mib, service::Limits& limits) {

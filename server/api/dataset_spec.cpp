@@ -1,7 +1,11 @@
 #include "api/dataset_spec.h"
 
+#include <spdlog/spdlog.h>
+
 #include "api/validate.h"
 #include "service/dataset/dataset_plan_yaml.h"
+#include "service/dataset_bounds.h"
+#include "service/dataset_directories.h"
 #include "service/dataset_job_frames.h"
 #include "service/request_memory.h"
 
@@ -64,6 +68,9 @@ StatusOr<ValidatedDataset> ValidateDataset(const v1::DatasetSpec& spec, service:
     const std::string text = plan.status().message();
     return InvalidArgument("spec.plan_yaml", text.rfind("plan: ", 0) == 0 ? text.substr(6) : text);
   }
+  // Before any mesh is loaded: the count needs the plan alone.
+  RETURN_IF_ERROR(service::CheckDatasetScenes(*plan, context.options.limits.max_dataset_scenes)
+                      .WithFieldPrefix("spec.plan_yaml"));
   StatusOr<service::DatasetSetup> setup =
       service::PrepareDataset(*plan, StoredMeshes(spec, context), context.options.limits.max_rays_per_scan);
   if (!setup.ok()) {
@@ -83,13 +90,68 @@ StatusOr<ValidatedDataset> ValidateDataset(const v1::DatasetSpec& spec, service:
   if (!spec.resume_job_id().empty()) {
     ASSIGN_OR_RETURN(*validated.spec.mutable_resume_job_id(), ResumedDirectory(spec.resume_job_id(), jobs));
   }
+  if (context.dataset_directories) {
+    const service::DatasetBytes bytes = service::EstimateDatasetBytes(*setup);
+    const std::string what = "the plan's " + std::to_string(service::DatasetImageCount(*plan)) +
+                             " images, models" + (bytes.tar > 0 ? " and dataset.tar" : "");
+    const Status room = context.dataset_directories->CheckRoom(
+        bytes.total(), validated.spec.resume_job_id(), what);
+    if (!room.ok()) return ResourceExhausted("spec.plan_yaml", room.message());
+  }
   validated.setup = std::make_shared<const service::DatasetSetup>(std::move(setup).value());
   return validated;
 }
 
+std::string DatasetDirectoryId(const v1::DatasetSpec& spec, const std::string& job_id) {
+  return spec.resume_job_id().empty() ? job_id : spec.resume_job_id();
+}
+
+std::string DatasetDirectoryOf(const store::JobRecord& job) {
+  if (job.kind != "dataset") return "";
+  v1::DatasetSpec spec;
+  if (!spec.ParseFromString(job.spec)) return "";
+  return DatasetDirectoryId(spec, job.job_id);
+}
+
+StatusOr<std::set<std::string>> NamedDatasetDirectories(store::JobCatalogue& jobs) {
+  ASSIGN_OR_RETURN(const std::vector<store::JobRecord> datasets, jobs.ListJobsOfKind("dataset"));
+  std::set<std::string> named;
+  for (const store::JobRecord& job : datasets) {
+    // An unreadable spec keeps the directory of its own id: nothing is removed on a guess.
+    const std::string directory = DatasetDirectoryOf(job);
+    named.insert(directory.empty() ? job.job_id : directory);
+  }
+  return named;
+}
+
+uint64_t RemoveDatasetDirectoryOf(const store::JobRecord& job, store::JobCatalogue& jobs,
+                                  service::DatasetDirectories& directories) {
+  const std::string directory = DatasetDirectoryOf(job);
+  if (directory.empty()) return 0;
+  StatusOr<std::filesystem::path> aside = std::filesystem::path();
+  {
+    auto names = directories.HoldNames();
+    const StatusOr<std::set<std::string>> named = NamedDatasetDirectories(jobs);
+    if (!named.ok()) {
+      spdlog::error("job {}: dataset directory {} kept: {}", job.job_id, directory, named.status().ToString());
+      return 0;
+    }
+    if (named->count(directory)) return 0;  // a resumption of it is still recorded
+    aside = directories.MoveAside(directory);
+  }
+  // Files go outside the lock: a large dataset takes a while.
+  const StatusOr<uint64_t> removed = aside.ok() ? directories.RemoveAside(*aside) : StatusOr<uint64_t>(aside.status());
+  if (!removed.ok()) {
+    spdlog::error("job {}: dataset directory {} kept: {}", job.job_id, directory, removed.status().ToString());
+    return 0;
+  }
+  spdlog::info("job {}: dataset directory {} removed ({} bytes)", job.job_id, directory, *removed);
+  return *removed;
+}
+
 std::filesystem::path DatasetRootOf(const v1::DatasetSpec& spec, const std::string& job_id,
                                     const service::ServerOptions& options) {
-  return service::DatasetJobRoot(options.data_dir, spec.resume_job_id().empty() ? job_id : spec.resume_job_id());
+  return service::DatasetJobRoot(options.data_dir, DatasetDirectoryId(spec, job_id));
 }
 
 }  // namespace vscan::api

@@ -4,6 +4,9 @@
 // that a bad request creates no job. Errors name "spec.<field>", plan keys under
 // "spec.plan_yaml".
 
+#include <set>
+#include <string>
+
 #include "service/dataset_job_run.h"
 #include "service/service_context.h"
 #include "store/job_catalogue.h"
@@ -19,6 +22,19 @@ struct ValidatedDataset {
 
 StatusOr<ValidatedDataset> ValidateDataset(const v1::DatasetSpec& spec, service::ServiceContext& context,
                                            store::JobCatalogue& jobs);
+
+// The id naming the directory a job with this (validated) spec writes: its own, or the resumed job's.
+std::string DatasetDirectoryId(const v1::DatasetSpec& spec, const std::string& job_id);
+
+// The directories the catalogue's dataset jobs write (DatasetDirectoryId of each).
+StatusOr<std::set<std::string>> NamedDatasetDirectories(store::JobCatalogue& jobs);
+// The directory a recorded dataset job writes; empty for another kind or an unreadable spec.
+std::string DatasetDirectoryOf(const store::JobRecord& job);
+
+// After job was deleted: removes its dataset directory when no recorded job names it any more
+// (a failure is logged; the next start removes it). Returns the bytes removed.
+uint64_t RemoveDatasetDirectoryOf(const store::JobRecord& job, store::JobCatalogue& jobs,
+                                  service::DatasetDirectories& directories);
 
 // The directory a job with this (validated) spec writes.
 std::filesystem::path DatasetRootOf(const v1::DatasetSpec& spec, const std::string& job_id,

@@ -311,8 +311,14 @@ std::vector<observability::GaugeSample> JobTracker::CountLive() {
 StatusOr<store::CollectedBlobs> JobTracker::Delete(const std::string& job_id) {
   // The catalogue refuses a job it records as unfinished; one whose end could not be stored is
   // live and ended here but still running there, and is refused too.
+  store::JobRecord record;
+  if (on_deleted_) {
+    ASSIGN_OR_RETURN(record, catalogue_.GetJob(job_id));
+  }
   ASSIGN_OR_RETURN(const std::vector<std::string> blobs, catalogue_.DeleteJob(job_id));
-  return store::CollectBlobs(catalogue_.database(), blobs_, blobs);
+  ASSIGN_OR_RETURN(store::CollectedBlobs collected, store::CollectBlobs(catalogue_.database(), blobs_, blobs));
+  if (on_deleted_) collected.bytes += on_deleted_(record);
+  return collected;
 }
 
 StatusOr<int> JobTracker::DeleteEndedBefore(int64_t cutoff_ms) {

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -93,6 +94,10 @@ class JobTracker {
       : catalogue_(catalogue), blobs_(blobs), max_artifacts_(max_artifacts), max_artifact_bytes_(max_artifact_bytes) {}
 
   store::JobCatalogue& catalogue() { return catalogue_; }
+  // Called with each job Delete removed from the catalogue (its record as it was, artifacts
+  // included): what else the job held on disk goes, and the bytes that freed are returned.
+  using DeletedJobHook = std::function<uint64_t(const store::JobRecord& deleted)>;
+  void OnDeleted(DeletedJobHook hook) { on_deleted_ = std::move(hook); }
   store::BlobStore& blobs() { return blobs_; }
 
   // Records a QUEUED job and keeps it live.
@@ -124,8 +129,9 @@ class JobTracker {
   // Live jobs that have not ended, counted by kind and state (the vscan_jobs gauge).
   std::vector<observability::GaugeSample> CountLive();
 
-  // Deletes an ended job, its artifacts and the blobs nothing else names. NOT_FOUND for an unknown
-  // job, FAILED_PRECONDITION while it is queued or running.
+  // Deletes an ended job, its artifacts and the blobs nothing else names, then calls the hook of
+  // OnDeleted. NOT_FOUND for an unknown job, FAILED_PRECONDITION while
+  // it is queued or running.
   StatusOr<store::CollectedBlobs> Delete(const std::string& job_id);
   // Deletes the ended jobs last changed before cutoff_ms (retention); returns how many.
   StatusOr<int> DeleteEndedBefore(int64_t cutoff_ms);
@@ -140,6 +146,7 @@ class JobTracker {
   store::BlobStore& blobs_;
   const uint32_t max_artifacts_;
   const uint64_t max_artifact_bytes_;
+  DeletedJobHook on_deleted_;
   std::mutex mutex_;
   // Each job has one writer at a time (its runner thread, or whoever drops it from the queue).
   std::map<std::string, std::shared_ptr<LiveJob>> live_;

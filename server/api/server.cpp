@@ -25,6 +25,7 @@
 #include "api/cloud_service.h"
 #include "api/localization_service.h"
 #include "guards/data_dir_lock.h"
+#include "api/dataset_spec.h"
 #include "api/job_service.h"
 #include "api/job_tracker.h"
 #include "api/robot_service.h"
@@ -34,6 +35,7 @@
 #include "jobs/job_runner.h"
 #include "jobs/periodic_task.h"
 #include "observability/server_metrics.h"
+#include "service/dataset_directories.h"
 #include "store/blob_gc.h"
 #include "store/cloud_catalogue.h"
 #include "store/database.h"
@@ -176,6 +178,7 @@ struct Server::Impl {
   std::unique_ptr<RobotService> robot_service;
   std::unique_ptr<CloudService> cloud_service;
   std::unique_ptr<LocalizationService> localization_service;
+  std::unique_ptr<service::DatasetDirectories> dataset_directories;
   std::unique_ptr<store::JobCatalogue> job_catalogue;
   std::unique_ptr<JobTracker> job_tracker;
   std::unique_ptr<jobs::JobRunner> job_runner;
@@ -207,15 +210,17 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& op
   impl->catalogue = std::make_unique<store::Catalogue>(impl->database);
   impl->blobs = std::make_unique<store::BlobStore>(data_dir / "blobs");
   RETURN_IF_ERROR(impl->blobs->Open());
+  std::shared_ptr<store::DataQuota> quota;
   if (options.limits.max_data_bytes > 0) {
     const std::filesystem::path db = data_dir / "catalogue.sqlite";
-    auto quota = std::make_shared<store::DataQuota>(
+    quota = std::make_shared<store::DataQuota>(
         options.limits.max_data_bytes,
         std::vector<std::filesystem::path>{db, db.string() + "-wal", db.string() + "-shm"});
     RETURN_IF_ERROR(quota->CountExisting(data_dir / "blobs"));
-    spdlog::info("data directory holds {} of at most {} bytes", quota->used_bytes(), quota->max_bytes());
-    impl->blobs->UseQuota(std::move(quota));
+    impl->blobs->UseQuota(quota);
   }
+  // Dataset directories are counted once the catalogue says which jobs name them (below).
+  impl->dataset_directories = std::make_unique<service::DatasetDirectories>(data_dir, quota);
   // An orphan only costs disk space: a failed sweep does not stop the server.
   if (const auto swept = store::SweepOrphanBlobs(*impl->database, *impl->blobs, kOrphanBlobAge); !swept.ok()) {
     spdlog::warn("orphan blob sweep: {}", swept.status().ToString());
@@ -248,10 +253,21 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& op
   impl->job_catalogue = std::make_unique<store::JobCatalogue>(impl->database);
   ASSIGN_OR_RETURN(const int interrupted, impl->job_catalogue->InterruptUnfinished("server stopped while the job ran"));
   if (interrupted > 0) spdlog::warn("{} jobs were left unfinished by the last run; marked INTERRUPTED", interrupted);
+  // Directories of deleted dataset jobs (a stop between the catalogue's delete and the removal,
+  // or a removal cut short) go before any job runs; the others are counted against the quota.
+  ASSIGN_OR_RETURN(const std::set<std::string> named, NamedDatasetDirectories(*impl->job_catalogue));
+  ASSIGN_OR_RETURN(const int swept, impl->dataset_directories->Reconcile(named));
+  if (swept > 0) spdlog::info("removed {} dataset directories that no job names", swept);
+  if (quota) spdlog::info("data directory holds {} of at most {} bytes", quota->used_bytes(), quota->max_bytes());
+  impl->context->dataset_directories = impl->dataset_directories.get();
   // Scratch files of campaigns that an older vscand left when it stopped (scans are now encoded in memory).
   std::filesystem::remove_all(data_dir / "tmp", ec);
   impl->job_tracker = std::make_unique<JobTracker>(*impl->job_catalogue, *impl->blobs, options.limits.max_job_artifacts,
                                                    options.limits.max_job_bytes);
+  impl->job_tracker->OnDeleted([catalogue = impl->job_catalogue.get(),
+                                directories = impl->dataset_directories.get()](const store::JobRecord& job) {
+    return RemoveDatasetDirectoryOf(job, *catalogue, *directories);
+  });
   impl->job_runner = std::make_unique<jobs::JobRunner>(std::max<uint32_t>(1, options.max_concurrent_jobs));
   impl->job_service = std::make_unique<JobService>(*impl->context, *impl->job_tracker, *impl->job_runner,
                                                    impl->stalled_readers.get());

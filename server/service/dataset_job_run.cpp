@@ -1,5 +1,6 @@
 #include "service/dataset_job_run.h"
 
+#include <algorithm>
 #include <mutex>
 #include <set>
 
@@ -7,7 +8,9 @@
 
 #include "service/campaign_run.h"
 #include "service/dataset/dataset_merge.h"
+#include "service/dataset_bounds.h"
 #include "service/dataset_job_frames.h"
+#include "service/dataset_space.h"
 #include "service/dataset_job_tar.h"
 
 namespace vscan::service {
@@ -23,8 +26,14 @@ std::string UnderfilledNote(const dataset::DatasetProgress& progress) {
   return note;
 }
 
-// Datasets up to this size also become one artifact; larger ones stay in the data directory only.
-constexpr uint64_t kMaxTarArtifactBytes = 1ull << 30;
+// The most one scene of the plan writes by the estimate: its largest sensor's views.
+uint64_t LargestSceneBytes(const DatasetSetup& setup) {
+  uint64_t largest = 0;
+  for (const DatasetSensorSetup& sensor : setup.sensors) {
+    largest = std::max(largest, DatasetImageBytes(sensor.camera.width, sensor.camera.height));
+  }
+  return largest * DatasetViewsPerScene(setup.plan);
+}
 
 // One writer per dataset directory: a second job resuming the same directory fails at once.
 class BusyRoots {
@@ -51,7 +60,7 @@ BusyRoots& Busy() {
 class DatasetJobRun {
  public:
   DatasetJobRun(JobRecorder& recorder, const std::string& job_id, const DatasetJob& job, jobs::JobControl& control)
-      : recorder_(recorder), job_id_(job_id), job_(job), control_(control) {}
+      : recorder_(recorder), job_id_(job_id), job_(job), control_(control), meter_(job.root) {}
 
   void Run() {
     if (!Busy().Claim(job_.root)) {
@@ -74,6 +83,7 @@ class DatasetJobRun {
     Status reported = Status::Ok();
     run.on_progress = [&](const dataset::DatasetProgress& progress) {
       last_ = progress;
+      if (space_.ok()) space_ = ChargeSpace(first, progress.done < progress.total);
       if (!reported.ok()) return;
       reported = Event(first ? std::to_string(progress.skipped) + " of " + std::to_string(progress.total) +
                                    " scenes already written; " + std::to_string(progress.total - progress.done) +
@@ -82,17 +92,20 @@ class DatasetJobRun {
                                    " written");
       first = false;
     };
-    // A failed event (the catalogue) stops the run as surely as a cancel.
-    run.stop_requested = [&] { return control_.stop_requested() || !reported.ok(); };
+    // A failed event (the catalogue) or a full quota stops the run as surely as a cancel.
+    run.stop_requested = [&] { return control_.stop_requested() || !reported.ok() || !space_.ok(); };
     std::error_code ec;
     std::filesystem::create_directories(job_.root, ec);
     if (ec) return Internal("cannot create " + job_.root.string() + ": " + ec.message());
     StatusOr<dataset::DatasetProgress> progress = dataset::RunDatasetShard(
         job_.root, plan, job_.setup->parts, BinFrameSource(job_.setup, control_.flag()), run);
     RETURN_IF_ERROR(reported);
+    RETURN_IF_ERROR(space_);
     if (!progress.ok()) return progress.status();
     RETURN_IF_ERROR(dataset::MergeDataset(job_.root, plan));
     RETURN_IF_ERROR(Event("every scene checked; scenes.json written"));
+    // The tar is as large as the directory: checked before it is built in memory.
+    RETURN_IF_ERROR(ChargeTar());
     StatusOr<std::string> tar = TarDirectory(job_.root, kMaxTarArtifactBytes);
     if (!tar.ok()) {
       spdlog::warn("job {}: no dataset.tar: {}", job_id_, tar.status().ToString());
@@ -102,6 +115,31 @@ class DatasetJobRun {
                                              Update("dataset.tar stored"))
                         .status());
     return progress;
+  }
+
+  // The directory as measured now, and room for the next scene when one follows.
+  Status ChargeSpace(bool whole, bool more) {
+    if (!job_.directories) return Status::Ok();
+    const StatusOr<uint64_t> bytes = whole ? meter_.MeasureAll() : meter_.MeasureNewScenes();
+    if (!bytes.ok()) {
+      spdlog::warn("job {}: {}", job_id_, bytes.status().ToString());
+      return Status::Ok();
+    }
+    const Status room = job_.directories->Charge(job_.directory_id, *bytes, more ? LargestSceneBytes(*job_.setup) : 0,
+                                                 "the dataset's next scene");
+    if (room.ok() || !more) return Status::Ok();
+    return ResourceExhausted(room.message() + "; the scenes written stay in " + job_.root.string() +
+                             ": free space, then resume the job");
+  }
+
+  Status ChargeTar() {
+    if (!job_.directories) return Status::Ok();
+    const StatusOr<uint64_t> bytes = meter_.MeasureAll();
+    if (!bytes.ok() || *bytes > kMaxTarArtifactBytes) return Status::Ok();
+    const Status room = job_.directories->Charge(job_.directory_id, *bytes, *bytes, "dataset.tar");
+    if (room.ok()) return Status::Ok();
+    return ResourceExhausted(room.message() + "; every scene is written in " + job_.root.string() +
+                             ": free space, then resume the job for its tar");
   }
 
   void Finish(const Status& status, const dataset::DatasetProgress& progress) {
@@ -118,7 +156,7 @@ class DatasetJobRun {
                 " scenes; they stay in " + job_.root.string();
     } else {
       state = store::JobState::kFailed;
-      message = status.message();
+      message = status.code() == StatusCode::kResourceExhausted ? status.ToString() : status.message();
     }
     steps_done_ = static_cast<uint32_t>(progress.done);
     const Status ended = recorder_.End(Update(message, state));
@@ -144,6 +182,8 @@ class DatasetJobRun {
   const DatasetJob& job_;
   jobs::JobControl& control_;
   dataset::DatasetProgress last_;
+  DatasetSpaceMeter meter_;
+  Status space_ = Status::Ok();
   uint32_t steps_done_ = 0;
 };
 

@@ -2,13 +2,16 @@
 // A dataset job on a job-runner thread: every scene of the plan into its directory under the
 // server's data directory, skipping scenes a previous run of that directory finished, an event per
 // scene, the merge check, then the dataset as a tar artifact. A cancelled or stopped job keeps the
-// scenes it finished; a job that resumes the directory continues from them.
+// scenes it finished; a job that resumes the directory continues from them. With --max-data-mib
+// the directory is measured between scenes: a next scene that would pass the bound ends the job
+// FAILED (RESOURCE_EXHAUSTED naming the flag), its scenes kept for a resume once space is freed.
 
 #include <filesystem>
 #include <memory>
 #include <string>
 
 #include "jobs/job_runner.h"
+#include "service/dataset_directories.h"
 #include "service/dataset_job_setup.h"
 #include "service/job_events.h"
 
@@ -17,6 +20,9 @@ namespace vscan::service {
 struct DatasetJob {
   std::shared_ptr<const DatasetSetup> setup;
   std::filesystem::path root;  // <data dir>/datasets/<id of the job that started the directory>
+  std::string directory_id;    // the id of the job that started the directory
+  // Counts the directory against the data quota; null: not counted (tests).
+  DatasetDirectories* directories = nullptr;
 };
 
 // Where dataset jobs write: <data_dir>/datasets/<job id>.

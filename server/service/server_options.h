@@ -24,8 +24,11 @@ struct Limits {
   // Artifacts one job may store, and their bytes.
   uint32_t max_job_artifacts = 100'000;
   uint64_t max_job_bytes = 64ull << 30;
-  // Bytes the data directory may hold (blobs and catalogue); 0: as much as the disk takes.
+  // Bytes the data directory may hold (blobs, dataset directories, catalogue); 0: as much as the
+  // disk takes.
   uint64_t max_data_bytes = 0;
+  // Scenes (seeds x bins x sensors) of one dataset plan a job may write.
+  uint64_t max_dataset_scenes = 100'000;
 };
 
 struct ServerOptions {

@@ -20,6 +20,8 @@ class ShapeCache;
 
 namespace vscan::service {
 
+class DatasetDirectories;
+
 struct ServiceContext {
   ServiceContext(scenes::SceneRegistry& registry, jobs::WorkerPool& workers, jobs::WorkerPool& call_workers,
                  const ServerOptions& options, robots::RobotRegistry& robots, RasterProvider& raster,
@@ -37,6 +39,8 @@ struct ServiceContext {
   ScanAdmission scans;
   // Bullet shapes of scene meshes and links, shared by every collision check of the server.
   std::shared_ptr<collision::ShapeCache> shapes;
+  // The dataset jobs' directories; null where no server runs them (tests).
+  DatasetDirectories* dataset_directories = nullptr;
 };
 
 }  // namespace vscan::service

@@ -203,6 +203,23 @@ StatusOr<std::vector<JobRecord>> JobCatalogue::ListJobs(const std::string& after
   return jobs;
 }
 
+StatusOr<std::vector<JobRecord>> JobCatalogue::ListJobsOfKind(const std::string& kind) {
+  std::lock_guard lock(mutex_);
+  std::vector<JobRecord> jobs;
+  RETURN_IF_ERROR(sqlite::InTransaction(db_, false, [&]() -> Status {
+    ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_, Select(kJobColumns, "jobs", "WHERE kind = ?1 ORDER BY job_id")));
+    s.Bind(1, kind);
+    for (;;) {
+      ASSIGN_OR_RETURN(bool row, s.Step());
+      if (!row) break;
+      ASSIGN_OR_RETURN(JobRecord job, ReadJob(s));
+      jobs.push_back(std::move(job));
+    }
+    return Status::Ok();
+  }));
+  return jobs;
+}
+
 Status JobCatalogue::UpdateProgressLocked(const std::string& job_id, const JobProgress& progress, int64_t now_ms) {
   ASSIGN_OR_RETURN(const JobRecord found, FindKindAndState(db_, job_id));
   if (IsFinal(found.state)) return FailedPrecondition("job_id: job '" + job_id + "' has already ended");

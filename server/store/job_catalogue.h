@@ -83,6 +83,8 @@ class JobCatalogue {
   StatusOr<JobRecord> GetJob(const std::string& job_id);
   // Ordered by id; ids greater than after_id; at most limit (1..1000).
   StatusOr<std::vector<JobRecord>> ListJobs(const std::string& after_id, int limit);
+  // Every job of kind, ordered by id, without artifacts.
+  StatusOr<std::vector<JobRecord>> ListJobsOfKind(const std::string& kind);
   // NOT_FOUND for an unknown job; FAILED_PRECONDITION when the job already ended.
   Status UpdateProgress(const std::string& job_id, const JobProgress& progress);
   // Records an artifact (id generated, "art_" + 16 hex) and the job's progress in one transaction.

@@ -69,5 +69,48 @@ TEST(DataQuotaTest, CountsWhatADirectoryAlreadyHolds) {
   EXPECT_EQ(quota.Reserve(UINT64_MAX).code(), StatusCode::kResourceExhausted);
 }
 
+TEST(DataQuotaTest, DirectoriesShareTheBoundAsLastMeasured) {
+  DataQuota quota(1000, {});
+  ASSERT_TRUE(quota.Reserve(200).ok());
+  quota.SetDirectoryBytes("job_a", 300);
+  quota.SetDirectoryBytes("job_b", 100);
+  EXPECT_EQ(quota.used_bytes(), 600u);
+  // A new measure replaces the old one rather than adding to it.
+  quota.SetDirectoryBytes("job_a", 500);
+  EXPECT_EQ(quota.used_bytes(), 800u);
+  EXPECT_EQ(quota.DirectoryBytes("job_a"), 500u);
+  // Blobs meet the directories' bytes: 800 + 201 passes 1000.
+  EXPECT_EQ(quota.Reserve(201).code(), StatusCode::kResourceExhausted);
+  EXPECT_TRUE(quota.CheckRoom(200, "the next scene").ok());
+  const Status full = quota.CheckRoom(201, "the next scene");
+  ASSERT_EQ(full.code(), StatusCode::kResourceExhausted);
+  EXPECT_NE(full.message().find("the next scene"), std::string::npos) << full.message();
+  EXPECT_NE(full.message().find("--max-data-mib"), std::string::npos) << full.message();
+  // CheckRoom reserves nothing; leaving out a directory counts the others only (800 - 500 + 700).
+  EXPECT_EQ(quota.used_bytes(), 800u);
+  EXPECT_TRUE(quota.CheckRoom(700, "a resumed dataset", "job_a").ok());
+  EXPECT_EQ(quota.CheckRoom(701, "a resumed dataset", "job_a").code(), StatusCode::kResourceExhausted);
+  // Measured past the bound (the bytes are on disk already), it is counted all the same.
+  quota.SetDirectoryBytes("job_b", 900);
+  EXPECT_EQ(quota.used_bytes(), 1600u);
+  quota.ForgetDirectory("job_b");
+  quota.ForgetDirectory("job_unknown");
+  EXPECT_EQ(quota.used_bytes(), 700u);
+  EXPECT_EQ(quota.DirectoryBytes("job_b"), 0u);
+}
+
+TEST(DataQuotaTest, RegularFileBytesAddsEveryFileBelowARoot) {
+  test::TempDir dir;
+  fs::create_directories(dir.path() / "a" / "b");
+  WriteFile(dir.path() / "top", 10);
+  WriteFile(dir.path() / "a" / "one", 200);
+  WriteFile(dir.path() / "a" / "b" / "two", 3000);
+  std::error_code ec;
+  EXPECT_EQ(RegularFileBytes(dir.path(), ec), 3210u);
+  EXPECT_FALSE(ec);
+  RegularFileBytes(dir.path() / "absent", ec);
+  EXPECT_TRUE(ec);
+}
+
 }  // namespace
 }  // namespace vscan::store
