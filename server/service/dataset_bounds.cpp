@@ -12,7 +12,7 @@ uint64_t ModelPlyBytes(const TriangleMesh& mesh) {
 
 }  // namespace
 
-uint64_t DatasetViewsPerScene(const dataset::DatasetPlan&) { return 1; }
+uint64_t DatasetViewsPerScene(const dataset::DatasetPlan& plan) { return plan.views.count; }
 
 uint64_t DatasetImageCount(const dataset::DatasetPlan& plan) {
   return dataset::SceneCount(plan) * DatasetViewsPerScene(plan);

@@ -18,7 +18,7 @@ inline constexpr uint64_t kMaxTarArtifactBytes = 1ull << 30;
 // as the table behind the bin makes it; its PNGs and JSON add a few more per pixel.
 inline constexpr uint64_t kDatasetBytesPerPixel = 28;
 
-// Camera views of one scene. One for now: the hook for plans that set several views per scene.
+// Camera views of one scene (the plan's views.count).
 uint64_t DatasetViewsPerScene(const dataset::DatasetPlan& plan);
 // Images the plan writes: scenes x views.
 uint64_t DatasetImageCount(const dataset::DatasetPlan& plan);

@@ -40,10 +40,12 @@ void WriteFile(const fs::path& path, size_t bytes) {
   out << std::string(bytes, 'x');
 }
 
-TEST(DatasetBoundsTest, ImagesAreScenesTimesOneViewForNow) {
-  const dataset::DatasetPlan plan = Plan(7, 3, 2);
+TEST(DatasetBoundsTest, ImagesAreScenesTimesViews) {
+  dataset::DatasetPlan plan = Plan(7, 3, 2);
   EXPECT_EQ(DatasetViewsPerScene(plan), 1u);
   EXPECT_EQ(DatasetImageCount(plan), 42u);
+  plan.views.count = 5;
+  EXPECT_EQ(DatasetImageCount(plan), 210u);
 }
 
 TEST(DatasetBoundsTest, EstimateCountsEachSensorsPixelsModelsAndTheTar) {
