@@ -217,6 +217,44 @@ class BinCliTest(unittest.TestCase):
         with self.assertRaises(ValueError):
             bin_part(mesh_id, 1, collision="sphere")
 
+    def test_a_mesh_too_large_to_decompose_is_refused_at_once(self):
+        scene_id = self.filled()["sceneId"]
+        # A torus of 70 x 35 quads (4900 triangles): over a minute of HACD, which cannot be stopped.
+        n, m = 70, 35
+        vertices = []
+        for i in range(n):
+            for j in range(m):
+                u, v = 2 * math.pi * i / n, 2 * math.pi * j / m
+                r = 0.05 + 0.02 * math.cos(v)
+                vertices.append((r * math.cos(u), r * math.sin(u), 0.02 * math.sin(v)))
+        faces = []
+        for i in range(n):
+            for j in range(m):
+                a, b = i * m + j, ((i + 1) % n) * m + j
+                c, d = ((i + 1) % n) * m + (j + 1) % m, i * m + (j + 1) % m
+                faces += [(a, b, c), (a, c, d)]
+        path = os.path.join(self.tmp.name, "torus.ply")
+        with open(path, "w") as f:
+            f.write("ply\nformat ascii 1.0\nelement vertex %d\nproperty float x\nproperty float y\nproperty float z\n"
+                    "element face %d\nproperty list uchar int vertex_indices\nend_header\n" % (len(vertices), len(faces)))
+            f.writelines("%.6f %.6f %.6f\n" % p for p in vertices)
+            f.writelines("3 %d %d %d\n" % t for t in faces)
+        mesh_id = self.client.upload_mesh(path, unit="m").mesh_id
+        stub = job_pb2_grpc.JobServiceStub(self.server.channel())
+        jobs_before = len(self.client.list_jobs())
+        for validate_only in (True, False):
+            spec = job_pb2.BinFillSpec(scene_id=scene_id)
+            spec.bin.inner_size.x, spec.bin.inner_size.y, spec.bin.inner_size.z = 0.3, 0.3, 0.2
+            spec.parts.add(mesh_id=mesh_id, count=2, collision=job_pb2.PART_COLLISION_CONVEX_DECOMPOSITION)
+            started = time.monotonic()
+            with self.assertRaises(grpc.RpcError) as caught:
+                stub.StartBinFill(job_pb2.StartBinFillRequest(spec=spec, validate_only=validate_only), timeout=20)
+            self.assertLess(time.monotonic() - started, 2.0)
+            self.assertEqual(caught.exception.code(), grpc.StatusCode.RESOURCE_EXHAUSTED, caught.exception.details())
+            self.assertTrue(caught.exception.details().startswith("spec.parts[0].mesh"), caught.exception.details())
+            self.assertIn("this one has 4900", caught.exception.details())
+        self.assertEqual(len(self.client.list_jobs()), jobs_before)
+
     def test_plan_errors_name_the_plan_line(self):
         too_many = write_plan(self.tmp.name, "too_many.yaml", blocks=300, pins=300)
         out = vscan(self.server, "bin", "fill", too_many)

@@ -96,5 +96,42 @@ TEST(ConvexDecomposition, LShapedPartsFillABinAndSettleInsideIt) {
   }
 }
 
+// A torus of n x n/2 quads: not convex, so decomposition would run HACD on all of them.
+TriangleMesh Torus(int n) {
+  const int m = n / 2;
+  TriangleMesh mesh;
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < m; ++j) {
+      const double u = 2 * M_PI * i / n, v = 2 * M_PI * j / m, r = 0.05 + 0.02 * std::cos(v);
+      mesh.vertices.emplace_back(float(r * std::cos(u)), float(r * std::sin(u)), float(0.02 * std::sin(v)));
+    }
+  }
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < m; ++j) {
+      const auto at = [&](int a, int b) { return uint32_t((a % n) * m + b % m); };
+      mesh.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      mesh.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  }
+  return mesh;
+}
+
+TEST(ConvexDecomposition, AMeshTooLargeForItIsRefusedBeforeAnyWork) {
+  PartType part;
+  part.name = "torus";
+  part.mesh = Torus(70);  // 4900 triangles: over a minute of HACD
+  part.count = 2;
+  part.collision = PartCollision::kConvexDecomposition;
+  BinSpec bin;
+  bin.inner_size = Eigen::Vector3d(0.3, 0.3, 0.2);
+  const auto refused = FillBin(bin, {part}, FillOptions{});
+  EXPECT_EQ(refused.status().code(), StatusCode::kResourceExhausted);
+  EXPECT_EQ(refused.status().field(), "parts[0].mesh");
+  EXPECT_NE(refused.status().ToString().find("this one has 4900"), std::string::npos) << refused.status().ToString();
+  // The convex hull of the same mesh is no trouble.
+  part.collision = PartCollision::kConvexHull;
+  EXPECT_TRUE(FillBin(bin, {part}, FillOptions{}).ok());
+}
+
 }  // namespace
 }  // namespace vscan::physics
