@@ -77,10 +77,11 @@ StatusOr<ValidatedDataset> ValidateDataset(const v1::DatasetSpec& spec, service:
     const Status& error = setup.status();
     return error.field().rfind("spec.", 0) == 0 ? error : error.WithFieldPrefix("spec.plan_yaml");
   }
-  // Frames captured ahead are held at once, each with its whole cloud.
+  // Frames captured ahead (and a scene's views) are held at once, each with its whole cloud.
   for (size_t i = 0; i < setup->sensors.size(); ++i) {
     const uint64_t frame_bytes = service::ScanMemoryBytes(service::DatasetFramePlan(setup->sensors[i]), false);
-    RETURN_IF_ERROR(service::CheckRequestMemory(frame_bytes * (1 + service::DatasetFramesAhead()),
+    const size_t in_flight = service::dataset::FramesInFlight(service::DatasetFramesAhead(), plan->views.count);
+    RETURN_IF_ERROR(service::CheckRequestMemory(frame_bytes * in_flight,
                                                 context.options.limits,
                                                 "spec.plan_yaml",
                                                 "sensors[" + std::to_string(i) + "]: capturing its frames"));

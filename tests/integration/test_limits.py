@@ -186,13 +186,23 @@ class DecompositionOffTheCallThreads(LimitTest):
     def test_validating_a_decomposed_part_does_not_decompose_it(self):
         server = self.start()
         with Client(server.address) as client:
-            mesh = client.upload_mesh(os.path.join(DATA, "meshes", "bunny", "bunny_zipper_res2.ply"), unit="m")
+            bunny = client.upload_mesh(os.path.join(DATA, "meshes", "bunny", "bunny_zipper_res2.ply"), unit="m")
+            block = client.upload_mesh(os.path.join(DATA, "parts", "angle_block.STL"), unit="in")
             scene_id = client.create_scene("decomposed").scene_id
+            # A mesh within the bound checks out without HACD on the call threads.
             start = time.time()
             client.validate_bin_fill(scene_id, (0.3, 0.3, 0.2),
-                                     [bin_part(mesh.mesh_id, 2, scale=0.5, collision="convex_decomposition")])
-            # The thousands of triangles HACD would take seconds over wait for the fill's own thread.
+                                     [bin_part(block.mesh_id, 2, collision="convex_decomposition")])
             self.assertLess(time.time() - start, 3.0)
+            # 16301 triangles would take HACD hours, unstoppably: refused at once.
+            start = time.time()
+            with self.assertRaises(VscanError) as refused:
+                client.validate_bin_fill(scene_id, (0.3, 0.3, 0.2),
+                                         [bin_part(bunny.mesh_id, 2, scale=0.5, collision="convex_decomposition")])
+            self.assertLess(time.time() - start, 3.0)
+            self.assertEqual(refused.exception.code, C.RESOURCE_EXHAUSTED, refused.exception.message)
+            self.assertIn("spec.parts[0].mesh", refused.exception.message)
+            self.assertIn("this one has 16301", refused.exception.message)
             start = time.time()
             client.create_scene("beside")
             self.assertLess(time.time() - start, 1.0)

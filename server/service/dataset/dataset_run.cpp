@@ -38,6 +38,10 @@ Status PrepareRoot(const std::filesystem::path& root, const DatasetPlan& plan, c
 
 }  // namespace
 
+size_t FramesInFlight(size_t frames_ahead, uint32_t views_per_scene) {
+  return frames_ahead == 0 ? 1 : frames_ahead + std::min<size_t>(views_per_scene, kViewsInFlight);
+}
+
 StatusOr<DatasetProgress> RunDatasetShard(const std::filesystem::path& root, const DatasetPlan& plan,
                                           const std::vector<PartModel>& parts, const FrameSource& source,
                                           const ShardRun& run) {
@@ -75,7 +79,7 @@ StatusOr<DatasetProgress> RunDatasetShard(const std::filesystem::path& root, con
   std::optional<SceneWriter> writer;
   // The views of a scene wait for its one fill: a window of a scene's views beside the frames
   // ahead lets the next scene's fill start while this one's views are scanned.
-  const size_t window = run.frames_ahead == 0 ? 1 : run.frames_ahead + std::min<size_t>(views, kViewsInFlight);
+  const size_t window = FramesInFlight(run.frames_ahead, views);
   while (next < frame_count || !in_flight.empty()) {
     while (next < frame_count && in_flight.size() < window) {
       if (run.stop_requested && run.stop_requested()) return Cancelled("the dataset run was stopped");

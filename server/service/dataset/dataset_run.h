@@ -40,6 +40,10 @@ struct ShardRun {
   size_t frames_ahead = 0;
 };
 
+// Frames a run holds at once (captured, not yet written): one when none are captured ahead, else
+// the frames ahead plus up to four views of a scene.
+size_t FramesInFlight(size_t frames_ahead, uint32_t views_per_scene);
+
 // Writes dataset.json and models/models_info.json (or checks that they match), removes partial
 // directories of this shard's scenes, then writes every missing scene of the shard in order.
 StatusOr<DatasetProgress> RunDatasetShard(const std::filesystem::path& root, const DatasetPlan& plan,
