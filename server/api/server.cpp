@@ -93,6 +93,21 @@ StatusOr<geometry::ImportSandbox> MeshImportSandbox(const service::ServerOptions
   return sandbox;
 }
 
+// vscan-poisson, installed next to this executable (and the mesh importer).
+StatusOr<std::string> PoissonHelper(const geometry::ImportSandbox& sandbox) {
+  const std::filesystem::path helper = std::filesystem::path(sandbox.helper_path).parent_path() / "vscan-poisson";
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(helper, ec) || ::access(helper.c_str(), X_OK) != 0) {
+    std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+    const std::filesystem::path beside = self.parent_path() / "vscan-poisson";
+    if (ec || !std::filesystem::is_regular_file(beside, ec) || ::access(beside.c_str(), X_OK) != 0) {
+      return Unavailable("'" + beside.string() + "' is not an executable file (Poisson reconstruction runs there)");
+    }
+    return beside.string();
+  }
+  return helper.string();
+}
+
 // Blobs older than this that no row names are left by a crash between a row's deletion and its file's.
 constexpr std::chrono::minutes kOrphanBlobAge{5};
 
@@ -228,6 +243,8 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& op
     spdlog::info("removed {} orphan blob files ({} bytes)", swept->files, swept->bytes);
   }
   ASSIGN_OR_RETURN(geometry::ImportSandbox import_sandbox, MeshImportSandbox(options));
+  ASSIGN_OR_RETURN(impl->options.poisson_helper_path, PoissonHelper(import_sandbox));
+  spdlog::info("Poisson reconstruction runs in {}", impl->options.poisson_helper_path);
   spdlog::info("mesh uploads are parsed by {} (at most {} s, {} MiB)", import_sandbox.helper_path,
                options.mesh_import_timeout_s, options.mesh_import_memory_mib);
   impl->registry = std::make_unique<scenes::SceneRegistry>(*impl->catalogue, *impl->blobs,

@@ -53,13 +53,23 @@ StatusOr<TriangleMesh> Tsdf(ServiceContext& context, const ModelPlan& plan, cons
   return fused;
 }
 
-StatusOr<TriangleMesh> Poisson(const PlacedScans& placed, const ModelPlan& plan, double voxel_size) {
+StatusOr<TriangleMesh> Poisson(ServiceContext& context, const PlacedScans& placed, const ModelPlan& plan,
+                               double voxel_size, const std::atomic<bool>* cancel) {
   std::vector<reconstruction::ScanPoints> scans;
   for (size_t k = 0; k < placed.points.size(); ++k) scans.push_back({placed.points[k], placed.origins[k]});
   reconstruction::PoissonPipelineOptions options;
   options.voxel_size = static_cast<float>(voxel_size);
   options.poisson.depth = static_cast<int>(plan.poisson_depth);
-  return reconstruction::ReconstructPoisson(scans, options);
+  options.helper_path = context.options.poisson_helper_path;
+  options.max_memory_bytes = context.options.limits.max_request_memory_bytes;
+  auto mesh = reconstruction::ReconstructPoisson(scans, options, nullptr, cancel);
+  if (mesh.status().code() == StatusCode::kResourceExhausted) {
+    // The engine names its own option; the client set reconstruction.poisson_depth.
+    return ResourceExhausted("reconstruction.poisson_depth",
+                             std::string(mesh.status().text()) + " (--max-request-memory-mib)");
+  }
+  if (mesh.status().code() == StatusCode::kCancelled) return Cancelled("model job stopped");
+  return mesh;
 }
 
 }  // namespace
@@ -77,7 +87,7 @@ StatusOr<ModelMesh> ReconstructModel(ServiceContext& context, const ModelPlan& p
     ASSIGN_OR_RETURN(mesh, Tsdf(context, plan, aligned, crop, voxel_size, cancel));
   } else {
     out.method = "poisson";
-    ASSIGN_OR_RETURN(mesh, Poisson(placed, plan, voxel_size));
+    ASSIGN_OR_RETURN(mesh, Poisson(context, placed, plan, voxel_size, cancel));
   }
   if (Stopped(cancel)) return Cancelled("model job stopped");
   out.mesh = ClipMesh(mesh, crop);

@@ -52,6 +52,8 @@ struct ServerOptions {
   uint32_t scene_cache_entries = 8;
   // The vscan-mesh-import helper that parses uploads; empty means the one next to vscand.
   std::string mesh_importer_path;
+  // The vscan-poisson executable; empty solves Poisson inside the server (not cancellable).
+  std::string poisson_helper_path;
   uint32_t mesh_import_timeout_s = 60;
   uint64_t mesh_import_memory_mib = 8192;
   // A Scan stream whose client has not read for this long is cancelled and its slot freed.

@@ -189,7 +189,7 @@ int PollTimeoutMs(Clock::duration remaining) {
 // of its input would otherwise fill one pipe while we wait on the other. Stops at the child's
 // end of output, at the deadline or past max_output.
 Status Exchange(Fd& to_child, Fd& from_child, std::string_view input, Clock::time_point deadline,
-                size_t max_output, ChildOutcome& outcome) {
+                size_t max_output, const std::atomic<bool>* cancel, ChildOutcome& outcome) {
   size_t written = 0;
   if (input.empty()) to_child.Reset();
   while (from_child.valid()) {
@@ -198,9 +198,16 @@ Status Exchange(Fd& to_child, Fd& from_child, std::string_view input, Clock::tim
       outcome.timed_out = true;
       return Status::Ok();
     }
+    if (cancel != nullptr && cancel->load()) {
+      outcome.cancelled = true;
+      return Status::Ok();
+    }
+    // A child that computes long before it writes is watched in short waits, for the cancel flag.
+    auto wait = deadline - now;
+    if (cancel != nullptr) wait = std::min<Clock::duration>(wait, kCancelPollInterval);
     pollfd fds[2] = {{from_child.get(), POLLIN, 0}, {to_child.get(), POLLOUT, 0}};
     const nfds_t count = to_child.valid() ? 2 : 1;
-    if (::poll(fds, count, PollTimeoutMs(deadline - now)) < 0) {
+    if (::poll(fds, count, PollTimeoutMs(wait)) < 0) {
       if (errno == EINTR) continue;
       return Internal("poll on the child's pipes failed: " + ErrorText(errno));
     }
@@ -253,7 +260,8 @@ int Reap(pid_t pid, Clock::time_point deadline, bool& timed_out) {
 }  // namespace
 
 StatusOr<ChildOutcome> RunChild(const std::vector<std::string>& argv, std::string_view input,
-                                std::chrono::milliseconds timeout, size_t max_output) {
+                                std::chrono::milliseconds timeout, size_t max_output,
+                                const std::atomic<bool>* cancel) {
   if (argv.empty() || argv.front().empty()) return Unavailable("cannot start '': no program given");
   const auto deadline = Clock::now() + timeout;
   Pipe to_child, from_child;
@@ -268,8 +276,9 @@ StatusOr<ChildOutcome> RunChild(const std::vector<std::string>& argv, std::strin
   from_child.write.Reset();
 
   ChildOutcome outcome;
-  Status exchanged = Exchange(to_child.write, from_child.read, input, deadline, max_output, outcome);
-  if (!exchanged.ok() || outcome.timed_out || outcome.output_too_large) ::kill(pid, SIGKILL);
+  Status exchanged = Exchange(to_child.write, from_child.read, input, deadline, max_output, cancel, outcome);
+  const bool stop = !exchanged.ok() || outcome.timed_out || outcome.output_too_large || outcome.cancelled;
+  if (stop) ::kill(pid, SIGKILL);
   to_child.write.Reset();
   from_child.read.Reset();
   outcome.wait_status = Reap(pid, deadline, outcome.timed_out);

@@ -2,7 +2,10 @@
 // Scans to a mesh through Poisson: union cloud evened out by voxels, normals turned towards the
 // sensors, PCL's Poisson, then trimming where nothing was seen.
 
+#include <atomic>
+#include <cstdint>
 #include <span>
+#include <string>
 
 #include "reconstruction/poisson_pcl.h"
 #include "reconstruction/union_cloud.h"
@@ -19,6 +22,10 @@ struct PoissonPipelineOptions {
   PoissonOptions poisson;
   // Vertices farther than this from every union point are trimmed, in voxel_size units.
   float trim_voxels = 2.0f;
+  // The vscan-poisson executable that solves in a child process; empty solves in this process.
+  std::string helper_path;
+  // RESOURCE_EXHAUSTED naming "poisson.depth" when EstimatePoissonBytes passes this; 0: no bound.
+  uint64_t max_memory_bytes = 0;
 };
 
 struct PoissonPipelineStats {
@@ -30,7 +37,9 @@ struct PoissonPipelineStats {
 };
 
 // InvalidArgument names "poisson.voxel_size", "poisson.trim_voxels" or a normals or Poisson option.
+// CANCELLED when *cancel becomes true: between stages, and at once during a child's solve.
 StatusOr<TriangleMesh> ReconstructPoisson(std::span<const ScanPoints> scans, const PoissonPipelineOptions& options,
-                                          PoissonPipelineStats* stats = nullptr);
+                                          PoissonPipelineStats* stats = nullptr,
+                                          const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace vscan::reconstruction
