@@ -97,6 +97,8 @@ struct FillOptions {
   // moved apart (SeparateMeshOverlaps, up to separation_rounds times); 0 only measures.
   double max_mesh_overlap_m = 0.0003;
   int separation_rounds = 24;
+  // False: neither measure nor separate (MeshOverlaps stays zero); for comparisons of fill times.
+  bool measure_mesh_overlaps = true;
   // A part at rest reaching more than this above the rim makes the bin full.
   double rim_tolerance_m = 0.005;
 };
