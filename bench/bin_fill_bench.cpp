@@ -1,10 +1,13 @@
 // Fills a 30 x 20 x 15 cm bin with 50 fixture parts (angle blocks and pins) with FillBin and with
 // a plain PyBullet-like Bullet world under the same spawn and settle rules, over several seeds;
 // then scans each settled bin of ours at 1280 x 1024.
+// Each fill of hulls is also run by the fill as it was before the meshes' overlaps were bounded
+// (FillOld), seed by seed in the same run, for the ratio of their CPU times.
 // Then (sections "machined" and "decomposition") fills bins of procedural machined parts (risers and
 // many-sided prisms, hulls of 100-300 vertices) and of the fixture parts, each as convex hulls and
 // as convex decompositions, and reports how deep the settled meshes overlap.
 // Usage: bin_fill_bench [seeds=3] [sections=fixture,machined,decomposition(,hull-only)] [max simulated s=60]
+//        [hull tolerance mm=FillOptions' default]
 
 #include <algorithm>
 #include <atomic>
@@ -26,7 +29,9 @@
 #include "machined_parts.h"
 #include "geometry/mesh_import.h"
 #include "physics/bin_fill.h"
+#include "physics/bullet_fill_world.h"
 #include "physics/fill_loop.h"
+#include "physics/mesh_overlap.h"
 #include "physics/part_geometry.h"
 #include "raycast/raycast_scene.h"
 #include "raycast/scanner.h"
@@ -36,6 +41,8 @@ namespace vscan::bench {
 namespace {
 
 using Clock = std::chrono::steady_clock;
+
+double g_hull_tolerance_m = -1;  // < 0: FillOptions' default
 
 double Since(Clock::time_point start) { return std::chrono::duration<double>(Clock::now() - start).count(); }
 
@@ -93,6 +100,28 @@ Run FillPlain(const physics::BinSpec& bin, const std::vector<physics::PartType>&
   Run run{physics::RunFill(bin, parts, geometry, options, *world, nullptr), 0.0, 0.0};
   run.wall_s = Since(start);
   run.cpu_s = ThreadCpuSeconds() - cpu_start;
+  return run;
+}
+
+// The fill as it was before the true-mesh overlaps were bounded: each hull cut to the 24 of its
+// vertices farthest apart, no overlap measure and no separation; the same world and loop
+// otherwise. Timed like FillOurs; the meshes' overlaps are measured afterwards, untimed, for the
+// report.
+Run FillOld(const physics::BinSpec& bin, const std::vector<physics::PartType>& parts, physics::FillOptions options) {
+  const auto start = Clock::now();
+  const double cpu_start = ThreadCpuSeconds();
+  std::vector<physics::PartGeometry> geometry = physics::MakePartGeometries(parts, 0.0);
+  for (auto& part : geometry) {
+    part.hull = physics::FarthestPoints(part.hull, 24);
+    part.radius = 0.0;
+    for (const auto& p : part.hull) part.radius = std::max(part.radius, p.norm());
+  }
+  options.measure_mesh_overlaps = false;
+  auto world = physics::MakeBulletFillWorld(bin, geometry, options);
+  Run run{physics::RunFill(bin, parts, geometry, options, *world, nullptr), 0.0, 0.0};
+  run.wall_s = Since(start);
+  run.cpu_s = ThreadCpuSeconds() - cpu_start;
+  run.fill.mesh_overlap = physics::MeasureMeshOverlaps(bin, parts, run.fill.parts);
   return run;
 }
 
@@ -216,43 +245,73 @@ physics::PartType Procedural(TriangleMesh mesh, const std::string& name, size_t 
   return part;
 }
 
-// The same parts filled as hulls and as convex decompositions, seeds 1..seeds each: one line per
-// fill, a summary per collision kind and the ratio of their median wall times.
+void PrintFill(const std::string& name, int seed, const Run& run) {
+  const physics::MeshOverlaps& overlap = run.fill.mesh_overlap;
+  std::printf("  %-6s seed %d  %.3f s (CPU %.3f, set-up %.3f, overlap measure %.3f) %s sim %.2f s, %zu in, "
+              "%zu out | shapes %.3f/%.3f mm | meshes part-part max %.3f p95 %.3f (%zu pairs) part-bin %.3f mm | "
+              "moved %zu, %d rounds\n",
+              name.c_str(), seed, run.wall_s, run.cpu_s, run.fill.setup_wall_s, run.fill.measure_wall_s,
+              physics::FillEndName(run.fill.end), run.fill.simulated_s, run.fill.parts.size(), run.fill.outside.size(),
+              run.fill.max_part_part_penetration_m * 1e3, run.fill.max_part_bin_penetration_m * 1e3,
+              overlap.max_part_part_m * 1e3, overlap.p95_part_part_m * 1e3, overlap.overlapping_pairs,
+              overlap.max_part_bin_m * 1e3, overlap.moved_parts, overlap.rounds);
+  std::fflush(stdout);
+}
+
+std::string Spread(const std::vector<double>& v) {
+  char text[96];
+  std::snprintf(text, sizeof text, "median %.3f (min %.3f max %.3f)", Median(v), *std::min_element(v.begin(), v.end()),
+                *std::max_element(v.begin(), v.end()));
+  return text;
+}
+
+// The same parts filled as hulls (each seed also by the old fill, FillOld, right after) and as
+// convex decompositions, seeds 1..seeds each: one line per fill, a summary per kind and the
+// ratios of their thread CPU seconds, seed by seed.
 void CompareCollisions(const std::string& title, const physics::BinSpec& bin, std::vector<physics::PartType> parts,
                        int seeds, double max_simulated_s, bool hull_only) {
   std::printf("%s, %d seeds, max simulated %.0f s\n", title.c_str(), seeds, max_simulated_s);
-  std::map<std::string, std::vector<double>> wall, wall_per_sim;
+  std::map<std::string, std::vector<double>> cpu, wall_per_sim;
+  std::vector<double> new_over_old;
   for (const auto collision : {physics::PartCollision::kConvexHull, physics::PartCollision::kConvexDecomposition}) {
     if (hull_only && collision != physics::PartCollision::kConvexHull) break;
-    const std::string name = collision == physics::PartCollision::kConvexHull ? "hull" : "decomp";
+    const bool hull = collision == physics::PartCollision::kConvexHull;
+    const std::string name = hull ? "hull" : "decomp";
     for (auto& part : parts) part.collision = collision;
-    Summary summary;
+    Summary summary, old_summary;
     for (int seed = 1; seed <= seeds; ++seed) {
       physics::FillOptions options;
       options.seed = static_cast<uint64_t>(seed);
       options.max_simulated_s = max_simulated_s;
+      if (g_hull_tolerance_m >= 0) options.hull_tolerance_m = g_hull_tolerance_m;
       const Run run = FillOurs(bin, parts, options);
-      const physics::MeshOverlaps& overlap = run.fill.mesh_overlap;
-      std::printf("  %-6s seed %d  %.3f s (CPU %.3f, set-up %.3f, overlap measure %.3f) %s sim %.2f s, %zu in, "
-                  "%zu out | shapes %.3f/%.3f mm | meshes part-part max %.3f p95 %.3f (%zu pairs) part-bin %.3f mm\n",
-                  name.c_str(), seed, run.wall_s, run.cpu_s, run.fill.setup_wall_s, run.fill.measure_wall_s,
-                  physics::FillEndName(run.fill.end), run.fill.simulated_s, run.fill.parts.size(),
-                  run.fill.outside.size(), run.fill.max_part_part_penetration_m * 1e3,
-                  run.fill.max_part_bin_penetration_m * 1e3, overlap.max_part_part_m * 1e3,
-                  overlap.p95_part_part_m * 1e3, overlap.overlapping_pairs, overlap.max_part_bin_m * 1e3);
-      std::fflush(stdout);
+      PrintFill(name, seed, run);
       summary.Add(run);
-      wall[name].push_back(run.wall_s);
+      cpu[name].push_back(run.cpu_s);
       wall_per_sim[name].push_back(run.wall_s / std::max(run.fill.simulated_s, 1e-9));
+      if (!hull) continue;
+      const Run old = FillOld(bin, parts, options);
+      PrintFill("old", seed, old);
+      old_summary.Add(old);
+      cpu["old"].push_back(old.cpu_s);
+      new_over_old.push_back(run.cpu_s / old.cpu_s);
     }
     summary.Print(name.c_str());
-    std::printf("  %-6s wall median %.3f s (min %.3f max %.3f), wall per simulated s median %.3f\n", name.c_str(),
-                Median(wall[name]), *std::min_element(wall[name].begin(), wall[name].end()),
-                *std::max_element(wall[name].begin(), wall[name].end()), Median(wall_per_sim[name]));
+    std::printf("  %-6s CPU s %s, wall per simulated s median %.3f\n", name.c_str(), Spread(cpu[name]).c_str(),
+                Median(wall_per_sim[name]));
+    if (!hull) continue;
+    old_summary.Print("old");
+    std::printf("  old    CPU s %s\n", Spread(cpu["old"]).c_str());
+    std::printf("  hull / old, CPU seed by seed: %s; ratio of the CPU medians %.2f\n", Spread(new_over_old).c_str(),
+                Median(cpu["hull"]) / Median(cpu["old"]));
   }
   if (hull_only) return;
-  std::printf("  decomp / hull: median wall %.2f, median wall per simulated s %.2f\n",
-              Median(wall["decomp"]) / Median(wall["hull"]), Median(wall_per_sim["decomp"]) / Median(wall_per_sim["hull"]));
+  std::printf("  decomp / hull, CPU: first fill (decomposition computed) %.2f, ratio of the medians %.2f, of the "
+              "medians of later fills %.2f\n",
+              cpu["decomp"][0] / cpu["hull"][0], Median(cpu["decomp"]) / Median(cpu["hull"]),
+              seeds > 1 ? Median(std::vector<double>(cpu["decomp"].begin() + 1, cpu["decomp"].end())) /
+                              Median(std::vector<double>(cpu["hull"].begin() + 1, cpu["hull"].end()))
+                        : 0.0);
 }
 
 }  // namespace
@@ -264,6 +323,7 @@ int main(int argc, char** argv) {
   const int seeds = argc > 1 ? std::max(1, std::atoi(argv[1])) : 3;
   const std::string sections = argc > 2 ? argv[2] : "fixture,machined,decomposition";
   const double max_simulated_s = argc > 3 ? std::atof(argv[3]) : 60.0;
+  if (argc > 4) g_hull_tolerance_m = 1e-3 * std::atof(argv[4]);
   const auto wanted = [&](const char* section) { return sections.find(section) != std::string::npos; };
   physics::BinSpec bin;
   bin.inner_size = Eigen::Vector3d(0.30, 0.20, 0.15);
@@ -289,14 +349,21 @@ int main(int argc, char** argv) {
   std::printf("bin 30 x 20 x 15 cm, 25 angle blocks (3.4 x 2.5 x 3.4 cm) + 25 pins (6.6 mm x 79 mm), %d seeds\n",
               seeds);
 
-  Summary ours, plain;
-  std::vector<double> with_scan, scan_s;
+  Summary ours, plain, old;
+  std::vector<double> with_scan, scan_s, ours_cpu, old_cpu, ours_over_old;
   for (int seed = 1; seed <= seeds; ++seed) {
     physics::FillOptions options;
     options.seed = static_cast<uint64_t>(seed);
+    if (g_hull_tolerance_m >= 0) options.hull_tolerance_m = g_hull_tolerance_m;
     const Run our_run = FillOurs(bin, parts, options);
     const ScanTiming scan = ScanBin(bin, part_meshes, our_run.fill);
     const Run plain_run = FillPlain(bin, parts, options);
+    const Run old_run = FillOld(bin, parts, options);
+    PrintFill("old", seed, old_run);
+    old.Add(old_run);
+    ours_cpu.push_back(our_run.cpu_s);
+    old_cpu.push_back(old_run.cpu_s);
+    ours_over_old.push_back(our_run.cpu_s / old_run.cpu_s);
     std::printf("seed %d  ours %.3f s (CPU %.3f s, set-up %.3f, steps %.3f, of which overlap measure %.3f) %s sim %.2f s, "
                 "%zu in, %zu out, pen %.2f/%.2f mm, mesh overlap part-part max %.3f p95 %.3f (%zu pairs) part-bin %.3f mm | "
                 "scan %.3f s %zu points | plain %.3f s (CPU %.3f s) %s sim %.2f s, %zu in, %zu out, pen %.2f/%.2f mm\n",
@@ -317,6 +384,9 @@ int main(int argc, char** argv) {
   }
   ours.Print("ours");
   plain.Print("plain");
+  old.Print("old");
+  std::printf("CPU s per fill: ours %s, old %s; ours / old seed by seed %s\n", Spread(ours_cpu).c_str(),
+              Spread(old_cpu).c_str(), Spread(ours_over_old).c_str());
   std::printf("ratio of median fills per minute (ours / plain): %.2f wall, %.2f CPU\n",
               Median(ours.per_minute) / Median(plain.per_minute),
               Median(ours.per_cpu_minute) / Median(plain.per_cpu_minute));

@@ -61,7 +61,9 @@ struct FillOptions {
   int solver_iterations = 10;
   // A collision hull keeps the fewest of the exact hull's vertices (greedily) such that every
   // exact hull vertex lies within this distance of it; the full hull where that needs all of them.
-  double hull_tolerance_m = 0.00005;
+  // 0.2 mm, under the 0.5 mm collision margin: half the CPU per simulated second of 0.05 mm on
+  // parts with 100-300 hull vertices (Bullet's support search is linear in them).
+  double hull_tolerance_m = 0.0002;
   double collision_margin_m = 0.0005;
   double friction = 0.6;
   double restitution = 0.0;
@@ -97,6 +99,8 @@ struct FillOptions {
   // moved apart (SeparateMeshOverlaps, up to separation_rounds times); 0 only measures.
   double max_mesh_overlap_m = 0.0003;
   int separation_rounds = 24;
+  // False: neither measure nor separate (MeshOverlaps stays zero); for comparisons of fill times.
+  bool measure_mesh_overlaps = true;
   // A part at rest reaching more than this above the rim makes the bin full.
   double rim_tolerance_m = 0.005;
 };

@@ -245,6 +245,7 @@ class Filler {
     result.max_part_part_penetration_m = depths.part_part;
     result.max_part_bin_penetration_m = depths.part_bin;
     const auto measure_start = Clock::now();
+    if (!options_.measure_mesh_overlaps) return;
     result.mesh_overlap = options_.max_mesh_overlap_m > 0
                               ? SeparateMeshOverlaps(bin_, parts_, result.parts, options_.max_mesh_overlap_m,
                                                      options_.separation_rounds)
