@@ -155,9 +155,56 @@ StatusOr<DatasetPlan> PlanFromNode(const YAML::Node& root, const std::string& so
   return plan;
 }
 
+// yaml-cpp recurses once per level, so a few thousand brackets or indents would overflow the stack
+// (or answer "bad file"): the text's nesting is bounded before it is parsed. Flow levels are
+// counted outside quotes and comments; a block level costs at least one column of indentation.
+constexpr int kMaxNesting = 64;
+constexpr size_t kMaxIndent = 256;
+
+Status CheckNesting(std::string_view text, const std::string& source) {
+  int depth = 0;
+  char quote = 0;
+  bool comment = false;
+  size_t line = 1, column = 0;
+  bool indenting = true;
+  for (const char c : text) {
+    if (c == '\n') {
+      ++line;
+      column = 0;
+      indenting = true;
+      comment = false;
+      continue;
+    }
+    if (indenting && c == ' ' && ++column > kMaxIndent) {
+      return InvalidArgument(source + ": line " + std::to_string(line) + ": indented more than " +
+                             std::to_string(kMaxIndent) + " columns: nested too deep for a plan");
+    }
+    if (c != ' ') indenting = false;
+    if (comment) continue;
+    if (quote != 0) {
+      if (c == quote) quote = 0;
+      continue;
+    }
+    if (c == '"' || c == '\'') {
+      quote = c;
+    } else if (c == '#') {
+      comment = true;
+    } else if (c == '[' || c == '{') {
+      if (++depth > kMaxNesting) {
+        return InvalidArgument(source + ": line " + std::to_string(line) + ": more than " +
+                               std::to_string(kMaxNesting) + " nested lists or mappings: nested too deep for a plan");
+      }
+    } else if ((c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+  return Status::Ok();
+}
+
 }  // namespace
 
 StatusOr<DatasetPlan> ParseDatasetPlanYaml(std::string_view text, const std::string& source) {
+  RETURN_IF_ERROR(CheckNesting(text, source));
   YAML::Node root;
   try {
     root = YAML::Load(std::string(text));

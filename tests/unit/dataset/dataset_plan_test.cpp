@@ -217,6 +217,24 @@ TEST(DatasetPlanYaml, RefusesViewsOutsideTheirBoundsNamingTheKey) {
   EXPECT_EQ(message("[3]"), "p.yaml: views: must be a mapping (count, cone_deg, distance_m)");
 }
 
+TEST(DatasetPlanYaml, DeeplyNestedTextIsRefusedBeforeParsingNamingTheLine) {
+  const std::string base = "bins: [b]\nseeds: [1]\nsensors: [s]\n";
+  const Status flow = ParseDatasetPlanYaml(base + "name: " + std::string(100000, '[') + "\n", "p.yaml").status();
+  EXPECT_EQ(flow.code(), StatusCode::kInvalidArgument);
+  EXPECT_EQ(flow.message(), "p.yaml: line 4: more than 64 nested lists or mappings: nested too deep for a plan");
+  std::string block = base + "name:\n";
+  for (int i = 1; i < 300; ++i) block += std::string(i, ' ') + "- \n";
+  const Status indented = ParseDatasetPlanYaml(block, "p.yaml").status();
+  EXPECT_EQ(indented.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(indented.message().find("indented more than 256 columns"), std::string::npos) << indented.message();
+  // Brackets inside quotes and comments are text, and 64 levels still parse as YAML.
+  EXPECT_TRUE(ParseDatasetPlanYaml(base + "name: '" + std::string(200, '[') + "' # " + std::string(200, '{') + "\n",
+                                   "p.yaml").ok());
+  const Status deep = ParseDatasetPlanYaml(base + "depth_scale_mm: " + std::string(64, '[') + std::string(64, ']') + "\n",
+                                           "p.yaml").status();
+  EXPECT_EQ(deep.message(), "p.yaml: depth_scale_mm: must be a number");
+}
+
 TEST(DatasetPlan, BoundsImagesNotScenes) {
   DatasetPlan plan;
   plan.bins = {"b"};
