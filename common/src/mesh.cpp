@@ -1,5 +1,7 @@
 #include "vscan/common/mesh.h"
 
+#include <Eigen/Geometry>
+
 namespace vscan {
 
 void TriangleMesh::Bounds(Eigen::Vector3f& min, Eigen::Vector3f& max) const {
@@ -13,6 +15,16 @@ void TriangleMesh::Bounds(Eigen::Vector3f& min, Eigen::Vector3f& max) const {
     min = min.cwiseMin(v);
     max = max.cwiseMax(v);
   }
+}
+
+double TriangleMesh::SignedVolume() const {
+  double six_volume = 0;
+  for (const auto& t : triangles) {
+    const Eigen::Vector3d a = vertices[t[0]].cast<double>(), b = vertices[t[1]].cast<double>(),
+                          c = vertices[t[2]].cast<double>();
+    six_volume += a.dot(b.cross(c));
+  }
+  return six_volume / 6;
 }
 
 }  // namespace vscan

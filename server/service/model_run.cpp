@@ -34,17 +34,6 @@ constexpr double kReconstructionVoxelPerSize = 1.0 / 250;
 // Samples of the truth that scans aligned by features are laid onto.
 constexpr size_t kPlacementSamples = 50'000;
 
-// Positive when the triangles wind counter-clockwise seen from outside (their normals point out).
-double SignedVolume(const TriangleMesh& mesh) {
-  double six_volume = 0;
-  for (const auto& t : mesh.triangles) {
-    const Eigen::Vector3d a = mesh.vertices[t[0]].cast<double>(), b = mesh.vertices[t[1]].cast<double>(),
-                          c = mesh.vertices[t[2]].cast<double>();
-    six_volume += a.dot(b.cross(c));
-  }
-  return six_volume / 6;
-}
-
 std::string Number(double x) {
   char buffer[32];
   std::snprintf(buffer, sizeof(buffer), "%.3g", x);
@@ -305,26 +294,20 @@ class ModelRun {
     ASSIGN_OR_RETURN(const PlacedScans placed, PlaceScans(context_, plan_, *aligned_, none, cancel()));
     // Both sides' normals get their signs from outside the shape (the sensors that saw the points,
     // the mesh's faces): on flat machined faces a shape-made sign differs between the two clouds.
-    std::vector<Eigen::Vector3f> points, towards_sensor;
-    for (size_t k = 0; k < placed.points.size(); ++k) {
-      for (const Eigen::Vector3f& p : placed.points[k]) {
-        points.push_back(p);
-        towards_sensor.push_back(placed.origins[k] - p);
-      }
-    }
+    const reconstruction::UnionCloud seen_union = ThinnedUnion(placed, aligned_->voxel_size);
     const TriangleMesh seen = ClipMesh(truth_->mesh, crop_);
     std::vector<Eigen::Vector3f> outward;
     const std::vector<Eigen::Vector3f> truth = evaluation::SampleSurface(seen, kPlacementSamples, 1, &outward);
-    if (SignedVolume(truth_->mesh) < 0) {
+    if (truth_->mesh.SignedVolume() < 0) {
       for (Eigen::Vector3f& n : outward) n = -n;
     }
     registration::FeatureAlignmentOptions options;
     options.voxel_size = 2 * aligned_->voxel_size;
     options.min_fitness = plan_.min_fitness;
-    options.source_facing = towards_sensor;
+    options.source_facing = seen_union.view_directions;
     options.target_facing = outward;
     ASSIGN_OR_RETURN(const registration::FeatureAlignmentResult match,
-                     registration::AlignByFeatures(points, truth, options, cancel()));
+                     registration::AlignByFeatures(seen_union.positions, truth, options, cancel()));
     if (!match.found) {
       return FailedPrecondition("alignment.initial_pose", "the scans, aligned by their features, could not be placed "
                                                           "on the ground truth: " + match.reason);
@@ -343,7 +326,7 @@ class ModelRun {
     // Fine enough to keep every detail alignment resolves and, for evaluation, coverage at tau.
     double voxel = aligned_->voxel_size > 0 ? aligned_->voxel_size / 2 : size_ * kAlignmentVoxelPerSize / 2;
     if (tau_ > 0) voxel = std::min(voxel, tau_ / 4);
-    union_ = ThinnedUnion(*placed_, std::max(voxel, 1e-5));
+    union_ = ThinnedUnion(*placed_, std::max(voxel, 1e-5)).positions;
     PointCloud cloud;
     cloud.positions = union_;
     ASSIGN_OR_RETURN(const std::string ply, EncodePly(cloud));

@@ -35,10 +35,10 @@ StatusOr<PlacedScans> PlaceScans(ServiceContext& context, const ModelPlan& plan,
   return placed;
 }
 
-std::vector<Eigen::Vector3f> ThinnedUnion(const PlacedScans& scans, double voxel_size) {
+reconstruction::UnionCloud ThinnedUnion(const PlacedScans& scans, double voxel_size) {
   std::vector<reconstruction::ScanPoints> views;
   for (size_t k = 0; k < scans.points.size(); ++k) views.push_back({scans.points[k], scans.origins[k]});
-  return reconstruction::VoxelDownsample(views, static_cast<float>(voxel_size)).positions;
+  return reconstruction::VoxelDownsample(views, static_cast<float>(voxel_size));
 }
 
 double PlacedDiagonal(const PlacedScans& scans) {

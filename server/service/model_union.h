@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include "reconstruction/union_cloud.h"
 #include "service/model_alignment.h"
 #include "service/model_crop.h"
 #include "service/model_plan.h"
@@ -25,8 +26,9 @@ struct PlacedScans {
 StatusOr<PlacedScans> PlaceScans(ServiceContext& context, const ModelPlan& plan, const AlignedScans& aligned,
                                  const ModelCrop& crop, const std::atomic<bool>* cancel);
 
-// One point per voxel of edge voxel_size (the centroid of the points in it).
-std::vector<Eigen::Vector3f> ThinnedUnion(const PlacedScans& scans, double voxel_size);
+// One point per voxel of edge voxel_size (the centroid of the points in it), with the mean
+// direction towards the sensors that saw it.
+reconstruction::UnionCloud ThinnedUnion(const PlacedScans& scans, double voxel_size);
 
 // Bounding-box diagonal of every placed point.
 double PlacedDiagonal(const PlacedScans& scans);

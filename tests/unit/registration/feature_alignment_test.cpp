@@ -13,6 +13,7 @@
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
 
+#include "evaluation/surface_sampling.h"
 #include "icp_test_util.h"
 #include "machined_parts.h"
 #include "reference_pair.h"
@@ -365,27 +366,6 @@ TEST(FeatureAlignmentTest, FlatFacedViewsWhoseShapeSignsDisagreeAlign) {
   }
 }
 
-// Points spread uniformly by area over the mesh, with their triangle's normal (winding outward).
-void SampleWithFaceNormals(const TriangleMesh& mesh, size_t count, std::vector<Eigen::Vector3f>& points,
-                           std::vector<Eigen::Vector3f>& normals) {
-  std::vector<double> cumulative;
-  double total = 0;
-  for (const auto& t : mesh.triangles) {
-    total += 0.5 * (mesh.vertices[t[1]] - mesh.vertices[t[0]]).cross(mesh.vertices[t[2]] - mesh.vertices[t[0]]).norm();
-    cumulative.push_back(total);
-  }
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  for (size_t i = 0; i < count; ++i) {
-    const size_t k = std::lower_bound(cumulative.begin(), cumulative.end(), u(rng) * total) - cumulative.begin();
-    const auto& t = mesh.triangles[std::min(k, mesh.triangles.size() - 1)];
-    const double s = std::sqrt(u(rng)), w = u(rng);
-    const Eigen::Vector3f a = mesh.vertices[t[0]], b = mesh.vertices[t[1]], c = mesh.vertices[t[2]];
-    points.push_back(float(1 - s) * a + float(s * (1 - w)) * b + float(s * w) * c);
-    normals.push_back((b - a).cross(c - a).normalized());
-  }
-}
-
 TEST(FeatureAlignmentTest, AUnionOfViewsLaysOntoItsMeshWithSignsFromSensorsAndFaces) {
   const testing::MachinedPart part = testing::MakeMachinedPart(0);
   std::vector<Eigen::Vector3f> union_points, towards_sensor;
@@ -397,8 +377,9 @@ TEST(FeatureAlignmentTest, AUnionOfViewsLaysOntoItsMeshWithSignsFromSensorsAndFa
       towards_sensor.push_back(origin - union_points.back());
     }
   }
-  std::vector<Eigen::Vector3f> truth, outward;
-  SampleWithFaceNormals(part.mesh, 50000, truth, outward);
+  ASSERT_GT(part.mesh.SignedVolume(), 0);  // the faces wind outward
+  std::vector<Eigen::Vector3f> outward;
+  const std::vector<Eigen::Vector3f> truth = evaluation::SampleSurface(part.mesh, 50000, 5, &outward);
   const Pose3 motion = Motion(110.0, {0.3, -0.5, 0.8}, {0.04, -0.02, 0.01});
   const std::vector<Eigen::Vector3f> moved = MovedPoints(union_points, motion);
   std::vector<Eigen::Vector3f> moved_facing;

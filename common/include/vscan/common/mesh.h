@@ -16,6 +16,9 @@ struct TriangleMesh {
   bool empty() const { return triangles.empty(); }
   // Axis-aligned bounds; both zero for an empty mesh.
   void Bounds(Eigen::Vector3f& min, Eigen::Vector3f& max) const;
+  // The volume a closed mesh encloses (signed tetrahedra from the origin): positive when its
+  // triangles wind counter-clockwise seen from outside, so that their normals point out.
+  double SignedVolume() const;
 };
 
 }  // namespace vscan
