@@ -5,8 +5,11 @@
 #include <unistd.h>
 
 #include <cstdio>
+#include <cstdlib>
+#include <exception>
 #include <iostream>
 #include <iterator>
+#include <new>
 #include <string>
 
 #include "reconstruction/poisson_process.h"
@@ -23,9 +26,25 @@ bool WriteAll(const std::string& bytes) {
   return true;
 }
 
+// A failed allocation in any thread (the solver's own included) ends the helper with the status
+// vscand reads as "past the memory bound"; any other uncaught exception aborts.
+[[noreturn]] void OnTerminate() {
+  if (std::exception_ptr error = std::current_exception()) {
+    try {
+      std::rethrow_exception(error);
+    } catch (const std::bad_alloc&) {
+      ::_exit(vscan::reconstruction::kPoissonOutOfMemoryExit);
+    } catch (...) {
+    }
+  }
+  std::abort();
+}
+
 }  // namespace
 
 int main() {
+  std::set_new_handler([] { ::_exit(vscan::reconstruction::kPoissonOutOfMemoryExit); });
+  std::set_terminate(OnTerminate);
   std::ios::sync_with_stdio(false);
   const std::string bytes((std::istreambuf_iterator<char>(std::cin)), std::istreambuf_iterator<char>());
   auto input = vscan::reconstruction::DecodePoissonInput(bytes);

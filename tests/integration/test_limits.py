@@ -297,6 +297,29 @@ class PoissonCancel(LimitTest):
         children = subprocess.run(["pgrep", "-P", str(server.process.pid), "vscan-poisson"], capture_output=True)
         self.assertEqual(children.stdout, b"")
 
+    def test_a_solve_past_the_memory_bound_fails_in_its_child_and_scans_go_on(self):
+        # The up-front estimate (a lower envelope) lets depth 10 through under 160 MiB; the solve needs
+        # about 300 MiB, and the child's data limit stops it there.
+        server = self.start("--max-request-memory-mib", "160")
+        with tempfile.TemporaryDirectory() as tmp:
+            out = self.cli(server, "--json", "campaign", "run", QUICK_PLAN, "-o", os.path.join(tmp, "out"))
+        self.assertEqual(out.returncode, 0, out.stderr)
+        with Client(server.address) as client:
+            campaign = list(client.list_jobs())[0].job_id
+            job = client.start_model(campaign_job_id=campaign, reconstruct=True, method="poisson", poisson_depth=10)
+            ended = client.wait_job(job.job_id, timeout=120)
+            self.assertEqual(ended.state, job_pb2.JOB_STATE_FAILED, ended.message)
+            self.assertIn("reconstruction.poisson_depth", ended.message)
+            self.assertIn("passed the bound of 160 MiB while solving", ended.message)
+            # Depth 7 fits the same bound.
+            job = client.start_model(campaign_job_id=campaign, reconstruct=True, method="poisson", poisson_depth=7)
+            self.assertEqual(client.wait_job(job.job_id, timeout=120).state, job_pb2.JOB_STATE_SUCCEEDED)
+            scene_id = client.create_scene("after").scene_id
+            start = time.time()
+            client.scan(scene_id, width=64, height=48, eye=(0.5, 0, 0.2), target=(0, 0, 0.07))
+            self.assertLess(time.time() - start, 2.0)
+        self.assertLess(status_mib(server.process.pid, "VmHWM"), 400)
+
 
 class JobLimits(LimitTest):
     def run_quick(self, server):

@@ -5,6 +5,7 @@
 #include <pthread.h>
 #include <signal.h>
 #include <sys/prctl.h>
+#include <sys/resource.h>
 #include <sys/types.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -124,11 +125,17 @@ void CloseDescriptors(unsigned first, unsigned last, int max_fd) {
 // Runs in the forked child, so only async-signal-safe calls: the parent has other threads, whose
 // locks may be held forever here. Reports why it could not exec through error_fd.
 [[noreturn]] void ExecChild(char* const* args, int stdin_fd, int stdout_fd, int error_fd, pid_t parent,
-                            int max_fd) {
+                            int max_fd, uint64_t max_memory_bytes) {
   // Dies with the thread that started it (RunChild waits for it there), so that a killed server
   // leaves no helper behind; a parent that died before the prctl is caught by getppid.
   if (::prctl(PR_SET_PDEATHSIG, SIGKILL) != 0) ExecFailed(error_fd, errno);
   if (::getppid() != parent) ::_exit(127);
+  // RLIMIT_DATA counts the heap and every private writable mapping: the child's allocations fail
+  // past it, rather than the machine running out.
+  if (max_memory_bytes > 0) {
+    const rlimit limit{max_memory_bytes, max_memory_bytes};
+    if (::setrlimit(RLIMIT_DATA, &limit) != 0) ExecFailed(error_fd, errno);
+  }
   // Default handlers and an empty mask: the server blocks its stop signals and may ignore
   // SIGPIPE, and both would otherwise carry over through exec.
   struct sigaction default_action {};
@@ -148,7 +155,7 @@ void CloseDescriptors(unsigned first, unsigned last, int max_fd) {
 }
 
 // fork and exec rather than posix_spawn, which cannot tie the child's life to ours.
-StatusOr<pid_t> Spawn(const std::vector<std::string>& argv, int stdin_fd, int stdout_fd) {
+StatusOr<pid_t> Spawn(const std::vector<std::string>& argv, int stdin_fd, int stdout_fd, uint64_t max_memory_bytes) {
   const std::string& path = argv.front();
   std::vector<char*> args;
   for (const std::string& arg : argv) args.push_back(const_cast<char*>(arg.c_str()));
@@ -162,7 +169,7 @@ StatusOr<pid_t> Spawn(const std::vector<std::string>& argv, int stdin_fd, int st
   sigfillset(&all);
   pthread_sigmask(SIG_SETMASK, &all, &previous);
   const pid_t pid = ::fork();
-  if (pid == 0) ExecChild(args.data(), stdin_fd, stdout_fd, exec_error.write.get(), parent, max_fd);
+  if (pid == 0) ExecChild(args.data(), stdin_fd, stdout_fd, exec_error.write.get(), parent, max_fd, max_memory_bytes);
   const int fork_error = errno;
   pthread_sigmask(SIG_SETMASK, &previous, nullptr);
   if (pid < 0) return Unavailable("cannot start '" + path + "': " + ErrorText(fork_error));
@@ -261,7 +268,7 @@ int Reap(pid_t pid, Clock::time_point deadline, bool& timed_out) {
 
 StatusOr<ChildOutcome> RunChild(const std::vector<std::string>& argv, std::string_view input,
                                 std::chrono::milliseconds timeout, size_t max_output,
-                                const std::atomic<bool>* cancel) {
+                                const std::atomic<bool>* cancel, uint64_t max_memory_bytes) {
   if (argv.empty() || argv.front().empty()) return Unavailable("cannot start '': no program given");
   const auto deadline = Clock::now() + timeout;
   Pipe to_child, from_child;
@@ -271,7 +278,7 @@ StatusOr<ChildOutcome> RunChild(const std::vector<std::string>& argv, std::strin
   RETURN_IF_ERROR(SetNonBlocking(from_child.read));
   SigpipeBlocked sigpipe_blocked;
 
-  ASSIGN_OR_RETURN(pid_t pid, Spawn(argv, to_child.read.get(), from_child.write.get()));
+  ASSIGN_OR_RETURN(pid_t pid, Spawn(argv, to_child.read.get(), from_child.write.get(), max_memory_bytes));
   to_child.read.Reset();
   from_child.write.Reset();
 

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <chrono>
 #include <cstddef>
+#include <cstdint>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -25,10 +26,11 @@ struct ChildOutcome {
 // argv[0] is the program's path (no PATH search). stdin carries input, stdout is collected,
 // stderr goes to /dev/null and no other descriptor is inherited. UNAVAILABLE ("cannot start
 // '<path>': ...") when the program cannot be started. With cancel, the child is killed within
-// about kCancelPollInterval of *cancel becoming true.
+// about kCancelPollInterval of *cancel becoming true. With max_memory_bytes, the child's data
+// (heap and private writable mappings, RLIMIT_DATA) is bounded: its allocations fail past it.
 inline constexpr std::chrono::milliseconds kCancelPollInterval{20};
 StatusOr<ChildOutcome> RunChild(const std::vector<std::string>& argv, std::string_view input,
                                 std::chrono::milliseconds timeout, size_t max_output,
-                                const std::atomic<bool>* cancel = nullptr);
+                                const std::atomic<bool>* cancel = nullptr, uint64_t max_memory_bytes = 0);
 
 }  // namespace vscan::geometry

@@ -58,9 +58,9 @@ class Reader {
 }  // namespace
 
 uint64_t EstimatePoissonBytes(size_t points, int depth) {
-  constexpr uint64_t kBytesPerPoint = 400;  // the PCL cloud, the solver's samples and their octree leaves
-  constexpr uint64_t kBytesPerSurfaceCell = 1600;
-  constexpr uint64_t kFixedBytes = uint64_t{64} << 20;
+  constexpr uint64_t kBytesPerPoint = 150;  // the frame, the PCL cloud and the solver's samples
+  constexpr uint64_t kBytesPerSurfaceCell = 48;
+  constexpr uint64_t kFixedBytes = uint64_t{32} << 20;
   const int d = std::max(depth, 1);
   return kFixedBytes + kBytesPerPoint * points + kBytesPerSurfaceCell * (uint64_t{1} << (2 * d));
 }
@@ -130,12 +130,12 @@ StatusOr<TriangleMesh> DecodePoissonResult(std::string_view bytes) {
 
 StatusOr<TriangleMesh> PoissonInChild(const std::string& helper_path, std::span<const Eigen::Vector3f> points,
                                       std::span<const Eigen::Vector3f> normals, const PoissonOptions& options,
-                                      const std::atomic<bool>* cancel) {
+                                      const std::atomic<bool>* cancel, uint64_t max_memory_bytes) {
   if (points.size() != normals.size()) return InvalidArgument("normals: one per point is needed");
   if (options.depth < 1 || options.depth > 14) return InvalidArgument("poisson.depth: must lie in [1, 14]");
   if (points.empty()) return TriangleMesh{};
   const std::string input = EncodePoissonInput(points, normals, options);
-  auto run = geometry::RunChild({helper_path}, input, kNoDeadline, kMaxResultBytes, cancel);
+  auto run = geometry::RunChild({helper_path}, input, kNoDeadline, kMaxResultBytes, cancel, max_memory_bytes);
   if (!run.ok()) return Status(run.status().code(), "poisson helper: " + run.status().message());
   if (run->cancelled) return Cancelled("reconstruction stopped");
   if (run->output_too_large) return Internal("poisson helper: result exceeds its bound");
@@ -143,6 +143,11 @@ StatusOr<TriangleMesh> PoissonInChild(const std::string& helper_path, std::span<
   if (WIFSIGNALED(status)) {
     return Internal("poisson helper: stopped by signal " + std::to_string(WTERMSIG(status)) +
                     " (out of memory?)");
+  }
+  if (WIFEXITED(status) && WEXITSTATUS(status) == kPoissonOutOfMemoryExit) {
+    return ResourceExhausted("poisson.depth", "depth " + std::to_string(options.depth) + " over " +
+                                                  std::to_string(points.size()) + " points passed the bound of " +
+                                                  std::to_string(max_memory_bytes >> 20) + " MiB while solving");
   }
   if (!WIFEXITED(status) || WEXITSTATUS(status) != 0) {
     return Internal("poisson helper: exited with status " + std::to_string(WEXITSTATUS(status)));

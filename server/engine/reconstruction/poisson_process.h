@@ -17,8 +17,10 @@
 
 namespace vscan::reconstruction {
 
-// Peak bytes of PoissonPcl for this many points at this depth, an upper estimate measured on
-// scanned objects (docs/BENCHMARKS.md): the octree grows with the surface, about 4^depth cells.
+// The least PoissonPcl takes for this many points at this depth: a lower envelope of the peaks
+// measured on spheres, nested shells, noisy spheres and walls (docs/OPERATIONS.md). Refusing on it
+// turns away only solves that cannot fit; the child's data limit (PoissonInChild) bounds the rest,
+// since the real peak depends on the surface's shape (up to 8x this at depth 8).
 uint64_t EstimatePoissonBytes(size_t points, int depth);
 
 // Frames, native byte order (both ends are the same build on the same machine).
@@ -33,11 +35,15 @@ StatusOr<PoissonInput> DecodePoissonInput(std::string_view bytes);
 std::string EncodePoissonResult(const TriangleMesh& mesh);
 StatusOr<TriangleMesh> DecodePoissonResult(std::string_view bytes);
 
+// The helper's exit status when an allocation fails (its memory bound reached).
+inline constexpr int kPoissonOutOfMemoryExit = 5;
+
 // Runs PoissonPcl in helper_path; the same mesh as in-process. CANCELLED (the child killed)
 // within about 20 ms of *cancel becoming true; UNAVAILABLE when the helper cannot be started;
-// INTERNAL when it dies (for instance killed for memory).
+// RESOURCE_EXHAUSTED naming "poisson.depth" when the child's data passes max_memory_bytes (0: no
+// bound); INTERNAL when it dies otherwise.
 StatusOr<TriangleMesh> PoissonInChild(const std::string& helper_path, std::span<const Eigen::Vector3f> points,
                                       std::span<const Eigen::Vector3f> normals, const PoissonOptions& options,
-                                      const std::atomic<bool>* cancel);
+                                      const std::atomic<bool>* cancel, uint64_t max_memory_bytes = 0);
 
 }  // namespace vscan::reconstruction

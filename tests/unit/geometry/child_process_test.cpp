@@ -1,5 +1,6 @@
 // RunChild's child: dies with the thread that started it, starts with default signal handling
-// and an empty mask, and inherits no descriptor but its stdin, stdout and stderr.
+// and an empty mask, inherits no descriptor but its stdin, stdout and stderr, and holds the data
+// limit it was given.
 
 #include "geometry/child_process.h"
 
@@ -99,6 +100,16 @@ TEST(ChildProcessTest, ChildInheritsNoOtherDescriptor) {
   auto stdio = RunChild({"/bin/sh", "-c", "test -e /proc/$$/fd/2 && cat"}, "in", 60s, 1024);
   ASSERT_TRUE(stdio.ok()) << stdio.status().ToString();
   EXPECT_EQ(stdio->output, "in");
+}
+
+TEST(ChildProcessTest, AMemoryBoundIsTheChildsDataLimit) {
+  const std::string script = "grep 'Max data size' /proc/$$/limits | tr -s ' '";
+  auto bounded = RunChild({"/bin/sh", "-c", script}, "", 60s, 1024, nullptr, uint64_t{64} << 20);
+  ASSERT_TRUE(bounded.ok()) << bounded.status().ToString();
+  EXPECT_EQ(bounded->output, "Max data size 67108864 67108864 bytes \n");
+  auto unbounded = RunChild({"/bin/sh", "-c", script}, "", 60s, 1024);
+  ASSERT_TRUE(unbounded.ok()) << unbounded.status().ToString();
+  EXPECT_EQ(unbounded->output.find("67108864"), std::string::npos) << unbounded->output;
 }
 
 TEST(ChildProcessTest, ProgramThatCannotStartIsUnavailable) {

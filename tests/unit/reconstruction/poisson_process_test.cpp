@@ -32,7 +32,8 @@ TEST(PoissonInChild, SameMeshAsInProcess) {
   // One thread: PCL's multi-threaded solve is compared only against itself run the same way.
   options.threads = 1;
   auto here = PoissonPcl(points, normals, options);
-  auto child = PoissonInChild(VSCAN_POISSON_HELPER, points, normals, options, nullptr);
+  // A bound far above the solve's needs changes nothing.
+  auto child = PoissonInChild(VSCAN_POISSON_HELPER, points, normals, options, nullptr, uint64_t{1} << 30);
   ASSERT_TRUE(here.ok()) << here.status().ToString();
   ASSERT_TRUE(child.ok()) << child.status().ToString();
   ASSERT_FALSE(here->triangles.empty());
@@ -52,6 +53,19 @@ TEST(PoissonInChild, CancelKillsTheSolveAtOnce) {
   auto mesh = PoissonInChild(VSCAN_POISSON_HELPER, points, normals, options, &cancel);
   stopper.join();
   EXPECT_EQ(mesh.status().code(), StatusCode::kCancelled);
+}
+
+TEST(PoissonInChild, AChildPastItsMemoryBoundEndsResourceExhausted) {
+  std::vector<Eigen::Vector3f> points, normals;
+  Sphere(20000, points, normals);
+  PoissonOptions options;
+  options.depth = 8;  // peaks near 160 MiB resident
+  const auto start = std::chrono::steady_clock::now();
+  auto mesh = PoissonInChild(VSCAN_POISSON_HELPER, points, normals, options, nullptr, uint64_t{32} << 20);
+  EXPECT_EQ(mesh.status().code(), StatusCode::kResourceExhausted) << mesh.status().ToString();
+  EXPECT_NE(mesh.status().message().find("poisson.depth"), std::string::npos) << mesh.status().message();
+  EXPECT_NE(mesh.status().message().find("32 MiB"), std::string::npos) << mesh.status().message();
+  EXPECT_LT(std::chrono::steady_clock::now() - start, std::chrono::seconds(10));
 }
 
 TEST(PoissonFrames, RoundTripAndRejectTruncation) {
@@ -79,10 +93,20 @@ TEST(PoissonFrames, RoundTripAndRejectTruncation) {
   EXPECT_FALSE(DecodePoissonResult(EncodePoissonResult(mesh)).ok());
 }
 
-TEST(EstimatePoissonBytes, GrowsWithDepthAndPoints) {
+TEST(EstimatePoissonBytes, GrowsWithDepthAndPointsAndStaysBelowMeasuredPeaks) {
   EXPECT_LT(EstimatePoissonBytes(1000, 8), EstimatePoissonBytes(1000, 9));
   EXPECT_LT(EstimatePoissonBytes(1000, 8), EstimatePoissonBytes(100000, 8));
-  EXPECT_GT(EstimatePoissonBytes(1000, 10), uint64_t{1} << 30);  // depth 10 needs GiBs, as measured
+  // Never above a peak measured with /usr/bin/time (KiB of resident memory, one thread): a refusal
+  // on the estimate turns away only what could not have fitted.
+  struct Measured {
+    size_t points;
+    int depth;
+    uint64_t peak_kib;
+  };
+  for (const Measured& m : {Measured{2000, 6, 46212}, Measured{2000, 10, 103872}, Measured{20000, 10, 185936},
+                            Measured{100000, 6, 61492}, Measured{100000, 8, 185560}, Measured{100000, 10, 351460}}) {
+    EXPECT_LE(EstimatePoissonBytes(m.points, m.depth), m.peak_kib << 10) << m.points << " points, depth " << m.depth;
+  }
 }
 
 }  // namespace
