@@ -44,7 +44,8 @@ StatusOr<TriangleMesh> Tsdf(ServiceContext& context, const ModelPlan& plan, cons
   reconstruction::TsdfFusionOptions options;
   options.tsdf.voxel_size = static_cast<float>(voxel_size);
   options.tsdf.max_block_bytes = context.options.limits.max_request_memory_bytes;
-  auto fused = reconstruction::FuseRangeImages(images, options);
+  auto fused = reconstruction::FuseRangeImages(images, options, nullptr, cancel);
+  if (fused.status().code() == StatusCode::kCancelled) return Cancelled("model job stopped");
   if (fused.status().code() == StatusCode::kResourceExhausted) {
     // The engine names its own option; the client set reconstruction.voxel_size, bounded by the flag.
     return ResourceExhausted("reconstruction.voxel_size",

@@ -7,6 +7,7 @@
 
 #include "reconstruction/cube_cases.h"
 #include "reconstruction/mesh_cleanup.h"
+#include "reconstruction/stop_flag.h"
 
 namespace vscan::reconstruction {
 namespace {
@@ -117,17 +118,19 @@ void MakeTriangles(const VoxelBlocks& grid, const std::vector<BlockVertices>& ve
 
 }  // namespace
 
-TriangleMesh ExtractMesh(const VoxelBlocks& grid) {
+TriangleMesh ExtractMesh(const VoxelBlocks& grid, const std::atomic<bool>* cancel) {
   const size_t n = grid.block_count();
   std::vector<NeighbourIndex> neighbours(n);
   std::vector<BlockVertices> vertices(n);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4), [&](const tbb::blocked_range<size_t>& r) {
+    if (Stopped(cancel)) return;
     for (size_t b = r.begin(); b != r.end(); ++b) {
       neighbours[b] = NeighboursOf(grid, b);
       FindVertices(grid, b, neighbours[b], vertices[b]);
     }
   });
   TriangleMesh mesh;
+  if (Stopped(cancel)) return mesh;
   uint32_t total = 0;
   for (BlockVertices& v : vertices) {
     v.first = total;
@@ -138,6 +141,7 @@ TriangleMesh ExtractMesh(const VoxelBlocks& grid) {
 
   std::vector<std::vector<std::array<uint32_t, 3>>> triangles(n);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 4), [&](const tbb::blocked_range<size_t>& r) {
+    if (Stopped(cancel)) return;
     for (size_t b = r.begin(); b != r.end(); ++b) MakeTriangles(grid, vertices, neighbours[b], triangles[b]);
   });
   size_t count = 0;

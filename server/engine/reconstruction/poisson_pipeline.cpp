@@ -7,14 +7,9 @@
 #include "reconstruction/oriented_normals.h"
 #include "reconstruction/poisson_process.h"
 #include "reconstruction/stage_clock.h"
+#include "reconstruction/stop_flag.h"
 
 namespace vscan::reconstruction {
-namespace {
-
-bool Stopped(const std::atomic<bool>* cancel) { return cancel != nullptr && cancel->load(); }
-
-}  // namespace
-
 StatusOr<TriangleMesh> ReconstructPoisson(std::span<const ScanPoints> scans, const PoissonPipelineOptions& options,
                                           PoissonPipelineStats* stats, const std::atomic<bool>* cancel) {
   if (!(options.voxel_size > 0) || !std::isfinite(options.voxel_size)) {
@@ -47,7 +42,7 @@ StatusOr<TriangleMesh> ReconstructPoisson(std::span<const ScanPoints> scans, con
                    options.helper_path.empty()
                        ? PoissonPcl(oriented.positions, oriented.normals, options.poisson)
                        : PoissonInChild(options.helper_path, oriented.positions, oriented.normals, options.poisson,
-                                        cancel));
+                                        cancel, options.max_memory_bytes));
   if (Stopped(cancel)) return Cancelled("reconstruction stopped");
   s.poisson_ms = MsSince(t0);
   t0 = StageClock::now();

@@ -1,6 +1,7 @@
 #pragma once
 // Range images with known poses to a mesh: TSDF integration, marching cubes, clean-up.
 
+#include <atomic>
 #include <cstddef>
 #include <span>
 
@@ -24,7 +25,8 @@ struct TsdfFusionStats {
   double cleanup_ms = 0;
 };
 
+// CANCELLED soon after *cancel becomes true, whatever the stage.
 StatusOr<TriangleMesh> FuseRangeImages(std::span<const RangeImage> images, const TsdfFusionOptions& options,
-                                       TsdfFusionStats* stats = nullptr);
+                                       TsdfFusionStats* stats = nullptr, const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace vscan::reconstruction

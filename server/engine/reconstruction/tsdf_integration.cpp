@@ -11,6 +11,8 @@
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_sort.h>
 
+#include "reconstruction/stop_flag.h"
+
 namespace vscan::reconstruction {
 namespace {
 
@@ -129,13 +131,15 @@ bool AddBlocksAround(const Eigen::Vector3f& q, float inv_voxel, KeyCollector& ou
 }
 
 // Keys of every block within the truncation band of any pixel's surface point, sorted and unique.
-std::vector<uint64_t> TouchedBlocks(std::span<const View> views, float voxel, float truncation) {
+std::vector<uint64_t> TouchedBlocks(std::span<const View> views, float voxel, float truncation,
+                                    const std::atomic<bool>* cancel) {
   tbb::enumerable_thread_specific<KeyCollector> collectors;
   const float inv_voxel = 1.0f / voxel;
   const int steps = static_cast<int>(std::ceil(truncation / voxel));
   const float step = truncation / static_cast<float>(steps);
   for (const View& view : views) {
     tbb::parallel_for(tbb::blocked_range<int>(0, view.height, 8), [&](const tbb::blocked_range<int>& rows) {
+      if (Stopped(cancel)) return;
       KeyCollector& out = collectors.local();
       for (int v = rows.begin(); v != rows.end(); ++v) {
         for (int u = 0; u < view.width; ++u) {
@@ -233,7 +237,8 @@ void IntegrateBlock(VoxelBlocks& grid, size_t b, std::span<const View> views, fl
 
 }  // namespace
 
-StatusOr<VoxelBlocks> IntegrateRangeImages(std::span<const RangeImage> images, const TsdfOptions& options) {
+StatusOr<VoxelBlocks> IntegrateRangeImages(std::span<const RangeImage> images, const TsdfOptions& options,
+                                           const std::atomic<bool>* cancel) {
   if (!(options.voxel_size > 0) || !std::isfinite(options.voxel_size)) {
     return InvalidArgument("tsdf.voxel_size: must be finite and positive");
   }
@@ -250,7 +255,8 @@ StatusOr<VoxelBlocks> IntegrateRangeImages(std::span<const RangeImage> images, c
   for (View& view : views) {
     ComputeWeights(view, truncation);
   }
-  std::vector<uint64_t> keys = TouchedBlocks(views, options.voxel_size, truncation);
+  std::vector<uint64_t> keys = TouchedBlocks(views, options.voxel_size, truncation, cancel);
+  if (Stopped(cancel)) return Cancelled("tsdf: stopped");
   const uint64_t block_bytes = sizeof(TsdfVoxel) * VoxelBlocks::kVoxels + sizeof(Eigen::Vector3i) + 32;
   if (options.max_block_bytes > 0 && keys.size() * block_bytes > options.max_block_bytes) {
     return ResourceExhausted("tsdf.voxel_size", "a voxel of " + std::to_string(options.voxel_size * 1e3) +
@@ -261,11 +267,13 @@ StatusOr<VoxelBlocks> IntegrateRangeImages(std::span<const RangeImage> images, c
                                                     " MiB allowed; choose a larger voxel");
   }
   VoxelBlocks grid(options.voxel_size);
-  grid.Allocate(keys);
+  if (!grid.Allocate(keys, cancel)) return Cancelled("tsdf: stopped");
   keys = {};
   tbb::parallel_for(tbb::blocked_range<size_t>(0, grid.block_count(), 4), [&](const tbb::blocked_range<size_t>& r) {
+    if (Stopped(cancel)) return;
     for (size_t b = r.begin(); b != r.end(); ++b) IntegrateBlock(grid, b, views, truncation, options.carve_empty_pixels);
   });
+  if (Stopped(cancel)) return Cancelled("tsdf: stopped");
   return grid;
 }
 

@@ -3,6 +3,7 @@
 // sparse voxel grid: blocks are allocated along each pixel's ray near its surface point, then every
 // block integrates every image in parallel.
 
+#include <atomic>
 #include <cstdint>
 #include <span>
 
@@ -29,7 +30,9 @@ struct TsdfOptions {
 };
 
 // InvalidArgument names "tsdf.voxel_size", "tsdf.truncation_voxels" or "images[i]..."; see
-// max_block_bytes for RESOURCE_EXHAUSTED.
-StatusOr<VoxelBlocks> IntegrateRangeImages(std::span<const RangeImage> images, const TsdfOptions& options);
+// max_block_bytes for RESOURCE_EXHAUSTED. CANCELLED soon after *cancel becomes true: every loop
+// checks it per chunk of rows or blocks.
+StatusOr<VoxelBlocks> IntegrateRangeImages(std::span<const RangeImage> images, const TsdfOptions& options,
+                                           const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace vscan::reconstruction

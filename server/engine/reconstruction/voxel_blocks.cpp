@@ -1,5 +1,9 @@
 #include "reconstruction/voxel_blocks.h"
 
+#include <algorithm>
+
+#include "reconstruction/stop_flag.h"
+
 namespace vscan::reconstruction {
 namespace {
 
@@ -18,13 +22,20 @@ Eigen::Vector3i VoxelBlocks::BlockOfKey(uint64_t key) {
           static_cast<int>((key >> 42) & kMask) - kCoordLimit};
 }
 
-void VoxelBlocks::Allocate(const std::vector<uint64_t>& keys) {
+bool VoxelBlocks::Allocate(const std::vector<uint64_t>& keys, const std::atomic<bool>* cancel) {
+  constexpr size_t kChunkVoxels = size_t{1} << 20;
   coords_.reserve(coords_.size() + keys.size());
   index_.reserve(index_.size() + keys.size());
   for (uint64_t key : keys) {
     if (index_.emplace(key, static_cast<uint32_t>(coords_.size())).second) coords_.push_back(BlockOfKey(key));
   }
-  voxels_.resize(coords_.size() * kVoxels);
+  const size_t total = coords_.size() * kVoxels;
+  voxels_.reserve(total);
+  while (voxels_.size() < total) {
+    if (Stopped(cancel)) return false;
+    voxels_.resize(std::min(total, voxels_.size() + kChunkVoxels));
+  }
+  return true;
 }
 
 int64_t VoxelBlocks::IndexOf(const Eigen::Vector3i& c) const {

@@ -2,6 +2,7 @@
 // A sparse grid of TSDF voxels: 8^3-voxel blocks allocated only near observed surfaces, found
 // through a hash map from block coordinates, so memory follows the surface.
 
+#include <atomic>
 #include <cstdint>
 #include <unordered_map>
 #include <vector>
@@ -31,8 +32,9 @@ class VoxelBlocks {
   static Eigen::Vector3i BlockOfKey(uint64_t key);
   static int Local(int x, int y, int z) { return (z * kSide + y) * kSide + x; }
 
-  // Allocates the blocks of the given keys (sorted, unique) with unobserved voxels.
-  void Allocate(const std::vector<uint64_t>& keys);
+  // Allocates the blocks of the given keys (sorted, unique) with unobserved voxels; false when
+  // *cancel became true first (a GiB of voxels takes seconds to clear).
+  bool Allocate(const std::vector<uint64_t>& keys, const std::atomic<bool>* cancel = nullptr);
 
   float voxel_size() const { return voxel_size_; }
   size_t block_count() const { return coords_.size(); }

@@ -1,6 +1,9 @@
 #include "reconstruction/tsdf_fusion.h"
 
 #include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <thread>
 
 #include <gtest/gtest.h>
 
@@ -125,6 +128,28 @@ TEST_F(PlaneFromOneView, BlocksPastTheBoundAreRefusedBeforeAllocation) {
   EXPECT_EQ(refused.status().field(), "tsdf.voxel_size");
   bounded.tsdf.max_block_bytes = stats.blocks * (block_bytes + 64);
   EXPECT_TRUE(FuseRangeImages(images_, bounded).ok());
+}
+
+// A stop reaches every stage: set before the fusion, or while a fine grid integrates.
+TEST(TsdfFusion, ACancelEndsTheFusion) {
+  const Eigen::Vector3d centre(0, 0, 0);
+  const auto scene = test::SceneOf(vscan::test::MakeIcosphere(centre, 0.1, 5));
+  const std::vector<RangeImage> images =
+      test::SixViews(*scene, sensor::CameraFromFov(400, 400, 60.0, 0.05, 2.0), centre, 0.3);
+  TsdfFusionOptions options = Options();
+  options.tsdf.voxel_size = 0.0005f;
+  std::atomic<bool> cancel{true};
+  EXPECT_EQ(FuseRangeImages(images, options, nullptr, &cancel).status().code(), StatusCode::kCancelled);
+  cancel = false;
+  std::thread stopper([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(30));
+    cancel = true;
+  });
+  const auto start = std::chrono::steady_clock::now();
+  const auto stopped = FuseRangeImages(images, options, nullptr, &cancel);
+  const auto took = std::chrono::steady_clock::now() - start;
+  stopper.join();
+  EXPECT_EQ(stopped.status().code(), StatusCode::kCancelled) << "fused in " << took.count() * 1e-9 << " s";
 }
 
 TEST(TsdfFusion, RejectsBadOptions) {
