@@ -39,7 +39,8 @@ grpc::ServerUnaryReactor* JobService::StartDataset(grpc::CallbackServerContext* 
     const std::string job_id = job.job_id();
     auto work = std::make_shared<const service::DatasetJob>(
         service::DatasetJob{validated.setup, DatasetRootOf(validated.spec, job_id, context_.options),
-                            DatasetDirectoryId(validated.spec, job_id), context_.dataset_directories});
+                            DatasetDirectoryId(validated.spec, job_id), context_.dataset_directories,
+                            service::DatasetTarBound(context_.options.limits.max_request_memory_bytes)});
     RETURN_IF_ERROR(Submit(job_id, [this, job_id, work](jobs::JobControl& control) {
       TrackedJobRecorder recorder(tracker_, job_id);
       service::RunDatasetJob(recorder, job_id, *work, control);

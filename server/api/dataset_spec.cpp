@@ -92,7 +92,8 @@ StatusOr<ValidatedDataset> ValidateDataset(const v1::DatasetSpec& spec, service:
     ASSIGN_OR_RETURN(*validated.spec.mutable_resume_job_id(), ResumedDirectory(spec.resume_job_id(), jobs));
   }
   if (context.dataset_directories) {
-    const service::DatasetBytes bytes = service::EstimateDatasetBytes(*setup);
+    const service::DatasetBytes bytes = service::EstimateDatasetBytes(
+        *setup, service::DatasetTarBound(context.options.limits.max_request_memory_bytes));
     const std::string what = "the plan's " + std::to_string(service::DatasetImageCount(*plan)) +
                              " images, models" + (bytes.tar > 0 ? " and dataset.tar" : "");
     const Status room = context.dataset_directories->CheckRoom(

@@ -1,5 +1,6 @@
 #include "service/dataset_bounds.h"
 
+#include <algorithm>
 #include <string>
 
 namespace vscan::service {
@@ -20,7 +21,11 @@ uint64_t DatasetImageCount(const dataset::DatasetPlan& plan) {
 
 uint64_t DatasetImageBytes(uint64_t width, uint64_t height) { return width * height * kDatasetBytesPerPixel; }
 
-DatasetBytes EstimateDatasetBytes(const DatasetSetup& setup) {
+uint64_t DatasetTarBound(uint64_t max_request_memory_bytes) {
+  return max_request_memory_bytes == 0 ? kMaxTarArtifactBytes : std::min(kMaxTarArtifactBytes, max_request_memory_bytes);
+}
+
+DatasetBytes EstimateDatasetBytes(const DatasetSetup& setup, uint64_t max_tar_bytes) {
   const dataset::DatasetPlan& plan = setup.plan;
   // Scenes are (seed, bin, sensor): each sensor sees seeds x bins scenes.
   const uint64_t images_per_sensor =
@@ -30,7 +35,7 @@ DatasetBytes EstimateDatasetBytes(const DatasetSetup& setup) {
     bytes.directory += images_per_sensor * DatasetImageBytes(sensor.camera.width, sensor.camera.height);
   }
   for (const dataset::PartModel& part : setup.parts) bytes.directory += ModelPlyBytes(part.mesh);
-  if (bytes.directory <= kMaxTarArtifactBytes) bytes.tar = bytes.directory;
+  if (bytes.directory <= max_tar_bytes) bytes.tar = bytes.directory;
   return bytes;
 }
 

@@ -13,6 +13,8 @@ namespace vscan::service {
 // Datasets up to this size also become one artifact (dataset.tar); larger ones stay in the data
 // directory only.
 inline constexpr uint64_t kMaxTarArtifactBytes = 1ull << 30;
+// The tar is built in memory, so it is also bounded by what one request may hold (0: no bound).
+uint64_t DatasetTarBound(uint64_t max_request_memory_bytes);
 
 // A scene's cloud takes 28 bytes per pixel (x y z, normal, instance) when every pixel is measured,
 // as the table behind the bin makes it; its PNGs and JSON add a few more per pixel.
@@ -32,7 +34,7 @@ struct DatasetBytes {
 // One view of a sensor of width x height pixels.
 uint64_t DatasetImageBytes(uint64_t width, uint64_t height);
 // Every image at its sensor's resolution, plus each part's model mesh, plus the tar.
-DatasetBytes EstimateDatasetBytes(const DatasetSetup& setup);
+DatasetBytes EstimateDatasetBytes(const DatasetSetup& setup, uint64_t max_tar_bytes = kMaxTarArtifactBytes);
 
 // RESOURCE_EXHAUSTED naming "seeds" and the flag when the plan makes more than max_scenes scenes.
 Status CheckDatasetScenes(const dataset::DatasetPlan& plan, uint64_t max_scenes);

@@ -106,8 +106,9 @@ class DatasetJobRun {
     RETURN_IF_ERROR(Event("every scene checked; scenes.json written"));
     // The tar is as large as the directory: checked before it is built in memory.
     RETURN_IF_ERROR(ChargeTar());
-    StatusOr<std::string> tar = TarDirectory(job_.root, kMaxTarArtifactBytes);
+    StatusOr<std::string> tar = TarDirectory(job_.root, job_.max_tar_bytes, control_.flag());
     if (!tar.ok()) {
+      if (tar.status().code() == StatusCode::kCancelled) return tar.status();
       spdlog::warn("job {}: no dataset.tar: {}", job_id_, tar.status().ToString());
       return progress;
     }
@@ -135,7 +136,7 @@ class DatasetJobRun {
   Status ChargeTar() {
     if (!job_.directories) return Status::Ok();
     const StatusOr<uint64_t> bytes = meter_.MeasureAll();
-    if (!bytes.ok() || *bytes > kMaxTarArtifactBytes) return Status::Ok();
+    if (!bytes.ok() || *bytes > job_.max_tar_bytes) return Status::Ok();
     const Status room = job_.directories->Charge(job_.directory_id, *bytes, *bytes, "dataset.tar");
     if (room.ok()) return Status::Ok();
     return ResourceExhausted(room.message() + "; every scene is written in " + job_.root.string() +

@@ -6,11 +6,13 @@
 // the directory is measured between scenes: a next scene that would pass the bound ends the job
 // FAILED (RESOURCE_EXHAUSTED naming the flag), its scenes kept for a resume once space is freed.
 
+#include <cstdint>
 #include <filesystem>
 #include <memory>
 #include <string>
 
 #include "jobs/job_runner.h"
+#include "service/dataset_bounds.h"
 #include "service/dataset_directories.h"
 #include "service/dataset_job_setup.h"
 #include "service/job_events.h"
@@ -23,6 +25,8 @@ struct DatasetJob {
   std::string directory_id;    // the id of the job that started the directory
   // Counts the directory against the data quota; null: not counted (tests).
   DatasetDirectories* directories = nullptr;
+  // dataset.tar is made only for directories up to this size (DatasetTarBound).
+  uint64_t max_tar_bytes = kMaxTarArtifactBytes;
 };
 
 // Where dataset jobs write: <data_dir>/datasets/<job id>.

@@ -37,7 +37,8 @@ std::string Header(const std::string& name, uint64_t size) {
 
 }  // namespace
 
-StatusOr<std::string> TarDirectory(const std::filesystem::path& root, uint64_t max_bytes) {
+StatusOr<std::string> TarDirectory(const std::filesystem::path& root, uint64_t max_bytes,
+                                   const std::atomic<bool>* cancel) {
   std::vector<std::string> paths;
   uint64_t total = 0;
   std::error_code ec;
@@ -55,6 +56,7 @@ StatusOr<std::string> TarDirectory(const std::filesystem::path& root, uint64_t m
   std::string tar;
   tar.reserve(total + paths.size() * 2 * kBlock + 2 * kBlock);
   for (const std::string& path : paths) {
+    if (cancel != nullptr && cancel->load()) return Cancelled("dataset.tar: stopped");
     if (path.size() >= 100) return FailedPrecondition("'" + path + "' is too long a name for a tar header");
     std::ifstream in(root / path, std::ios::binary);
     std::ostringstream bytes;

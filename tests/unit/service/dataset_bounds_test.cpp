@@ -70,6 +70,20 @@ TEST(DatasetBoundsTest, EstimateCountsEachSensorsPixelsModelsAndTheTar) {
   EXPECT_EQ(large.tar, 0u);
 }
 
+// The tar is built in memory: a server that lets one request hold less makes no larger tar.
+TEST(DatasetBoundsTest, TheTarIsBoundedByWhatOneRequestMayHold) {
+  EXPECT_EQ(DatasetTarBound(0), kMaxTarArtifactBytes);
+  EXPECT_EQ(DatasetTarBound(uint64_t{4} << 30), kMaxTarArtifactBytes);
+  EXPECT_EQ(DatasetTarBound(uint64_t{256} << 20), uint64_t{256} << 20);
+  DatasetSetup setup;
+  setup.plan = Plan(5, 2, 2);
+  setup.sensors = {Sensor(100, 50)};
+  const DatasetBytes fits = EstimateDatasetBytes(setup, DatasetTarBound(uint64_t{256} << 20));
+  EXPECT_EQ(fits.tar, fits.directory);
+  const DatasetBytes over = EstimateDatasetBytes(setup, fits.directory - 1);
+  EXPECT_EQ(over.tar, 0u);
+}
+
 TEST(DatasetBoundsTest, ScenesPastTheBoundAreResourceExhaustedNamingSeedsAndTheFlag) {
   EXPECT_TRUE(CheckDatasetScenes(Plan(5, 2, 1), 10).ok());
   const Status over = CheckDatasetScenes(Plan(6, 2, 1), 10);
