@@ -10,3 +10,12 @@ function(vscan_target_defaults target)
     target_compile_options(${target} PRIVATE -Werror)
   endif()
 endfunction()
+
+# Targets whose files all include the same heavy headers (CLI11, the generated gRPC code) compile
+# several sources per translation unit, so those headers are parsed once a batch, not once a file.
+option(VSCAN_UNITY_BUILD "Compile the header-heavy targets in batches of sources" ON)
+function(vscan_unity_build target)
+  if(VSCAN_UNITY_BUILD)
+    set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_MODE BATCH UNITY_BUILD_BATCH_SIZE 16)
+  endif()
+endfunction()

@@ -6,13 +6,10 @@
 #include <cmath>
 #include <numbers>
 
+#include "text_format.h"
+
 namespace vscan::cli {
 namespace {
-
-std::string Lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-  return s;
-}
 
 std::string Trim(const std::string& s) {
   const auto b = s.find_first_not_of(" \t");

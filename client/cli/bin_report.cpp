@@ -5,6 +5,7 @@
 #include <google/protobuf/util/json_util.h>
 
 #include "model_fetch.h"
+#include "text_format.h"
 
 namespace vscan::cli {
 namespace {
@@ -20,12 +21,6 @@ double NumberOr(const Struct& object, const char* key) {
 std::string Text(const Struct& object, const char* key) {
   const auto it = object.fields().find(key);
   return it != object.fields().end() && it->second.kind_case() == Value::kStringValue ? it->second.string_value() : "";
-}
-
-std::string Format(const char* format, double value) {
-  char buffer[48];
-  std::snprintf(buffer, sizeof(buffer), format, value);
-  return buffer;
 }
 
 }  // namespace

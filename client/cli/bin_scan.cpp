@@ -13,6 +13,7 @@
 #include "commands.h"
 #include "scan_to_file.h"
 #include "vscan/common/proto_convert.h"
+#include "text_format.h"
 
 namespace vscan::cli {
 namespace {
@@ -112,12 +113,6 @@ Status WriteGroundTruth(const std::string& path, const BinScanArgs& args, const 
   out.close();
   if (!out) return DataLoss(path + ": write failed");
   return Status::Ok();
-}
-
-std::string Fixed(double v, int digits) {
-  char buf[48];
-  std::snprintf(buf, sizeof(buf), "%.*f", digits, v);
-  return buf;
 }
 
 int RunBinScan(Context& ctx, const BinScanArgs& args) {

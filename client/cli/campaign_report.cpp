@@ -8,15 +8,10 @@
 
 #include "context.h"
 #include "vscan/common/proto_convert.h"
+#include "text_format.h"
 
 namespace vscan::cli {
 namespace {
-
-std::string Format(const char* format, double value) {
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), format, value);
-  return buf;
-}
 
 std::string Pad(const std::string& text, size_t width, bool right) {
   if (text.size() >= width) return text;

@@ -99,7 +99,7 @@ void AddFill(CLI::App& group, Context& ctx) {
   OnRun(cmd, ctx, [&ctx, args] { return RunFill(ctx, *args); });
 }
 
-void AddWatch(CLI::App& group, Context& ctx) {
+void AddBinWatch(CLI::App& group, Context& ctx) {
   auto* cmd = group.add_subcommand("watch", "Follow a bin fill until it ends; exit 0 if it succeeded");
   auto id = std::make_shared<std::string>();
   cmd->add_option("JOB", *id, "Job id")->required();
@@ -112,7 +112,7 @@ void AddWatch(CLI::App& group, Context& ctx) {
   });
 }
 
-void AddGet(CLI::App& group, Context& ctx) {
+void AddBinGet(CLI::App& group, Context& ctx) {
   auto* cmd = group.add_subcommand("get", "Show a bin fill: state, message, the summary of its bin.json");
   auto id = std::make_shared<std::string>();
   cmd->add_option("JOB", *id, "Job id")->required();
@@ -139,8 +139,8 @@ void AddBinCommands(CLI::App& app, Context& ctx) {
   auto* group = app.add_subcommand("bin", "Bin picking scenes: fill a bin with parts, scan it with ground truth, localize and score");
   group->require_subcommand(1);
   AddFill(*group, ctx);
-  AddWatch(*group, ctx);
-  AddGet(*group, ctx);
+  AddBinWatch(*group, ctx);
+  AddBinGet(*group, ctx);
   AddJobList(*group, ctx, "bin_fill", "List bin fill jobs");
   AddJobCancel(*group, ctx, "Cancel a bin fill; the scene stays as it was");
   AddJobDelete(*group, ctx, "Delete an ended bin fill job and its bin.json (the scene keeps its objects)");

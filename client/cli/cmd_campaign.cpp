@@ -18,7 +18,7 @@
 namespace vscan::cli {
 namespace {
 
-struct RunArgs {
+struct CampaignRunArgs {
   std::string plan;
   std::string out_dir;
   bool no_download = false;
@@ -65,7 +65,7 @@ int Finish(Context& ctx, const WatchResult& watched, const std::string& out_dir,
   return JobExitCode(job.state());
 }
 
-int RunCampaign(Context& ctx, const RunArgs& args) {
+int RunCampaign(Context& ctx, const CampaignRunArgs& args) {
   const auto started = std::chrono::steady_clock::now();
   const auto plan = LoadCampaignPlan(args.plan);
   if (!plan.ok()) {
@@ -114,8 +114,8 @@ int RunCampaign(Context& ctx, const RunArgs& args) {
   return Finish(ctx, watched, out_dir, files, ids, seconds);
 }
 
-void AddRun(CLI::App& group, Context& ctx) {
-  auto args = std::make_shared<RunArgs>();
+void AddCampaignRun(CLI::App& group, Context& ctx) {
+  auto args = std::make_shared<CampaignRunArgs>();
   auto* cmd = group.add_subcommand("run", "Set up what a YAML plan describes, run its campaign, download the scans");
   cmd->add_option("PLAN", args->plan, "Plan file (YAML; see docs/CAMPAIGNS.md)")->required();
   cmd->add_option("-o,--output", args->out_dir, "Directory for the scans (default: ./<plan name>-<job id>)");
@@ -172,7 +172,7 @@ void AddResume(CLI::App& group, Context& ctx) {
   OnRun(cmd, ctx, [&ctx, args] { return ResumeCampaign(ctx, *args); });
 }
 
-void AddGet(CLI::App& group, Context& ctx) {
+void AddCampaignGet(CLI::App& group, Context& ctx) {
   auto* cmd = group.add_subcommand("get", "Show a campaign job: state, steps, artifacts");
   auto id = std::make_shared<std::string>();
   cmd->add_option("JOB", *id, "Job id")->required();
@@ -195,7 +195,7 @@ void AddGet(CLI::App& group, Context& ctx) {
   });
 }
 
-void AddWatch(CLI::App& group, Context& ctx) {
+void AddCampaignWatch(CLI::App& group, Context& ctx) {
   auto* cmd = group.add_subcommand("watch", "Follow a campaign job until it ends; exit 0 if it succeeded");
   auto id = std::make_shared<std::string>();
   cmd->add_option("JOB", *id, "Job id")->required();
@@ -213,11 +213,11 @@ void AddWatch(CLI::App& group, Context& ctx) {
 void AddCampaignCommands(CLI::App& app, Context& ctx) {
   auto* group = app.add_subcommand("campaign", "Scan campaigns from YAML plans: run, follow, fetch the scans");
   group->require_subcommand(1);
-  AddRun(*group, ctx);
+  AddCampaignRun(*group, ctx);
   AddResume(*group, ctx);
   AddJobList(*group, ctx, "campaign", "List campaign jobs");
-  AddGet(*group, ctx);
-  AddWatch(*group, ctx);
+  AddCampaignGet(*group, ctx);
+  AddCampaignWatch(*group, ctx);
   AddJobCancel(*group, ctx, "Cancel a campaign job; scans stored so far are kept");
   AddJobDelete(*group, ctx, "Delete an ended campaign job and its scans from the server");
   AddJobArtifacts(*group, ctx);

@@ -12,11 +12,12 @@
 #include "progress.h"
 #include "vscan/common/cloud_io.h"
 #include "vscan/common/proto_convert.h"
+#include "text_format.h"
 
 namespace vscan::cli {
 namespace {
 
-struct UploadArgs {
+struct CloudUploadArgs {
   std::string file;
   std::string name;
   std::string format;
@@ -26,7 +27,7 @@ struct UploadArgs {
   PoseArgs pose;
 };
 
-StatusOr<client::CloudUploadOptions> UploadOptions(const UploadArgs& args) {
+StatusOr<client::CloudUploadOptions> UploadOptions(const CloudUploadArgs& args) {
   client::CloudUploadOptions options;
   options.name = args.name;
   options.scene_id = args.scene_id;
@@ -44,7 +45,7 @@ StatusOr<client::CloudUploadOptions> UploadOptions(const UploadArgs& args) {
   return options;
 }
 
-int RunUpload(Context& ctx, const UploadArgs& args) {
+int RunCloudUpload(Context& ctx, const CloudUploadArgs& args) {
   const auto options = UploadOptions(args);
   if (!options.ok()) return ctx.UsageError(options.status().message());
   if (!std::ifstream(args.file, std::ios::binary)) {
@@ -66,9 +67,9 @@ int RunUpload(Context& ctx, const UploadArgs& args) {
   return kExitOk;
 }
 
-void AddUpload(CLI::App& group, Context& ctx) {
+void AddCloudUpload(CLI::App& group, Context& ctx) {
   auto* cmd = group.add_subcommand("upload", "Upload a point cloud (PLY binary or ASCII; PCD binary, ASCII or binary_compressed)");
-  auto args = std::make_shared<UploadArgs>();
+  auto args = std::make_shared<CloudUploadArgs>();
   cmd->add_option("FILE", args->file, "Cloud file")->required();
   cmd->add_option("--name", args->name, "Cloud name (default: the file name)");
   cmd->add_option("--format", args->format, "ply or pcd (default: from the extension, else from the bytes)");
@@ -76,10 +77,10 @@ void AddUpload(CLI::App& group, Context& ctx) {
   cmd->add_option("--frame", args->frame, "The frame of the points: world (default) or sensor");
   cmd->add_option("--camera", args->camera, "The scan's camera: width,height,fx,fy,cx,cy,near,far");
   AddPoseOptions(cmd, args->pose, "Sensor pose (world_from_sensor): ");
-  OnRun(cmd, ctx, [&ctx, args] { return RunUpload(ctx, *args); });
+  OnRun(cmd, ctx, [&ctx, args] { return RunCloudUpload(ctx, *args); });
 }
 
-void AddList(CLI::App& group, Context& ctx) {
+void AddCloudList(CLI::App& group, Context& ctx) {
   auto* cmd = group.add_subcommand("list", "List clouds");
   auto job = std::make_shared<std::string>();
   cmd->add_option("--job", *job, "Only the scans of this campaign job");
@@ -99,7 +100,7 @@ void AddList(CLI::App& group, Context& ctx) {
   });
 }
 
-void AddGet(CLI::App& group, Context& ctx) {
+void AddCloudGet(CLI::App& group, Context& ctx) {
   auto* cmd = group.add_subcommand("get", "Show a cloud");
   auto id = std::make_shared<std::string>();
   cmd->add_option("ID", *id, "Cloud id")->required();
@@ -117,7 +118,7 @@ void AddGet(CLI::App& group, Context& ctx) {
   });
 }
 
-void AddDelete(CLI::App& group, Context& ctx) {
+void AddCloudDelete(CLI::App& group, Context& ctx) {
   auto* cmd = group.add_subcommand("delete", "Delete an uploaded cloud (a campaign's scans go with their job)");
   auto id = std::make_shared<std::string>();
   cmd->add_option("ID", *id, "Cloud id")->required();
@@ -133,12 +134,6 @@ void AddDelete(CLI::App& group, Context& ctx) {
     ctx.Done("deleted cloud " + *id + " (" + std::to_string(deleted->removed_bytes()) + " bytes freed)", "");
     return kExitOk;
   });
-}
-
-std::string LowerExtension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
 }
 
 // The stored PLY as it comes (.ply), or read and written again as PCD (.pcd).
@@ -203,10 +198,10 @@ void AddDownload(CLI::App& group, Context& ctx) {
 void AddCloudCommands(CLI::App& app, Context& ctx) {
   auto* group = app.add_subcommand("cloud", "Upload, list, show, download and delete stored point clouds");
   group->require_subcommand(1);
-  AddUpload(*group, ctx);
-  AddList(*group, ctx);
-  AddGet(*group, ctx);
-  AddDelete(*group, ctx);
+  AddCloudUpload(*group, ctx);
+  AddCloudList(*group, ctx);
+  AddCloudGet(*group, ctx);
+  AddCloudDelete(*group, ctx);
   AddDownload(*group, ctx);
 }
 

@@ -21,7 +21,7 @@
 namespace vscan::cli {
 namespace {
 
-struct RunArgs {
+struct DatasetRunArgs {
   std::string plan_file;
   std::string resume_job_id;
   std::string out_dir;
@@ -61,7 +61,7 @@ StatusOr<std::map<std::string, std::string>> MeshFiles(const std::string& text, 
 }
 
 // Uploads each mesh file (relative paths from the plan's directory) and maps its path to the mesh.
-int UploadMeshes(Context& ctx, client::Client& client, const RunArgs& args, const std::string& text,
+int UploadMeshes(Context& ctx, client::Client& client, const DatasetRunArgs& args, const std::string& text,
                  v1::DatasetSpec* spec) {
   const auto files = MeshFiles(text, args.plan_file);
   if (!files.ok()) return ctx.UsageError(files.status().message());
@@ -148,7 +148,7 @@ int Follow(Context& ctx, const std::string& job_id, const std::string& out_dir) 
   return JobExitCode(job.state());
 }
 
-int Run(Context& ctx, const RunArgs& args) {
+int Run(Context& ctx, const DatasetRunArgs& args) {
   std::ifstream in(args.plan_file, std::ios::binary);
   if (!in) return ctx.UsageError("PLAN: cannot read '" + args.plan_file + "'");
   std::ostringstream text;
@@ -178,8 +178,8 @@ int Run(Context& ctx, const RunArgs& args) {
   return Follow(ctx, job.job_id(), args.out_dir);
 }
 
-void AddRun(CLI::App& group, Context& ctx) {
-  auto args = std::make_shared<RunArgs>();
+void AddDatasetRun(CLI::App& group, Context& ctx) {
+  auto args = std::make_shared<DatasetRunArgs>();
   auto* cmd = group.add_subcommand("run", "Start a dataset job from a plan file (its mesh files are uploaded)");
   cmd->add_option("PLAN", args->plan_file, "Plan file (YAML, docs/DATASETS.md)")->required();
   cmd->add_option("--resume", args->resume_job_id,
@@ -190,7 +190,7 @@ void AddRun(CLI::App& group, Context& ctx) {
   OnRun(cmd, ctx, [&ctx, args] { return Run(ctx, *args); });
 }
 
-void AddWatch(CLI::App& group, Context& ctx) {
+void AddDatasetWatch(CLI::App& group, Context& ctx) {
   auto* cmd = group.add_subcommand("watch", "Follow a dataset job until it ends; exit 0 if it succeeded");
   auto id = std::make_shared<std::string>();
   auto out_dir = std::make_shared<std::string>();
@@ -213,8 +213,8 @@ void AddDownload(CLI::App& group, Context& ctx) {
 void AddDatasetCommands(CLI::App& app, Context& ctx) {
   auto* group = app.add_subcommand("dataset", "Dataset jobs: bins filled, scanned and written with ground truth");
   group->require_subcommand(1);
-  AddRun(*group, ctx);
-  AddWatch(*group, ctx);
+  AddDatasetRun(*group, ctx);
+  AddDatasetWatch(*group, ctx);
   AddJobCancel(*group, ctx, "Cancel a dataset job (finished scenes stay; --resume continues them)");
   AddJobList(*group, ctx, "dataset", "List dataset jobs");
   AddJobDelete(*group, ctx, "Delete an ended dataset job and its artifacts from the server");

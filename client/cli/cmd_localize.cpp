@@ -13,6 +13,7 @@
 #include "pose_files.h"
 #include "uploads.h"
 #include "vscan/common/proto_convert.h"
+#include "text_format.h"
 
 namespace vscan::cli {
 namespace {
@@ -41,12 +42,6 @@ struct ScoreArgs {
 bool IsFile(const std::string& path) {
   std::error_code ec;
   return std::filesystem::is_regular_file(path, ec);
-}
-
-std::string Fixed(double v, int digits) {
-  char buf[48];
-  std::snprintf(buf, sizeof(buf), "%.*f", digits, v);
-  return buf;
 }
 
 StatusOr<v1::NormalSource> ParseNormalSource(const std::string& text) {

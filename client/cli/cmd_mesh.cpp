@@ -8,7 +8,7 @@
 namespace vscan::cli {
 namespace {
 
-struct UploadArgs {
+struct MeshUploadArgs {
   std::string file;
   std::string unit;
   double scale = 1.0;
@@ -16,7 +16,7 @@ struct UploadArgs {
   std::string format;
 };
 
-int RunUpload(Context& ctx, const UploadArgs& args) {
+int RunMeshUpload(Context& ctx, const MeshUploadArgs& args) {
   client::MeshUploadOptions options;
   const auto unit = ParseUnit(args.unit);
   if (!unit.ok()) return ctx.UsageError(unit.status().message());
@@ -41,18 +41,18 @@ int RunUpload(Context& ctx, const UploadArgs& args) {
   return kExitOk;
 }
 
-void AddUpload(CLI::App& group, Context& ctx) {
+void AddMeshUpload(CLI::App& group, Context& ctx) {
   auto* cmd = group.add_subcommand("upload", "Upload a PLY, OBJ or STL mesh");
-  auto args = std::make_shared<UploadArgs>();
+  auto args = std::make_shared<MeshUploadArgs>();
   cmd->add_option("FILE", args->file, "Mesh file")->required();
   cmd->add_option("--unit", args->unit, "Unit the file is written in: m, cm, mm, in, ft")->required();
   cmd->add_option("--scale", args->scale, "Extra uniform scale after the unit conversion")->capture_default_str();
   cmd->add_option("--name", args->name, "Mesh name (default: the file name)");
   cmd->add_option("--format", args->format, "ply, obj or stl (default: from the extension)");
-  OnRun(cmd, ctx, [&ctx, args] { return RunUpload(ctx, *args); });
+  OnRun(cmd, ctx, [&ctx, args] { return RunMeshUpload(ctx, *args); });
 }
 
-void AddList(CLI::App& group, Context& ctx) {
+void AddMeshList(CLI::App& group, Context& ctx) {
   auto* cmd = group.add_subcommand("list", "List meshes");
   OnRun(cmd, ctx, [&ctx]() -> int {
     auto* client = ctx.GetClient();
@@ -72,7 +72,7 @@ void AddList(CLI::App& group, Context& ctx) {
   });
 }
 
-void AddGet(CLI::App& group, Context& ctx) {
+void AddMeshGet(CLI::App& group, Context& ctx) {
   auto* cmd = group.add_subcommand("get", "Show a mesh");
   auto id = std::make_shared<std::string>();
   cmd->add_option("ID", *id, "Mesh id")->required();
@@ -90,7 +90,7 @@ void AddGet(CLI::App& group, Context& ctx) {
   });
 }
 
-void AddDelete(CLI::App& group, Context& ctx) {
+void AddMeshDelete(CLI::App& group, Context& ctx) {
   auto* cmd = group.add_subcommand("delete", "Delete a mesh");
   auto id = std::make_shared<std::string>();
   cmd->add_option("ID", *id, "Mesh id")->required();
@@ -110,10 +110,10 @@ void AddDelete(CLI::App& group, Context& ctx) {
 void AddMeshCommands(CLI::App& app, Context& ctx) {
   auto* group = app.add_subcommand("mesh", "Upload, list, show and delete meshes");
   group->require_subcommand(1);
-  AddUpload(*group, ctx);
-  AddList(*group, ctx);
-  AddGet(*group, ctx);
-  AddDelete(*group, ctx);
+  AddMeshUpload(*group, ctx);
+  AddMeshList(*group, ctx);
+  AddMeshGet(*group, ctx);
+  AddMeshDelete(*group, ctx);
 }
 
 }  // namespace vscan::cli

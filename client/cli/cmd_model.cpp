@@ -19,7 +19,7 @@
 namespace vscan::cli {
 namespace {
 
-struct RunArgs {
+struct ModelRunArgs {
   ModelArgs model;
   std::string out_dir;
   bool no_wait = false;
@@ -93,7 +93,7 @@ std::string Inputs(const v1::ModelSpec& spec) {
   return std::to_string(spec.cloud_ids_size()) + (spec.cloud_ids_size() == 1 ? " cloud" : " clouds");
 }
 
-int RunModel(Context& ctx, ModelCommand command, const RunArgs& args) {
+int RunModel(Context& ctx, ModelCommand command, const ModelRunArgs& args) {
   const auto started = Clock::now();
   const auto spec = BuildModelSpec(command, args.model);
   if (!spec.ok()) return ctx.UsageError(spec.status().message());
@@ -120,7 +120,7 @@ int RunModel(Context& ctx, ModelCommand command, const RunArgs& args) {
   return FollowModelJob(ctx, job->job_id(), args.out_dir, started);
 }
 
-void AddInputOptions(CLI::App* cmd, RunArgs& args) {
+void AddInputOptions(CLI::App* cmd, ModelRunArgs& args) {
   ModelArgs& m = args.model;
   cmd->add_option("CLOUD_ID", m.cloud_ids, "Stored clouds, in this order (see `vscan cloud list`)");
   cmd->add_option("--campaign", m.campaign_job_id, "Every captured scan of this campaign job instead of CLOUD_ID...");
@@ -183,7 +183,7 @@ void AddModelCommand(CLI::App& app, Context& ctx, ModelCommand command) {
       "Align stored clouds and reconstruct their surface (TSDF or Poisson)",
       "Align (and reconstruct) stored clouds and score them against the true surface"};
   const auto index = static_cast<size_t>(command);
-  auto args = std::make_shared<RunArgs>();
+  auto args = std::make_shared<ModelRunArgs>();
   auto* cmd = app.add_subcommand(kNames[index], kHelp[index]);
   AddInputOptions(cmd, *args);
   AddAlignmentOptions(cmd, command, args->model);
@@ -192,7 +192,7 @@ void AddModelCommand(CLI::App& app, Context& ctx, ModelCommand command) {
   OnRun(cmd, ctx, [&ctx, command, args] { return RunModel(ctx, command, *args); });
 }
 
-void AddWatch(CLI::App& group, Context& ctx) {
+void AddModelWatch(CLI::App& group, Context& ctx) {
   auto* cmd = group.add_subcommand(
       "watch", "Follow a model job until it ends and print its report; exit 0 if it succeeded");
   auto id = std::make_shared<std::string>();
@@ -211,7 +211,7 @@ void AddModelCommands(CLI::App& app, Context& ctx) {
   auto* group = app.add_subcommand("model", "Model jobs (align, reconstruct, evaluate): follow, list, fetch");
   group->require_subcommand(1);
   AddJobList(*group, ctx, "model", "List model jobs");
-  AddWatch(*group, ctx);
+  AddModelWatch(*group, ctx);
   AddJobCancel(*group, ctx, "Cancel a model job");
   AddJobDelete(*group, ctx, "Delete an ended model job and its artifacts from the server");
   AddJobArtifacts(*group, ctx);

@@ -11,6 +11,7 @@
 #include "vscan/render/png_io.h"
 #include "vscan/render/render_input.h"
 #include "vscan/render/renderer.h"
+#include "text_format.h"
 
 namespace vscan::cli {
 namespace {
@@ -28,18 +29,6 @@ struct RenderArgs {
   float point_size = 2.0f;
   std::string background = "255,255,255";
 };
-
-std::string LowerExtension(const std::string& path) {
-  std::string ext = std::filesystem::path(path).extension().string();
-  for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-  return ext;
-}
-
-std::string Fixed(double v, int digits) {
-  char buf[48];
-  std::snprintf(buf, sizeof(buf), "%.*f", digits, v);
-  return buf;
-}
 
 Eigen::Vector3f ToFloat(const Eigen::Vector3d& v) { return v.cast<float>(); }
 

@@ -6,12 +6,12 @@
 namespace vscan::cli {
 namespace {
 
-struct UploadArgs {
+struct RobotUploadArgs {
   std::string path;
   client::RobotUploadOptions options;
 };
 
-int RunUpload(Context& ctx, UploadArgs args) {
+int RunRobotUpload(Context& ctx, RobotUploadArgs args) {
   v1::Robot robot;
   if (const int rc = UploadRobot(ctx, args.path, args.options, "--urdf", &robot); rc != kExitOk) return rc;
   if (ctx.json()) ctx.EmitJson(ToJson(robot));
@@ -20,18 +20,18 @@ int RunUpload(Context& ctx, UploadArgs args) {
   return kExitOk;
 }
 
-void AddUpload(CLI::App& group, Context& ctx) {
-  auto args = std::make_shared<UploadArgs>();
+void AddRobotUpload(CLI::App& group, Context& ctx) {
+  auto args = std::make_shared<RobotUploadArgs>();
   auto* cmd = group.add_subcommand("upload", "Upload a URDF robot: a directory (the bundle) or a single URDF file");
   cmd->add_option("DIR_OR_URDF", args->path, "Bundle directory (paths relative to it) or URDF file")->required();
   cmd->add_option("--urdf", args->options.urdf_path, "Path of the URDF inside the directory (default: the only .urdf)");
   cmd->add_option("--base", args->options.base_link, "Base link of the chain (default: the URDF's root)");
   cmd->add_option("--tip", args->options.tip_link, "Tip link of the chain (default: the deepest link)");
   cmd->add_option("--name", args->options.name, "Robot name (default: the URDF's)");
-  OnRun(cmd, ctx, [&ctx, args] { return RunUpload(ctx, *args); });
+  OnRun(cmd, ctx, [&ctx, args] { return RunRobotUpload(ctx, *args); });
 }
 
-void AddList(CLI::App& group, Context& ctx) {
+void AddRobotList(CLI::App& group, Context& ctx) {
   auto* cmd = group.add_subcommand("list", "List robots");
   OnRun(cmd, ctx, [&ctx]() -> int {
     auto* client = ctx.GetClient();
@@ -49,7 +49,7 @@ void AddList(CLI::App& group, Context& ctx) {
   });
 }
 
-void AddGet(CLI::App& group, Context& ctx) {
+void AddRobotGet(CLI::App& group, Context& ctx) {
   auto* cmd = group.add_subcommand("get", "Show a robot: its chain, joints and warnings");
   auto id = std::make_shared<std::string>();
   cmd->add_option("ROBOT", *id, "Robot id")->required();
@@ -73,7 +73,7 @@ void AddGet(CLI::App& group, Context& ctx) {
   });
 }
 
-void AddDelete(CLI::App& group, Context& ctx) {
+void AddRobotDelete(CLI::App& group, Context& ctx) {
   auto* cmd = group.add_subcommand("delete", "Delete a robot (it must not be mounted)");
   auto id = std::make_shared<std::string>();
   cmd->add_option("ROBOT", *id, "Robot id")->required();
@@ -93,10 +93,10 @@ void AddDelete(CLI::App& group, Context& ctx) {
 void AddRobotCommands(CLI::App& app, Context& ctx) {
   auto* group = app.add_subcommand("robot", "URDF robots: upload, kinematics, mounting in scenes");
   group->require_subcommand(1);
-  AddUpload(*group, ctx);
-  AddList(*group, ctx);
-  AddGet(*group, ctx);
-  AddDelete(*group, ctx);
+  AddRobotUpload(*group, ctx);
+  AddRobotList(*group, ctx);
+  AddRobotGet(*group, ctx);
+  AddRobotDelete(*group, ctx);
   AddRobotKinematicsCommands(*group, ctx);
   AddRobotMountCommands(*group, ctx);
 }

@@ -11,6 +11,7 @@
 #include "vscan/common/cloud_file_writer.h"
 #include "vscan/common/point_chunks.h"
 #include "vscan/common/proto_convert.h"
+#include "text_format.h"
 
 namespace vscan::cli {
 namespace {
@@ -20,12 +21,6 @@ struct ScanCommandArgs {
   std::string output;
   bool organized = false;
 };
-
-std::string Fixed(double v, int digits) {
-  char buf[48];
-  std::snprintf(buf, sizeof(buf), "%.*f", digits, v);
-  return buf;
-}
 
 // Client times from the call: to the first chunk (negative: none came) and to the last.
 struct ClientTimes {

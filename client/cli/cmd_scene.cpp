@@ -19,7 +19,7 @@ void AddCreate(CLI::App& group, Context& ctx) {
   });
 }
 
-void AddList(CLI::App& group, Context& ctx) {
+void AddSceneList(CLI::App& group, Context& ctx) {
   auto* cmd = group.add_subcommand("list", "List scenes");
   OnRun(cmd, ctx, [&ctx]() -> int {
     auto* client = ctx.GetClient();
@@ -41,7 +41,7 @@ void AddList(CLI::App& group, Context& ctx) {
   });
 }
 
-void AddGet(CLI::App& group, Context& ctx) {
+void AddSceneGet(CLI::App& group, Context& ctx) {
   auto* cmd = group.add_subcommand("get", "Show a scene: objects and rotary table");
   auto id = std::make_shared<std::string>();
   cmd->add_option("ID", *id, "Scene id")->required();
@@ -61,7 +61,7 @@ void AddGet(CLI::App& group, Context& ctx) {
   });
 }
 
-void AddDelete(CLI::App& group, Context& ctx) {
+void AddSceneDelete(CLI::App& group, Context& ctx) {
   auto* cmd = group.add_subcommand("delete", "Delete a scene");
   auto id = std::make_shared<std::string>();
   cmd->add_option("ID", *id, "Scene id")->required();
@@ -82,9 +82,9 @@ void AddSceneCommands(CLI::App& app, Context& ctx) {
   auto* group = app.add_subcommand("scene", "Create, list, show and delete scenes");
   group->require_subcommand(1);
   AddCreate(*group, ctx);
-  AddList(*group, ctx);
-  AddGet(*group, ctx);
-  AddDelete(*group, ctx);
+  AddSceneList(*group, ctx);
+  AddSceneGet(*group, ctx);
+  AddSceneDelete(*group, ctx);
 }
 
 }  // namespace vscan::cli

@@ -4,15 +4,10 @@
 #include <sstream>
 
 #include "context.h"
+#include "text_format.h"
 
 namespace vscan::cli {
 namespace {
-
-std::string Fixed(double value, int decimals) {
-  char text[64];
-  std::snprintf(text, sizeof text, "%.*f", decimals, value);
-  return text;
-}
 
 double Mib(uint64_t kib) { return static_cast<double>(kib) / 1024.0; }
 

@@ -6,13 +6,10 @@
 
 #include "args.h"
 
+#include "text_format.h"
+
 namespace vscan::cli {
 namespace {
-
-std::string Lower(std::string s) {
-  std::transform(s.begin(), s.end(), s.begin(), [](unsigned char c) { return std::tolower(c); });
-  return s;
-}
 
 // The voxel of the stage a command is named after: alignment for `align`, reconstruction otherwise.
 const char* AlignVoxelOption(ModelCommand command) {

@@ -6,18 +6,14 @@
 #include <optional>
 #include <vector>
 
+#include "text_format.h"
+
 namespace vscan::cli {
 namespace {
 
 using google::protobuf::ListValue;
 using google::protobuf::Struct;
 using google::protobuf::Value;
-
-std::string Format(const char* format, double value) {
-  char buf[64];
-  std::snprintf(buf, sizeof(buf), format, value);
-  return buf;
-}
 
 std::string Pad(const std::string& text, size_t width) {
   return text.size() >= width ? text : std::string(width - text.size(), ' ') + text;
