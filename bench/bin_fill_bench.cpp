@@ -6,7 +6,8 @@
 // Then (sections "machined" and "decomposition") fills bins of procedural machined parts (risers and
 // many-sided prisms, hulls of 100-300 vertices) and of the fixture parts, each as convex hulls and
 // as convex decompositions, and reports how deep the settled meshes overlap.
-// Usage: bin_fill_bench [seeds=3] [sections=fixture,machined,decomposition(,hull-only)] [max simulated s=60]
+// Section "pile" fills the fixture section's 50 parts (the dataset plan's mix) as hulls beside the old fill only.
+// Usage: bin_fill_bench [seeds=3] [sections=fixture,machined,decomposition(,pile)(,hull-only)] [max simulated s=60]
 //        [hull tolerance mm=FillOptions' default]
 
 #include <algorithm>
@@ -104,7 +105,8 @@ Run FillPlain(const physics::BinSpec& bin, const std::vector<physics::PartType>&
 }
 
 // The fill as it was before the true-mesh overlaps were bounded: each hull cut to the 24 of its
-// vertices farthest apart, no overlap measure and no separation; the same world and loop
+// vertices farthest apart, GJK's contact normals and a bin without faces (no separating-axis
+// test), no overlap measure and no separation; the same world and loop
 // otherwise. Timed like FillOurs; the meshes' overlaps are measured afterwards, untimed, for the
 // report.
 Run FillOld(const physics::BinSpec& bin, const std::vector<physics::PartType>& parts, physics::FillOptions options) {
@@ -117,6 +119,7 @@ Run FillOld(const physics::BinSpec& bin, const std::vector<physics::PartType>& p
     for (const auto& p : part.hull) part.radius = std::max(part.radius, p.norm());
   }
   options.measure_mesh_overlaps = false;
+  options.separating_axis_contacts = false;
   auto world = physics::MakeBulletFillWorld(bin, geometry, options);
   Run run{physics::RunFill(bin, parts, geometry, options, *world, nullptr), 0.0, 0.0};
   run.wall_s = Since(start);
@@ -344,6 +347,10 @@ int main(int argc, char** argv) {
     CompareCollisions("bin 30 x 20 x 15 cm, 11 angle blocks + 11 pins", bin,
                       {LoadPart("angle_block.STL", 0.0254, "angle_block", 11), LoadPart("round.stl", 0.0013, "round", 11)},
                       seeds, max_simulated_s, wanted("hull-only"));
+  }
+  if (wanted("pile")) {
+    CompareCollisions("bin 30 x 20 x 15 cm, 25 angle blocks + 25 pins (the dataset plan's mix)", bin, parts, seeds,
+                      max_simulated_s, true);
   }
   if (!wanted("fixture")) return 0;
   std::printf("bin 30 x 20 x 15 cm, 25 angle blocks (3.4 x 2.5 x 3.4 cm) + 25 pins (6.6 mm x 79 mm), %d seeds\n",
