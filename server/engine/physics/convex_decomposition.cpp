@@ -18,8 +18,6 @@ constexpr double kHacdScale = 1000.0;
 // Deepest concavity a piece may keep: 2% of the part's size.
 constexpr double kHacdConcavity = 20.0;
 
-// A mesh enclosing this share of its hull's volume is convex enough to be its hull, one piece.
-constexpr double kConvexShare = 0.98;
 // Two pieces merge while their union's hull adds at most this share of the part's hull volume to
 // theirs: HACD leaves many slivers on a mesh whose triangles do not share edges, and a compound's
 // cost grows with its pieces squared.
@@ -69,7 +67,8 @@ std::vector<std::vector<Eigen::Vector3d>> ComputePieces(const TriangleMesh& mesh
                                                         double hull_tolerance_m) {
   const std::vector<Eigen::Vector3d> hull = ExactHull(mesh, centre);
   const double hull_volume = HullVolume(hull);
-  if (MeshVolume(mesh) >= kConvexShare * hull_volume) return {SimplifiedHull(hull, hull_tolerance_m)};
+  // A mesh convex to within the hull's own tolerance is its hull, one piece, without HACD.
+  if (ConvexWithin(mesh, centre, hull, hull_tolerance_m)) return {SimplifiedHull(hull, hull_tolerance_m)};
   std::vector<HACD::Vec3<HACD::Real>> points;
   points.reserve(mesh.vertices.size());
   for (const Eigen::Vector3f& v : mesh.vertices) points.emplace_back(v.x(), v.y(), v.z());
