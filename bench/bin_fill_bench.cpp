@@ -6,8 +6,10 @@
 // Then (sections "machined" and "decomposition") fills bins of procedural machined parts (risers and
 // many-sided prisms, hulls of 100-300 vertices) and of the fixture parts, each as convex hulls and
 // as convex decompositions, and reports how deep the settled meshes overlap.
-// Section "pile" fills the fixture section's 50 parts (the dataset plan's mix) as hulls beside the old fill only.
-// Usage: bin_fill_bench [seeds=3] [sections=fixture,machined,decomposition(,pile)(,hull-only)] [max simulated s=60]
+// Sections "fixture-pile" (the fixture section's 50 parts, the dataset plan's mix) and "machined-pile" (25 risers,
+// 25 prisms) fill 50 parts as hulls beside the old fill only.
+// Usage: bin_fill_bench [seeds=3] [sections=fixture,machined,decomposition(,fixture-pile,machined-pile)(,hull-only)]
+//        [max simulated s=60]
 //        [hull tolerance mm=FillOptions' default]
 
 #include <algorithm>
@@ -327,7 +329,10 @@ int main(int argc, char** argv) {
   const std::string sections = argc > 2 ? argv[2] : "fixture,machined,decomposition";
   const double max_simulated_s = argc > 3 ? std::atof(argv[3]) : 60.0;
   if (argc > 4) g_hull_tolerance_m = 1e-3 * std::atof(argv[4]);
-  const auto wanted = [&](const char* section) { return sections.find(section) != std::string::npos; };
+  // A section is wanted when named whole: "machined" is not "machined-pile".
+  const auto wanted = [&](const std::string& section) {
+    return ("," + sections + ",").find("," + section + ",") != std::string::npos;
+  };
   physics::BinSpec bin;
   bin.inner_size = Eigen::Vector3d(0.30, 0.20, 0.15);
   bin.wall_thickness = 0.01;
@@ -348,7 +353,12 @@ int main(int argc, char** argv) {
                       {LoadPart("angle_block.STL", 0.0254, "angle_block", 11), LoadPart("round.stl", 0.0013, "round", 11)},
                       seeds, max_simulated_s, wanted("hull-only"));
   }
-  if (wanted("pile")) {
+  if (wanted("machined-pile")) {
+    CompareCollisions("bin 30 x 20 x 15 cm, 25 risers + 25 96-sided prisms", bin,
+                      {Procedural(physics::test::Riser(), "riser", 25), Procedural(physics::test::ManySidedPrism(), "prism", 25)},
+                      seeds, max_simulated_s, true);
+  }
+  if (wanted("fixture-pile")) {
     CompareCollisions("bin 30 x 20 x 15 cm, 25 angle blocks + 25 pins (the dataset plan's mix)", bin, parts, seeds,
                       max_simulated_s, true);
   }
