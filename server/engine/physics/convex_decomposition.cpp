@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <map>
 #include <mutex>
+#include <optional>
+#include <cstdlib>
 #include <utility>
 
 #include "physics/part_geometry.h"
@@ -113,10 +115,9 @@ std::vector<std::vector<Eigen::Vector3d>> ComputePieces(const TriangleMesh& mesh
   return pieces;
 }
 
-// Decompositions already made in this process, by mesh, centre and tolerance: a dataset fills many
-// bins of the same parts, and HACD takes about a second a part. FNV-1a over the bytes.
-uint64_t KeyOf(const TriangleMesh& mesh, const Eigen::Vector3d& centre, double tolerance) {
-  uint64_t h = 1469598103934665603ull;
+// FNV-1a over the mesh, the centre, the tolerance and the parameters above, from `basis`.
+uint64_t HashOf(const TriangleMesh& mesh, const Eigen::Vector3d& centre, double tolerance, uint64_t basis) {
+  uint64_t h = basis;
   const auto add = [&](const void* data, size_t bytes) {
     const auto* p = static_cast<const unsigned char*>(data);
     for (size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 1099511628211ull;
@@ -125,6 +126,9 @@ uint64_t KeyOf(const TriangleMesh& mesh, const Eigen::Vector3d& centre, double t
   add(mesh.triangles.data(), mesh.triangles.size() * sizeof(mesh.triangles[0]));
   add(centre.data(), 3 * sizeof(double));
   add(&tolerance, sizeof(tolerance));
+  // What else decides the pieces: a change to any of these (or to this number) names other files.
+  const double parameters[] = {kHacdScale, kHacdConcavity, kMergeShare, 2.0};
+  add(parameters, sizeof parameters);
   return h;
 }
 
@@ -142,9 +146,15 @@ constexpr size_t kCachedMeshes = 32;
 
 }  // namespace
 
+PiecesKey DecompositionKey(const TriangleMesh& mesh, const Eigen::Vector3d& centre, double hull_tolerance_m) {
+  return {HashOf(mesh, centre, hull_tolerance_m, 1469598103934665603ull),
+          HashOf(mesh, centre, hull_tolerance_m, 0x9e3779b97f4a7c15ull), mesh.vertices.size(), mesh.triangles.size()};
+}
+
 std::vector<std::vector<Eigen::Vector3d>> ConvexPieces(const TriangleMesh& mesh, const Eigen::Vector3d& centre,
                                                        double hull_tolerance_m) {
-  const uint64_t key = KeyOf(mesh, centre, hull_tolerance_m);
+  const PiecesKey disk_key = DecompositionKey(mesh, centre, hull_tolerance_m);
+  const uint64_t key = disk_key.name;
   {
     std::lock_guard lock(Cache().mutex);
     const auto it = Cache().entries.find(key);
@@ -154,7 +164,11 @@ std::vector<std::vector<Eigen::Vector3d>> ConvexPieces(const TriangleMesh& mesh,
       return it->second.second;
     }
   }
-  auto pieces = ComputePieces(mesh, centre, hull_tolerance_m);
+  const char* dir = std::getenv(kDecompositionCacheVariable);
+  std::optional<ConvexPieceSet> stored;
+  if (dir != nullptr && *dir != '\0') stored = LoadPieces(dir, disk_key);
+  auto pieces = stored ? std::move(*stored) : ComputePieces(mesh, centre, hull_tolerance_m);
+  if (dir != nullptr && *dir != '\0' && !stored) StorePieces(dir, disk_key, pieces);
   std::lock_guard lock(Cache().mutex);
   if (Cache().entries.size() >= kCachedMeshes) Cache().entries.erase(Cache().entries.begin());
   Cache().entries[key] = {mesh, pieces};

@@ -2,13 +2,19 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <array>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
 
 #include "fixture_parts.h"
 #include "hull_support.h"
 #include "machined_parts.h"
 #include "physics/bin_fill.h"
+#include "physics/decomposition_store.h"
 #include "physics/part_geometry.h"
 
 namespace vscan::physics {
@@ -232,6 +238,53 @@ TEST(ConvexDecomposition, AConvexPartIsItsHullWithoutHacdAndAUKeepsItsSlotOpen) 
   const Eigen::Vector3d slot = Eigen::Vector3d(0.015, 0.02, 0.005) - middle;
   EXPECT_EQ(OutsideBy(slot, ExactHull(u, middle)), 0.0);
   for (const auto& piece : u_pieces) EXPECT_GT(OutsideBy(slot, piece), 0.002);
+}
+
+std::string FreshDirectory(const char* name) {
+  const auto dir = std::filesystem::temp_directory_path() / (std::string(name) + std::to_string(getpid()));
+  std::filesystem::remove_all(dir);
+  return dir.string();
+}
+
+TEST(DecompositionStore, PiecesComeBackOnlyForTheKeyTheyWereStoredUnder) {
+  const std::string dir = FreshDirectory("vscan_store_test");
+  const PiecesKey key{0x1234, 0x5678, 8, 12};
+  const ConvexPieceSet pieces = {{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, {{2, 2, 2}, {3, 2, 2}, {2, 3, 2}, {2, 2, 3.5}}};
+  EXPECT_FALSE(LoadPieces(dir, key).has_value());
+  ASSERT_TRUE(StorePieces(dir, key, pieces));
+  const auto loaded = LoadPieces(dir, key);
+  ASSERT_TRUE(loaded.has_value());
+  EXPECT_EQ(*loaded, pieces);
+  PiecesKey other_check = key, other_size = key;
+  other_check.check = 0x5679;
+  other_size.triangles = 13;
+  EXPECT_FALSE(LoadPieces(dir, other_check).has_value());
+  EXPECT_FALSE(LoadPieces(dir, other_size).has_value());
+  // A file cut short is not read.
+  const auto file = std::filesystem::directory_iterator(dir)->path();
+  std::filesystem::resize_file(file, std::filesystem::file_size(file) - 4);
+  EXPECT_FALSE(LoadPieces(dir, key).has_value());
+  std::filesystem::remove_all(dir);
+}
+
+TEST(DecompositionStore, ConvexPiecesReadsTheDirectoryBeforeRunningHacdAndFillsIt) {
+  const std::string dir = FreshDirectory("vscan_pieces_test");
+  ASSERT_EQ(setenv(kDecompositionCacheVariable, dir.c_str(), 1), 0);
+  const TriangleMesh l = LPrism();
+  const Eigen::Vector3d centre(0.01, 0.01, 0.005);
+  // Tolerances no other test uses, so that the process's own cache has neither.
+  const double computed_at = 0.000061, planted_at = 0.000062;
+  const auto computed = ConvexPieces(l, centre, computed_at);
+  ASSERT_GE(computed.size(), 2u);
+  const auto stored = LoadPieces(dir, DecompositionKey(l, centre, computed_at));
+  ASSERT_TRUE(stored.has_value());
+  EXPECT_EQ(*stored, computed);
+  // Pieces planted under the key are what ConvexPieces returns: HACD did not run.
+  const ConvexPieceSet planted = {{{0, 0, 0}, {0.01, 0, 0}, {0, 0.01, 0}, {0, 0, 0.01}}};
+  ASSERT_TRUE(StorePieces(dir, DecompositionKey(l, centre, planted_at), planted));
+  EXPECT_EQ(ConvexPieces(l, centre, planted_at), planted);
+  unsetenv(kDecompositionCacheVariable);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace
