@@ -6,7 +6,10 @@
 // Then (sections "machined" and "decomposition") fills bins of procedural machined parts (risers and
 // many-sided prisms, hulls of 100-300 vertices) and of the fixture parts, each as convex hulls and
 // as convex decompositions, and reports how deep the settled meshes overlap.
-// Usage: bin_fill_bench [seeds=3] [sections=fixture,machined,decomposition(,hull-only)] [max simulated s=60]
+// Sections "fixture-pile" (the fixture section's 50 parts, the dataset plan's mix) and "machined-pile" (25 risers,
+// 25 prisms) fill 50 parts as hulls beside the old fill only.
+// Usage: bin_fill_bench [seeds=3] [sections=fixture,machined,decomposition(,fixture-pile,machined-pile)(,hull-only)]
+//        [max simulated s=60]
 //        [hull tolerance mm=FillOptions' default]
 
 #include <algorithm>
@@ -104,7 +107,8 @@ Run FillPlain(const physics::BinSpec& bin, const std::vector<physics::PartType>&
 }
 
 // The fill as it was before the true-mesh overlaps were bounded: each hull cut to the 24 of its
-// vertices farthest apart, no overlap measure and no separation; the same world and loop
+// vertices farthest apart, GJK's contact normals and a bin without faces (no separating-axis
+// test), no overlap measure and no separation; the same world and loop
 // otherwise. Timed like FillOurs; the meshes' overlaps are measured afterwards, untimed, for the
 // report.
 Run FillOld(const physics::BinSpec& bin, const std::vector<physics::PartType>& parts, physics::FillOptions options) {
@@ -117,6 +121,7 @@ Run FillOld(const physics::BinSpec& bin, const std::vector<physics::PartType>& p
     for (const auto& p : part.hull) part.radius = std::max(part.radius, p.norm());
   }
   options.measure_mesh_overlaps = false;
+  options.separating_axis_contacts = false;
   auto world = physics::MakeBulletFillWorld(bin, geometry, options);
   Run run{physics::RunFill(bin, parts, geometry, options, *world, nullptr), 0.0, 0.0};
   run.wall_s = Since(start);
@@ -324,7 +329,10 @@ int main(int argc, char** argv) {
   const std::string sections = argc > 2 ? argv[2] : "fixture,machined,decomposition";
   const double max_simulated_s = argc > 3 ? std::atof(argv[3]) : 60.0;
   if (argc > 4) g_hull_tolerance_m = 1e-3 * std::atof(argv[4]);
-  const auto wanted = [&](const char* section) { return sections.find(section) != std::string::npos; };
+  // A section is wanted when named whole: "machined" is not "machined-pile".
+  const auto wanted = [&](const std::string& section) {
+    return ("," + sections + ",").find("," + section + ",") != std::string::npos;
+  };
   physics::BinSpec bin;
   bin.inner_size = Eigen::Vector3d(0.30, 0.20, 0.15);
   bin.wall_thickness = 0.01;
@@ -344,6 +352,15 @@ int main(int argc, char** argv) {
     CompareCollisions("bin 30 x 20 x 15 cm, 11 angle blocks + 11 pins", bin,
                       {LoadPart("angle_block.STL", 0.0254, "angle_block", 11), LoadPart("round.stl", 0.0013, "round", 11)},
                       seeds, max_simulated_s, wanted("hull-only"));
+  }
+  if (wanted("machined-pile")) {
+    CompareCollisions("bin 30 x 20 x 15 cm, 25 risers + 25 96-sided prisms", bin,
+                      {Procedural(physics::test::Riser(), "riser", 25), Procedural(physics::test::ManySidedPrism(), "prism", 25)},
+                      seeds, max_simulated_s, true);
+  }
+  if (wanted("fixture-pile")) {
+    CompareCollisions("bin 30 x 20 x 15 cm, 25 angle blocks + 25 pins (the dataset plan's mix)", bin, parts, seeds,
+                      max_simulated_s, true);
   }
   if (!wanted("fixture")) return 0;
   std::printf("bin 30 x 20 x 15 cm, 25 angle blocks (3.4 x 2.5 x 3.4 cm) + 25 pins (6.6 mm x 79 mm), %d seeds\n",

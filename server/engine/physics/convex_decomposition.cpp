@@ -6,6 +6,8 @@
 #include <cstdint>
 #include <map>
 #include <mutex>
+#include <optional>
+#include <cstdlib>
 #include <utility>
 
 #include "physics/part_geometry.h"
@@ -18,8 +20,6 @@ constexpr double kHacdScale = 1000.0;
 // Deepest concavity a piece may keep: 2% of the part's size.
 constexpr double kHacdConcavity = 20.0;
 
-// A mesh enclosing this share of its hull's volume is convex enough to be its hull, one piece.
-constexpr double kConvexShare = 0.98;
 // Two pieces merge while their union's hull adds at most this share of the part's hull volume to
 // theirs: HACD leaves many slivers on a mesh whose triangles do not share edges, and a compound's
 // cost grows with its pieces squared.
@@ -69,7 +69,8 @@ std::vector<std::vector<Eigen::Vector3d>> ComputePieces(const TriangleMesh& mesh
                                                         double hull_tolerance_m) {
   const std::vector<Eigen::Vector3d> hull = ExactHull(mesh, centre);
   const double hull_volume = HullVolume(hull);
-  if (MeshVolume(mesh) >= kConvexShare * hull_volume) return {SimplifiedHull(hull, hull_tolerance_m)};
+  // A mesh convex to within the hull's own tolerance is its hull, one piece, without HACD.
+  if (ConvexWithin(mesh, centre, hull, hull_tolerance_m)) return {SimplifiedHull(hull, hull_tolerance_m)};
   std::vector<HACD::Vec3<HACD::Real>> points;
   points.reserve(mesh.vertices.size());
   for (const Eigen::Vector3f& v : mesh.vertices) points.emplace_back(v.x(), v.y(), v.z());
@@ -114,10 +115,9 @@ std::vector<std::vector<Eigen::Vector3d>> ComputePieces(const TriangleMesh& mesh
   return pieces;
 }
 
-// Decompositions already made in this process, by mesh, centre and tolerance: a dataset fills many
-// bins of the same parts, and HACD takes about a second a part. FNV-1a over the bytes.
-uint64_t KeyOf(const TriangleMesh& mesh, const Eigen::Vector3d& centre, double tolerance) {
-  uint64_t h = 1469598103934665603ull;
+// FNV-1a over the mesh, the centre, the tolerance and the parameters above, from `basis`.
+uint64_t HashOf(const TriangleMesh& mesh, const Eigen::Vector3d& centre, double tolerance, uint64_t basis) {
+  uint64_t h = basis;
   const auto add = [&](const void* data, size_t bytes) {
     const auto* p = static_cast<const unsigned char*>(data);
     for (size_t i = 0; i < bytes; ++i) h = (h ^ p[i]) * 1099511628211ull;
@@ -126,6 +126,9 @@ uint64_t KeyOf(const TriangleMesh& mesh, const Eigen::Vector3d& centre, double t
   add(mesh.triangles.data(), mesh.triangles.size() * sizeof(mesh.triangles[0]));
   add(centre.data(), 3 * sizeof(double));
   add(&tolerance, sizeof(tolerance));
+  // What else decides the pieces: a change to any of these (or to this number) names other files.
+  const double parameters[] = {kHacdScale, kHacdConcavity, kMergeShare, 2.0};
+  add(parameters, sizeof parameters);
   return h;
 }
 
@@ -143,9 +146,15 @@ constexpr size_t kCachedMeshes = 32;
 
 }  // namespace
 
+PiecesKey DecompositionKey(const TriangleMesh& mesh, const Eigen::Vector3d& centre, double hull_tolerance_m) {
+  return {HashOf(mesh, centre, hull_tolerance_m, 1469598103934665603ull),
+          HashOf(mesh, centre, hull_tolerance_m, 0x9e3779b97f4a7c15ull), mesh.vertices.size(), mesh.triangles.size()};
+}
+
 std::vector<std::vector<Eigen::Vector3d>> ConvexPieces(const TriangleMesh& mesh, const Eigen::Vector3d& centre,
                                                        double hull_tolerance_m) {
-  const uint64_t key = KeyOf(mesh, centre, hull_tolerance_m);
+  const PiecesKey disk_key = DecompositionKey(mesh, centre, hull_tolerance_m);
+  const uint64_t key = disk_key.name;
   {
     std::lock_guard lock(Cache().mutex);
     const auto it = Cache().entries.find(key);
@@ -155,7 +164,11 @@ std::vector<std::vector<Eigen::Vector3d>> ConvexPieces(const TriangleMesh& mesh,
       return it->second.second;
     }
   }
-  auto pieces = ComputePieces(mesh, centre, hull_tolerance_m);
+  const char* dir = std::getenv(kDecompositionCacheVariable);
+  std::optional<ConvexPieceSet> stored;
+  if (dir != nullptr && *dir != '\0') stored = LoadPieces(dir, disk_key);
+  auto pieces = stored ? std::move(*stored) : ComputePieces(mesh, centre, hull_tolerance_m);
+  if (dir != nullptr && *dir != '\0' && !stored) StorePieces(dir, disk_key, pieces);
   std::lock_guard lock(Cache().mutex);
   if (Cache().entries.size() >= kCachedMeshes) Cache().entries.erase(Cache().entries.begin());
   Cache().entries[key] = {mesh, pieces};

@@ -197,11 +197,6 @@ double MeshBinDepth(const Placed& part, const MeshDepth& bin_mesh, const Pose3& 
           .depth);
 }
 
-struct Measured {
-  MeshOverlaps summary;
-  std::vector<Eigen::Vector3d> moves;  // per part: half of each pair's push, all of the bin's
-};
-
 // Overlaps found so far: a pair or a part's bin overlap is measured again only when one of its
 // parts moved since.
 struct OverlapCache {
@@ -210,35 +205,20 @@ struct OverlapCache {
   std::vector<double> mesh_bin;
 };
 
-Measured Measure(const BinSpec& bin, const std::vector<Placed>& items, const MeshDepth* bin_mesh, double slack,
-                 const std::vector<bool>& dirty, OverlapCache& cache) {
-  Measured out;
-  out.summary.resolution_m = kMeshOverlapResolution;
-  out.moves.assign(items.size(), Eigen::Vector3d::Zero());
-  const auto push_by = [&](const Overlap& o, double share) {
-    const double n = o.push.norm();
-    return n > 0 ? Eigen::Vector3d(share * (o.depth + slack) / n * o.push) : Eigen::Vector3d::Zero();
-  };
-  std::vector<double> pair_depths;
+void Refresh(const BinSpec& bin, const std::vector<Placed>& items, const MeshDepth* bin_mesh,
+             const std::vector<bool>& dirty, OverlapCache& cache) {
   for (size_t i = 0; i < items.size(); ++i) {
     for (size_t j = i + 1; j < items.size(); ++j) {
-      const auto key = std::make_pair(i, j);
-      if (dirty[i] || dirty[j]) {
-        const double reach = items[i].radius + items[j].radius;
-        const bool near = (items[i].centre - items[j].centre).squaredNorm() <= reach * reach;
-        const Overlap o = near ? PairOverlap(items[i], items[j]) : Overlap{};
-        if (o.depth > 0) {
-          cache.pairs[key] = o;
-        } else {
-          cache.pairs.erase(key);
-        }
+      if (!dirty[i] && !dirty[j]) continue;
+      const double reach = items[i].radius + items[j].radius;
+      const bool near = (items[i].centre - items[j].centre).squaredNorm() <= reach * reach;
+      const Overlap o = near ? PairOverlap(items[i], items[j]) : Overlap{};
+      if (o.depth > 0) {
+        cache.pairs[{i, j}] = o;
+      } else {
+        cache.pairs.erase({i, j});
       }
     }
-  }
-  for (const auto& [key, o] : cache.pairs) {
-    pair_depths.push_back(o.depth);
-    out.moves[key.first] += push_by(o, 0.5);
-    out.moves[key.second] -= push_by(o, 0.5);
   }
   const Pose3 bin_from_world = bin.world_from_bin.inverse();
   if (bin_mesh == nullptr) {
@@ -246,23 +226,28 @@ Measured Measure(const BinSpec& bin, const std::vector<Placed>& items, const Mes
     cache.bin.resize(items.size());
     for (size_t i = 0; i < items.size(); ++i) {
       if (dirty[i]) cache.bin[i] = BoxBinOverlap(items[i], slabs, bin_from_world);
-      const Overlap& o = cache.bin[i];
-      out.summary.max_part_bin_m = std::max(out.summary.max_part_bin_m, o.depth);
-      if (o.depth > 0) out.moves[i] += push_by(o, 1.0);
     }
   } else {
     cache.mesh_bin.resize(items.size());
     for (size_t i = 0; i < items.size(); ++i) {
       if (dirty[i]) cache.mesh_bin[i] = MeshBinDepth(items[i], *bin_mesh, bin_from_world);
-      out.summary.max_part_bin_m = std::max(out.summary.max_part_bin_m, cache.mesh_bin[i]);
     }
   }
-  out.summary.overlapping_pairs = pair_depths.size();
+}
+
+MeshOverlaps Summarize(const OverlapCache& cache) {
+  MeshOverlaps out;
+  out.resolution_m = kMeshOverlapResolution;
+  std::vector<double> pair_depths;
+  for (const auto& [key, o] : cache.pairs) pair_depths.push_back(o.depth);
+  for (const Overlap& o : cache.bin) out.max_part_bin_m = std::max(out.max_part_bin_m, o.depth);
+  for (double d : cache.mesh_bin) out.max_part_bin_m = std::max(out.max_part_bin_m, d);
+  out.overlapping_pairs = pair_depths.size();
   if (!pair_depths.empty()) {
     std::sort(pair_depths.begin(), pair_depths.end());
-    out.summary.max_part_part_m = pair_depths.back();
+    out.max_part_part_m = pair_depths.back();
     const auto rank = static_cast<size_t>(std::ceil(0.95 * static_cast<double>(pair_depths.size())));
-    out.summary.p95_part_part_m = pair_depths[std::max<size_t>(rank, 1) - 1];
+    out.p95_part_part_m = pair_depths[std::max<size_t>(rank, 1) - 1];
   }
   return out;
 }
@@ -293,22 +278,51 @@ MeshOverlaps MeasureMeshOverlaps(const BinSpec& bin, const std::vector<PartType>
                                  const std::vector<PlacedPart>& placed) {
   const Prepared prepared = Prepare(bin, parts, placed);
   OverlapCache cache;
-  return Measure(bin, prepared.items, prepared.bin_mesh.get(), 0.0, std::vector<bool>(placed.size(), true), cache)
-      .summary;
+  Refresh(bin, prepared.items, prepared.bin_mesh.get(), std::vector<bool>(placed.size(), true), cache);
+  return Summarize(cache);
 }
 
 MeshOverlaps SeparateMeshOverlaps(const BinSpec& bin, const std::vector<PartType>& parts,
                                   std::vector<PlacedPart>& placed, double bound, int rounds) {
   Prepared prepared = Prepare(bin, parts, placed);
-  std::vector<Eigen::Vector3d> moved(placed.size(), Eigen::Vector3d::Zero());
-  // Each push goes a little past contact so that a round's pushes, which overlap, still separate.
+  const size_t n = placed.size();
+  std::vector<Eigen::Vector3d> moved(n, Eigen::Vector3d::Zero());
+  const Pose3 bin_from_world = bin.world_from_bin.inverse();
+  const bool box_bin = prepared.bin_mesh == nullptr;
+  // Each part's vertices' bounding box in the bin frame: a box bin's floor and walls are planes
+  // of that frame, so a move that keeps the box inside the interior pushes no vertex into them.
+  std::vector<Eigen::AlignedBox3d> extent(n);
+  for (size_t i = 0; i < n; ++i) {
+    for (const auto& v : prepared.items[i].mesh->vertices()) extent[i].extend(bin_from_world * (placed[i].world_from_part * v));
+  }
+  const BinInterior interior = InteriorOf(bin);
+  // The share of a world move part i can make without entering the floor or a wall further
+  // (the open top does not limit it).
+  const auto clipped = [&](size_t i, const Eigen::Vector3d& move) -> Eigen::Vector3d {
+    if (!box_bin) return move;
+    Eigen::Vector3d m = bin_from_world.linear() * move;
+    for (int k = 0; k < 3; ++k) {
+      m[k] = std::max(m[k], std::min(0.0, interior.lo[k] - extent[i].min()[k]));
+      if (k < 2) m[k] = std::min(m[k], std::max(0.0, interior.hi[k] - extent[i].max()[k]));
+    }
+    return bin.world_from_bin.linear() * m;
+  };
+  const auto apply = [&](size_t i, const Eigen::Vector3d& m) {
+    placed[i].world_from_part.pretranslate(m);
+    prepared.items[i].world_from_part = placed[i].world_from_part;
+    prepared.items[i].centre += m;
+    extent[i].translate(bin_from_world.linear() * m);
+    moved[i] += m;
+  };
+  // A pushed pair is left this far apart past contact, so that its deepest point leaves the other
+  // mesh even where the surface curves.
   const double slack = 0.25 * bound;
-  std::vector<bool> dirty(placed.size(), true);
+  std::vector<bool> dirty(n, true);
   OverlapCache cache;
   for (int round = 0;; ++round) {
-    Measured measured = Measure(bin, prepared.items, prepared.bin_mesh.get(), slack, dirty, cache);
-    MeshOverlaps& summary = measured.summary;
-    const bool within = summary.max_part_part_m <= bound && (prepared.bin_mesh || summary.max_part_bin_m <= bound);
+    Refresh(bin, prepared.items, prepared.bin_mesh.get(), dirty, cache);
+    MeshOverlaps summary = Summarize(cache);
+    const bool within = summary.max_part_part_m <= bound && (!box_bin || summary.max_part_bin_m <= bound);
     if (within || round == rounds) {
       for (const Eigen::Vector3d& m : moved) {
         summary.max_move_m = std::max(summary.max_move_m, m.norm());
@@ -317,15 +331,44 @@ MeshOverlaps SeparateMeshOverlaps(const BinSpec& bin, const std::vector<PartType
       summary.rounds = round;
       return summary;
     }
-    for (size_t i = 0; i < placed.size(); ++i) {
-      const Eigen::Vector3d& m = measured.moves[i];
-      dirty[i] = m.squaredNorm() > 0;
-      if (!dirty[i]) continue;
-      placed[i].world_from_part.pretranslate(m);
-      prepared.items[i].world_from_part = placed[i].world_from_part;
-      prepared.items[i].centre += m;
-      moved[i] += m;
+    // The overlaps past the bound, deepest first (a part's bin overlap as the pair (i, n)), each
+    // pushed apart in turn and its parts' overlaps measured again at once, before the next one
+    // (Gauss-Seidel): summed pushes made parts wedged between others swing from side to side.
+    std::vector<std::pair<double, std::pair<size_t, size_t>>> over;
+    for (const auto& [key, o] : cache.pairs) {
+      if (o.depth > bound) over.push_back({o.depth, key});
     }
+    for (size_t i = 0; i < cache.bin.size(); ++i) {
+      if (cache.bin[i].depth > bound) over.push_back({cache.bin[i].depth, {i, n}});
+    }
+    std::sort(over.begin(), over.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+    for (const auto& entry : over) {
+      const auto [i, j] = entry.second;
+      Overlap o;
+      if (j == n) {
+        o = cache.bin[i];
+      } else if (const auto it = cache.pairs.find(entry.second); it != cache.pairs.end()) {
+        o = it->second;
+      }
+      const double length = o.push.norm();
+      if (o.depth <= bound || !(length > 0)) continue;  // an earlier push in this round undid it
+      const Eigen::Vector3d push = (o.depth + slack) / length * o.push;
+      std::fill(dirty.begin(), dirty.end(), false);
+      dirty[i] = true;
+      if (j == n) {  // the bin does not move
+        apply(i, push);
+      } else {
+        // Half each; what the floor or a wall stops of one part's half, the other part takes.
+        Eigen::Vector3d a = clipped(i, 0.5 * push);
+        const Eigen::Vector3d b = clipped(j, -push + a);
+        a = clipped(i, push + b);
+        apply(i, a);
+        apply(j, b);
+        dirty[j] = true;
+      }
+      Refresh(bin, prepared.items, prepared.bin_mesh.get(), dirty, cache);
+    }
+    std::fill(dirty.begin(), dirty.end(), false);
   }
 }
 

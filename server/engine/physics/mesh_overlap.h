@@ -21,8 +21,10 @@ MeshOverlaps MeasureMeshOverlaps(const BinSpec& bin, const std::vector<PartType>
                                  const std::vector<PlacedPart>& placed);
 
 // After a fill: while some pair of parts (or a part and a box bin) overlaps by more than `bound`,
-// moves the parts apart, at most `rounds` times: each overlapping pair half its depth (plus a
-// quarter of the bound) each way, from the deepest point to the nearest surface; a part in a box
+// moves the parts apart, at most `rounds` times. A round takes the overlaps past the bound deepest
+// first and pushes each apart at once (its parts' overlaps measured again before the next): a pair
+// its depth plus a quarter of the bound, half each, from the deepest point to the nearest surface,
+// where a box bin's floor or wall stops one part's half the other part taking it; a part in a box
 // bin's slab all of it, out through the slab's nearest face. Translations only. Returns the
 // overlaps measured after the last move (bound not met when rounds ran out).
 MeshOverlaps SeparateMeshOverlaps(const BinSpec& bin, const std::vector<PartType>& parts,

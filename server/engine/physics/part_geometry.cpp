@@ -165,6 +165,49 @@ double DistanceOutsideHull(const Eigen::Vector3d& point, const std::vector<Eigen
   return PlaneDistance(point, facets) <= 0 ? 0.0 : OutsideDistance(point, facets);
 }
 
+namespace {
+
+// Whether any point of triangle (a, b, c) lies more than `tolerance` under the hull's surface. The
+// depth, min over the faces of (offset - normal . p), is concave: its maximum over the triangle
+// is at most the least over the faces of that face's largest value at a corner; where that bound
+// is over the tolerance and no corner is, the triangle is cut in four.
+bool DeeperThan(const std::vector<Facet>& facets, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                const Eigen::Vector3d& c, double tolerance, int level) {
+  double bound = std::numeric_limits<double>::infinity();
+  for (const Facet& f : facets) {
+    bound = std::min(bound, f.offset - std::min({f.normal.dot(a), f.normal.dot(b), f.normal.dot(c)}));
+  }
+  if (bound <= tolerance) return false;
+  for (const Eigen::Vector3d* p : {&a, &b, &c}) {
+    if (-PlaneDistance(*p, facets) > tolerance) return true;
+  }
+  if (level == 0) return true;  // undecided this fine: not within
+  const Eigen::Vector3d ab = 0.5 * (a + b), bc = 0.5 * (b + c), ca = 0.5 * (c + a);
+  return DeeperThan(facets, a, ab, ca, tolerance, level - 1) || DeeperThan(facets, ab, b, bc, tolerance, level - 1) ||
+         DeeperThan(facets, ca, bc, c, tolerance, level - 1) || DeeperThan(facets, ab, bc, ca, tolerance, level - 1);
+}
+
+}  // namespace
+
+bool ConvexWithin(const TriangleMesh& mesh, const Eigen::Vector3d& centre, const std::vector<Eigen::Vector3d>& hull,
+                  double tolerance) {
+  const std::vector<Facet> facets = HullFacets(hull);
+  if (facets.size() < 4) return false;
+  for (const auto& t : mesh.triangles) {
+    const auto at = [&](int k) { return Eigen::Vector3d(mesh.vertices[t[k]].cast<double>() - centre); };
+    if (DeeperThan(facets, at(0), at(1), at(2), tolerance, 8)) return false;
+  }
+  // What lies between the hull and a mesh within `tolerance` of it fits in a shell that thick
+  // under the hull's faces: a hollow behind a thin wall (a tube's bore) does not.
+  double area = 0.0;
+  for (const Facet& f : facets) {
+    Eigen::Vector3d twice = Eigen::Vector3d::Zero();
+    for (size_t i = 0; i < f.corners.size(); ++i) twice += f.corners[i].cross(f.corners[(i + 1) % f.corners.size()]);
+    area += 0.5 * twice.norm();
+  }
+  return HullVolume(hull) - MeshVolume(mesh) <= tolerance * area;
+}
+
 std::vector<Eigen::Vector3d> SimplifiedHull(const std::vector<Eigen::Vector3d>& points, double tolerance) {
   if (points.size() <= 4 || !(tolerance > 0)) return points;
   std::vector<bool> used(points.size(), false);

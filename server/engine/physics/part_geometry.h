@@ -40,6 +40,13 @@ std::vector<Eigen::Vector3d> FarthestPoints(const std::vector<Eigen::Vector3d>& 
 // farther than the tolerance. All the points when they need all. Deterministic.
 std::vector<Eigen::Vector3d> SimplifiedHull(const std::vector<Eigen::Vector3d>& points, double tolerance);
 
+// Whether a closed mesh is convex to within `tolerance` (metres): none of its vertices and
+// triangle centroids lies deeper than that under the surface of its hull (`hull`, relative to
+// `centre`, as ExactHull gives it), and the hull encloses at most `tolerance` times its area more
+// than the mesh. Cheap: linear in the mesh's size times the hull's faces.
+bool ConvexWithin(const TriangleMesh& mesh, const Eigen::Vector3d& centre, const std::vector<Eigen::Vector3d>& hull,
+                  double tolerance);
+
 // The volume of the points' convex hull (0 when flat), and the volume a closed mesh encloses.
 double HullVolume(const std::vector<Eigen::Vector3d>& points);
 double MeshVolume(const TriangleMesh& mesh);

@@ -2,11 +2,19 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <array>
 #include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
 
+#include "fixture_parts.h"
 #include "hull_support.h"
+#include "machined_parts.h"
 #include "physics/bin_fill.h"
+#include "physics/decomposition_store.h"
 #include "physics/part_geometry.h"
 
 namespace vscan::physics {
@@ -131,6 +139,152 @@ TEST(ConvexDecomposition, AMeshTooLargeForItIsRefusedBeforeAnyWork) {
   // The convex hull of the same mesh is no trouble.
   part.collision = PartCollision::kConvexHull;
   EXPECT_TRUE(FillBin(bin, {part}, FillOptions{}).ok());
+}
+
+// A prism of `outline` (counter-clockwise, metres) from z = 0 to `height`; `caps` triangulate the
+// outline (counter-clockwise seen from above), the bottom cap facing down.
+TriangleMesh Extruded(const std::vector<Eigen::Vector2d>& outline, const std::vector<std::array<uint32_t, 3>>& caps,
+                      double height) {
+  TriangleMesh mesh;
+  const auto n = static_cast<uint32_t>(outline.size());
+  for (double z : {0.0, height}) {
+    for (const auto& p : outline) mesh.vertices.emplace_back(float(p.x()), float(p.y()), float(z));
+  }
+  for (const auto& t : caps) {
+    mesh.triangles.push_back({t[0], t[2], t[1]});
+    mesh.triangles.push_back({n + t[0], n + t[1], n + t[2]});
+  }
+  for (uint32_t i = 0; i < n; ++i) {
+    const uint32_t j = (i + 1) % n;
+    mesh.triangles.push_back({i, j, n + j});
+    mesh.triangles.push_back({i, n + j, n + i});
+  }
+  return mesh;
+}
+
+// A U of 3 x 3 cm, arms 1 cm wide, 1 cm thick: its slot is the square x in (1, 2), y in (1, 3) cm.
+TriangleMesh UPrism() {
+  std::vector<Eigen::Vector2d> outline;
+  for (const auto& [x, y] : std::vector<std::pair<double, double>>{
+           {0, 0}, {3, 0}, {3, 3}, {2, 3}, {2, 1}, {1, 1}, {1, 3}, {0, 3}}) {
+    outline.emplace_back(0.01 * x, 0.01 * y);
+  }
+  return Extruded(outline, {{0, 1, 4}, {0, 4, 5}, {1, 2, 3}, {1, 3, 4}, {0, 5, 6}, {0, 6, 7}}, 0.01);
+}
+
+// A 3 x 3 cm square, 1 cm thick, with a notch `notch` metres square cut from one corner.
+TriangleMesh NotchedSquare(double notch) {
+  const double s = 0.03;
+  return Extruded({{0, 0}, {s, 0}, {s, s - notch}, {s - notch, s - notch}, {s - notch, s}, {0, s}},
+                  {{0, 1, 2}, {0, 2, 3}, {0, 3, 4}, {0, 4, 5}}, 0.01);
+}
+
+// A closed tube along z: `sides` sides, radii outer and inner, `length` long.
+TriangleMesh Tube(int sides, double outer, double inner, double length) {
+  TriangleMesh mesh;
+  const auto n = static_cast<uint32_t>(sides);
+  for (double r : {outer, inner}) {
+    for (double z : {0.0, length}) {
+      for (uint32_t i = 0; i < n; ++i) {
+        const double a = 2 * M_PI * i / n;
+        mesh.vertices.emplace_back(float(r * std::cos(a)), float(r * std::sin(a)), float(z));
+      }
+    }
+  }
+  for (uint32_t i = 0; i < n; ++i) {
+    const uint32_t j = (i + 1) % n;
+    mesh.triangles.push_back({i, j, n + j});  // outside
+    mesh.triangles.push_back({i, n + j, n + i});
+    mesh.triangles.push_back({2 * n + i, 3 * n + j, 2 * n + j});  // the bore, facing the axis
+    mesh.triangles.push_back({2 * n + i, 3 * n + i, 3 * n + j});
+    mesh.triangles.push_back({n + i, n + j, 3 * n + j});  // top ring
+    mesh.triangles.push_back({n + i, 3 * n + j, 3 * n + i});
+    mesh.triangles.push_back({i, 2 * n + j, j});  // bottom ring
+    mesh.triangles.push_back({i, 2 * n + i, 2 * n + j});
+  }
+  return mesh;
+}
+
+bool Convex(const TriangleMesh& mesh, double tolerance) {
+  const Eigen::Vector3d centre(0.01, 0.01, 0.005);
+  return ConvexWithin(mesh, centre, ExactHull(mesh, centre), tolerance);
+}
+
+TEST(ConvexDecomposition, ConvexWithinAToleranceIsDecidedByTheDeepestPointUnderTheHullAndTheHollowsVolume) {
+  EXPECT_TRUE(Convex(test::ManySidedPrism(), 0.00001));
+  EXPECT_TRUE(Convex(NotchedSquare(0), 0.00001));
+  // A 0.2 mm notch: its corner lies 0.2 / sqrt(2) = 0.14 mm under the hull's bevel.
+  EXPECT_TRUE(Convex(NotchedSquare(0.0002), 0.00015));
+  EXPECT_FALSE(Convex(NotchedSquare(0.0002), 0.00013));
+  EXPECT_FALSE(Convex(LPrism(), 0.0002));
+  EXPECT_FALSE(Convex(UPrism(), 0.0002));
+  // A tube with a 0.4 mm wall (the fixture pin's): its bore's surface lies 0.4 mm under the
+  // hull's, but the hull holds the whole bore, far more than a 0.5 mm shell under its faces.
+  EXPECT_FALSE(Convex(Tube(32, 0.0033, 0.0029, 0.079), 0.0005));
+}
+
+TEST(ConvexDecomposition, AConvexPartIsItsHullWithoutHacdAndAUKeepsItsSlotOpen) {
+  const TriangleMesh prism = test::ManySidedPrism();
+  const Eigen::Vector3d centre(0, 0, 0.01);
+  const auto pieces = ConvexPieces(prism, centre, 0.0002);
+  ASSERT_EQ(pieces.size(), 1u);
+  EXPECT_EQ(pieces[0], SimplifiedHull(ExactHull(prism, centre), 0.0002));
+
+  const TriangleMesh u = UPrism();
+  const Eigen::Vector3d middle(0.015, 0.015, 0.005);
+  const auto u_pieces = ConvexPieces(u, middle, 0.0002);
+  ASSERT_GE(u_pieces.size(), 2u);
+  // The middle of the slot lies inside the U's hull but more than 2 mm outside every piece.
+  const Eigen::Vector3d slot = Eigen::Vector3d(0.015, 0.02, 0.005) - middle;
+  EXPECT_EQ(OutsideBy(slot, ExactHull(u, middle)), 0.0);
+  for (const auto& piece : u_pieces) EXPECT_GT(OutsideBy(slot, piece), 0.002);
+}
+
+std::string FreshDirectory(const char* name) {
+  const auto dir = std::filesystem::temp_directory_path() / (std::string(name) + std::to_string(getpid()));
+  std::filesystem::remove_all(dir);
+  return dir.string();
+}
+
+TEST(DecompositionStore, PiecesComeBackOnlyForTheKeyTheyWereStoredUnder) {
+  const std::string dir = FreshDirectory("vscan_store_test");
+  const PiecesKey key{0x1234, 0x5678, 8, 12};
+  const ConvexPieceSet pieces = {{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, {{2, 2, 2}, {3, 2, 2}, {2, 3, 2}, {2, 2, 3.5}}};
+  EXPECT_FALSE(LoadPieces(dir, key).has_value());
+  ASSERT_TRUE(StorePieces(dir, key, pieces));
+  const auto loaded = LoadPieces(dir, key);
+  ASSERT_TRUE(loaded.has_value());
+  EXPECT_EQ(*loaded, pieces);
+  PiecesKey other_check = key, other_size = key;
+  other_check.check = 0x5679;
+  other_size.triangles = 13;
+  EXPECT_FALSE(LoadPieces(dir, other_check).has_value());
+  EXPECT_FALSE(LoadPieces(dir, other_size).has_value());
+  // A file cut short is not read.
+  const auto file = std::filesystem::directory_iterator(dir)->path();
+  std::filesystem::resize_file(file, std::filesystem::file_size(file) - 4);
+  EXPECT_FALSE(LoadPieces(dir, key).has_value());
+  std::filesystem::remove_all(dir);
+}
+
+TEST(DecompositionStore, ConvexPiecesReadsTheDirectoryBeforeRunningHacdAndFillsIt) {
+  const std::string dir = FreshDirectory("vscan_pieces_test");
+  ASSERT_EQ(setenv(kDecompositionCacheVariable, dir.c_str(), 1), 0);
+  const TriangleMesh l = LPrism();
+  const Eigen::Vector3d centre(0.01, 0.01, 0.005);
+  // Tolerances no other test uses, so that the process's own cache has neither.
+  const double computed_at = 0.000061, planted_at = 0.000062;
+  const auto computed = ConvexPieces(l, centre, computed_at);
+  ASSERT_GE(computed.size(), 2u);
+  const auto stored = LoadPieces(dir, DecompositionKey(l, centre, computed_at));
+  ASSERT_TRUE(stored.has_value());
+  EXPECT_EQ(*stored, computed);
+  // Pieces planted under the key are what ConvexPieces returns: HACD did not run.
+  const ConvexPieceSet planted = {{{0, 0, 0}, {0.01, 0, 0}, {0, 0.01, 0}, {0, 0, 0.01}}};
+  ASSERT_TRUE(StorePieces(dir, DecompositionKey(l, centre, planted_at), planted));
+  EXPECT_EQ(ConvexPieces(l, centre, planted_at), planted);
+  unsetenv(kDecompositionCacheVariable);
+  std::filesystem::remove_all(dir);
 }
 
 }  // namespace

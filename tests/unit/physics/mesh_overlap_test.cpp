@@ -117,5 +117,68 @@ TEST(MeshOverlap, ACubePushedIntoAWallOverlapsTheBin) {
   EXPECT_NEAR(MeasureMeshOverlaps(bin, one, placed).max_part_bin_m, 0.0003, 1e-7);
 }
 
+// The deepest any point of one axis-aligned cube can lie inside another: along an axis where one
+// enters the other from a side, no point of it lies deeper than the overlap of their extents.
+double BoundOfCubeOverlap(const Eigen::Vector3d& a, const Eigen::Vector3d& b, double side) {
+  double bound = INFINITY;
+  for (int k = 0; k < 3; ++k) {
+    const double overlap = side - std::abs(a[k] - b[k]);
+    if (overlap <= 0) return 0.0;
+    if (a[k] != b[k]) bound = std::min(bound, overlap);
+  }
+  return bound;
+}
+
+TEST(MeshSeparation, APartOnTheFloorStaysAndThePartSunkIntoItFromAboveMovesUp) {
+  BinSpec bin;
+  bin.inner_size = Eigen::Vector3d(0.1, 0.1, 0.1);
+  bin.world_from_bin = At({0.3, -0.1, 0.05}, Eigen::AngleAxisd(0.3, Eigen::Vector3d::UnitZ()).toRotationMatrix());
+  std::vector<PlacedPart> placed = {{0, 0, bin.world_from_bin * At({0, 0, 0})},
+                                    {0, 1, bin.world_from_bin * At({0.002, 0.001, 0.009})}};
+  const MeshOverlaps overlap = SeparateMeshOverlaps(bin, TwoCubes(), placed, 0.0003, 24);
+  const Eigen::Vector3d lower = bin.world_from_bin.inverse() * placed[0].world_from_part.translation();
+  const Eigen::Vector3d upper = bin.world_from_bin.inverse() * placed[1].world_from_part.translation();
+  // The floor takes none of the push: the lower cube does not sink, the upper one rises.
+  EXPECT_GE(lower.z(), -1e-9);
+  EXPECT_GE(upper.z() - lower.z(), 0.01 - 0.0003);
+  EXPECT_LE(BoundOfCubeOverlap(lower, upper, 0.01), 0.0003 + 1e-7);
+  EXPECT_LE(overlap.max_part_part_m, 0.0003);
+  EXPECT_LE(overlap.max_part_bin_m, 0.0003);
+}
+
+TEST(MeshSeparation, ADenseStackInABinCornerEndsWithinTheBoundWithoutEnteringTheWalls) {
+  // 4 x 4 cubes of 1 cm on the floor at 9.2 mm spacing (0.8 mm into each neighbour), the first
+  // against two walls, and 3 x 3 more on top sunk 0.8 mm into them.
+  BinSpec bin;
+  bin.inner_size = Eigen::Vector3d(0.1, 0.1, 0.1);
+  const double side = 0.01, pitch = 0.0092;
+  std::vector<PlacedPart> placed;
+  for (int i = 0; i < 4; ++i) {
+    for (int j = 0; j < 4; ++j) placed.push_back({0, placed.size(), At({-0.05 + i * pitch, -0.05 + j * pitch, 0})});
+  }
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) {
+      placed.push_back({0, placed.size(), At({-0.05 + (i + 0.5) * pitch, -0.05 + (j + 0.5) * pitch, side - 0.0008})});
+    }
+  }
+  std::vector<PartType> cubes = TwoCubes();
+  cubes[0].count = placed.size();
+  const double bound = 0.0003;
+  const MeshOverlaps overlap = SeparateMeshOverlaps(bin, cubes, placed, bound, 24);
+  EXPECT_LE(overlap.max_part_part_m, bound);
+  EXPECT_LE(overlap.max_part_bin_m, bound);
+  EXPECT_GT(overlap.moved_parts, 0u);
+  for (size_t a = 0; a < placed.size(); ++a) {
+    const Eigen::Vector3d p = placed[a].world_from_part.translation();
+    EXPECT_GE(p.z(), -bound) << a;
+    EXPECT_GE(p.x(), -0.05 - bound) << a;
+    EXPECT_GE(p.y(), -0.05 - bound) << a;
+    for (size_t b = a + 1; b < placed.size(); ++b) {
+      EXPECT_LE(BoundOfCubeOverlap(p, placed[b].world_from_part.translation(), side), bound + kMeshOverlapResolution)
+          << a << " " << b;
+    }
+  }
+}
+
 }  // namespace
 }  // namespace vscan::physics
