@@ -33,6 +33,7 @@
 #include "geometry/mesh_import.h"
 #include "physics/bin_fill.h"
 #include "physics/bullet_fill_world.h"
+#include "physics/convex_decomposition.h"
 #include "physics/fill_loop.h"
 #include "physics/mesh_overlap.h"
 #include "physics/part_geometry.h"
@@ -329,6 +330,8 @@ int main(int argc, char** argv) {
   const std::string sections = argc > 2 ? argv[2] : "fixture,machined,decomposition";
   const double max_simulated_s = argc > 3 ? std::atof(argv[3]) : 60.0;
   if (argc > 4) g_hull_tolerance_m = 1e-3 * std::atof(argv[4]);
+  // As vscand keeps them in its data directory: decompositions read back by a later run.
+  if (const char* dir = std::getenv("VSCAN_DECOMPOSITION_DIR")) vscan::physics::SetDecompositionDirectory(dir);
   // A section is wanted when named whole: "machined" is not "machined-pile".
   const auto wanted = [&](const std::string& section) {
     return ("," + sections + ",").find("," + section + ",") != std::string::npos;

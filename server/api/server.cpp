@@ -35,6 +35,7 @@
 #include "jobs/job_runner.h"
 #include "jobs/periodic_task.h"
 #include "observability/server_metrics.h"
+#include "physics/convex_decomposition.h"
 #include "service/dataset_directories.h"
 #include "store/blob_gc.h"
 #include "store/cloud_catalogue.h"
@@ -234,6 +235,9 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& op
     RETURN_IF_ERROR(quota->CountExisting(data_dir / "blobs"));
     impl->blobs->UseQuota(quota);
   }
+  // Convex decompositions of parts, kept so that no later fill or restart runs HACD again on them.
+  std::filesystem::create_directories(data_dir / "decompositions", ec);
+  if (!ec) physics::SetDecompositionDirectory((data_dir / "decompositions").string());
   // Dataset directories are counted once the catalogue says which jobs name them (below).
   impl->dataset_directories = std::make_unique<service::DatasetDirectories>(data_dir, quota);
   // An orphan only costs disk space: a failed sweep does not stop the server.

@@ -214,6 +214,9 @@ class BinCliTest(unittest.TestCase):
         self.assertEqual(report["types"][0]["collision"], "convex_decomposition")
         self.assertEqual(report["in_bin"], 4)
         self.assertLess(report["max_part_part_penetration_m"], 0.002)
+        # The pieces stay in the data directory, so that no later fill or restart runs HACD again.
+        kept = os.listdir(os.path.join(self.server.data_dir, "store", "decompositions"))
+        self.assertTrue(any(name.endswith(".pieces") for name in kept), kept)
         with self.assertRaises(ValueError):
             bin_part(mesh_id, 1, collision="sphere")
 

@@ -144,7 +144,27 @@ PiecesCache& Cache() {
 
 constexpr size_t kCachedMeshes = 32;
 
+struct StoreDirectory {
+  std::mutex mutex;
+  std::string path;
+};
+
+StoreDirectory& Directory() {
+  static StoreDirectory directory;
+  return directory;
+}
+
 }  // namespace
+
+void SetDecompositionDirectory(std::string dir) {
+  std::lock_guard lock(Directory().mutex);
+  Directory().path = std::move(dir);
+}
+
+std::string DecompositionDirectory() {
+  std::lock_guard lock(Directory().mutex);
+  return Directory().path;
+}
 
 PiecesKey DecompositionKey(const TriangleMesh& mesh, const Eigen::Vector3d& centre, double hull_tolerance_m) {
   return {HashOf(mesh, centre, hull_tolerance_m, 1469598103934665603ull),
@@ -164,11 +184,11 @@ std::vector<std::vector<Eigen::Vector3d>> ConvexPieces(const TriangleMesh& mesh,
       return it->second.second;
     }
   }
-  const char* dir = std::getenv(kDecompositionCacheVariable);
+  const std::string dir = DecompositionDirectory();
   std::optional<ConvexPieceSet> stored;
-  if (dir != nullptr && *dir != '\0') stored = LoadPieces(dir, disk_key);
+  if (!dir.empty()) stored = LoadPieces(dir, disk_key);
   auto pieces = stored ? std::move(*stored) : ComputePieces(mesh, centre, hull_tolerance_m);
-  if (dir != nullptr && *dir != '\0' && !stored) StorePieces(dir, disk_key, pieces);
+  if (!dir.empty() && !stored) StorePieces(dir, disk_key, pieces);
   std::lock_guard lock(Cache().mutex);
   if (Cache().entries.size() >= kCachedMeshes) Cache().entries.erase(Cache().entries.begin());
   Cache().entries[key] = {mesh, pieces};

@@ -1,6 +1,7 @@
 #pragma once
 // Approximate convex decomposition of a closed mesh (Bullet's HACD, kept inside the .cpp).
 
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -10,13 +11,15 @@
 
 namespace vscan::physics {
 
-// When this environment variable names a directory, decompositions are also kept there, one file
-// a mesh (decomposition_store.h), and read back by later processes before HACD runs.
-inline constexpr const char* kDecompositionCacheVariable = "VSCAN_DECOMPOSITION_CACHE";
+// The process's directory for decompositions (empty, the default: none). When set, pieces are also
+// kept there, one file a mesh (decomposition_store.h), and read back by later processes before
+// HACD runs; vscand sets <data dir>/decompositions.
+void SetDecompositionDirectory(std::string dir);
+std::string DecompositionDirectory();
 
 // The convex pieces of the mesh, each as the points of its hull relative to `centre`, simplified
 // within hull_tolerance_m (SimplifiedHull). A mesh HACD cannot split comes back as one piece: its
-// hull. Kept for the process (32 meshes) and, with kDecompositionCacheVariable set, on disk.
+// hull. Kept for the process (32 meshes) and, with a DecompositionDirectory, on disk.
 std::vector<std::vector<Eigen::Vector3d>> ConvexPieces(const TriangleMesh& mesh, const Eigen::Vector3d& centre,
                                                        double hull_tolerance_m);
 

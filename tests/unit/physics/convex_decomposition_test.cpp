@@ -269,7 +269,7 @@ TEST(DecompositionStore, PiecesComeBackOnlyForTheKeyTheyWereStoredUnder) {
 
 TEST(DecompositionStore, ConvexPiecesReadsTheDirectoryBeforeRunningHacdAndFillsIt) {
   const std::string dir = FreshDirectory("vscan_pieces_test");
-  ASSERT_EQ(setenv(kDecompositionCacheVariable, dir.c_str(), 1), 0);
+  SetDecompositionDirectory(dir);
   const TriangleMesh l = LPrism();
   const Eigen::Vector3d centre(0.01, 0.01, 0.005);
   // Tolerances no other test uses, so that the process's own cache has neither.
@@ -283,7 +283,7 @@ TEST(DecompositionStore, ConvexPiecesReadsTheDirectoryBeforeRunningHacdAndFillsI
   const ConvexPieceSet planted = {{{0, 0, 0}, {0.01, 0, 0}, {0, 0.01, 0}, {0, 0, 0.01}}};
   ASSERT_TRUE(StorePieces(dir, DecompositionKey(l, centre, planted_at), planted));
   EXPECT_EQ(ConvexPieces(l, centre, planted_at), planted);
-  unsetenv(kDecompositionCacheVariable);
+  SetDecompositionDirectory("");
   std::filesystem::remove_all(dir);
 }
 
