@@ -76,7 +76,8 @@ Fixture& Setup() {
     auto built = raycast::RaycastScene::Build(f->grid.instances);
     Check(built.status());
     f->scene = *built;
-    f->packets = std::make_unique<PacketLoop>(f->scene->impl().scene, f->grid.camera, f->grid.world_from_sensor);
+    f->packets = std::make_unique<PacketLoop>(raycast::EmbreeOf(*f->scene).scene, f->grid.camera,
+                                              f->grid.world_from_sensor);
     f->streamed = Serve(f->grid, false);
     f->whole = Serve(f->grid, true);
     return f;

@@ -187,7 +187,7 @@ int Main(int argc, char** argv) {
   const BunnyGrid grid = MakeBunnyGrid(ReadAsciiPly(kBunnyPath), 10, 1280, 1024);
   auto built = raycast::RaycastScene::Build(grid.instances);
   Check(built.status());
-  const PacketLoop packets((*built)->impl().scene, grid.camera, grid.world_from_sensor);
+  const PacketLoop packets(vscan::raycast::EmbreeOf(**built).scene, grid.camera, grid.world_from_sensor);
   const auto streamed = Serve(o, grid, false);
   const auto whole = Serve(o, grid, true);
   if (o.hold_s > 0) {

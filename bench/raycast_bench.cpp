@@ -50,7 +50,7 @@ struct Fixture {
       std::exit(1);
     }
     scene = *built;
-    embree = scene->impl().scene;
+    embree = vscan::raycast::EmbreeOf(*scene).scene;
     triangles = scene->triangle_count();
     rotation = grid.world_from_sensor.linear().cast<float>();
     for (uint32_t u = 0; u < kWidth; ++u) column_x.push_back(grid.camera.RayThroughPixel(u, 0).x());

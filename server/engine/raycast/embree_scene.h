@@ -1,5 +1,5 @@
 #pragma once
-// The Embree side of RaycastScene, shared by the scene builder and the scanner only.
+// The Embree side of RaycastScene, for the scene builder and the raycast queries only.
 
 #include <cstdint>
 #include <vector>
@@ -24,5 +24,7 @@ struct RaycastScene::Impl {
     if (device != nullptr) rtcReleaseDevice(device);
   }
 };
+
+inline const RaycastScene::Impl& EmbreeOf(const RaycastScene& scene) { return *scene.impl_; }
 
 }  // namespace vscan::raycast

@@ -53,7 +53,7 @@ std::vector<float> DistancesToSurface(const RaycastScene& scene, std::span<const
                                       float max_distance) {
   constexpr float kInf = std::numeric_limits<float>::infinity();
   std::vector<float> distances(points.size(), kInf);
-  const RTCScene rtc = scene.impl().scene;
+  const RTCScene rtc = EmbreeOf(scene).scene;
   if (scene.triangle_count() == 0) return distances;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), kGrain), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {

@@ -32,7 +32,7 @@ RTCRay MakeRay(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, 
 std::vector<RayHit> IntersectRays(const RaycastScene& scene, std::span<const Eigen::Vector3f> origins,
                                   std::span<const Eigen::Vector3f> directions, float t_near, float t_far) {
   std::vector<RayHit> hits(origins.size());
-  const RTCScene rtc = scene.impl().scene;
+  const RTCScene rtc = EmbreeOf(scene).scene;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, origins.size(), kGrain), [&](const tbb::blocked_range<size_t>& r) {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
@@ -60,7 +60,7 @@ std::vector<uint8_t> OccludedSegments(const RaycastScene& scene, std::span<const
                                       std::span<const Eigen::Vector3f> to, float relative_margin,
                                       float min_margin) {
   std::vector<uint8_t> occluded(from.size(), 0);
-  const RTCScene rtc = scene.impl().scene;
+  const RTCScene rtc = EmbreeOf(scene).scene;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, from.size(), kGrain), [&](const tbb::blocked_range<size_t>& r) {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);

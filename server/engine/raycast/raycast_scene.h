@@ -1,5 +1,6 @@
 #pragma once
-// An Embree scene built from mesh instances. Embree stays inside the .cpp (pImpl).
+// An Embree scene built from mesh instances. Embree stays private: only the raycast queries reach
+// it, through EmbreeOf (embree_scene.h).
 
 #include <cstdint>
 #include <memory>
@@ -32,9 +33,9 @@ class RaycastScene {
   uint32_t InstanceOfGeometry(uint32_t geom_id) const;
 
   struct Impl;
-  const Impl& impl() const { return *impl_; }
 
  private:
+  friend const Impl& EmbreeOf(const RaycastScene& scene);
   explicit RaycastScene(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };

@@ -6,11 +6,12 @@
 
 namespace vscan::raycast {
 
-ScanSetup MakeScanSetup(const RaycastScene::Impl& scene, const sensor::PinholeCamera& camera,
+ScanSetup MakeScanSetup(const RaycastScene& scene, const sensor::PinholeCamera& camera,
                         const Pose3& world_from_sensor, const ScanOptions& options) {
   ScanSetup s;
-  s.scene = scene.scene;
-  s.instance_of_geometry = scene.instance_of_geometry;
+  const RaycastScene::Impl& embree = EmbreeOf(scene);
+  s.scene = embree.scene;
+  s.instance_of_geometry = embree.instance_of_geometry;
   s.instance_of_geometry.push_back(0);
   s.width = camera.width;
   s.height = camera.height;

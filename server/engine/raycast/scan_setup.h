@@ -47,7 +47,7 @@ struct ScanSetup {
 };
 
 // Precomputes the scan's rays and copies what the strips need; the camera must be valid.
-ScanSetup MakeScanSetup(const RaycastScene::Impl& scene, const sensor::PinholeCamera& camera,
+ScanSetup MakeScanSetup(const RaycastScene& scene, const sensor::PinholeCamera& camera,
                         const Pose3& world_from_sensor, const ScanOptions& options);
 
 }  // namespace vscan::raycast

@@ -141,7 +141,7 @@ StatusOr<PointCloud> Scan(const RaycastScene& scene, const sensor::PinholeCamera
                           const Pose3& world_from_sensor, const ScanOptions& options, ScanStats* stats) {
   const auto start = std::chrono::steady_clock::now();
   RETURN_IF_ERROR(CheckInputs(camera, world_from_sensor));
-  const ScanSetup setup = MakeScanSetup(scene.impl(), camera, world_from_sensor, options);
+  const ScanSetup setup = MakeScanSetup(scene, camera, world_from_sensor, options);
   CloudSink sink(setup.fields, camera.pixel_count());
   ScanStats local;
   local.rays = camera.pixel_count();
@@ -156,7 +156,7 @@ Status ScanRows(const RaycastScene& scene, const sensor::PinholeCamera& camera, 
                 const ScanOptions& options, RowSink& sink, ScanStats* stats) {
   const auto start = std::chrono::steady_clock::now();
   RETURN_IF_ERROR(CheckInputs(camera, world_from_sensor));
-  const ScanSetup setup = MakeScanSetup(scene.impl(), camera, world_from_sensor, options);
+  const ScanSetup setup = MakeScanSetup(scene, camera, world_from_sensor, options);
   ScanStats local;
   local.rays = camera.pixel_count();
   const bool finished = CastStrips(setup, options.cancel, sink, local);
