@@ -11,8 +11,8 @@ v1::ScanArtifactInfo ScanInfo(const service::CampaignStepRecord& record) {
   info.set_viewpoint_index(record.viewpoint_index);
   info.set_rotation_index(record.rotation_index);
   info.set_table_angle_deg(record.table_angle_deg);
-  ToProto(record.arm.commanded_pose, info.mutable_commanded_sensor_pose());
-  ToProto(record.arm.achieved_pose, info.mutable_sensor_pose());
+  vscan::ToProto(record.arm.commanded_pose, info.mutable_commanded_sensor_pose());
+  vscan::ToProto(record.arm.achieved_pose, info.mutable_sensor_pose());
   const Eigen::VectorXd& c = record.arm.commanded;
   const Eigen::VectorXd& a = record.arm.achieved;
   info.mutable_commanded_joint_positions()->Assign(c.data(), c.data() + c.size());

@@ -10,7 +10,7 @@ namespace {
 void ToResponse(const service::LocalizeOutcome& outcome, v1::LocalizeResponse* response) {
   for (const localization::LocalizedInstance& instance : outcome.result.instances) {
     v1::PoseEstimate* estimate = response->add_estimates();
-    ToProto(instance.world_from_part, estimate->mutable_world_from_part());
+    vscan::ToProto(instance.world_from_part, estimate->mutable_world_from_part());
     estimate->set_score(instance.score);
     estimate->set_explained_points(instance.explained_points);
   }

@@ -1,16 +1,11 @@
 #include "api/robot_convert.h"
 
-#include <google/protobuf/util/time_util.h>
-
+#include "api/job_convert.h"
 #include "api/stored_enum_convert.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::api {
 namespace {
-
-void SetTime(int64_t ms, google::protobuf::Timestamp* out) {
-  *out = google::protobuf::util::TimeUtil::MillisecondsToTimestamp(ms);
-}
 
 void SetPose(const Eigen::Matrix4d& m, v1::Pose* out) { vscan::ToProto(Pose3(m), out->mutable_matrix()); }
 

@@ -19,9 +19,9 @@ v1::ScanBackend BackendToProto(ScanBackend backend) {
 void FillScanHeader(const ScanPlan& plan, uint64_t scene_revision, v1::ScanHeader* header) {
   header->set_scene_id(plan.scene_id);
   header->set_scene_revision(scene_revision);
-  ToProto(plan.world_from_sensor, header->mutable_sensor_pose());
+  vscan::ToProto(plan.world_from_sensor, header->mutable_sensor_pose());
   if (plan.robot) {
-    ToProto(plan.robot->commanded_world_from_sensor, header->mutable_commanded_sensor_pose());
+    vscan::ToProto(plan.robot->commanded_world_from_sensor, header->mutable_commanded_sensor_pose());
     const Eigen::VectorXd& q = plan.robot->achieved_joint_positions;
     header->mutable_achieved_joint_positions()->Assign(q.data(), q.data() + q.size());
   }

@@ -1,19 +1,10 @@
 #include "api/scene_convert.h"
 
+#include "api/job_convert.h"
 #include "api/stored_enum_convert.h"
-
-#include <google/protobuf/util/time_util.h>
-
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::api {
-namespace {
-
-void SetTime(int64_t ms, google::protobuf::Timestamp* out) {
-  *out = google::protobuf::util::TimeUtil::MillisecondsToTimestamp(ms);
-}
-
-}  // namespace
 
 void ToProto(const store::TableRecord& table, v1::RotaryTable* out) {
   out->set_enabled(table.enabled);

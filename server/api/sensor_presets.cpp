@@ -8,7 +8,7 @@
 namespace vscan::api {
 namespace {
 
-void ToProto(const sensor::SensorPreset& preset, v1::SensorPreset* out) {
+void PresetToProto(const sensor::SensorPreset& preset, v1::SensorPreset* out) {
   out->set_name(preset.name);
   out->set_description(preset.description);
   out->set_source(preset.source);
@@ -32,7 +32,7 @@ grpc::ServerUnaryReactor* ScanService::ListSensorPresets(grpc::CallbackServerCon
                                                          const v1::ListSensorPresetsRequest*,
                                                          v1::ListSensorPresetsResponse* response) {
   return RunUnary(ctx, context_.options.token, "ListSensorPresets", [&]() -> Status {
-    for (const auto& preset : sensor::SensorPresets()) ToProto(preset, response->add_presets());
+    for (const auto& preset : sensor::SensorPresets()) PresetToProto(preset, response->add_presets());
     return Status::Ok();
   });
 }

@@ -159,6 +159,8 @@ class JobsGauge {
   std::set<JobTracker*> trackers_;
 };
 
+}  // namespace
+
 // Counts a server's jobs in the vscan_jobs gauge while it lives.
 class JobsGaugeEntry {
  public:
@@ -170,8 +172,6 @@ class JobsGaugeEntry {
  private:
   JobTracker* tracker_;
 };
-
-}  // namespace
 
 struct Server::Impl {
   // First member, so that it is released last, after the store has closed.
