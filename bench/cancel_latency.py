@@ -26,7 +26,7 @@ sys.path.insert(0, os.path.join(HERE, "..", "client", "python"))
 
 import grpc  # noqa: E402
 import numpy as np  # noqa: E402
-from harness import BUNNY, DATA, SOURCE_DIR, VSCAN, Server  # noqa: E402
+from harness import BUNNY, DATA, SOURCE_DIR, VSCAN, Server, pixel_cloud  # noqa: E402
 from vscan import Client, VscanError, bin_part  # noqa: E402
 from vscan.v1 import job_pb2, localization_pb2, localization_pb2_grpc  # noqa: E402
 
@@ -64,20 +64,6 @@ def torus_ply(path, around=30, tube=32):
         f.writelines("3 %d %d %d\n" % t for t in faces)
 
 
-def wall_ply(columns, rows, spacing=0.005, depth=2.0):
-    """A wall `depth` metres in front of the sensor, one point a pixel (sensor frame)."""
-    header = ("ply\nformat binary_little_endian 1.0\n"
-              f"element vertex {columns * rows}\nproperty float x\nproperty float y\nproperty float z\n"
-              "property int pixel\nend_header\n")
-    points = np.zeros(columns * rows, dtype=[("xyz", "<f4", 3), ("pixel", "<i4")])
-    v, u = np.divmod(np.arange(columns * rows), columns)
-    points["xyz"][:, 0] = (u - columns / 2 + 0.5) * spacing
-    points["xyz"][:, 1] = (v - rows / 2 + 0.5) * spacing
-    points["xyz"][:, 2] = depth
-    points["pixel"] = v * columns + u
-    return header.encode() + points.tobytes()
-
-
 class Bench:
     def __init__(self, server, client, verbose):
         self.server, self.client, self.verbose = server, client, verbose
@@ -94,7 +80,7 @@ class Bench:
         self.torus_id = self.client.upload_mesh(torus, unit="m").mesh_id
         side = 640
         f = 2.0 / 0.005
-        self.walls = [self.client.upload_cloud(data=wall_ply(side, side), format="ply", frame="sensor",
+        self.walls = [self.client.upload_cloud(data=pixel_cloud(side, side, 0.005, 2.0), format="ply", frame="sensor",
                                                sensor_pose=np.eye(4), camera=(side, side, f, f, side / 2, side / 2,
                                                                               0.1, 10.0)).cloud_id
                       for _ in range(3)]

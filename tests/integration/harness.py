@@ -194,3 +194,26 @@ def icosphere_ply(radius, centre, subdivisions=4):
               for v in verts]
     lines += [f"3 {a} {b} {c}" for a, b, c in faces]
     return ("\n".join(lines) + "\n").encode()
+
+
+def status_mib(pid, key):
+    """A memory line of /proc/PID/status (VmHWM: the peak resident size, VmRSS: the current one), in MiB."""
+    with open(f"/proc/{pid}/status") as f:
+        for line in f:
+            if line.startswith(key + ":"):
+                return int(line.split()[1]) / 1024
+    raise RuntimeError(f"no {key}")
+
+
+def pixel_cloud(columns, rows, spacing, depth):
+    """A wall `depth` metres in front of the sensor (sensor frame), one point a pixel, `spacing` apart."""
+    header = ("ply\nformat binary_little_endian 1.0\n"
+              f"element vertex {columns * rows}\nproperty float x\nproperty float y\nproperty float z\n"
+              "property int pixel\nend_header\n")
+    points = np.zeros(columns * rows, dtype=[("xyz", "<f4", 3), ("pixel", "<i4")])
+    v, u = np.divmod(np.arange(columns * rows), columns)
+    points["xyz"][:, 0] = (u - columns / 2 + 0.5) * spacing
+    points["xyz"][:, 1] = (v - rows / 2 + 0.5) * spacing
+    points["xyz"][:, 2] = depth
+    points["pixel"] = v * columns + u
+    return header.encode() + points.tobytes()

@@ -12,7 +12,7 @@ import unittest
 import grpc
 import numpy as np
 
-from harness import DATA, SOURCE_DIR, VSCAN, Server
+from harness import DATA, SOURCE_DIR, VSCAN, Server, status_mib
 from vscan import Client, VscanError, bin_part, part_symmetry, scored_part
 from vscan.v1 import job_pb2, job_pb2_grpc
 
@@ -44,22 +44,6 @@ def torus_ply(path, around, tube, major=0.05, minor=0.02):
         f.write(records.tobytes())
 
 
-def peak_mib(pid):
-    with open(f"/proc/{pid}/status") as f:
-        for line in f:
-            if line.startswith("VmHWM:"):
-                return int(line.split()[1]) / 1024
-    raise RuntimeError("no VmHWM")
-
-
-def resident_mib(pid):
-    with open(f"/proc/{pid}/status") as f:
-        for line in f:
-            if line.startswith("VmRSS:"):
-                return int(line.split()[1]) / 1024
-    raise RuntimeError("no VmRSS")
-
-
 class HostileReplays(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
@@ -83,7 +67,7 @@ class HostileReplays(unittest.TestCase):
         scan = self.client.scan(self.scene_id, width=64, height=48, eye=(0.5, 0, 0.2), target=(0, 0, 0.07))
         self.assertLess(time.monotonic() - start, 2.0)
         self.assertGreater(len(scan.positions), 100)
-        self.assertLess(peak_mib(self.server.process.pid), BOUND_MIB + BASELINE_MIB)
+        self.assertLess(status_mib(self.server.process.pid, "VmHWM"), BOUND_MIB + BASELINE_MIB)
 
     def assertRefused(self, code, call, *needles, within_s=5.0):
         start = time.monotonic()
@@ -170,7 +154,7 @@ class HostileReplays(unittest.TestCase):
         job = self.client.get_job(job.job_id)
         union = next(a for a in job.artifacts if a.name == "aligned.ply")
         self.assertGreater(union.size_bytes, 8 << 20)
-        before = resident_mib(self.server.process.pid)
+        before = status_mib(self.server.process.pid, "VmRSS")
         channels, streams = [], []
         for _ in range(6):
             channel = grpc.insecure_channel(self.server.address, options=[("grpc.use_local_subchannel_pool", 1)])
@@ -180,7 +164,7 @@ class HostileReplays(unittest.TestCase):
             channels.append(channel)
             streams.append(stream)
         time.sleep(0.5)
-        grown = resident_mib(self.server.process.pid) - before
+        grown = status_mib(self.server.process.pid, "VmRSS") - before
         self.assertLess(grown, union.size_bytes / 2**20 * 2,
                         f"{grown:.0f} MiB more resident with 6 unread streams of a "
                         f"{union.size_bytes / 2**20:.0f} MiB artifact")

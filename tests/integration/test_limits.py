@@ -2,7 +2,6 @@
 bundles, uploaded clouds, the memory of one request, a job's artifacts and bytes, the data
 directory's bytes (across a restart)."""
 
-import json
 import os
 import re
 import shutil
@@ -14,7 +13,7 @@ import unittest
 import grpc
 import numpy as np
 
-from harness import DATA, SOURCE_DIR, VSCAN, Server, icosphere_ply
+from harness import DATA, SOURCE_DIR, VSCAN, Server, icosphere_ply, pixel_cloud, status_mib
 from vscan import Client, VscanError, bin_part
 from vscan.v1 import cloud_pb2, cloud_pb2_grpc, job_pb2
 
@@ -31,15 +30,6 @@ def binary_cloud(points):
     xyz[:, 0] = np.arange(points) * 1e-3
     xyz[:, 2] = 0.5
     return header.encode() + xyz.tobytes()
-
-
-def status_mib(pid, key):
-    """A memory line of /proc/PID/status (VmHWM: the peak resident size, VmRSS: the current one), in MiB."""
-    with open(f"/proc/{pid}/status") as f:
-        for line in f:
-            if line.startswith(key + ":"):
-                return int(line.split()[1]) / 1024
-    raise RuntimeError(f"no {key}")
 
 
 class LimitTest(unittest.TestCase):
@@ -121,20 +111,6 @@ class StreamMemory(LimitTest):
             points = client.read_cloud_points(cloud.cloud_id).positions
         self.assertEqual(points.shape, (4_000_000, 3))
         np.testing.assert_array_equal(points[-1], np.array([3999.999, 0, 0.5], dtype="<f4"))
-
-
-def pixel_cloud(columns, rows, spacing, depth):
-    """A wall `depth` metres in front of the sensor (sensor frame), one point a pixel, `spacing` apart."""
-    header = ("ply\nformat binary_little_endian 1.0\n"
-              f"element vertex {columns * rows}\nproperty float x\nproperty float y\nproperty float z\n"
-              "property int pixel\nend_header\n")
-    points = np.zeros(columns * rows, dtype=[("xyz", "<f4", 3), ("pixel", "<i4")])
-    v, u = np.divmod(np.arange(columns * rows), columns)
-    points["xyz"][:, 0] = (u - columns / 2 + 0.5) * spacing
-    points["xyz"][:, 1] = (v - rows / 2 + 0.5) * spacing
-    points["xyz"][:, 2] = depth
-    points["pixel"] = v * columns + u
-    return header.encode() + points.tobytes()
 
 
 class FusionMemory(LimitTest):
