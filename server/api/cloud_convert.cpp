@@ -8,7 +8,7 @@
 namespace vscan::api {
 namespace {
 
-v1::CloudOrigin ToProto(store::CloudOrigin origin) {
+v1::CloudOrigin OriginToProto(store::CloudOrigin origin) {
   switch (origin) {
     case store::CloudOrigin::kUploaded: return v1::CLOUD_ORIGIN_UPLOADED;
     case store::CloudOrigin::kCampaignScan: return v1::CLOUD_ORIGIN_CAMPAIGN_SCAN;
@@ -16,11 +16,11 @@ v1::CloudOrigin ToProto(store::CloudOrigin origin) {
   return v1::CLOUD_ORIGIN_UNSPECIFIED;
 }
 
-v1::Frame ToProto(store::CloudFrame frame) {
+v1::Frame FrameToProto(store::CloudFrame frame) {
   return frame == store::CloudFrame::kSensor ? v1::FRAME_SENSOR : v1::FRAME_WORLD;
 }
 
-void ToProto(const store::CloudCamera& camera, v1::CloudCamera* out) {
+void CameraToProto(const store::CloudCamera& camera, v1::CloudCamera* out) {
   out->set_width(camera.width);
   out->set_height(camera.height);
   v1::Intrinsics* k = out->mutable_intrinsics();
@@ -32,7 +32,7 @@ void ToProto(const store::CloudCamera& camera, v1::CloudCamera* out) {
   out->set_far(camera.far);
 }
 
-StatusOr<sensor::PinholeCamera> CameraFromProto(const v1::CloudCamera& c, const std::string& field) {
+StatusOr<sensor::PinholeCamera> CloudCameraFromProto(const v1::CloudCamera& c, const std::string& field) {
   sensor::PinholeCamera camera;
   camera.width = c.width();
   camera.height = c.height();
@@ -57,12 +57,12 @@ void ToProto(const store::CloudRecord& cloud, v1::Cloud* out) {
   out->set_name(cloud.name);
   out->set_points(cloud.points);
   FieldsToProto(cloud.fields, out->mutable_fields());
-  out->set_origin(ToProto(cloud.origin));
+  out->set_origin(OriginToProto(cloud.origin));
   out->set_job_id(cloud.job_id);
   out->set_scene_id(cloud.scene_id);
-  out->set_frame(ToProto(cloud.frame));
+  out->set_frame(FrameToProto(cloud.frame));
   if (cloud.world_from_sensor) vscan::ToProto(Pose3(*cloud.world_from_sensor), out->mutable_sensor_pose());
-  if (cloud.camera) ToProto(*cloud.camera, out->mutable_camera());
+  if (cloud.camera) CameraToProto(*cloud.camera, out->mutable_camera());
   if (cloud.table_angle_deg) out->set_table_angle_deg(*cloud.table_angle_deg);
   out->set_size_bytes(cloud.size_bytes);
   out->set_sha256(cloud.sha256);
@@ -89,7 +89,7 @@ StatusOr<service::CloudUpload> CloudUploadFromProto(const v1::CloudHeader& heade
     ASSIGN_OR_RETURN(upload.world_from_sensor, PoseFromProto(header.sensor_pose(), "header.sensor_pose"));
   }
   if (header.has_camera()) {
-    ASSIGN_OR_RETURN(upload.camera, CameraFromProto(header.camera(), "header.camera"));
+    ASSIGN_OR_RETURN(upload.camera, CloudCameraFromProto(header.camera(), "header.camera"));
   }
   if (!header.scene_id().empty()) RETURN_IF_ERROR(RequireId(header.scene_id(), "header.scene_id"));
   upload.scene_id = header.scene_id();

@@ -132,6 +132,7 @@ class FusionMemory(LimitTest):
         server = self.start("--max-request-memory-mib", "512")
         with Client(server.address) as client:
             scene_id = RequestMemory.bunny_scene(self, client)
+            self.small_scan_seconds(client, scene_id)  # builds the scene's ray-casting structure once
             # 1000 points whose camera declares 16384 x 16384 pixels: 2 GiB of images, refused up front.
             huge = self.upload(client, 40, 25, camera_side=16384)
             for clouds in ([huge], [self.upload(client, 40, 25, camera_side=6000) for _ in range(2)]):
