@@ -12,7 +12,7 @@ import unittest
 import grpc
 import numpy as np
 
-from harness import DATA, SOURCE_DIR, VSCAN, Server, status_mib
+from harness import DATA, SOURCE_DIR, VSCAN, Server, status_mib, torus_ply
 from vscan import Client, VscanError, bin_part, part_symmetry, scored_part
 from vscan.v1 import job_pb2, job_pb2_grpc
 
@@ -21,27 +21,6 @@ BOUND_MIB = 768
 # What vscand holds besides one request: its libraries, the Embree scenes, the catalogue.
 BASELINE_MIB = 400
 UR5_PLAN = os.path.join(SOURCE_DIR, "examples", "campaigns", "bunny_ur5.yaml")
-
-
-def torus_ply(path, around, tube, major=0.05, minor=0.02):
-    """A closed torus of around x tube quads (2 x around x tube triangles), binary PLY in metres."""
-    i, j = np.meshgrid(np.arange(around), np.arange(tube), indexing="ij")
-    u, v = 2 * np.pi * i / around, 2 * np.pi * j / tube
-    r = major + minor * np.cos(v)
-    vertices = np.stack([r * np.cos(u), r * np.sin(u), minor * np.sin(v)], axis=-1).reshape(-1, 3)
-    a = (i * tube + j).ravel()
-    b = (((i + 1) % around) * tube + j).ravel()
-    c = (((i + 1) % around) * tube + (j + 1) % tube).ravel()
-    d = (i * tube + (j + 1) % tube).ravel()
-    faces = np.concatenate([np.stack([a, b, c], 1), np.stack([a, c, d], 1)])
-    records = np.zeros(len(faces), dtype=[("n", "u1"), ("v", "<i4", 3)])
-    records["n"], records["v"] = 3, faces
-    with open(path, "wb") as f:
-        f.write(("ply\nformat binary_little_endian 1.0\nelement vertex %d\nproperty float x\nproperty float y\n"
-                 "property float z\nelement face %d\nproperty list uchar int vertex_indices\nend_header\n"
-                 % (len(vertices), len(faces))).encode())
-        f.write(vertices.astype("<f4").tobytes())
-        f.write(records.tobytes())
 
 
 class HostileReplays(unittest.TestCase):
