@@ -12,7 +12,8 @@ import unittest
 import grpc
 import numpy as np
 
-from harness import DATA, SOURCE_DIR, VSCAN, Server, status_mib, torus_ply
+from harness import (DATA, SOURCE_DIR, VSCAN, Server, assert_streams_cancelled, small_scan_seconds, status_mib,
+                     torus_ply)
 from vscan import Client, VscanError, bin_part, part_symmetry, scored_part
 from vscan.v1 import job_pb2, job_pb2_grpc
 
@@ -34,7 +35,7 @@ class HostileReplays(unittest.TestCase):
         bunny = cls.client.upload_mesh(os.path.join(DATA, "meshes", "bunny", "bunny_zipper_res2.ply"), unit="m")
         cls.client.add_object(cls.scene_id, bunny.mesh_id)
         # The first scan builds the scene's ray-casting structure; the checks time the ones after.
-        cls.client.scan(cls.scene_id, width=64, height=48, eye=(0.5, 0, 0.2), target=(0, 0, 0.07))
+        small_scan_seconds(cls.client, cls.scene_id)
         cls.block_id = cls.client.upload_mesh(os.path.join(DATA, "parts", "angle_block.STL"), unit="in").mesh_id
 
     @classmethod
@@ -44,9 +45,8 @@ class HostileReplays(unittest.TestCase):
         cls.tmp.cleanup()
 
     def assertStillServing(self):
-        start = time.monotonic()
-        scan = self.client.scan(self.scene_id, width=64, height=48, eye=(0.5, 0, 0.2), target=(0, 0, 0.07))
-        self.assertLess(time.monotonic() - start, 2.0)
+        seconds, scan = small_scan_seconds(self.client, self.scene_id)
+        self.assertLess(seconds, 2.0)
         self.assertGreater(len(scan.positions), 100)
         self.assertLess(status_mib(self.server.process.pid, "VmHWM"), BOUND_MIB + BASELINE_MIB)
 
@@ -151,13 +151,7 @@ class HostileReplays(unittest.TestCase):
                         f"{union.size_bytes / 2**20:.0f} MiB artifact")
         self.assertStillServing()
         time.sleep(4)  # past --stalled-reader-seconds
-        for stream in streams:
-            with self.assertRaises(grpc.RpcError) as cancelled:
-                for _ in stream:
-                    pass
-            self.assertEqual(cancelled.exception.code(), C.CANCELLED, cancelled.exception.details())
-        for channel in channels:
-            channel.close()
+        assert_streams_cancelled(self, streams, channels)
         self.assertStillServing()
 
     def test_messages_name_the_field_and_quote_no_raw_bytes(self):
