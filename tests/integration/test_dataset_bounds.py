@@ -5,7 +5,6 @@ keeps answering scans; DeleteJob removes a dataset's directory with the last job
 a restart removes the directories no job names and counts the others against the quota."""
 
 import os
-import time
 import unittest
 
 import grpc
