@@ -55,7 +55,7 @@ class Bench:
         block = self.client.upload_mesh(os.path.join(DATA, "parts", "angle_block.STL"), unit="in")
         self.block_id = block.mesh_id
         torus = os.path.join(self.tmp.name, "torus.ply")
-        torus_ply(torus, 30, 32)  # 1920 triangles: concave, so HACD decomposes it
+        torus_ply(torus, 30, 32)  # 1920 triangles: a ring, so the decomposition cuts it
         self.torus_id = self.client.upload_mesh(torus, unit="m").mesh_id
         side = 640
         f = 2.0 / 0.005
@@ -127,7 +127,7 @@ class Bench:
         return job.job_id, r"simulated", 0.0
 
     def bin_decomposition(self, run):
-        scene_id = self.client.create_scene("cancel-hacd").scene_id
+        scene_id = self.client.create_scene("cancel-decomposition").scene_id
         job = self.client.start_bin_fill(scene_id, (0.3, 0.3, 0.2),
                                          [bin_part(self.torus_id, 2, collision="convex_decomposition")])
         return job.job_id, r".", 0.3
@@ -161,7 +161,7 @@ CASES = [
     ("model", "Poisson solve, depth 10 (vscan-poisson)", "model_poisson"),
     ("model", "TSDF fusion, 3 x 410k points at 1 mm: blocks, integration, mesh", "model_tsdf"),
     ("bin fill", "simulation, 60 parts", "bin_simulation"),
-    ("bin fill", "HACD, 1920 triangles (the first run; later ones reuse its pieces)", "bin_decomposition"),
+    ("bin fill", "convex decomposition, 1920 triangles (the first run; later ones reuse its pieces)", "bin_decomposition"),
     ("dataset", "scenes (fill, render, write)", "dataset_scenes"),
     ("dataset", "dataset.tar (16 scenes, 48 images)", "dataset_tar"),
 ]

@@ -235,7 +235,7 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& op
     RETURN_IF_ERROR(quota->CountExisting(data_dir / "blobs"));
     impl->blobs->UseQuota(quota);
   }
-  // Convex decompositions of parts, kept so that no later fill or restart runs HACD again on them.
+  // Convex decompositions of parts, kept so that no later fill or restart cuts them again.
   std::filesystem::create_directories(data_dir / "decompositions", ec);
   if (!ec) physics::SetDecompositionDirectory((data_dir / "decompositions").string());
   // Dataset directories are counted once the catalogue says which jobs name them (below).

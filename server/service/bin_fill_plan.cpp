@@ -106,7 +106,7 @@ StatusOr<BinFillPlan> PlanBinFill(ServiceContext& context, BinFillRequest reques
     return plan;
   }
   RETURN_IF_ERROR(physics::CheckFillInput(request.bin, plan.parts, request.options));
-  // Hulls only: a convex decomposition (seconds of HACD on a large mesh) is made on the job's own
+  // Hulls only: a convex decomposition (up to seconds of cuts on a large mesh) is made on the job's own
   // thread when the fill starts, never on the threads that answer calls.
   std::vector<physics::PartType> hulls = plan.parts;
   for (physics::PartType& part : hulls) part.collision = physics::PartCollision::kConvexHull;

@@ -11,7 +11,7 @@ import unittest
 
 import numpy as np
 
-from harness import DATA, VSCAN, Server, cli_events, cli_result
+from harness import DATA, VSCAN, Server, cli_events, cli_result, torus_ply
 from test_cli import read_ply
 
 import grpc  # noqa: E402
@@ -214,7 +214,7 @@ class BinCliTest(unittest.TestCase):
         self.assertEqual(report["types"][0]["collision"], "convex_decomposition")
         self.assertEqual(report["in_bin"], 4)
         self.assertLess(report["max_part_part_penetration_m"], 0.002)
-        # The pieces stay in the data directory, so that no later fill or restart runs HACD again.
+        # The pieces stay in the data directory, so that no later fill or restart cuts the mesh again.
         kept = os.listdir(os.path.join(self.server.data_dir, "store", "decompositions"))
         self.assertTrue(any(name.endswith(".pieces") for name in kept), kept)
         with self.assertRaises(ValueError):
@@ -222,26 +222,9 @@ class BinCliTest(unittest.TestCase):
 
     def test_a_mesh_too_large_to_decompose_is_refused_at_once(self):
         scene_id = self.filled()["sceneId"]
-        # A torus of 70 x 35 quads (4900 triangles): over a minute of HACD, which cannot be stopped.
-        n, m = 70, 35
-        vertices = []
-        for i in range(n):
-            for j in range(m):
-                u, v = 2 * math.pi * i / n, 2 * math.pi * j / m
-                r = 0.05 + 0.02 * math.cos(v)
-                vertices.append((r * math.cos(u), r * math.sin(u), 0.02 * math.sin(v)))
-        faces = []
-        for i in range(n):
-            for j in range(m):
-                a, b = i * m + j, ((i + 1) % n) * m + j
-                c, d = ((i + 1) % n) * m + (j + 1) % m, i * m + (j + 1) % m
-                faces += [(a, b, c), (a, c, d)]
+        # A torus of 150 x 75 quads (22,500 triangles): past the bound, since its cuts cannot be stopped.
         path = os.path.join(self.tmp.name, "torus.ply")
-        with open(path, "w") as f:
-            f.write("ply\nformat ascii 1.0\nelement vertex %d\nproperty float x\nproperty float y\nproperty float z\n"
-                    "element face %d\nproperty list uchar int vertex_indices\nend_header\n" % (len(vertices), len(faces)))
-            f.writelines("%.6f %.6f %.6f\n" % p for p in vertices)
-            f.writelines("3 %d %d %d\n" % t for t in faces)
+        torus_ply(path, 150, 75)
         mesh_id = self.client.upload_mesh(path, unit="m").mesh_id
         stub = job_pb2_grpc.JobServiceStub(self.server.channel())
         jobs_before = len(self.client.list_jobs())
@@ -255,7 +238,7 @@ class BinCliTest(unittest.TestCase):
             self.assertLess(time.monotonic() - started, 2.0)
             self.assertEqual(caught.exception.code(), grpc.StatusCode.RESOURCE_EXHAUSTED, caught.exception.details())
             self.assertTrue(caught.exception.details().startswith("spec.parts[0].mesh"), caught.exception.details())
-            self.assertIn("this one has 4900", caught.exception.details())
+            self.assertIn("this one has 22500", caught.exception.details())
         self.assertEqual(len(self.client.list_jobs()), jobs_before)
 
     def test_plan_errors_name_the_plan_line(self):

@@ -101,13 +101,13 @@ class HostileReplays(unittest.TestCase):
 
     def test_a_decomposition_past_its_triangle_bound_is_refused_while_others_are_served(self):
         path = os.path.join(self.tmp.name, "torus.ply")
-        torus_ply(path, 40, 33)  # 2640 triangles: over ten seconds of HACD, which cannot be stopped
+        torus_ply(path, 150, 75)  # 22,500 triangles: past the bound, since the cuts cannot be stopped
         mesh_id = self.client.upload_mesh(path, unit="m").mesh_id
-        scene_id = self.client.create_scene("hacd").scene_id
+        scene_id = self.client.create_scene("decomposition").scene_id
         for call in (self.client.validate_bin_fill, self.client.start_bin_fill):
             self.assertRefused(C.RESOURCE_EXHAUSTED, lambda: call(
                 scene_id, (0.3, 0.3, 0.2), [bin_part(mesh_id, 3, collision="convex_decomposition")]),
-                "spec.parts[0].mesh", "this one has 2640", within_s=2.0)
+                "spec.parts[0].mesh", "this one has 22500", within_s=2.0)
         self.assertStillServing()
 
     def test_a_plan_of_half_a_million_scenes_is_refused(self):

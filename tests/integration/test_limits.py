@@ -14,7 +14,7 @@ import grpc
 import numpy as np
 
 from harness import (DATA, SOURCE_DIR, VSCAN, Server, assert_streams_cancelled, icosphere_ply, pixel_cloud,
-                     small_scan_seconds, status_mib)
+                     small_scan_seconds, status_mib, torus_ply)
 from vscan import Client, VscanError, bin_part
 from vscan.v1 import cloud_pb2, cloud_pb2_grpc, job_pb2
 
@@ -161,24 +161,26 @@ class FusionMemory(LimitTest):
 class DecompositionOffTheCallThreads(LimitTest):
     def test_validating_a_decomposed_part_does_not_decompose_it(self):
         server = self.start()
-        with Client(server.address) as client:
-            bunny = client.upload_mesh(os.path.join(DATA, "meshes", "bunny", "bunny_zipper_res2.ply"), unit="m")
+        with Client(server.address) as client, tempfile.TemporaryDirectory() as tmp:
             block = client.upload_mesh(os.path.join(DATA, "parts", "angle_block.STL"), unit="in")
             scene_id = client.create_scene("decomposed").scene_id
-            # A mesh within the bound checks out without HACD on the call threads.
+            # A mesh within the bound checks out without being cut on the call threads.
             start = time.time()
             client.validate_bin_fill(scene_id, (0.3, 0.3, 0.2),
                                      [bin_part(block.mesh_id, 2, collision="convex_decomposition")])
             self.assertLess(time.time() - start, 3.0)
-            # 16301 triangles would take HACD hours, unstoppably: refused at once.
+            # 22,500 triangles are past the bound (the cuts cannot be stopped): refused at once.
+            torus = os.path.join(tmp, "torus.ply")
+            torus_ply(torus, 150, 75)
+            big = client.upload_mesh(torus, unit="m")
             start = time.time()
             with self.assertRaises(VscanError) as refused:
                 client.validate_bin_fill(scene_id, (0.3, 0.3, 0.2),
-                                         [bin_part(bunny.mesh_id, 2, scale=0.5, collision="convex_decomposition")])
+                                         [bin_part(big.mesh_id, 2, collision="convex_decomposition")])
             self.assertLess(time.time() - start, 3.0)
             self.assertEqual(refused.exception.code, C.RESOURCE_EXHAUSTED, refused.exception.message)
             self.assertIn("spec.parts[0].mesh", refused.exception.message)
-            self.assertIn("this one has 16301", refused.exception.message)
+            self.assertIn("this one has 22500", refused.exception.message)
             start = time.time()
             client.create_scene("beside")
             self.assertLess(time.time() - start, 1.0)

@@ -17,7 +17,15 @@ namespace {
 // prism's 55 and 82, where the test on every pair made a fill of 20 of them 4.2x the CPU.
 constexpr int kSeparatingAxisDirections = 32;
 
+// A compound when each of its pieces has few.
 bool FewEdgeDirections(const btCollisionShape& shape) {
+  if (shape.isCompound()) {
+    const auto& compound = static_cast<const btCompoundShape&>(shape);
+    for (int i = 0; i < compound.getNumChildShapes(); ++i) {
+      if (!FewEdgeDirections(*compound.getChildShape(i))) return false;
+    }
+    return compound.getNumChildShapes() > 0;
+  }
   if (!shape.isPolyhedral()) return false;
   const btConvexPolyhedron* hull = static_cast<const btPolyhedralConvexShape&>(shape).getConvexPolyhedron();
   return hull != nullptr && hull->m_uniqueEdges.size() <= kSeparatingAxisDirections;
@@ -60,7 +68,7 @@ class BulletFillWorld final : public FillWorld {
       if (!part.pieces.empty()) {
         auto compound = std::make_unique<btCompoundShape>(true, static_cast<int>(part.pieces.size()));
         for (const auto& piece : part.pieces) {
-          type.pieces.push_back(HullShape(piece, false));
+          type.pieces.push_back(HullShape(piece));
           compound->addChildShape(btTransform::getIdentity(), type.pieces.back().get());
         }
         type.shape = std::move(compound);

@@ -1,6 +1,6 @@
 #pragma once
 // Convex pieces kept on disk between processes: a dataset's shards, and later runs, of the same
-// parts skip HACD. One file a mesh, named by a hash of the mesh and the parameters and checked
+// parts skip the cuts. One file a mesh, named by a hash of the mesh and the parameters and checked
 // against a second, independent hash and the mesh's size.
 
 #include <cstdint>

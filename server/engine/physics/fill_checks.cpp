@@ -70,7 +70,7 @@ Status CheckPart(const PartType& part, const std::string& field) {
   if (part.collision == PartCollision::kConvexDecomposition && part.mesh.triangles.size() > kMaxDecompositionTriangles) {
     return {StatusCode::kResourceExhausted, field + ".mesh",
             "convex decomposition takes meshes of at most " + std::to_string(kMaxDecompositionTriangles) +
-                " triangles (its time grows with their square and cannot be stopped); this one has " +
+                " triangles (its time grows with them and it cannot be stopped); this one has " +
                 std::to_string(part.mesh.triangles.size()) + ": simplify it or use the convex hull"};
   }
   if (part.mass_kg && (!Positive(*part.mass_kg) || *part.mass_kg > 1e4)) {

@@ -44,63 +44,16 @@ Eigen::Vector3d BoundsCentre(const TriangleMesh& mesh, double& box_volume) {
   return (0.5f * (lo + hi)).cast<double>();
 }
 
-// A face of a convex hull: inside is normal . x <= offset.
-struct Facet {
-  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
-  double offset = 0.0;
-  std::vector<Eigen::Vector3d> corners;
-};
-
-std::vector<Facet> HullFacets(const std::vector<Eigen::Vector3d>& points) {
-  std::vector<double> coords;
-  coords.reserve(3 * points.size());
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const auto& p : points) {
-    coords.insert(coords.end(), {p.x(), p.y(), p.z()});
-    mean += p;
-  }
-  mean /= static_cast<double>(points.size());
-  btConvexHullComputer computer;
-  computer.compute(coords.data(), 3 * sizeof(double), static_cast<int>(points.size()), 0, 0);
-  const auto vertex = [&](int i) {
-    const btVector3& v = computer.vertices[i];
-    return Eigen::Vector3d(v.x(), v.y(), v.z());
-  };
-  std::vector<Facet> facets;
-  for (int f = 0; f < computer.faces.size(); ++f) {
-    Facet facet;
-    const btConvexHullComputer::Edge* first = &computer.edges[computer.faces[f]];
-    const btConvexHullComputer::Edge* edge = first;
-    do {
-      facet.corners.push_back(vertex(edge->getSourceVertex()));
-      edge = edge->getNextEdgeOfFace();
-    } while (edge != first && facet.corners.size() < 4096);
-    const size_t n = facet.corners.size();
-    if (n < 3) continue;
-    // Newell's normal: robust for polygons with nearly collinear corners.
-    for (size_t i = 0; i < n; ++i) facet.normal += facet.corners[i].cross(facet.corners[(i + 1) % n]);
-    if (!(facet.normal.norm() > 0)) continue;
-    facet.normal.normalize();
-    facet.offset = facet.normal.dot(facet.corners[0]);
-    if (facet.normal.dot(mean) - facet.offset > 1e-12) {  // the winding faced inward
-      facet.normal = -facet.normal;
-      facet.offset = -facet.offset;
-    }
-    facets.push_back(std::move(facet));
-  }
-  return facets;
-}
-
-double PlaneDistance(const Eigen::Vector3d& p, const std::vector<Facet>& facets) {
+double PlaneDistance(const Eigen::Vector3d& p, const std::vector<HullFace>& facets) {
   double out = -std::numeric_limits<double>::infinity();
-  for (const Facet& f : facets) out = std::max(out, f.normal.dot(p) - f.offset);
+  for (const HullFace& f : facets) out = std::max(out, f.normal.dot(p) - f.offset);
   return out;
 }
 
 // Euclidean distance from a point outside the hull to it: the nearest point of a face it sees.
-double OutsideDistance(const Eigen::Vector3d& p, const std::vector<Facet>& facets) {
+double OutsideDistance(const Eigen::Vector3d& p, const std::vector<HullFace>& facets) {
   double best = std::numeric_limits<double>::infinity();
-  for (const Facet& f : facets) {
+  for (const HullFace& f : facets) {
     if (f.normal.dot(p) - f.offset <= 0) continue;
     for (size_t i = 1; i + 1 < f.corners.size(); ++i) {
       best = std::min(best, (ClosestPointOnTriangle(p, f.corners[0], f.corners[i], f.corners[i + 1]) - p).norm());
@@ -134,10 +87,50 @@ std::vector<size_t> FarthestIndices(const std::vector<Eigen::Vector3d>& points, 
 
 }  // namespace
 
+std::vector<HullFace> HullFaces(const std::vector<Eigen::Vector3d>& points) {
+  std::vector<double> coords;
+  coords.reserve(3 * points.size());
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const auto& p : points) {
+    coords.insert(coords.end(), {p.x(), p.y(), p.z()});
+    mean += p;
+  }
+  mean /= static_cast<double>(points.size());
+  btConvexHullComputer computer;
+  computer.compute(coords.data(), 3 * sizeof(double), static_cast<int>(points.size()), 0, 0);
+  const auto vertex = [&](int i) {
+    const btVector3& v = computer.vertices[i];
+    return Eigen::Vector3d(v.x(), v.y(), v.z());
+  };
+  std::vector<HullFace> facets;
+  for (int f = 0; f < computer.faces.size(); ++f) {
+    HullFace facet;
+    const btConvexHullComputer::Edge* first = &computer.edges[computer.faces[f]];
+    const btConvexHullComputer::Edge* edge = first;
+    do {
+      facet.corners.push_back(vertex(edge->getSourceVertex()));
+      edge = edge->getNextEdgeOfFace();
+    } while (edge != first && facet.corners.size() < 4096);
+    const size_t n = facet.corners.size();
+    if (n < 3) continue;
+    // Newell's normal: robust for polygons with nearly collinear corners.
+    for (size_t i = 0; i < n; ++i) facet.normal += facet.corners[i].cross(facet.corners[(i + 1) % n]);
+    if (!(facet.normal.norm() > 0)) continue;
+    facet.normal.normalize();
+    facet.offset = facet.normal.dot(facet.corners[0]);
+    if (facet.normal.dot(mean) - facet.offset > 1e-12) {  // the winding faced inward
+      facet.normal = -facet.normal;
+      facet.offset = -facet.offset;
+    }
+    facets.push_back(std::move(facet));
+  }
+  return facets;
+}
+
 double HullVolume(const std::vector<Eigen::Vector3d>& points) {
   if (points.size() < 4) return 0.0;
   double volume = 0.0;
-  for (const Facet& f : HullFacets(points)) {
+  for (const HullFace& f : HullFaces(points)) {
     Eigen::Vector3d area = Eigen::Vector3d::Zero();
     for (size_t i = 0; i < f.corners.size(); ++i) area += f.corners[i].cross(f.corners[(i + 1) % f.corners.size()]);
     volume += f.offset * 0.5 * area.norm() / 3.0;
@@ -161,7 +154,7 @@ std::vector<Eigen::Vector3d> HullVertices(const std::vector<Eigen::Vector3d>& po
 }
 
 double DistanceOutsideHull(const Eigen::Vector3d& point, const std::vector<Eigen::Vector3d>& hull) {
-  const std::vector<Facet> facets = HullFacets(hull);
+  const std::vector<HullFace> facets = HullFaces(hull);
   return PlaneDistance(point, facets) <= 0 ? 0.0 : OutsideDistance(point, facets);
 }
 
@@ -171,10 +164,10 @@ namespace {
 // depth, min over the faces of (offset - normal . p), is concave: its maximum over the triangle
 // is at most the least over the faces of that face's largest value at a corner; where that bound
 // is over the tolerance and no corner is, the triangle is cut in four.
-bool DeeperThan(const std::vector<Facet>& facets, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+bool DeeperThan(const std::vector<HullFace>& facets, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                 const Eigen::Vector3d& c, double tolerance, int level) {
   double bound = std::numeric_limits<double>::infinity();
-  for (const Facet& f : facets) {
+  for (const HullFace& f : facets) {
     bound = std::min(bound, f.offset - std::min({f.normal.dot(a), f.normal.dot(b), f.normal.dot(c)}));
   }
   if (bound <= tolerance) return false;
@@ -191,7 +184,7 @@ bool DeeperThan(const std::vector<Facet>& facets, const Eigen::Vector3d& a, cons
 
 bool ConvexWithin(const TriangleMesh& mesh, const Eigen::Vector3d& centre, const std::vector<Eigen::Vector3d>& hull,
                   double tolerance) {
-  const std::vector<Facet> facets = HullFacets(hull);
+  const std::vector<HullFace> facets = HullFaces(hull);
   if (facets.size() < 4) return false;
   for (const auto& t : mesh.triangles) {
     const auto at = [&](int k) { return Eigen::Vector3d(mesh.vertices[t[k]].cast<double>() - centre); };
@@ -200,7 +193,7 @@ bool ConvexWithin(const TriangleMesh& mesh, const Eigen::Vector3d& centre, const
   // What lies between the hull and a mesh within `tolerance` of it fits in a shell that thick
   // under the hull's faces: a hollow behind a thin wall (a tube's bore) does not.
   double area = 0.0;
-  for (const Facet& f : facets) {
+  for (const HullFace& f : facets) {
     Eigen::Vector3d twice = Eigen::Vector3d::Zero();
     for (size_t i = 0; i < f.corners.size(); ++i) twice += f.corners[i].cross(f.corners[(i + 1) % f.corners.size()]);
     area += 0.5 * twice.norm();
@@ -214,7 +207,7 @@ std::vector<Eigen::Vector3d> SimplifiedHull(const std::vector<Eigen::Vector3d>& 
   std::vector<Eigen::Vector3d> kept;
   for (size_t i : FarthestIndices(points, 4)) used[i] = true, kept.push_back(points[i]);
   while (kept.size() < points.size()) {
-    const std::vector<Facet> facets = HullFacets(kept);
+    const std::vector<HullFace> facets = HullFaces(kept);
     if (facets.size() < 2) return points;
     // The point farthest outside by its planes (a lower bound of its distance) while one lies
     // farther than the tolerance; then the Euclidean distances of those nearer.

@@ -51,6 +51,17 @@ bool ConvexWithin(const TriangleMesh& mesh, const Eigen::Vector3d& centre, const
 double HullVolume(const std::vector<Eigen::Vector3d>& points);
 double MeshVolume(const TriangleMesh& mesh);
 
+// A face of a convex hull: its corners in order and its outward unit normal; inside is
+// normal . x <= offset.
+struct HullFace {
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  double offset = 0.0;
+  std::vector<Eigen::Vector3d> corners;
+};
+
+// The faces of the points' convex hull (none, or fewer than four, when the points are flat).
+std::vector<HullFace> HullFaces(const std::vector<Eigen::Vector3d>& points);
+
 // The vertices of the points' convex hull (all of them when flat).
 std::vector<Eigen::Vector3d> HullVertices(const std::vector<Eigen::Vector3d>& points);
 

@@ -16,6 +16,7 @@
 #include "physics/bin_fill.h"
 #include "physics/decomposition_store.h"
 #include "physics/part_geometry.h"
+#include "physics/plane_cut_decomposition.h"
 
 namespace vscan::physics {
 namespace {
@@ -104,7 +105,7 @@ TEST(ConvexDecomposition, LShapedPartsFillABinAndSettleInsideIt) {
   }
 }
 
-// A torus of n x n/2 quads: not convex, so decomposition would run HACD on all of them.
+// A torus of n x n/2 quads: not convex, so decomposition cuts it.
 TriangleMesh Torus(int n) {
   const int m = n / 2;
   TriangleMesh mesh;
@@ -127,7 +128,7 @@ TriangleMesh Torus(int n) {
 TEST(ConvexDecomposition, AMeshTooLargeForItIsRefusedBeforeAnyWork) {
   PartType part;
   part.name = "torus";
-  part.mesh = Torus(70);  // 4900 triangles: over a minute of HACD
+  part.mesh = Torus(150);  // 22500 triangles
   part.count = 2;
   part.collision = PartCollision::kConvexDecomposition;
   BinSpec bin;
@@ -135,10 +136,13 @@ TEST(ConvexDecomposition, AMeshTooLargeForItIsRefusedBeforeAnyWork) {
   const auto refused = FillBin(bin, {part}, FillOptions{});
   EXPECT_EQ(refused.status().code(), StatusCode::kResourceExhausted);
   EXPECT_EQ(refused.status().field(), "parts[0].mesh");
-  EXPECT_NE(refused.status().ToString().find("this one has 4900"), std::string::npos) << refused.status().ToString();
+  EXPECT_NE(refused.status().ToString().find("this one has 22500"), std::string::npos) << refused.status().ToString();
   // The convex hull of the same mesh is no trouble.
   part.collision = PartCollision::kConvexHull;
-  EXPECT_TRUE(FillBin(bin, {part}, FillOptions{}).ok());
+  FillOptions quick;
+  quick.measure_mesh_overlaps = false;  // 22500-triangle meshes: seconds, and not the point here
+  quick.hull_tolerance_m = 0.002;
+  EXPECT_TRUE(FillBin(bin, {part}, quick).ok());
 }
 
 // A prism of `outline` (counter-clockwise, metres) from z = 0 to `height`; `caps` triangulate the
@@ -223,7 +227,7 @@ TEST(ConvexDecomposition, ConvexWithinAToleranceIsDecidedByTheDeepestPointUnderT
   EXPECT_FALSE(Convex(Tube(32, 0.0033, 0.0029, 0.079), 0.0005));
 }
 
-TEST(ConvexDecomposition, AConvexPartIsItsHullWithoutHacdAndAUKeepsItsSlotOpen) {
+TEST(ConvexDecomposition, AConvexPartIsItsHullUncutAndAUKeepsItsSlotOpen) {
   const TriangleMesh prism = test::ManySidedPrism();
   const Eigen::Vector3d centre(0, 0, 0.01);
   const auto pieces = ConvexPieces(prism, centre, 0.0002);
@@ -238,6 +242,80 @@ TEST(ConvexDecomposition, AConvexPartIsItsHullWithoutHacdAndAUKeepsItsSlotOpen) 
   const Eigen::Vector3d slot = Eigen::Vector3d(0.015, 0.02, 0.005) - middle;
   EXPECT_EQ(OutsideBy(slot, ExactHull(u, middle)), 0.0);
   for (const auto& piece : u_pieces) EXPECT_GT(OutsideBy(slot, piece), 0.002);
+}
+
+TEST(PlaneCuts, ATubesBoreAndATorussHoleStayOpen) {
+  // No single plane opens a bore (each half's hull still spans it): the tube is cut in quarters.
+  const TriangleMesh tube = Tube(32, 0.0033, 0.0029, 0.079);
+  const Eigen::Vector3d tube_centre(0, 0, 0.0395);
+  PlaneCutOptions options;
+  options.concavity_m = 0.0015;
+  const auto tube_pieces = PlaneCutPieces(tube, tube_centre, options);
+  ASSERT_GE(tube_pieces.size(), 4u);
+  // The axis lies 2.9 mm from the wall and a hull within 1.5 mm of the solid, so at least 1.4 mm
+  // from any piece (less the samples' spacing).
+  for (const double z : {0.01, 0.04, 0.07}) {
+    for (const auto& piece : tube_pieces) EXPECT_GT(OutsideBy(Eigen::Vector3d(0, 0, z) - tube_centre, piece), 0.0012);
+  }
+  // ConvexPieces' bound for a 79 mm part (5%, 4 mm) keeps a 2.9 mm bore closed: one hull.
+  EXPECT_EQ(ConvexPieces(tube, tube_centre, 0.0002).size(), 1u);
+  const TriangleMesh torus = Torus(40);
+  const auto torus_pieces = ConvexPieces(torus, Eigen::Vector3d::Zero(), 0.0002);
+  ASSERT_GE(torus_pieces.size(), 4u);
+  // The hole's middle, 3 cm inside the ring's inner edge, lies outside every piece.
+  for (const auto& piece : torus_pieces) EXPECT_GT(OutsideBy(Eigen::Vector3d::Zero(), piece), 0.01);
+}
+
+TEST(PlaneCuts, PiecesReachNoFartherFromTheSolidThanTheBoundOrTheHull) {
+  PlaneCutOptions options;
+  options.concavity_m = 0.0006;
+  const std::vector<std::pair<std::string, TriangleMesh>> meshes = {
+      {"L", LPrism()}, {"U", UPrism()}, {"angle block", test::AngleBlock(1).mesh}};
+  for (const auto& [name, part_mesh] : meshes) {
+    SCOPED_TRACE(name);
+    const TriangleMesh* mesh = &part_mesh;
+    const bool block = name == "angle block";
+    Eigen::Vector3f lo, hi;
+    mesh->Bounds(lo, hi);
+    const Eigen::Vector3d centre = (0.5f * (lo + hi)).cast<double>();
+    const auto pieces = PlaneCutPieces(*mesh, centre, options);
+    ASSERT_FALSE(pieces.empty());
+    const double hull_reach = HullReach(*mesh, centre, ExactHull(*mesh, centre), 0.0002);
+    EXPECT_GT(hull_reach, options.concavity_m);
+    // Measured on a grid finer than the cut's own samples. The L and the U are cut to the bound;
+    // the angle block's bore needs more than max_pieces, and its pieces must still reach less far.
+    double worst = 0.0;
+    for (const auto& piece : pieces) worst = std::max(worst, HullReach(*mesh, centre, piece, 0.0002));
+    if (block) {
+      EXPECT_EQ(pieces.size(), options.max_pieces);
+      EXPECT_LT(worst, 0.75 * hull_reach);
+    } else {
+      EXPECT_LE(worst, options.concavity_m + 0.0002);
+    }
+    // Together the pieces hold the solid: every vertex lies inside one of them.
+    for (const Eigen::Vector3f& v : mesh->vertices) {
+      double nearest = INFINITY;
+      for (const auto& piece : pieces) nearest = std::min(nearest, OutsideBy(v.cast<double>() - centre, piece));
+      EXPECT_LT(nearest, 1e-5);
+    }
+  }
+}
+
+TEST(PlaneCuts, TheFixtureAngleBlocksPiecesHoldItsMeshWithinTheHullTolerance) {
+  const PartType block = test::AngleBlock(1);
+  const PartGeometry geometry = MakePartGeometries({[&] {
+    PartType part = block;
+    part.collision = PartCollision::kConvexDecomposition;
+    return part;
+  }()}, 0.0002)[0];
+  ASSERT_GE(geometry.pieces.size(), 2u);
+  double worst = 0.0;
+  for (const Eigen::Vector3f& v : block.mesh.vertices) {
+    double nearest = INFINITY;
+    for (const auto& piece : geometry.pieces) nearest = std::min(nearest, OutsideBy(v.cast<double>() - geometry.centre, piece));
+    worst = std::max(worst, nearest);
+  }
+  EXPECT_LE(worst, 0.0002 + 1e-5);
 }
 
 std::string FreshDirectory(const char* name) {
@@ -267,7 +345,7 @@ TEST(DecompositionStore, PiecesComeBackOnlyForTheKeyTheyWereStoredUnder) {
   std::filesystem::remove_all(dir);
 }
 
-TEST(DecompositionStore, ConvexPiecesReadsTheDirectoryBeforeRunningHacdAndFillsIt) {
+TEST(DecompositionStore, ConvexPiecesReadsTheDirectoryBeforeCuttingAndFillsIt) {
   const std::string dir = FreshDirectory("vscan_pieces_test");
   SetDecompositionDirectory(dir);
   const TriangleMesh l = LPrism();
@@ -279,7 +357,7 @@ TEST(DecompositionStore, ConvexPiecesReadsTheDirectoryBeforeRunningHacdAndFillsI
   const auto stored = LoadPieces(dir, DecompositionKey(l, centre, computed_at));
   ASSERT_TRUE(stored.has_value());
   EXPECT_EQ(*stored, computed);
-  // Pieces planted under the key are what ConvexPieces returns: HACD did not run.
+  // Pieces planted under the key are what ConvexPieces returns: no cut ran.
   const ConvexPieceSet planted = {{{0, 0, 0}, {0.01, 0, 0}, {0, 0.01, 0}, {0, 0, 0.01}}};
   ASSERT_TRUE(StorePieces(dir, DecompositionKey(l, centre, planted_at), planted));
   EXPECT_EQ(ConvexPieces(l, centre, planted_at), planted);
