@@ -2,6 +2,7 @@
 // file, line and key; failures that name no field of the plan stay server errors.
 
 #include "campaign_errors.h"
+#include "plan_text.h"
 
 #include <gtest/gtest.h>
 
@@ -11,10 +12,10 @@
 namespace vscan::cli {
 namespace {
 
-const std::filesystem::path kRoot = VSCAN_SOURCE_DIR;
+using test::kRoot;
 
 // Line numbers below refer to this text.
-const std::string kPlan = R"(name: errors
+const std::string kErrorsPlan = R"(name: errors
 scene:
   objects:
     - mesh: data/meshes/bunny/bunny_zipper_res2.ply
@@ -49,7 +50,7 @@ void PrintTo(const Case& c, std::ostream* os) { *os << c.name; }
 class LocateInPlanTest : public testing::TestWithParam<Case> {};
 
 TEST_P(LocateInPlanTest, NamesFileLineAndKey) {
-  const auto plan = ParseCampaignPlan(kPlan, "plan.yaml", kRoot);
+  const auto plan = ParseCampaignPlan(kErrorsPlan, "plan.yaml", kRoot);
   ASSERT_TRUE(plan.ok()) << plan.status().message();
   const Case& c = GetParam();
   EXPECT_EQ(LocateInPlan(*plan, c.call, c.status, c.object), c.expected);

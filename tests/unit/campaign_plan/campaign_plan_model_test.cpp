@@ -7,14 +7,16 @@
 
 #include "campaign_errors.h"
 #include "campaign_plan.h"
+#include "plan_text.h"
 
 namespace vscan::cli {
 namespace {
 
-const std::filesystem::path kRoot = VSCAN_SOURCE_DIR;
+using test::kRoot;
+using test::Parse;
 
 // Line numbers below refer to this text (line 1 is "scene_id: s-1").
-const std::string kPlan = R"(scene_id: s-1
+const std::string kModelPlan = R"(scene_id: s-1
 mount_id: m-1
 sensor: {preset: ideal}
 viewpoints:
@@ -31,17 +33,16 @@ evaluation:
   skip_next_best_views: false
 )";
 
-StatusOr<CampaignPlan> Parse(const std::string& text) { return ParseCampaignPlan(text, "plan.yaml", kRoot); }
 
 std::string Replace(const std::string& from, const std::string& to) {
-  std::string text = kPlan;
+  std::string text = kModelPlan;
   const size_t at = text.find(from);
   EXPECT_NE(at, std::string::npos) << from;
   return text.replace(at, from.size(), to);
 }
 
 TEST(CampaignPlanModel, KeysMapOntoTheSpec) {
-  const auto plan = Parse(kPlan);
+  const auto plan = Parse(kModelPlan);
   ASSERT_TRUE(plan.ok()) << plan.status().message();
   const v1::CampaignSpec& spec = plan->spec;
   EXPECT_TRUE(spec.align());
@@ -131,7 +132,7 @@ INSTANTIATE_TEST_SUITE_P(
     [](const testing::TestParamInfo<BadModelKey>& info) { return info.param.name; });
 
 TEST(CampaignPlanModel, ServerErrorsFindTheirKey) {
-  const auto plan = Parse(kPlan);
+  const auto plan = Parse(kModelPlan);
   ASSERT_TRUE(plan.ok()) << plan.status().message();
   EXPECT_EQ(LocateInPlan(*plan, PlanCall::kStartCampaign,
                          InvalidArgument("spec.evaluation.next_best_views", "at most 20")),

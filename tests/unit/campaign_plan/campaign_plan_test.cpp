@@ -10,14 +10,17 @@
 #include <numbers>
 #include <string>
 
+#include "plan_text.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::cli {
 namespace {
 
+using test::kRoot;
+using test::Parse;
+
 using google::protobuf::util::MessageDifferencer;
 
-const std::filesystem::path kRoot = VSCAN_SOURCE_DIR;
 
 // Line numbers below refer to this text (line 1 is "name: test-plan").
 const std::string kPlan = R"(name: test-plan
@@ -58,7 +61,6 @@ apply_encoder_noise: true
 reject_collisions: true
 )";
 
-StatusOr<CampaignPlan> Parse(const std::string& text) { return ParseCampaignPlan(text, "plan.yaml", kRoot); }
 
 // kPlan with the first line that starts with `from` (after indentation) replaced by `to`.
 std::string Edit(const std::string& from, const std::string& to, std::string text = kPlan) {

@@ -12,10 +12,12 @@ namespace vscan::capture {
 namespace {
 
 using test::Build;
+using test::Code;
+using test::kDeg;
+using test::TruthSpec;
 using test::Camera;
 using test::Measure;
 
-constexpr uint8_t Code(PointStatus s) { return static_cast<uint8_t>(s); }
 
 MeasurementSpec OutlierSpecOf(double rate, double angle_deg, double origin_m) {
   MeasurementSpec spec;

@@ -2,7 +2,9 @@
 // Analytic scenes for the measurement-model tests: the sensor sits at the world origin looking
 // along +z (world_from_sensor = identity), so sensor and world coordinates agree.
 
+#include <cstdint>
 #include <memory>
+#include <numbers>
 #include <vector>
 
 #include "capture/measure_scan.h"
@@ -12,6 +14,17 @@
 namespace vscan::capture::test {
 
 constexpr uint32_t kPlaneId = 1, kSphereId = 2, kBoxId = 3;
+inline constexpr double kDeg = std::numbers::pi / 180.0;
+
+// A point's status as the cloud stores it.
+constexpr uint8_t Code(PointStatus s) { return static_cast<uint8_t>(s); }
+
+// Every field and the ground truth.
+inline MeasurementSpec TruthSpec() {
+  MeasurementSpec spec;
+  spec.fields = kFieldsAll | kFieldsGroundTruth;
+  return spec;
+}
 
 // A plane facing the sensor at depth z, half_size metres each side of the axis.
 raycast::SceneInstance Plane(double z, double half_size);

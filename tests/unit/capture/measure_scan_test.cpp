@@ -15,11 +15,12 @@ namespace vscan::capture {
 namespace {
 
 using test::Build;
+using test::Code;
+using test::kDeg;
+using test::TruthSpec;
 using test::Camera;
 using test::Measure;
 
-constexpr double kDeg = std::numbers::pi / 180.0;
-constexpr uint8_t Code(PointStatus s) { return static_cast<uint8_t>(s); }
 
 const Eigen::Vector3d kCentre(0, 0, 2);
 constexpr double kRadius = 0.5;
@@ -34,11 +35,6 @@ double AnalyticIncidence(const sensor::PinholeCamera& camera, double u, double v
   return std::acos(std::clamp(-d.dot(n), -1.0, 1.0));
 }
 
-MeasurementSpec TruthSpec() {
-  MeasurementSpec spec;
-  spec.fields = kFieldsAll | kFieldsGroundTruth;
-  return spec;
-}
 
 TEST(MeasureScanTest, GrazingRejectsExactlyTheAnalyticRim) {
   const auto scene = Build({test::Sphere(kCentre, kRadius)});

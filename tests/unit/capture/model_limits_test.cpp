@@ -17,11 +17,12 @@ namespace vscan::capture {
 namespace {
 
 using test::Build;
+using test::Code;
+using test::kDeg;
+using test::TruthSpec;
 using test::Camera;
 using test::Measure;
 
-constexpr double kDeg = std::numbers::pi / 180.0;
-constexpr uint8_t Code(PointStatus s) { return static_cast<uint8_t>(s); }
 
 raycast::SceneInstance Mesh(TriangleMesh mesh, uint32_t id) {
   raycast::SceneInstance instance;
@@ -30,11 +31,6 @@ raycast::SceneInstance Mesh(TriangleMesh mesh, uint32_t id) {
   return instance;
 }
 
-MeasurementSpec TruthSpec() {
-  MeasurementSpec spec;
-  spec.fields = kFieldsAll | kFieldsGroundTruth;
-  return spec;
-}
 
 TEST(FlyingPixelTest, NoneOnAContinuousSteepPlane) {
   // A plane tilted 70 degrees away from the camera: at 64 pixels over 60 degrees neighbouring depths

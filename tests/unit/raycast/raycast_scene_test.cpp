@@ -12,7 +12,7 @@
 namespace vscan::raycast {
 namespace {
 
-SceneInstance Instance(TriangleMesh mesh, uint32_t id) {
+SceneInstance MeshInstance(TriangleMesh mesh, uint32_t id) {
   SceneInstance instance;
   instance.mesh = test::Share(std::move(mesh));
   instance.instance_id = id;
@@ -31,8 +31,8 @@ TEST(RaycastSceneTest, IcosphereIsClosed) {
 
 TEST(RaycastSceneTest, CountsTrianglesAndMapsGeometriesToInstances) {
   std::vector<SceneInstance> instances = {
-      Instance(test::MakeSquare(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 1.0), 7),
-      Instance(test::MakeIcosphere(Eigen::Vector3d(3, 0, 0), 1.0, 1), 42)};
+      MeshInstance(test::MakeSquare(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 1.0), 7),
+      MeshInstance(test::MakeIcosphere(Eigen::Vector3d(3, 0, 0), 1.0, 1), 42)};
   auto scene = RaycastScene::Build(instances);
   ASSERT_TRUE(scene.ok()) << scene.status().ToString();
   EXPECT_EQ((*scene)->triangle_count(), 2u + 80u);
@@ -50,7 +50,7 @@ TEST(RaycastSceneTest, EmptySceneBuilds) {
 TEST(RaycastSceneTest, RejectsNonFiniteVertices) {
   TriangleMesh mesh = test::MakeSquare(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 1.0);
   mesh.vertices[2].y() = std::numeric_limits<float>::quiet_NaN();
-  const std::vector<SceneInstance> instances = {Instance(std::move(mesh), 1)};
+  const std::vector<SceneInstance> instances = {MeshInstance(std::move(mesh), 1)};
   auto scene = RaycastScene::Build(instances);
   ASSERT_FALSE(scene.ok());
   EXPECT_EQ(scene.status().code(), StatusCode::kInvalidArgument);
@@ -61,8 +61,8 @@ TEST(RaycastSceneTest, RejectsOutOfRangeIndices) {
   TriangleMesh mesh = test::MakeSquare(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 1.0);
   mesh.triangles[1][2] = 4;
   const std::vector<SceneInstance> instances = {
-      Instance(test::MakeSquare(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 1.0), 1),
-      Instance(std::move(mesh), 2)};
+      MeshInstance(test::MakeSquare(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 1.0), 1),
+      MeshInstance(std::move(mesh), 2)};
   auto scene = RaycastScene::Build(instances);
   ASSERT_FALSE(scene.ok());
   EXPECT_EQ(scene.status().code(), StatusCode::kInvalidArgument);
@@ -74,11 +74,11 @@ TEST(RaycastSceneTest, RejectsMissingMeshBadScaleAndNonFinitePose) {
   SceneInstance missing;
   EXPECT_EQ(RaycastScene::Build(std::vector<SceneInstance>{missing}).status().code(), StatusCode::kInvalidArgument);
 
-  SceneInstance scaled = Instance(test::MakeSquare(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 1.0), 1);
+  SceneInstance scaled = MeshInstance(test::MakeSquare(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 1.0), 1);
   scaled.scale = 0;
   EXPECT_EQ(RaycastScene::Build(std::vector<SceneInstance>{scaled}).status().code(), StatusCode::kInvalidArgument);
 
-  SceneInstance posed = Instance(test::MakeSquare(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 1.0), 1);
+  SceneInstance posed = MeshInstance(test::MakeSquare(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 1.0), 1);
   posed.world_from_object.translation().x() = std::numeric_limits<double>::infinity();
   EXPECT_EQ(RaycastScene::Build(std::vector<SceneInstance>{posed}).status().code(), StatusCode::kInvalidArgument);
 }

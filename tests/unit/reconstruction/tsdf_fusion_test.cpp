@@ -15,11 +15,11 @@
 namespace vscan::reconstruction {
 namespace {
 
-constexpr float kVoxel = 0.002f;
+constexpr float kFusionVoxel = 0.002f;
 
 TsdfFusionOptions Options() {
   TsdfFusionOptions options;
-  options.tsdf.voxel_size = kVoxel;
+  options.tsdf.voxel_size = kFusionVoxel;
   options.tsdf.truncation_voxels = 4;
   return options;
 }
@@ -52,8 +52,8 @@ TEST(TsdfFusion, SphereFromSixViews) {
   ASSERT_TRUE(mesh.ok()) << mesh.status().ToString();
   ASSERT_GT(mesh->triangles.size(), 10'000u);
   EXPECT_GT(stats.blocks, 0u);
-  EXPECT_LT(MaxDistance(*scene, *mesh), 0.5f * kVoxel);
-  EXPECT_GT(FScore(sphere, *mesh, kVoxel), 0.95);
+  EXPECT_LT(MaxDistance(*scene, *mesh), 0.5f * kFusionVoxel);
+  EXPECT_GT(FScore(sphere, *mesh, kFusionVoxel), 0.95);
   EXPECT_TRUE(test::ClosedAndConsistent(*mesh));
   EXPECT_EQ(test::ShareFacingAway(*mesh, centre.cast<float>()), 1.0);
 }
@@ -74,8 +74,8 @@ TEST_F(PlaneFromOneView, WithoutCarvingTheSheetLiesOnThePlane) {
   auto mesh = FuseRangeImages(images_, options);
   ASSERT_TRUE(mesh.ok()) << mesh.status().ToString();
   ASSERT_GT(mesh->triangles.size(), 1000u);
-  EXPECT_LT(MaxDistance(*scene_, *mesh), 0.5f * kVoxel);
-  EXPECT_GT(FScore(square_, *mesh, kVoxel), 0.95);
+  EXPECT_LT(MaxDistance(*scene_, *mesh), 0.5f * kFusionVoxel);
+  EXPECT_GT(FScore(square_, *mesh, kFusionVoxel), 0.95);
   for (const auto& t : mesh->triangles) {
     const Eigen::Vector3f a = mesh->vertices[t[0]], b = mesh->vertices[t[1]], c = mesh->vertices[t[2]];
     const Eigen::Vector3f n = (b - a).cross(c - a);
@@ -90,8 +90,8 @@ TEST_F(PlaneFromOneView, WithoutCarvingTheSheetLiesOnThePlane) {
 TEST_F(PlaneFromOneView, CarvingLeavesAtMostALipAtTheEdge) {
   auto mesh = FuseRangeImages(images_, Options());
   ASSERT_TRUE(mesh.ok()) << mesh.status().ToString();
-  EXPECT_LT(MaxDistance(*scene_, *mesh), 2 * kVoxel);
-  EXPECT_GT(FScore(square_, *mesh, kVoxel), 0.95);
+  EXPECT_LT(MaxDistance(*scene_, *mesh), 2 * kFusionVoxel);
+  EXPECT_GT(FScore(square_, *mesh, kFusionVoxel), 0.95);
 }
 
 TEST(TsdfFusion, SmallPiecesAreRemovedOnRequest) {

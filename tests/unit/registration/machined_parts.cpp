@@ -11,7 +11,7 @@
 namespace vscan::registration::testing {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+constexpr double kRadiansPerDegree = std::numbers::pi / 180.0;
 
 uint32_t AddVertex(TriangleMesh& mesh, float x, float y, float z) {
   mesh.vertices.emplace_back(x, y, z);
@@ -89,7 +89,7 @@ MachinedPart MakeMachinedPart(int which) {
 }
 
 Pose3 ViewOfPart(double azimuth_deg, double elevation_deg, double distance) {
-  const double a = azimuth_deg * kDeg, e = elevation_deg * kDeg;
+  const double a = azimuth_deg * kRadiansPerDegree, e = elevation_deg * kRadiansPerDegree;
   const Eigen::Vector3d eye = distance * Eigen::Vector3d(std::cos(e) * std::cos(a), std::cos(e) * std::sin(a), std::sin(e));
   return PoseFromLookAt(eye, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), "view").value();
 }

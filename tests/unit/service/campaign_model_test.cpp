@@ -18,7 +18,7 @@ namespace {
 using testing::JsonValue;
 using testing::ModelWorld;
 
-constexpr double kTau = 0.001;
+constexpr double kCampaignTau = 0.001;
 
 CampaignPlan AligningCampaign(ModelWorld& world, bool evaluate) {
   CampaignPlan plan = world.Campaign({world.Viewpoint(0.3, 10), world.Viewpoint(0.3, 35), world.Viewpoint(0.3, 60)},
@@ -26,7 +26,7 @@ CampaignPlan AligningCampaign(ModelWorld& world, bool evaluate) {
   ModelRequest request;
   request.evaluate = evaluate;
   request.reconstruct = evaluate;
-  request.tau = kTau;
+  request.tau = kCampaignTau;
   request.skip_next_best_views = true;
   auto model = PlanCampaignModel(world.world.context(), request, plan.scene_id, plan.mount_id, true);
   EXPECT_TRUE(model.ok()) << model.status().ToString();
