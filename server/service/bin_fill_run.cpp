@@ -9,17 +9,12 @@
 #include "service/bin_fill_simulation.h"
 #include "service/bin_scene.h"
 #include "service/campaign_run.h"
+#include "service/message_numbers.h"
 
 namespace vscan::service {
 namespace {
 
 constexpr const char* kJsonMediaType = "application/json";
-
-std::string Number(double x) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.3g", x);
-  return buffer;
-}
 
 class BinFillRun {
  public:
@@ -35,7 +30,7 @@ class BinFillRun {
     const Eigen::Vector3d size = interior.hi - interior.lo;
     const std::string what = plan_.request.mesh_bin ? "the mesh bin " + plan_.request.bin_mesh_id + " (bounding box "
                                                     : "a bin of ";
-    Status status = Event("filling " + what + Number(size.x()) + " x " + Number(size.y()) + " x " + Number(size.z()) +
+    Status status = Event("filling " + what + Rounded(size.x()) + " x " + Rounded(size.y()) + " x " + Rounded(size.z()) +
                           (plan_.request.mesh_bin ? " m)" : " m") + " with " + std::to_string(total_) + " parts of " +
                           std::to_string(plan_.parts.size()) + " types");
     if (status.ok()) status = Fill();
@@ -48,7 +43,7 @@ class BinFillRun {
     report_.result = SimulateBinFill(plan_, control_.flag(), [&](const FillProgress& progress) {
       if (!observed.ok()) return;
       steps_done_ = static_cast<uint32_t>(std::min<uint64_t>(progress.dropped, total_));
-      observed = Event(Number(progress.simulated_s) + " s simulated: " + std::to_string(progress.dropped) + " of " +
+      observed = Event(Rounded(progress.simulated_s) + " s simulated: " + std::to_string(progress.dropped) + " of " +
                        std::to_string(total_) + " parts dropped, " + std::to_string(progress.slow) + " resting, " +
                        std::to_string(progress.removed) + " out of the bin");
     });
@@ -71,7 +66,7 @@ class BinFillRun {
       report_.state = store::JobState::kSucceeded;
       report_.message = std::string(physics::FillEndName(result.end)) + ": " + std::to_string(result.parts.size()) +
                         " parts in the bin, " + std::to_string(result.outside.size()) + " out of it, " +
-                        Number(result.simulated_s) + " s simulated; scene revision " +
+                        Rounded(result.simulated_s) + " s simulated; scene revision " +
                         std::to_string(report_.placement->revision) + " (" + result.message + ")";
     } else if (control_.stop_requested()) {
       report_.state = StoppedState(control_.reason());

@@ -11,18 +11,13 @@
 #include "service/model_run.h"
 #include "service/pose_prior.h"
 #include "vscan/common/cloud_io.h"
+#include "service/message_numbers.h"
 
 namespace vscan::service {
 namespace {
 
 constexpr const char* kPlyMediaType = "model/ply";
 constexpr const char* kJsonMediaType = "application/json";
-
-std::string Number(double x) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%g", x);
-  return buffer;
-}
 
 std::string Where(uint32_t viewpoint, double angle_deg) {
   return "viewpoint " + std::to_string(viewpoint) + " at " + Number(angle_deg) + " deg";

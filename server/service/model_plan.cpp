@@ -9,6 +9,7 @@
 #include "service/request_memory.h"
 #include "vscan/common/physical_limits.h"
 #include "vscan/common/point_cloud.h"
+#include "service/message_numbers.h"
 
 namespace vscan::service {
 namespace {
@@ -20,12 +21,6 @@ constexpr double kMinTau = 1e-5;
 constexpr int kCloudListPage = 500;
 
 std::string Index(const char* field, size_t i) { return std::string(field) + "[" + std::to_string(i) + "]"; }
-
-std::string Number(double x) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%g", x);
-  return buffer;
-}
 
 // 0 (pick it) or a length in [min, kMaxModelLength] metres.
 Status CheckLength(double value, const char* field, double min) {

@@ -20,6 +20,7 @@
 #include "service/model_scans.h"
 #include "service/model_union.h"
 #include "vscan/common/cloud_io.h"
+#include "service/message_numbers.h"
 
 namespace vscan::service {
 namespace {
@@ -34,21 +35,15 @@ constexpr double kReconstructionVoxelPerSize = 1.0 / 250;
 // Samples of the truth that scans aligned by features are laid onto.
 constexpr size_t kPlacementSamples = 50'000;
 
-std::string Number(double x) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof(buffer), "%.3g", x);
-  return buffer;
-}
-
 std::string ScanMessage(const ScanAlignmentRecord& scan, size_t total) {
   std::string message = "scan " + std::to_string(scan.index + 1) + (total > 0 ? " of " + std::to_string(total) : "") +
                         " (" + scan.name + ") ";
   if (!scan.aligned) return message + "not aligned: " + scan.reason;
-  message += "aligned, fitness " + Number(scan.fitness);
+  message += "aligned, fitness " + Rounded(scan.fitness);
   if (scan.has_error) {
-    message += ", error " + Number(scan.rotation_error_deg) + " deg / " + Number(scan.translation_error_m * 1e3) +
-               " mm (from " + Number(scan.initial_rotation_error_deg) + " deg / " +
-               Number(scan.initial_translation_error_m * 1e3) + " mm)";
+    message += ", error " + Rounded(scan.rotation_error_deg) + " deg / " + Rounded(scan.translation_error_m * 1e3) +
+               " mm (from " + Rounded(scan.initial_rotation_error_deg) + " deg / " +
+               Rounded(scan.initial_translation_error_m * 1e3) + " mm)";
   }
   return message;
 }
@@ -137,8 +132,8 @@ class ModelRun {
       text = std::to_string(aligned) + " of " + std::to_string(scans.size()) + " scans aligned";
       const ErrorSummary rotation = SummariseFinalRotation(scans);
       if (rotation.count > 0) {
-        text += ", max error " + Number(rotation.max) + " deg / " +
-                Number(SummariseFinalTranslation(scans).max * 1e3) + " mm";
+        text += ", max error " + Rounded(rotation.max) + " deg / " +
+                Rounded(SummariseFinalTranslation(scans).max * 1e3) + " mm";
       }
     } else {
       text = std::to_string(plan_.clouds.size()) + " clouds merged";
@@ -150,7 +145,7 @@ class ModelRun {
     if (report_.evaluation) {
       const ModelEvaluationReport& e = *report_.evaluation;
       const double f = e.mesh_metrics ? e.mesh_metrics->f_score : e.union_metrics.f_score;
-      text += "; coverage " + Number(e.coverage) + "; F " + Number(f) + " at " + Number(e.tau * 1e3) + " mm";
+      text += "; coverage " + Rounded(e.coverage) + "; F " + Rounded(f) + " at " + Rounded(e.tau * 1e3) + " mm";
     }
     return text;
   }
@@ -314,7 +309,7 @@ class ModelRun {
     }
     for (ScanAlignmentRecord& scan : aligned_->scans) scan.model_from_sensor = match.target_from_source * scan.model_from_sensor;
     aligned_->in_model_frame = true;
-    return Event("aligned scans placed on the ground truth by features (fitness " + Number(match.fitness) + ")");
+    return Event("aligned scans placed on the ground truth by features (fitness " + Rounded(match.fitness) + ")");
   }
 
   Status Merge() {
@@ -364,7 +359,7 @@ class ModelRun {
     report.next_best_views_note = plan_.next_best_views_note;
     ++steps_done_;
     RETURN_IF_ERROR(Artifact("uncovered.ply", kPlyMediaType, verdict.uncovered_ply,
-                             "coverage " + Number(report.coverage) + " at tau " + Number(tau_ * 1e3) + " mm"));
+                             "coverage " + Rounded(report.coverage) + " at tau " + Rounded(tau_ * 1e3) + " mm"));
     report.uncovered_artifact = "uncovered.ply";
     RETURN_IF_ERROR(Artifact("coverage.png", kPngMediaType, verdict.coverage_png, "coverage.png written"));
     report.coverage_image = "coverage.png";
@@ -401,7 +396,7 @@ class ModelRun {
     ++steps_done_;
     std::string message = std::to_string(proposed->views.size()) + " next best views of " +
                           std::to_string(proposed->candidates) + " reachable candidates";
-    if (!proposed->views.empty()) message += ", coverage up to " + Number(proposed->views.back().coverage_after);
+    if (!proposed->views.empty()) message += ", coverage up to " + Rounded(proposed->views.back().coverage_after);
     return Event(message);
   }
 

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <utility>
 
+#include "store/list_page.h"
 #include "store/sqlite_statement.h"
 #include "vscan/common/physical_limits.h"
 
@@ -14,8 +15,6 @@ namespace vscan::store {
 namespace {
 
 using sqlite::Statement;
-
-constexpr int kMaxListLimit = 1000;
 
 constexpr std::string_view kMeshColumns =
     "mesh_id, name, sha256, vertex_count, triangle_count, min_x, min_y, min_z, max_x, max_y, max_z, "

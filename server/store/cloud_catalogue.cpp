@@ -7,6 +7,7 @@
 #include "store/byte_codec.h"
 #include "store/ids.h"
 #include "store/robot_records.h"
+#include "store/list_page.h"
 #include "store/sqlite_statement.h"
 #include "vscan/common/point_cloud.h"
 
@@ -15,7 +16,6 @@ namespace {
 
 using sqlite::Statement;
 
-constexpr int kMaxListLimit = 1000;
 constexpr std::string_view kColumns =
     "cloud_id, name, sha256, size_bytes, points, fields, origin, job_id, scene_id, sensor_pose, camera, "
     "table_angle_deg, create_time_ms, frame";

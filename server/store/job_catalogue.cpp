@@ -4,6 +4,7 @@
 #include <utility>
 
 #include "store/ids.h"
+#include "store/list_page.h"
 #include "store/sqlite_statement.h"
 
 namespace vscan::store {
@@ -19,8 +20,6 @@ Status AppendFirstColumn(Statement& statement, std::vector<std::string>& out) {
     out.push_back(statement.Text(0));
   }
 }
-
-constexpr int kMaxListLimit = 1000;
 
 constexpr std::string_view kJobColumns =
     "job_id, kind, state, name, spec, message, steps_done, steps_total, last_sequence, create_time_ms, update_time_ms";

@@ -1,19 +1,10 @@
 #include "geometry/import_protocol.h"
+#include "geometry/little_endian.h"
 
 namespace vscan::geometry {
 namespace {
 
-constexpr std::string_view kMagic = "VSIR";
-
-void PutLe(std::string& out, uint64_t value, int bytes) {
-  for (int i = 0; i < bytes; ++i) out.push_back(static_cast<char>((value >> (8 * i)) & 0xff));
-}
-
-uint64_t GetLe(std::string_view in, int bytes) {
-  uint64_t value = 0;
-  for (int i = 0; i < bytes; ++i) value |= uint64_t{static_cast<unsigned char>(in[i])} << (8 * i);
-  return value;
-}
+constexpr std::string_view kResultMagic = "VSIR";
 
 std::optional<StatusCode> ErrorCode(uint64_t value) {
   switch (static_cast<StatusCode>(value)) {
@@ -63,7 +54,7 @@ std::optional<MeshFileFormat> ParseMeshFileFormat(std::string_view name) {
 }
 
 std::string ImportResultHeader(StatusCode code, uint64_t payload_size) {
-  std::string out(kMagic);
+  std::string out(kResultMagic);
   PutLe(out, static_cast<uint64_t>(code), 4);
   PutLe(out, payload_size, 8);
   return out;
@@ -77,11 +68,11 @@ EncodedImportResult EncodeImportResult(const StatusOr<TriangleMesh>& result) {
 }
 
 StatusOr<TriangleMesh> ParseImportResult(std::string_view bytes) {
-  if (bytes.size() < kImportResultHeaderSize || !bytes.starts_with(kMagic)) {
+  if (bytes.size() < kImportResultHeaderSize || !bytes.starts_with(kResultMagic)) {
     return Internal("mesh importer: no result (" + std::to_string(bytes.size()) + " bytes of output)");
   }
-  const uint64_t code = GetLe(bytes.substr(4), 4);
-  const uint64_t size = GetLe(bytes.substr(8), 8);
+  const uint64_t code = GetLe(bytes.data() + 4, 4);
+  const uint64_t size = GetLe(bytes.data() + 8, 8);
   std::string_view payload = bytes.substr(kImportResultHeaderSize);
   if (size != payload.size()) {
     return Internal("mesh importer: result announces " + std::to_string(size) + " bytes but carries " +

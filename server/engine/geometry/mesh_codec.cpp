@@ -6,31 +6,22 @@
 #include <cstring>
 
 #include "geometry/mesh_import.h"
+#include "geometry/little_endian.h"
 
 namespace vscan::geometry {
 namespace {
 
-constexpr std::string_view kMagic = "VSMESH01";
+constexpr std::string_view kMeshMagic = "VSMESH01";
 constexpr size_t kHeaderSize = 8 + 8 + 8;
 constexpr size_t kVertexSize = 3 * 4;
 constexpr size_t kTriangleSize = 3 * 4;
-
-void PutLe(std::string& out, uint64_t value, int bytes) {
-  for (int i = 0; i < bytes; ++i) out.push_back(static_cast<char>((value >> (8 * i)) & 0xff));
-}
-
-uint64_t GetLe(const char* in, int bytes) {
-  uint64_t value = 0;
-  for (int i = 0; i < bytes; ++i) value |= uint64_t{static_cast<unsigned char>(in[i])} << (8 * i);
-  return value;
-}
 
 }  // namespace
 
 std::string EncodeMesh(const TriangleMesh& mesh) {
   std::string out;
   out.reserve(kHeaderSize + kVertexSize * mesh.vertices.size() + kTriangleSize * mesh.triangles.size());
-  out.append(kMagic);
+  out.append(kMeshMagic);
   PutLe(out, mesh.vertices.size(), 8);
   PutLe(out, mesh.triangles.size(), 8);
   for (const auto& v : mesh.vertices) {
@@ -43,7 +34,7 @@ std::string EncodeMesh(const TriangleMesh& mesh) {
 }
 
 StatusOr<TriangleMesh> DecodeMesh(std::string_view bytes) {
-  if (bytes.size() < kHeaderSize || bytes.substr(0, kMagic.size()) != kMagic) {
+  if (bytes.size() < kHeaderSize || bytes.substr(0, kMeshMagic.size()) != kMeshMagic) {
     return DataLoss("mesh blob: missing VSMESH01 header");
   }
   uint64_t vertex_count = GetLe(bytes.data() + 8, 8);

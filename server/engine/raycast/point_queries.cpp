@@ -11,7 +11,7 @@
 namespace vscan::raycast {
 namespace {
 
-constexpr size_t kGrain = 512;
+constexpr size_t kPointGrain = 512;
 
 struct QueryState {
   RTCScene scene;
@@ -55,7 +55,7 @@ std::vector<float> DistancesToSurface(const RaycastScene& scene, std::span<const
   std::vector<float> distances(points.size(), kInf);
   const RTCScene rtc = EmbreeOf(scene).scene;
   if (scene.triangle_count() == 0) return distances;
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), kGrain), [&](const tbb::blocked_range<size_t>& r) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), kPointGrain), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
       const Eigen::Vector3f& p = points[i];
       if (!p.allFinite()) continue;

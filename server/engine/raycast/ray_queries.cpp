@@ -11,7 +11,7 @@
 namespace vscan::raycast {
 namespace {
 
-constexpr size_t kGrain = 1024;
+constexpr size_t kRayGrain = 1024;
 
 RTCRay MakeRay(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, float t_near, float t_far) {
   RTCRay ray{};
@@ -33,7 +33,7 @@ std::vector<RayHit> IntersectRays(const RaycastScene& scene, std::span<const Eig
                                   std::span<const Eigen::Vector3f> directions, float t_near, float t_far) {
   std::vector<RayHit> hits(origins.size());
   const RTCScene rtc = EmbreeOf(scene).scene;
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, origins.size(), kGrain), [&](const tbb::blocked_range<size_t>& r) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, origins.size(), kRayGrain), [&](const tbb::blocked_range<size_t>& r) {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     for (size_t i = r.begin(); i != r.end(); ++i) {
@@ -61,7 +61,7 @@ std::vector<uint8_t> OccludedSegments(const RaycastScene& scene, std::span<const
                                       float min_margin) {
   std::vector<uint8_t> occluded(from.size(), 0);
   const RTCScene rtc = EmbreeOf(scene).scene;
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, from.size(), kGrain), [&](const tbb::blocked_range<size_t>& r) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, from.size(), kRayGrain), [&](const tbb::blocked_range<size_t>& r) {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     for (size_t i = r.begin(); i != r.end(); ++i) {

@@ -16,6 +16,7 @@
 #include "registration/point_to_plane_icp.h"
 #include "registration/shot_descriptors.h"
 #include "spatial/kd_tree.h"
+#include "vscan/common/cancel_flag.h"
 
 namespace vscan::registration {
 namespace {
@@ -72,10 +73,6 @@ Status Validate(const FeatureAlignmentOptions& o) {
     return InvalidArgument("features.min_fitness", "must be in [0, 1], got " + std::to_string(o.min_fitness));
   }
   return Status::Ok();
-}
-
-bool IsCancelled(const std::atomic<bool>* cancel) {
-  return cancel != nullptr && cancel->load(std::memory_order_relaxed);
 }
 
 std::string Millimetres(double metres) {

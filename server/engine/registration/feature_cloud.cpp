@@ -9,6 +9,7 @@
 #include "normals/normal_estimation.h"
 #include "registration/normal_orientation.h"
 #include "spatial/kd_tree.h"
+#include "vscan/common/cancel_flag.h"
 
 namespace vscan::registration {
 namespace {
@@ -49,10 +50,6 @@ void ForEachCell(const std::vector<CellEntry>& entries, Visit visit) {
     visit(begin, end);
     begin = end;
   }
-}
-
-bool IsCancelled(const std::atomic<bool>* cancel) {
-  return cancel != nullptr && cancel->load(std::memory_order_relaxed);
 }
 
 }  // namespace

@@ -22,7 +22,7 @@ constexpr float kMinSpread = 3.0f;
 // Rounds of refitting to all inliers of the best hypothesis.
 constexpr int kRefits = 10;
 // Hypotheses drawn, then scored in parallel, between polls of cancel.
-constexpr int kBatch = 1024;
+constexpr int kConsensusBatch = 1024;
 
 class Sampler {
  public:
@@ -111,13 +111,13 @@ StatusOr<Consensus> FindMatchConsensus(std::span<const Eigen::Vector3f> source, 
   std::vector<std::array<size_t, 3>> drawn;
   std::vector<Pose3> poses;
   std::vector<size_t> counts;
-  for (int begin = 0; begin < options.iterations; begin += kBatch) {
+  for (int begin = 0; begin < options.iterations; begin += kConsensusBatch) {
     if (options.cancel != nullptr && options.cancel->load(std::memory_order_relaxed)) {
       return Cancelled("features: cancelled");
     }
     drawn.clear();
     std::array<size_t, 3> picked{};
-    for (int iteration = begin; iteration < std::min(options.iterations, begin + kBatch); ++iteration) {
+    for (int iteration = begin; iteration < std::min(options.iterations, begin + kConsensusBatch); ++iteration) {
       if (sampler.Draw(picked)) drawn.push_back(picked);
     }
     poses.resize(drawn.size());

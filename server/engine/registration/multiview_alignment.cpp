@@ -18,6 +18,7 @@
 #include "registration/target_index.h"
 #include "registration/voxel_thinning.h"
 #include "registration/voxel_union.h"
+#include "vscan/common/cancel_flag.h"
 
 namespace vscan::registration {
 namespace {
@@ -39,10 +40,6 @@ constexpr double kHuberWidthVoxels = 0.5;
 // Pairwise ICP: reach in voxels and iterations (see FitPair).
 constexpr double kPairReachVoxels = 1.0;
 constexpr int kPairIterations = 10;
-
-bool IsCancelled(const std::atomic<bool>* cancel) {
-  return cancel != nullptr && cancel->load(std::memory_order_relaxed);
-}
 
 Status CancelledStatus() { return Cancelled("multiview alignment: cancelled"); }
 

@@ -1,4 +1,5 @@
 #include "registration/shot_descriptors.h"
+#include "vscan/common/cancel_flag.h"
 
 #include <algorithm>
 #include <memory>
@@ -14,11 +15,7 @@ namespace {
 
 // Keypoints per task. PCL's own OpenMP loop is not used, so the work runs on TBB's threads (and
 // within the caller's arena) like the rest of the engine.
-constexpr size_t kBatch = 256;
-
-bool IsCancelled(const std::atomic<bool>* cancel) {
-  return cancel != nullptr && cancel->load(std::memory_order_relaxed);
-}
+constexpr size_t kDescriptorBatch = 256;
 
 }  // namespace
 
@@ -46,13 +43,13 @@ StatusOr<ShotDescriptors> DescribeWithShot(std::span<const Eigen::Vector3f> poin
   pcl::PointCloud<pcl::SHOT352> described;
   described.resize(keypoints.size());
   std::atomic<bool> cancelled = false;
-  const size_t batches = (keypoints.size() + kBatch - 1) / kBatch;
+  const size_t batches = (keypoints.size() + kDescriptorBatch - 1) / kDescriptorBatch;
   tbb::parallel_for(size_t{0}, batches, [&](size_t batch) {
     if (IsCancelled(cancel)) {
       cancelled = true;
       return;
     }
-    const size_t begin = batch * kBatch, end = std::min(keypoints.size(), begin + kBatch);
+    const size_t begin = batch * kDescriptorBatch, end = std::min(keypoints.size(), begin + kDescriptorBatch);
     auto indices = std::make_shared<pcl::Indices>(keypoints.begin() + static_cast<std::ptrdiff_t>(begin),
                                                   keypoints.begin() + static_cast<std::ptrdiff_t>(end));
     pcl::SHOTLocalReferenceFrameEstimation<pcl::PointXYZ, pcl::ReferenceFrame> frames_estimation;

@@ -2,13 +2,10 @@
 
 #include <filesystem>
 #include <set>
+#include "service/dataset/yaml_fields.h"
 
 namespace vscan::service::dataset {
 namespace {
-
-Status Refuse(const std::string& source, const std::string& key, const std::string& what) {
-  return InvalidArgument(source + ": " + key + ": " + what);
-}
 
 Status OnlyKeys(const YAML::Node& node, const std::string& source, const std::string& key,
                 const std::set<std::string>& keys, const std::string& listed) {
@@ -24,12 +21,6 @@ Status OnlyKeys(const YAML::Node& node, const std::string& source, const std::st
 StatusOr<std::string> Text(const YAML::Node& node, const std::string& source, const std::string& key) {
   if (!node.IsScalar()) return Refuse(source, key, "must be text");
   return node.Scalar();
-}
-
-StatusOr<double> Number(const YAML::Node& node, const std::string& source, const std::string& key) {
-  double value = 0;
-  if (!node.IsScalar() || !YAML::convert<double>::decode(node, value)) return Refuse(source, key, "must be a number");
-  return value;
 }
 
 StatusOr<uint32_t> Whole(const YAML::Node& node, const std::string& source, const std::string& key) {

@@ -5,13 +5,10 @@
 #include <yaml-cpp/yaml.h>
 
 #include "service/dataset/dataset_bins_yaml.h"
+#include "service/dataset/yaml_fields.h"
 
 namespace vscan::service::dataset {
 namespace {
-
-Status Refuse(const std::string& source, const std::string& key, const std::string& what) {
-  return InvalidArgument(source + ": " + key + ": " + what);
-}
 
 // Bare names, or mappings that describe each bin's fill: every bin one way.
 Status ReadBins(const YAML::Node& node, const std::string& source, DatasetPlan& plan) {
@@ -67,12 +64,6 @@ StatusOr<std::vector<uint64_t>> Seeds(const YAML::Node& node, const std::string&
   if (count > kMaxScenes) return Refuse(source, "seeds.count", "must be at most " + std::to_string(kMaxScenes));
   if (first + count < first) return Refuse(source, "seeds", "the range passes the largest seed");
   return SeedRange(first, count);
-}
-
-StatusOr<double> Number(const YAML::Node& node, const std::string& source, const std::string& key) {
-  double value = 0;
-  if (!node.IsScalar() || !YAML::convert<double>::decode(node, value)) return Refuse(source, key, "must be a number");
-  return value;
 }
 
 // {count, cone_deg, distance_m}: distance_m one number or [min, max].

@@ -4,11 +4,10 @@
 #include <cstring>
 
 #include "service/dataset/dataset_layout.h"
+#include "service/dataset/bop_units.h"
 
 namespace vscan::service::dataset {
 namespace {
-
-constexpr float kMillimetresPerMetre = 1000.0f;
 
 // Little-endian bytes of a 4-byte value (x86 and ARM hosts are little-endian; checked at compile time).
 template <typename T>
@@ -42,7 +41,7 @@ StatusOr<std::string> EncodeModelPly(const PartModel& part) {
                     std::to_string(mesh.triangles.size()) + "\nproperty list uchar int vertex_indices\nend_header\n";
   out.reserve(out.size() + mesh.vertices.size() * 12 + mesh.triangles.size() * 13);
   for (const Eigen::Vector3f& v : mesh.vertices) {
-    for (int axis = 0; axis < 3; ++axis) Append(out, v[axis] * kMillimetresPerMetre);
+    for (int axis = 0; axis < 3; ++axis) Append(out, v[axis] * static_cast<float>(kMillimetresPerMetre));
   }
   for (const auto& triangle : mesh.triangles) {
     out.push_back(char(3));

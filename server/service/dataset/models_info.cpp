@@ -5,11 +5,10 @@
 #include <set>
 
 #include "service/json_writer.h"
+#include "service/dataset/bop_units.h"
 
 namespace vscan::service::dataset {
 namespace {
-
-constexpr double kMillimetresPerMetre = 1000.0;
 
 void WriteSymmetries(JsonWriter& json, const PartModel& part) {
   if (!part.discrete_symmetries.empty()) {

@@ -1,11 +1,10 @@
 #include "service/dataset/scene_json.h"
 
 #include "service/json_writer.h"
+#include "service/dataset/bop_units.h"
 
 namespace vscan::service::dataset {
 namespace {
-
-constexpr double kMillimetresPerMetre = 1000.0;
 
 void Rotation(JsonWriter& json, const Pose3& pose) {
   json.Open('[');
