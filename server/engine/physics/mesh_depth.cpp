@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "geometry/closest_point.h"
+#include "physics/part_geometry.h"
 
 namespace vscan::physics {
 namespace {
@@ -52,6 +53,22 @@ MeshDepth::MeshDepth(const TriangleMesh& mesh) : triangles_(mesh.triangles) {
   for (uint32_t i = 0; i < order_.size(); ++i) order_[i] = i;
   nodes_.reserve(2 * triangles_.size() / kLeafTriangles + 2);
   Build(0, static_cast<uint32_t>(order_.size()), centroids);
+  if (vertices_.size() >= 4) {
+    const std::vector<HullFace> faces = HullFaces(vertices_);
+    if (faces.size() >= 4) {
+      for (const HullFace& face : faces) hull_planes_.emplace_back(face.normal.x(), face.normal.y(), face.normal.z(), face.offset);
+      // A vertex on a hull plane is not enough (an L's notch corner lies on its top face): no point
+      // of the triangles may lie under the hull's surface, and the hull encloses no more.
+      convex_ = ConvexWithin(mesh, Eigen::Vector3d::Zero(), ExactHull(mesh, Eigen::Vector3d::Zero()),
+                             1e-6 * bounds().sizes().maxCoeff());
+    }
+  }
+}
+
+double MeshDepth::BeyondHull(const Eigen::Vector3d& p) const {
+  double beyond = -std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector4d& plane : hull_planes_) beyond = std::max(beyond, plane.head<3>().dot(p) - plane.w());
+  return beyond;
 }
 
 uint32_t MeshDepth::Build(uint32_t begin, uint32_t end, const std::vector<Eigen::Vector3d>& centroids) {
@@ -155,7 +172,8 @@ int MeshDepth::Crossings(const Eigen::Vector3d& origin, const Eigen::Vector3d& d
 }
 
 bool MeshDepth::Inside(const Eigen::Vector3d& p) const {
-  if (triangles_.empty() || !bounds().contains(p)) return false;
+  if (triangles_.empty() || !bounds().contains(p) || BeyondHull(p) > 0) return false;
+  if (convex_) return true;
   int votes = 0;
   for (const Eigen::Vector3d& direction : kRayDirections) {
     bool grazing = false;
@@ -169,6 +187,7 @@ bool MeshDepth::Inside(const Eigen::Vector3d& p) const {
 double MeshDepth::SignedDepth(const Eigen::Vector3d& p) const {
   if (triangles_.empty()) return -std::numeric_limits<double>::infinity();
   if (!bounds().contains(p)) return -std::sqrt(bounds().squaredExteriorDistance(p));
+  if (const double beyond = BeyondHull(p); beyond > 0 || convex_) return -beyond;
   const double distance = Distance(p);
   return Inside(p) ? distance : -distance;
 }

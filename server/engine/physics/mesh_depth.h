@@ -22,8 +22,10 @@ class MeshDepth {
  public:
   explicit MeshDepth(const TriangleMesh& mesh);
 
-  // Distance to the surface, positive inside and negative outside. Outside the mesh's bounding
-  // box it is minus the distance to that box (no farther than the surface: a bound, cheaply).
+  // Distance to the surface, positive inside and negative outside. Outside the mesh's convex hull
+  // it is minus the distance to the nearest hull plane it lies beyond, or to the bounding box (no
+  // farther than the surface: a bound, cheaply). Inside a convex mesh it is the nearest face's
+  // plane distance, without the tree.
   double SignedDepth(const Eigen::Vector3d& p) const;
   // The nearest triangle's index and the distance to it.
   double Distance(const Eigen::Vector3d& p, uint32_t* triangle = nullptr) const;
@@ -46,12 +48,20 @@ class MeshDepth {
   };
   uint32_t Build(uint32_t begin, uint32_t end, const std::vector<Eigen::Vector3d>& centroids);
   int Crossings(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction, bool& grazing) const;
+  // How far p lies beyond the hull's planes (<= 0 inside the hull; -infinity without a hull).
+  double BeyondHull(const Eigen::Vector3d& p) const;
 
   std::vector<Eigen::Vector3d> vertices_;
   std::vector<std::array<uint32_t, 3>> triangles_;
   std::vector<std::array<uint32_t, 2>> edges_;
   std::vector<uint32_t> order_;
   std::vector<Node> nodes_;
+  // The convex hull's faces as (normal, offset), inside where normal . p <= offset: a point outside
+  // them is outside the mesh, decided without the tree.
+  std::vector<Eigen::Vector4d> hull_planes_;
+  // The mesh is its hull (ConvexWithin a micrometre a metre of its size): depths inside it are plane
+  // distances.
+  bool convex_ = false;
 };
 
 }  // namespace vscan::physics

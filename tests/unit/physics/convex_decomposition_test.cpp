@@ -15,6 +15,7 @@
 #include "machined_parts.h"
 #include "physics/bin_fill.h"
 #include "physics/decomposition_store.h"
+#include "physics/mesh_depth.h"
 #include "physics/part_geometry.h"
 #include "physics/plane_cut_decomposition.h"
 
@@ -299,6 +300,20 @@ TEST(PlaneCuts, PiecesReachNoFartherFromTheSolidThanTheBoundOrTheHull) {
       EXPECT_LT(nearest, 1e-5);
     }
   }
+}
+
+TEST(MeshDepthOfAnL, ItsNotchIsOutsideThoughTheNotchCornerLiesOnTheHullsTopFace) {
+  // A mesh is taken for convex (depths by plane distances) only when no point lies under its hull.
+  const MeshDepth depth(LPrism());
+  EXPECT_FALSE(depth.Inside(Eigen::Vector3d(0.02, 0.02, 0.005)));
+  EXPECT_NEAR(depth.SignedDepth(Eigen::Vector3d(0.02, 0.02, 0.005)), -0.01, 1e-9);
+  EXPECT_NEAR(depth.SignedDepth(Eigen::Vector3d(0.005, 0.005, 0.004)), 0.004, 1e-9);
+  // Beyond a hull plane: minus that plane's distance, no farther than the surface.
+  EXPECT_NEAR(depth.SignedDepth(Eigen::Vector3d(0.035, 0.005, 0.005)), -0.005, 1e-9);
+  // A box is its hull: inside, the depth is the nearest face's distance.
+  const MeshDepth box(test::ManySidedPrism(4, 0.01, 0.01));
+  EXPECT_TRUE(box.Inside(Eigen::Vector3d(0.001, 0.0, 0.002)));
+  EXPECT_NEAR(box.SignedDepth(Eigen::Vector3d(0.001, 0.0, 0.002)), 0.002, 1e-6);
 }
 
 TEST(PlaneCuts, TheFixtureAngleBlocksPiecesHoldItsMeshWithinTheHullTolerance) {
