@@ -11,12 +11,10 @@
 #include <cstdio>
 #include <cstdlib>
 #include <ctime>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
-#include "geometry/mesh_import.h"
+#include "fixture_parts.h"
 #include "hacd_pieces.h"
 #include "machined_parts.h"
 #include "physics/convex_decomposition.h"
@@ -32,38 +30,6 @@ double ThreadCpuSeconds() {
   timespec t{};
   clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
   return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
-}
-
-TriangleMesh LoadStl(const std::string& file, double metres_per_unit) {
-  std::ifstream in(std::string(VSCAN_DATA_DIR) + "/parts/" + file, std::ios::binary);
-  std::stringstream bytes;
-  bytes << in.rdbuf();
-  auto mesh = geometry::ImportMesh(bytes.str(), geometry::MeshFileFormat::kStl, metres_per_unit);
-  if (!mesh.ok()) {
-    std::fprintf(stderr, "%s: %s\n", file.c_str(), mesh.status().ToString().c_str());
-    std::exit(1);
-  }
-  return std::move(*mesh);
-}
-
-// A ring about z: radius 5 cm to the middle of its 2 cm tube, n x n/2 quads.
-TriangleMesh Torus(int n) {
-  const int m = n / 2;
-  TriangleMesh mesh;
-  for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < m; ++j) {
-      const double u = 2 * M_PI * i / n, v = 2 * M_PI * j / m, r = 0.05 + 0.02 * std::cos(v);
-      mesh.vertices.emplace_back(float(r * std::cos(u)), float(r * std::sin(u)), float(0.02 * std::sin(v)));
-    }
-  }
-  const auto at = [&](int a, int b) { return uint32_t((a % n) * m + b % m); };
-  for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < m; ++j) {
-      mesh.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
-      mesh.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
-    }
-  }
-  return mesh;
 }
 
 struct Part {
@@ -89,9 +55,7 @@ void Measure(const Part& part, const char* method, int repeats, Decompose decomp
   for (const auto& piece : pieces) {
     reach = std::max(reach, physics::HullReach(part.mesh, centre, piece, size / 200));
     volume += physics::HullVolume(piece);
-    if (std::getenv("VSCAN_PIECES")) std::printf("    piece %zu points volume %.3g reach %.2f mm\n", piece.size(), physics::HullVolume(piece), 1e3 * physics::HullReach(part.mesh, centre, piece, size / 200));
   }
-  if (std::getenv("VSCAN_PIECES")) std::printf("    mesh volume %.4g hull %.4g\n", physics::MeshVolume(part.mesh), physics::HullVolume(physics::ExactHull(part.mesh, centre)));
   std::printf("| %s | %zu | %s | %.3f (%.3f-%.3f) | %zu | %.2f mm | %.3f |\n", part.name.c_str(),
               part.mesh.triangles.size(), method, cpu[cpu.size() / 2], cpu.front(), cpu.back(), pieces.size(),
               reach * 1e3, volume / physics::MeshVolume(part.mesh));
@@ -109,10 +73,10 @@ int main(int argc, char** argv) {
   const bool with_hacd = argc > 3 ? std::atoi(argv[3]) != 0 : true;
   const size_t max_pieces = argc > 4 ? static_cast<size_t>(std::atoi(argv[4])) : physics::kMaxDecompositionPieces;
   const std::vector<Part> parts = {
-      {"angle block", LoadStl("angle_block.STL", 0.0254)},
-      {"pin (tube)", LoadStl("round.stl", 0.0013)},
+      {"angle block", physics::test::AngleBlock(1).mesh},
+      {"pin (tube)", physics::test::RoundPin(1).mesh},
       {"riser", physics::test::Riser()},
-      {"torus", Torus(40)},
+      {"torus", physics::test::Torus(40)},
   };
   std::printf("| part | triangles | method | CPU s median (min-max) | pieces | worst reach | volume / mesh |\n");
   std::printf("|---|---|---|---|---|---|---|\n");

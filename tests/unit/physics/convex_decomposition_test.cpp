@@ -106,30 +106,10 @@ TEST(ConvexDecomposition, LShapedPartsFillABinAndSettleInsideIt) {
   }
 }
 
-// A torus of n x n/2 quads: not convex, so decomposition cuts it.
-TriangleMesh Torus(int n) {
-  const int m = n / 2;
-  TriangleMesh mesh;
-  for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < m; ++j) {
-      const double u = 2 * M_PI * i / n, v = 2 * M_PI * j / m, r = 0.05 + 0.02 * std::cos(v);
-      mesh.vertices.emplace_back(float(r * std::cos(u)), float(r * std::sin(u)), float(0.02 * std::sin(v)));
-    }
-  }
-  for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < m; ++j) {
-      const auto at = [&](int a, int b) { return uint32_t((a % n) * m + b % m); };
-      mesh.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
-      mesh.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
-    }
-  }
-  return mesh;
-}
-
 TEST(ConvexDecomposition, AMeshTooLargeForItIsRefusedBeforeAnyWork) {
   PartType part;
   part.name = "torus";
-  part.mesh = Torus(150);  // 22500 triangles
+  part.mesh = test::Torus(150);  // 22500 triangles
   part.count = 2;
   part.collision = PartCollision::kConvexDecomposition;
   BinSpec bin;
@@ -260,7 +240,7 @@ TEST(PlaneCuts, ATubesBoreAndATorussHoleStayOpen) {
   }
   // ConvexPieces' bound for a 79 mm part (5%, 4 mm) keeps a 2.9 mm bore closed: one hull.
   EXPECT_EQ(ConvexPieces(tube, tube_centre, 0.0002).size(), 1u);
-  const TriangleMesh torus = Torus(40);
+  const TriangleMesh torus = test::Torus(40);
   const auto torus_pieces = ConvexPieces(torus, Eigen::Vector3d::Zero(), 0.0002);
   ASSERT_GE(torus_pieces.size(), 4u);
   // The hole's middle, 3 cm inside the ring's inner edge, lies outside every piece.

@@ -77,4 +77,23 @@ TriangleMesh ManySidedPrism(int sides, double radius, double height) {
   return mesh;
 }
 
+TriangleMesh Torus(int n) {
+  const int m = n / 2;
+  TriangleMesh mesh;
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < m; ++j) {
+      const double u = 2 * M_PI * i / n, v = 2 * M_PI * j / m, r = 0.05 + 0.02 * std::cos(v);
+      mesh.vertices.emplace_back(float(r * std::cos(u)), float(r * std::sin(u)), float(0.02 * std::sin(v)));
+    }
+  }
+  const auto at = [&](int a, int b) { return uint32_t((a % n) * m + b % m); };
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < m; ++j) {
+      mesh.triangles.push_back({at(i, j), at(i + 1, j), at(i + 1, j + 1)});
+      mesh.triangles.push_back({at(i, j), at(i + 1, j + 1), at(i, j + 1)});
+    }
+  }
+  return mesh;
+}
+
 }  // namespace vscan::physics::test

@@ -13,4 +13,7 @@ TriangleMesh Riser();
 // A prism of `sides` sides around z, `radius` to its corners, `height` tall.
 TriangleMesh ManySidedPrism(int sides = 96, double radius = 0.012, double height = 0.02);
 
+// A ring about z: 5 cm to the middle of its 2 cm tube, n x n/2 quads (n^2 triangles).
+TriangleMesh Torus(int n);
+
 }  // namespace vscan::physics::test
