@@ -18,12 +18,13 @@ struct PlaneCutOptions {
   size_t max_pieces = 16;
 };
 
-// The pieces of a closed mesh, each as the vertices of its convex hull relative to `centre`. A
-// piece is cut from the worst first (at most max_pieces; a piece no cut brings nearer, such as a
-// blind pocket's, keeps its reach), by the plane (along the part's axes, through its concave
-// corners or a grid) whose two hulls reach least far and hold least volume, or in four about its
-// middle where no single plane helps (a tube, a ring); touching pieces whose union stays within
-// the bound are joined again. Deterministic; linear in the triangles for each cut tried.
+// The pieces of a closed mesh, each as the vertices of its convex hull relative to `centre`. The
+// piece that reaches farthest is cut first, until every piece is within the bound or there are
+// max_pieces (a piece no cut brings nearer, such as a blind pocket's, keeps its reach). A cut is
+// the one that lowers the worst reach most: one plane (across the part's axes through concave
+// corners or at a grid, or along the surface deepest under the hull), or two through the hull's
+// middle or its farthest point (a tube, a ring, a bore at an angle); failing that, a plane that
+// takes 2% of the whole hull's volume. Deterministic; linear in the triangles for each cut tried.
 std::vector<std::vector<Eigen::Vector3d>> PlaneCutPieces(const TriangleMesh& mesh, const Eigen::Vector3d& centre,
                                                          const PlaneCutOptions& options);
 
