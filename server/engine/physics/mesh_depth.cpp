@@ -11,6 +11,8 @@ namespace vscan::physics {
 namespace {
 
 constexpr uint32_t kLeafTriangles = 4;
+// Past this many hull faces the planes cost more a query than the tree (a dense smooth part).
+constexpr size_t kMaxHullPlanes = 512;
 
 // Directions for the inside test: none along an axis or a diagonal, where a mesh's edges tend to be.
 const Eigen::Vector3d kRayDirections[] = {
@@ -55,7 +57,7 @@ MeshDepth::MeshDepth(const TriangleMesh& mesh) : triangles_(mesh.triangles) {
   Build(0, static_cast<uint32_t>(order_.size()), centroids);
   if (vertices_.size() >= 4) {
     const std::vector<HullFace> faces = HullFaces(vertices_);
-    if (faces.size() >= 4) {
+    if (faces.size() >= 4 && faces.size() <= kMaxHullPlanes) {
       for (const HullFace& face : faces) hull_planes_.emplace_back(face.normal.x(), face.normal.y(), face.normal.z(), face.offset);
       // A vertex on a hull plane is not enough (an L's notch corner lies on its top face): no point
       // of the triangles may lie under the hull's surface, and the hull encloses no more.

@@ -57,7 +57,7 @@ class MeshDepth {
   std::vector<uint32_t> order_;
   std::vector<Node> nodes_;
   // The convex hull's faces as (normal, offset), inside where normal . p <= offset: a point outside
-  // them is outside the mesh, decided without the tree.
+  // them is outside the mesh, decided without the tree. Empty for a hull of more than 512 faces.
   std::vector<Eigen::Vector4d> hull_planes_;
   // The mesh is its hull (ConvexWithin a micrometre a metre of its size): depths inside it are plane
   // distances.
