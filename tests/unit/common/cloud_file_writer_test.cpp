@@ -9,6 +9,7 @@
 #include "vscan/common/cloud_io.h"
 #include "vscan_test/clouds.h"
 #include "vscan_test/temp_dir.h"
+#include "vscan_test/read_all.h"
 
 namespace vscan {
 namespace {
@@ -30,12 +31,7 @@ class CloudFileWriterTest : public ::testing::Test {
   test::TempDir dir_;
 };
 
-std::string ReadAll(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using test::ReadAll;
 
 // Points [begin, begin + n) of cloud as a cloud of their own.
 PointCloud Slice(const PointCloud& cloud, size_t begin, size_t n) {

@@ -17,6 +17,7 @@
 
 #include "vscan/common/text_excerpt.h"
 #include "vscan_test/clouds.h"
+#include "vscan_test/read_all.h"
 
 namespace vscan {
 namespace {
@@ -39,12 +40,7 @@ class CloudIoTest : public ::testing::Test {
   fs::path dir_;
 };
 
-std::string ReadAll(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using test::ReadAll;
 
 // Every field a scan can carry, ground truth included.
 constexpr uint32_t kEveryField = kFieldsAll | kFieldsGroundTruth | kFieldEstimatedNormal;

@@ -11,9 +11,12 @@
 
 #include "store/catalogue_schema.h"
 #include "vscan_test/temp_dir.h"
+#include "sqlite_query.h"
 
 namespace vscan::store {
 namespace {
+
+using test::QueryInt;
 
 MeshRecord SampleMesh(const std::string& name, const std::string& sha256) {
   MeshRecord mesh;
@@ -73,17 +76,6 @@ void ExpectSameObject(const ObjectRecord& a, const ObjectRecord& b) {
 void ExpectStatus(const Status& status, StatusCode code, const std::string& prefix) {
   EXPECT_EQ(status.code(), code) << status.ToString();
   EXPECT_EQ(status.message().rfind(prefix, 0), 0u) << "message: " << status.message();
-}
-
-int64_t QueryInt(const std::filesystem::path& db_path, const char* sql) {
-  sqlite3* db = nullptr;
-  EXPECT_EQ(sqlite3_open_v2(db_path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr), SQLITE_OK);
-  sqlite3_stmt* stmt = nullptr;
-  EXPECT_EQ(sqlite3_prepare_v2(db, sql, -1, &stmt, nullptr), SQLITE_OK) << sqlite3_errmsg(db);
-  int64_t value = sqlite3_step(stmt) == SQLITE_ROW ? sqlite3_column_int64(stmt, 0) : -1;
-  sqlite3_finalize(stmt);
-  sqlite3_close(db);
-  return value;
 }
 
 class CatalogueTest : public ::testing::Test {

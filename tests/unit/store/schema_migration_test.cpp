@@ -12,21 +12,12 @@
 #include "store/robot_catalogue.h"
 #include "store/stored_enums.h"
 #include "vscan_test/temp_dir.h"
+#include "sqlite_query.h"
 
 namespace vscan::store {
 namespace {
 
-int64_t QueryInt(const std::filesystem::path& path, const char* sql) {
-  sqlite3* db = nullptr;
-  EXPECT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
-  sqlite3_stmt* stmt = nullptr;
-  EXPECT_EQ(sqlite3_prepare_v2(db, sql, -1, &stmt, nullptr), SQLITE_OK) << sql;
-  int64_t value = -1;
-  if (sqlite3_step(stmt) == SQLITE_ROW) value = sqlite3_column_int64(stmt, 0);
-  sqlite3_finalize(stmt);
-  sqlite3_close(db);
-  return value;
-}
+using test::QueryInt;
 
 class SchemaMigrationTest : public ::testing::Test {
  protected:
