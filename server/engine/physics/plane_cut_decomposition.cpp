@@ -111,6 +111,13 @@ struct Context {
   double least_volume_gain;  // a cut that leaves the worst reach must take this much hull volume
 };
 
+// The cell's reach and where it is, from up to max_samples samples of its hull.
+void Measure(Cell& cell, const Context& context, double max_samples) {
+  const Farthest farthest = Reach(cell.faces, context.solid, context.step, context.near, max_samples);
+  cell.reach = farthest.distance;
+  cell.farthest = farthest.point;
+}
+
 Cell MakeCell(std::vector<Polygon> surface, const Context& context, double max_samples = kMaxSamplesPerHull) {
   Cell cell;
   cell.surface = std::move(surface);
@@ -122,9 +129,7 @@ Cell MakeCell(std::vector<Polygon> surface, const Context& context, double max_s
     return cell;
   }
   for (const HullFace& face : cell.faces) cell.volume += face.offset * FaceArea(face) / 3.0;
-  const Farthest farthest = Reach(cell.faces, context.solid, context.step, context.near, max_samples);
-  cell.reach = farthest.distance;
-  cell.farthest = farthest.point;
+  Measure(cell, context, max_samples);
   return cell;
 }
 
@@ -260,15 +265,12 @@ Candidates CandidatePlanes(const Cell& cell, double bound) {
 
 // The chosen cut's cells at the full sampling.
 Trial Remeasured(Trial trial, const Context& context) {
-  for (Cell& cell : trial.cells) {
-    const Farthest farthest = Reach(cell.faces, context.solid, context.step, context.near, kMaxSamplesPerHull);
-    cell.reach = farthest.distance;
-    cell.farthest = farthest.point;
-  }
+  for (Cell& cell : trial.cells) Measure(cell, context, kMaxSamplesPerHull);
   return trial;
 }
 
-// The best single cut, or in four about the hull's middle, if it brings the cell nearer.
+// The best single cut, or quarters about the hull's middle or its farthest point, if it brings the cell
+// nearer.
 std::optional<Trial> BestCut(const Cell& cell, const Context& context, size_t room) {
   const double bucket = context.bound / 8;
   std::optional<Trial> best;
