@@ -19,3 +19,10 @@ function(vscan_unity_build target)
     set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_MODE BATCH UNITY_BUILD_BATCH_SIZE 16)
   endif()
 endfunction()
+
+# Release compiles the engine at -O3. A folder whose code spends its time elsewhere asks for less
+# here: request handling, generated messages and the CLI (-O2, about 15% quicker to compile), and
+# the tests (-O1, a third quicker), which hand the heavy work to the -O3 libraries.
+function(vscan_release_optimisation level)
+  add_compile_options($<$<CONFIG:Release>:${level}>)
+endfunction()

@@ -9,13 +9,13 @@
 namespace vscan::client {
 namespace {
 
-using Stub = v1::CloudService::Stub;
+using CloudStub = v1::CloudService::Stub;
 
-std::unique_ptr<Stub> CloudStub(const Client& client) { return v1::CloudService::NewStub(client.channel()); }
+std::unique_ptr<CloudStub> NewCloudStub(const Client& client) { return v1::CloudService::NewStub(client.channel()); }
 
 StatusOr<v1::Cloud> StreamCloud(const Client& client, const CloudUploadOptions& options, uint64_t size,
                            const ChunkSource& read, const ProgressFn& progress) {
-  auto stub = CloudStub(client);
+  auto stub = NewCloudStub(client);
   grpc::ClientContext context;
   client.PrepareContext(&context, client.options().stream_timeout);
   v1::UploadCloudResponse response;
@@ -51,35 +51,35 @@ StatusOr<v1::Cloud> Client::UploadCloudBytes(std::string_view bytes, const Cloud
 }
 
 StatusOr<v1::Cloud> Client::GetCloud(const std::string& cloud_id) {
-  auto stub = CloudStub(*this);
+  auto stub = NewCloudStub(*this);
   v1::GetCloudRequest request;
   request.set_cloud_id(cloud_id);
-  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *stub, &Stub::GetCloud, request));
+  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *stub, &CloudStub::GetCloud, request));
   return std::move(*response.mutable_cloud());
 }
 
 StatusOr<std::vector<v1::Cloud>> Client::ListClouds(const std::string& job_id) {
-  auto stub = CloudStub(*this);
+  auto stub = NewCloudStub(*this);
   return CollectPages<v1::Cloud>(
       [this, &stub, &job_id](const std::string& token) {
         v1::ListCloudsRequest request;
         request.set_page_token(token);
         request.set_job_id(job_id);
-        return UnaryCall(*this, *stub, &Stub::ListClouds, request);
+        return UnaryCall(*this, *stub, &CloudStub::ListClouds, request);
       },
       [](const v1::ListCloudsResponse& page) -> const auto& { return page.clouds(); });
 }
 
 StatusOr<v1::DeleteCloudResponse> Client::DeleteCloud(const std::string& cloud_id) {
-  auto stub = CloudStub(*this);
+  auto stub = NewCloudStub(*this);
   v1::DeleteCloudRequest request;
   request.set_cloud_id(cloud_id);
-  return UnaryCall(*this, *stub, &Stub::DeleteCloud, request);
+  return UnaryCall(*this, *stub, &CloudStub::DeleteCloud, request);
 }
 
 StatusOr<v1::Cloud> Client::ReadCloud(const std::string& cloud_id, const ArtifactSink& sink,
                                       const ProgressFn& progress) {
-  auto stub = CloudStub(*this);
+  auto stub = NewCloudStub(*this);
   grpc::ClientContext context;
   PrepareContext(&context, options_.stream_timeout);
   v1::ReadCloudRequest request;

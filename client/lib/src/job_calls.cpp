@@ -8,104 +8,104 @@
 namespace vscan::client {
 namespace {
 
-using Stub = v1::JobService::Stub;
+using JobStub = v1::JobService::Stub;
 
-std::unique_ptr<Stub> JobStub(const Client& client) { return v1::JobService::NewStub(client.channel()); }
+std::unique_ptr<JobStub> NewJobStub(const Client& client) { return v1::JobService::NewStub(client.channel()); }
 
 }  // namespace
 
 StatusOr<v1::Job> Client::StartCampaign(const v1::CampaignSpec& spec) {
-  auto stub = JobStub(*this);
+  auto stub = NewJobStub(*this);
   v1::StartCampaignRequest request;
   *request.mutable_spec() = spec;
-  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *stub, &Stub::StartCampaign, request));
+  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *stub, &JobStub::StartCampaign, request));
   return response.job();
 }
 
 Status Client::ValidateCampaign(const v1::CampaignSpec& spec) {
-  auto stub = JobStub(*this);
+  auto stub = NewJobStub(*this);
   v1::StartCampaignRequest request;
   *request.mutable_spec() = spec;
   request.set_validate_only(true);
-  return UnaryCall(*this, *stub, &Stub::StartCampaign, request).status();
+  return UnaryCall(*this, *stub, &JobStub::StartCampaign, request).status();
 }
 
 StatusOr<v1::Job> Client::StartModel(const v1::ModelSpec& spec) {
-  auto stub = JobStub(*this);
+  auto stub = NewJobStub(*this);
   v1::StartModelRequest request;
   *request.mutable_spec() = spec;
-  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *stub, &Stub::StartModel, request));
+  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *stub, &JobStub::StartModel, request));
   return response.job();
 }
 
 Status Client::ValidateModel(const v1::ModelSpec& spec) {
-  auto stub = JobStub(*this);
+  auto stub = NewJobStub(*this);
   v1::StartModelRequest request;
   *request.mutable_spec() = spec;
   request.set_validate_only(true);
-  return UnaryCall(*this, *stub, &Stub::StartModel, request).status();
+  return UnaryCall(*this, *stub, &JobStub::StartModel, request).status();
 }
 
 StatusOr<v1::Job> Client::StartBinFill(const v1::BinFillSpec& spec) {
-  auto stub = JobStub(*this);
+  auto stub = NewJobStub(*this);
   v1::StartBinFillRequest request;
   *request.mutable_spec() = spec;
-  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *stub, &Stub::StartBinFill, request));
+  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *stub, &JobStub::StartBinFill, request));
   return response.job();
 }
 
 Status Client::ValidateBinFill(const v1::BinFillSpec& spec) {
-  auto stub = JobStub(*this);
+  auto stub = NewJobStub(*this);
   v1::StartBinFillRequest request;
   *request.mutable_spec() = spec;
   request.set_validate_only(true);
-  return UnaryCall(*this, *stub, &Stub::StartBinFill, request).status();
+  return UnaryCall(*this, *stub, &JobStub::StartBinFill, request).status();
 }
 
 StatusOr<v1::Job> Client::GetJob(const std::string& job_id) {
-  auto stub = JobStub(*this);
+  auto stub = NewJobStub(*this);
   v1::GetJobRequest request;
   request.set_job_id(job_id);
-  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *stub, &Stub::GetJob, request));
+  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *stub, &JobStub::GetJob, request));
   return response.job();
 }
 
 StatusOr<std::vector<v1::Job>> Client::ListJobs() {
-  auto stub = JobStub(*this);
+  auto stub = NewJobStub(*this);
   return CollectPages<v1::Job>(
       [&](const std::string& token) {
         v1::ListJobsRequest request;
         request.set_page_token(token);
-        return UnaryCall(*this, *stub, &Stub::ListJobs, request);
+        return UnaryCall(*this, *stub, &JobStub::ListJobs, request);
       },
       [](const v1::ListJobsResponse& page) { return page.jobs(); });
 }
 
 StatusOr<v1::Job> Client::CancelJob(const std::string& job_id) {
-  auto stub = JobStub(*this);
+  auto stub = NewJobStub(*this);
   v1::CancelJobRequest request;
   request.set_job_id(job_id);
-  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *stub, &Stub::CancelJob, request));
+  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *stub, &JobStub::CancelJob, request));
   return response.job();
 }
 
 StatusOr<v1::Job> Client::ResumeJob(const std::string& job_id) {
-  auto stub = JobStub(*this);
+  auto stub = NewJobStub(*this);
   v1::ResumeJobRequest request;
   request.set_job_id(job_id);
-  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *stub, &Stub::ResumeJob, request));
+  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *stub, &JobStub::ResumeJob, request));
   return response.job();
 }
 
 StatusOr<v1::DeleteJobResponse> Client::DeleteJob(const std::string& job_id) {
-  auto stub = JobStub(*this);
+  auto stub = NewJobStub(*this);
   v1::DeleteJobRequest request;
   request.set_job_id(job_id);
-  return UnaryCall(*this, *stub, &Stub::DeleteJob, request);
+  return UnaryCall(*this, *stub, &JobStub::DeleteJob, request);
 }
 
 Status Client::WatchJob(const std::string& job_id, const JobEventFn& on_event) {
-  auto stub = JobStub(*this);
+  auto stub = NewJobStub(*this);
   grpc::ClientContext context;
   PrepareContext(&context, options_.stream_timeout);
   v1::WatchJobRequest request;
@@ -127,7 +127,7 @@ Status Client::WatchJob(const std::string& job_id, const JobEventFn& on_event) {
 
 StatusOr<v1::Artifact> Client::ReadArtifact(const std::string& job_id, const std::string& artifact_id,
                                             const ArtifactSink& sink, const ProgressFn& progress) {
-  auto stub = JobStub(*this);
+  auto stub = NewJobStub(*this);
   grpc::ClientContext context;
   PrepareContext(&context, options_.stream_timeout);
   v1::ReadArtifactRequest request;

@@ -9,7 +9,7 @@
 namespace vscan::client {
 namespace {
 
-using Stub = v1::SceneService::Stub;
+using SceneStub = v1::SceneService::Stub;
 
 }  // namespace
 
@@ -55,7 +55,7 @@ StatusOr<v1::Mesh> Client::UploadMeshBytes(std::string_view bytes, const MeshUpl
 StatusOr<v1::Mesh> Client::GetMesh(const std::string& mesh_id) {
   v1::GetMeshRequest request;
   request.set_mesh_id(mesh_id);
-  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *scenes_, &Stub::GetMesh, request));
+  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *scenes_, &SceneStub::GetMesh, request));
   return std::move(*response.mutable_mesh());
 }
 
@@ -64,7 +64,7 @@ StatusOr<std::vector<v1::Mesh>> Client::ListMeshes() {
       [this](const std::string& token) {
         v1::ListMeshesRequest request;
         request.set_page_token(token);
-        return UnaryCall(*this, *scenes_, &Stub::ListMeshes, request);
+        return UnaryCall(*this, *scenes_, &SceneStub::ListMeshes, request);
       },
       [](const v1::ListMeshesResponse& page) -> const auto& { return page.meshes(); });
 }
@@ -72,7 +72,7 @@ StatusOr<std::vector<v1::Mesh>> Client::ListMeshes() {
 Status Client::DeleteMesh(const std::string& mesh_id) {
   v1::DeleteMeshRequest request;
   request.set_mesh_id(mesh_id);
-  return UnaryCall(*this, *scenes_, &Stub::DeleteMesh, request).status();
+  return UnaryCall(*this, *scenes_, &SceneStub::DeleteMesh, request).status();
 }
 
 }  // namespace vscan::client

@@ -10,9 +10,9 @@
 namespace vscan::client {
 namespace {
 
-using Stub = v1::RobotService::Stub;
+using RobotStub = v1::RobotService::Stub;
 
-std::unique_ptr<Stub> RobotStub(const Client& client) { return v1::RobotService::NewStub(client.channel()); }
+std::unique_ptr<RobotStub> NewRobotStub(const Client& client) { return v1::RobotService::NewStub(client.channel()); }
 
 StatusOr<std::string> ReadFile(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
@@ -82,7 +82,7 @@ StatusOr<v1::Robot> Client::UploadRobot(const RobotUploadOptions& options, const
                                         const ProgressFn& progress) {
   uint64_t total = 0;
   for (const RobotFile& file : files) total += file.bytes.size();
-  auto stub = RobotStub(*this);
+  auto stub = NewRobotStub(*this);
   grpc::ClientContext context;
   PrepareContext(&context, options_.stream_timeout);
   v1::UploadRobotResponse response;
@@ -141,18 +141,18 @@ StatusOr<v1::Robot> Client::UploadRobotPath(const std::string& path, RobotUpload
 StatusOr<v1::Robot> Client::GetRobot(const std::string& robot_id) {
   v1::GetRobotRequest request;
   request.set_robot_id(robot_id);
-  auto stub = RobotStub(*this);
-  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *stub, &Stub::GetRobot, request));
+  auto stub = NewRobotStub(*this);
+  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *stub, &RobotStub::GetRobot, request));
   return std::move(*response.mutable_robot());
 }
 
 StatusOr<std::vector<v1::Robot>> Client::ListRobots() {
-  auto stub = RobotStub(*this);
+  auto stub = NewRobotStub(*this);
   return CollectPages<v1::Robot>(
       [this, &stub](const std::string& token) {
         v1::ListRobotsRequest request;
         request.set_page_token(token);
-        return UnaryCall(*this, *stub, &Stub::ListRobots, request);
+        return UnaryCall(*this, *stub, &RobotStub::ListRobots, request);
       },
       [](const v1::ListRobotsResponse& page) -> const auto& { return page.robots(); });
 }
@@ -160,41 +160,41 @@ StatusOr<std::vector<v1::Robot>> Client::ListRobots() {
 Status Client::DeleteRobot(const std::string& robot_id) {
   v1::DeleteRobotRequest request;
   request.set_robot_id(robot_id);
-  auto stub = RobotStub(*this);
-  return UnaryCall(*this, *stub, &Stub::DeleteRobot, request).status();
+  auto stub = NewRobotStub(*this);
+  return UnaryCall(*this, *stub, &RobotStub::DeleteRobot, request).status();
 }
 
 StatusOr<v1::ForwardKinematicsResponse> Client::ForwardKinematics(const v1::ForwardKinematicsRequest& request) {
-  auto stub = RobotStub(*this);
-  return UnaryCall(*this, *stub, &Stub::ForwardKinematics, request);
+  auto stub = NewRobotStub(*this);
+  return UnaryCall(*this, *stub, &RobotStub::ForwardKinematics, request);
 }
 
 StatusOr<v1::InverseKinematicsResponse> Client::InverseKinematics(const v1::InverseKinematicsRequest& request) {
-  auto stub = RobotStub(*this);
-  return UnaryCall(*this, *stub, &Stub::InverseKinematics, request);
+  auto stub = NewRobotStub(*this);
+  return UnaryCall(*this, *stub, &RobotStub::InverseKinematics, request);
 }
 
 StatusOr<v1::MountRobotResponse> Client::MountRobot(const v1::MountRobotRequest& request) {
-  auto stub = RobotStub(*this);
-  return UnaryCall(*this, *stub, &Stub::MountRobot, request);
+  auto stub = NewRobotStub(*this);
+  return UnaryCall(*this, *stub, &RobotStub::MountRobot, request);
 }
 
 StatusOr<v1::Mount> Client::GetMount(const std::string& mount_id) {
   v1::GetMountRequest request;
   request.set_mount_id(mount_id);
-  auto stub = RobotStub(*this);
-  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *stub, &Stub::GetMount, request));
+  auto stub = NewRobotStub(*this);
+  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *stub, &RobotStub::GetMount, request));
   return std::move(*response.mutable_mount());
 }
 
 StatusOr<std::vector<v1::Mount>> Client::ListMounts(const std::string& scene_id) {
-  auto stub = RobotStub(*this);
+  auto stub = NewRobotStub(*this);
   return CollectPages<v1::Mount>(
       [this, &stub, &scene_id](const std::string& token) {
         v1::ListMountsRequest request;
         request.set_scene_id(scene_id);
         request.set_page_token(token);
-        return UnaryCall(*this, *stub, &Stub::ListMounts, request);
+        return UnaryCall(*this, *stub, &RobotStub::ListMounts, request);
       },
       [](const v1::ListMountsResponse& page) -> const auto& { return page.mounts(); });
 }
@@ -202,8 +202,8 @@ StatusOr<std::vector<v1::Mount>> Client::ListMounts(const std::string& scene_id)
 StatusOr<uint64_t> Client::UnmountRobot(const std::string& mount_id) {
   v1::UnmountRobotRequest request;
   request.set_mount_id(mount_id);
-  auto stub = RobotStub(*this);
-  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *stub, &Stub::UnmountRobot, request));
+  auto stub = NewRobotStub(*this);
+  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *stub, &RobotStub::UnmountRobot, request));
   return response.revision();
 }
 

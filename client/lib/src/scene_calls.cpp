@@ -3,19 +3,19 @@
 
 namespace vscan::client {
 
-using Stub = v1::SceneService::Stub;
+using SceneStub = v1::SceneService::Stub;
 
 StatusOr<v1::Scene> Client::CreateScene(const std::string& name) {
   v1::CreateSceneRequest request;
   request.set_name(name);
-  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *scenes_, &Stub::CreateScene, request));
+  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *scenes_, &SceneStub::CreateScene, request));
   return std::move(*response.mutable_scene());
 }
 
 StatusOr<v1::Scene> Client::GetScene(const std::string& scene_id) {
   v1::GetSceneRequest request;
   request.set_scene_id(scene_id);
-  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *scenes_, &Stub::GetScene, request));
+  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *scenes_, &SceneStub::GetScene, request));
   return std::move(*response.mutable_scene());
 }
 
@@ -24,7 +24,7 @@ StatusOr<std::vector<v1::Scene>> Client::ListScenes() {
       [this](const std::string& token) {
         v1::ListScenesRequest request;
         request.set_page_token(token);
-        return UnaryCall(*this, *scenes_, &Stub::ListScenes, request);
+        return UnaryCall(*this, *scenes_, &SceneStub::ListScenes, request);
       },
       [](const v1::ListScenesResponse& page) -> const auto& { return page.scenes(); });
 }
@@ -32,7 +32,7 @@ StatusOr<std::vector<v1::Scene>> Client::ListScenes() {
 Status Client::DeleteScene(const std::string& scene_id) {
   v1::DeleteSceneRequest request;
   request.set_scene_id(scene_id);
-  return UnaryCall(*this, *scenes_, &Stub::DeleteScene, request).status();
+  return UnaryCall(*this, *scenes_, &SceneStub::DeleteScene, request).status();
 }
 
 StatusOr<v1::AddObjectResponse> Client::AddObject(const std::string& scene_id, const std::string& mesh_id,
@@ -44,7 +44,7 @@ StatusOr<v1::AddObjectResponse> Client::AddObject(const std::string& scene_id, c
   request.set_scale(placement.scale);
   request.set_label(placement.label);
   request.set_on_table(placement.on_table);
-  return UnaryCall(*this, *scenes_, &Stub::AddObject, request);
+  return UnaryCall(*this, *scenes_, &SceneStub::AddObject, request);
 }
 
 StatusOr<v1::MoveObjectResponse> Client::MoveObject(const std::string& scene_id, const std::string& object_id,
@@ -64,14 +64,14 @@ StatusOr<v1::MoveObjectResponse> Client::MoveObject(const std::string& scene_id,
     if (!found) return NotFound("object_id: no object '" + object_id + "' in scene '" + scene_id + "'");
     *request.mutable_pose() = found->pose();
   }
-  return UnaryCall(*this, *scenes_, &Stub::MoveObject, request);
+  return UnaryCall(*this, *scenes_, &SceneStub::MoveObject, request);
 }
 
 StatusOr<uint64_t> Client::RemoveObject(const std::string& scene_id, const std::string& object_id) {
   v1::RemoveObjectRequest request;
   request.set_scene_id(scene_id);
   request.set_object_id(object_id);
-  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *scenes_, &Stub::RemoveObject, request));
+  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *scenes_, &SceneStub::RemoveObject, request));
   return response.revision();
 }
 
@@ -80,7 +80,7 @@ StatusOr<v1::SetRotaryTableResponse> Client::SetRotaryTable(const std::string& s
   v1::SetRotaryTableRequest request;
   request.set_scene_id(scene_id);
   *request.mutable_table() = table;
-  return UnaryCall(*this, *scenes_, &Stub::SetRotaryTable, request);
+  return UnaryCall(*this, *scenes_, &SceneStub::SetRotaryTable, request);
 }
 
 }  // namespace vscan::client
