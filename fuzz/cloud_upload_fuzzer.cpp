@@ -12,7 +12,7 @@
 #include <string_view>
 #include <vector>
 
-#include "service/cloud_import.h"
+#include "service/clouds/cloud_import.h"
 #include "vscan/common/cloud_io.h"
 #include "vscan/common/physical_limits.h"
 

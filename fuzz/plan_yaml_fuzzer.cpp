@@ -12,8 +12,8 @@
 
 #include "bin_plan.h"
 #include "campaign_plan.h"
-#include "service/dataset/dataset_plan.h"
-#include "service/dataset/dataset_plan_yaml.h"
+#include "service/datasets/format/dataset_plan.h"
+#include "service/datasets/format/dataset_plan_yaml.h"
 
 namespace {
 

@@ -31,7 +31,7 @@
 #include "robot/forward_kinematics.h"
 #include "robots/arm_kinematics.h"
 #include "scan_fuzz_world.h"
-#include "service/inverse_kinematics.h"
+#include "service/robot/inverse_kinematics.h"
 #include "store/job_catalogue.h"
 #include "vscan/v1/robot.pb.h"
 

@@ -8,9 +8,9 @@
 #include <memory>
 #include <string>
 
-#include "service/raster_provider.h"
-#include "service/server_options.h"
-#include "service/service_context.h"
+#include "service/context/raster_provider.h"
+#include "service/context/server_options.h"
+#include "service/context/service_context.h"
 #include "jobs/worker_pool.h"
 #include "robots/robot_registry.h"
 #include "scenes/scene_registry.h"

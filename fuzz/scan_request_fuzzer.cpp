@@ -15,9 +15,9 @@
 #include <google/protobuf/io/tokenizer.h>
 #include <google/protobuf/text_format.h>
 
-#include "service/scan_backends.h"
+#include "service/scan/scan_backends.h"
 #include "api/scan_request.h"
-#include "service/scan_target.h"
+#include "service/scan/scan_target.h"
 #include "scan_fuzz_world.h"
 
 namespace {

@@ -2,7 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
-#include "service/dataset_job_shard.h"
+#include "service/datasets/dataset_job_shard.h"
 
 namespace vscan {
 namespace {

@@ -6,7 +6,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "service/server_options.h"
+#include "service/context/server_options.h"
 
 namespace vscan {
 

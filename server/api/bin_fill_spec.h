@@ -2,8 +2,8 @@
 // A BinFillSpec checked and turned into a bin fill plan: values checked here (errors name
 // "spec.<field>"), the scene and the meshes by the service, so that a bad request creates no job.
 
-#include "service/bin_fill_plan.h"
-#include "service/service_context.h"
+#include "service/bins/bin_fill_plan.h"
+#include "service/context/service_context.h"
 #include "vscan/v1/job.pb.h"
 
 namespace vscan::api {

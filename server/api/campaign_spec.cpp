@@ -6,7 +6,7 @@
 #include "api/model_spec.h"
 #include "api/scan_request.h"
 #include "api/validate.h"
-#include "service/model_run.h"
+#include "service/model/model_run.h"
 #include "vscan/common/physical_limits.h"
 #include "vscan/common/proto_convert.h"
 

@@ -2,8 +2,8 @@
 // A CampaignSpec checked and turned into a campaign plan: every field checked up front (errors name
 // "spec.<field>") so that a bad request creates no job.
 
-#include "service/campaign_plan.h"
-#include "service/service_context.h"
+#include "service/campaign/campaign_plan.h"
+#include "service/context/service_context.h"
 #include "vscan/v1/job.pb.h"
 
 namespace vscan::api {

@@ -2,7 +2,7 @@
 // Stored clouds <-> wire messages: the Cloud a row describes, and an upload's header checked against
 // the contract (messages name "header.<field>").
 
-#include "service/cloud_store.h"
+#include "service/clouds/cloud_store.h"
 #include "store/cloud_catalogue.h"
 #include "vscan/common/status.h"
 #include "vscan/v1/cloud.pb.h"

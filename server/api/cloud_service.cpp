@@ -8,7 +8,7 @@
 #include "api/cloud_convert.h"
 #include "api/unary.h"
 #include "api/validate.h"
-#include "service/cloud_store.h"
+#include "service/clouds/cloud_store.h"
 
 namespace vscan::api {
 

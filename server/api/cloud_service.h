@@ -2,7 +2,7 @@
 // CloudService: stored point clouds, uploaded by clients or captured by campaigns.
 
 #include "guards/stall_watchdog.h"
-#include "service/service_context.h"
+#include "service/context/service_context.h"
 #include "vscan/v1/cloud.grpc.pb.h"
 
 namespace vscan::api {

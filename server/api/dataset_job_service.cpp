@@ -6,8 +6,8 @@
 #include "api/job_recorder.h"
 #include "api/job_service.h"
 #include "api/unary.h"
-#include "service/dataset/dataset_plan.h"
-#include "service/dataset_directories.h"
+#include "service/datasets/format/dataset_plan.h"
+#include "service/datasets/dataset_directories.h"
 
 namespace vscan::api {
 

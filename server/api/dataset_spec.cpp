@@ -3,11 +3,11 @@
 #include <spdlog/spdlog.h>
 
 #include "api/validate.h"
-#include "service/dataset/dataset_plan_yaml.h"
-#include "service/dataset_bounds.h"
-#include "service/dataset_directories.h"
-#include "service/dataset_job_frames.h"
-#include "service/request_memory.h"
+#include "service/datasets/format/dataset_plan_yaml.h"
+#include "service/datasets/dataset_bounds.h"
+#include "service/datasets/dataset_directories.h"
+#include "service/datasets/dataset_job_frames.h"
+#include "service/scan/request_memory.h"
 
 namespace vscan::api {
 namespace {

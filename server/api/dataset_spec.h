@@ -7,8 +7,8 @@
 #include <set>
 #include <string>
 
-#include "service/dataset_job_run.h"
-#include "service/service_context.h"
+#include "service/datasets/dataset_job_run.h"
+#include "service/context/service_context.h"
 #include "store/job_catalogue.h"
 #include "vscan/v1/job.pb.h"
 

@@ -1,7 +1,7 @@
 #pragma once
 // Job catalogue records <-> wire messages.
 
-#include "service/job_events.h"
+#include "service/job/job_events.h"
 #include "store/job_catalogue.h"
 #include "vscan/v1/job.pb.h"
 

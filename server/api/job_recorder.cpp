@@ -1,6 +1,6 @@
 #include "api/job_recorder.h"
 
-#include "service/campaign_summary.h"
+#include "service/campaign/campaign_summary.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::api {

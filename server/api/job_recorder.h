@@ -5,7 +5,7 @@
 #include <string>
 
 #include "api/job_tracker.h"
-#include "service/job_events.h"
+#include "service/job/job_events.h"
 
 namespace vscan::api {
 

@@ -10,7 +10,7 @@
 #include "api/job_service.h"
 #include "api/unary.h"
 #include "api/validate.h"
-#include "service/campaign_run.h"
+#include "service/campaign/campaign_run.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::api {

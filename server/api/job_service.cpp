@@ -11,9 +11,10 @@
 #include "api/job_recorder.h"
 #include "api/model_campaigns.h"
 #include "api/model_spec.h"
-#include "service/bin_fill_run.h"
-#include "service/campaign_run.h"
-#include "service/model_run.h"
+#include "service/bins/bin_fill_run.h"
+#include "service/campaign/campaign_run.h"
+#include "service/job/stopped_state.h"
+#include "service/model/model_run.h"
 #include "api/unary.h"
 #include "api/validate.h"
 

@@ -8,7 +8,7 @@
 
 #include "api/job_tracker.h"
 #include "guards/stall_watchdog.h"
-#include "service/service_context.h"
+#include "service/context/service_context.h"
 #include "jobs/job_runner.h"
 #include "vscan/v1/job.grpc.pb.h"
 

@@ -17,7 +17,7 @@
 #include "observability/metrics.h"
 #include "store/blob_gc.h"
 #include "store/blob_store.h"
-#include "service/job_events.h"
+#include "service/job/job_events.h"
 #include "store/job_catalogue.h"
 #include "vscan/v1/job.pb.h"
 

@@ -2,8 +2,8 @@
 // LocalizeRequest and ScorePosesRequest checked against the contract (every error names its
 // field) and turned into the service layer's plans.
 
-#include "service/localization_run.h"
-#include "service/localization_scoring.h"
+#include "service/localization/localization_run.h"
+#include "service/localization/localization_scoring.h"
 #include "vscan/common/status.h"
 #include "vscan/v1/localization.pb.h"
 

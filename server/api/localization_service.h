@@ -1,7 +1,7 @@
 #pragma once
 // LocalizationService: the baseline localizer on stored or sent points, and BOP scoring of poses.
 
-#include "service/service_context.h"
+#include "service/context/service_context.h"
 #include "vscan/v1/localization.grpc.pb.h"
 
 namespace vscan::api {

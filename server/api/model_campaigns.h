@@ -2,7 +2,7 @@
 // Campaign records for model jobs, read from the job catalogue: the campaign spec's scene and mount
 // and each scan artifact's commanded sensor pose (ScanArtifactInfo), decoded from their wire bytes.
 
-#include "service/model_campaigns.h"
+#include "service/model/model_campaigns.h"
 #include "store/job_catalogue.h"
 
 namespace vscan::api {

@@ -3,9 +3,9 @@
 // layer's request (presence, enums and id syntax checked here), then checked against what the
 // server holds. Errors name "spec.<field>", so that a bad request creates no job.
 
-#include "service/model_campaigns.h"
-#include "service/model_plan.h"
-#include "service/service_context.h"
+#include "service/model/model_campaigns.h"
+#include "service/model/model_plan.h"
+#include "service/context/service_context.h"
 #include "vscan/v1/job.pb.h"
 #include "vscan/v1/model.pb.h"
 

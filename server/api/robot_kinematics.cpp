@@ -8,7 +8,7 @@
 #include "api/robot_service.h"
 #include "api/unary.h"
 #include "api/validate.h"
-#include "service/inverse_kinematics.h"
+#include "service/robot/inverse_kinematics.h"
 #include "robot/forward_kinematics.h"
 #include "vscan/common/physical_limits.h"
 #include "vscan/common/proto_convert.h"

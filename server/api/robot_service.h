@@ -1,7 +1,7 @@
 #pragma once
 // RobotService: robot bundles, kinematics, and mounts of robots in scenes.
 
-#include "service/service_context.h"
+#include "service/context/service_context.h"
 #include "vscan/v1/robot.grpc.pb.h"
 
 namespace vscan::api {

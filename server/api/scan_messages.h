@@ -6,7 +6,7 @@
 #include "api/scan_request.h"
 #include "capture/measure_scan.h"
 #include "raycast/scanner.h"
-#include "service/scan_ground_truth.h"
+#include "service/scan/scan_ground_truth.h"
 #include "vscan/v1/scan.pb.h"
 
 namespace vscan::api {

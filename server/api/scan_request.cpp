@@ -5,7 +5,7 @@
 #include "api/measurement_request.h"
 #include "api/sensor_request.h"
 #include "api/validate.h"
-#include "service/robot_placement.h"
+#include "service/robot/robot_placement.h"
 #include "vscan/common/chunk_limits.h"
 #include "vscan/common/physical_limits.h"
 #include "vscan/common/proto_convert.h"

@@ -1,8 +1,8 @@
 #pragma once
 // A validated ScanRequest in engine terms.
 
-#include "service/scan_plan.h"
-#include "service/server_options.h"
+#include "service/scan/scan_plan.h"
+#include "service/context/server_options.h"
 #include "robots/robot_registry.h"
 #include "vscan/v1/scan.pb.h"
 

@@ -13,7 +13,7 @@
 #include "api/scan_request.h"
 #include "api/scan_writer.h"
 #include "api/write_watch.h"
-#include "service/scan_run.h"
+#include "service/scan/scan_run.h"
 #include "vscan/common/chunk_limits.h"
 #include "vscan/common/point_chunks.h"
 #include "vscan/common/grpc_status.h"

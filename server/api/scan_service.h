@@ -2,7 +2,7 @@
 // ScanService: casts a scan on a worker thread and streams it back in chunks.
 
 #include "guards/stall_watchdog.h"
-#include "service/service_context.h"
+#include "service/context/service_context.h"
 #include "vscan/v1/scan.grpc.pb.h"
 
 namespace vscan::api {

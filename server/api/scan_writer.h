@@ -7,7 +7,7 @@
 
 #include "api/chunk_packer.h"
 #include "api/scan_outbox.h"
-#include "service/scan_run.h"
+#include "service/scan/scan_run.h"
 
 namespace vscan::api {
 

@@ -1,7 +1,7 @@
 #pragma once
 // SceneService: scenes, meshes, objects and the rotary table.
 
-#include "service/service_context.h"
+#include "service/context/service_context.h"
 #include "vscan/v1/scene.grpc.pb.h"
 
 namespace vscan::api {

@@ -4,7 +4,7 @@
 
 #include <optional>
 
-#include "service/server_options.h"
+#include "service/context/server_options.h"
 #include "sensor/camera.h"
 #include "sensor/measurement.h"
 #include "sensor/structured_light.h"

@@ -36,7 +36,7 @@
 #include "jobs/periodic_task.h"
 #include "observability/server_metrics.h"
 #include "physics/convex_decomposition.h"
-#include "service/dataset_directories.h"
+#include "service/datasets/dataset_directories.h"
 #include "store/blob_gc.h"
 #include "store/cloud_catalogue.h"
 #include "store/database.h"

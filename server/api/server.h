@@ -3,7 +3,7 @@
 
 #include <memory>
 
-#include "service/server_options.h"
+#include "service/context/server_options.h"
 #include "vscan/common/status.h"
 
 namespace vscan::api {

@@ -2,7 +2,7 @@
 // StructuredLightScanner <-> engine structured-light model. Error messages name the fields relative
 // to the request ("sensor.structured_light.projector_offset").
 
-#include "service/server_options.h"
+#include "service/context/server_options.h"
 #include "sensor/structured_light.h"
 #include "vscan/common/status.h"
 #include "vscan/v1/sensor.pb.h"

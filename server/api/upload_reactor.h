@@ -7,7 +7,7 @@
 
 #include "api/auth.h"
 #include "api/call_observer.h"
-#include "service/service_context.h"
+#include "service/context/service_context.h"
 #include "vscan/common/grpc_status.h"
 
 namespace vscan::api {

@@ -17,7 +17,7 @@ from harness import SOURCE_DIR, VSCAN, VSCAND, Server, cli_result
 from test_dataset_shards import read_cloud
 from vscan.v1 import job_pb2
 
-sys.path.insert(0, os.path.join(SOURCE_DIR, "tests", "unit", "dataset"))
+sys.path.insert(0, os.path.join(SOURCE_DIR, "tests", "unit", "service", "datasets", "format"))
 from dataset_layout_test import read_png  # noqa: E402  (the layout test's own PNG decoder)
 
 PARTS = os.path.join(SOURCE_DIR, "data", "parts")

@@ -10,7 +10,7 @@
 #include "jobs/worker_pool.h"
 #include "robots/robot_registry.h"
 #include "scenes/scene_registry.h"
-#include "service/service_context.h"
+#include "service/context/service_context.h"
 #include "store/blob_store.h"
 #include "store/catalogue.h"
 #include "store/cloud_catalogue.h"

@@ -1,0 +1,35 @@
+#pragma once
+// bin.json: what a bin fill did, written however it ends: the bin, each part's type, mesh, object
+// and settled pose, the parts that left the bin, the end reason, the physics' counters and times.
+
+#include <optional>
+#include <string>
+
+#include "physics/bin_fill.h"
+#include "service/bins/bin_fill_plan.h"
+#include "service/bins/bin_scene.h"
+#include "service/job/json_writer.h"
+#include "store/job_catalogue.h"
+
+namespace vscan::service {
+
+struct BinFillReport {
+  std::string job_id;
+  store::JobState state = store::JobState::kSucceeded;
+  std::string message;
+  // Unset when the fill never ran to an end (a failure before or during it).
+  std::optional<physics::FillResult> result;
+  // Set when the settled parts became objects of the scene.
+  std::optional<BinPlacement> placement;
+};
+
+std::string BinFillJson(const BinFillPlan& plan, const BinFillReport& report);
+
+// {"max_part_part_m", "p95_part_part_m", "overlapping_pairs", "max_part_bin_m", "resolution_m"}:
+// the settled meshes' overlaps (physics::MeshOverlaps) as bin.json and a dataset scene record hold them.
+void WriteMeshOverlap(const physics::MeshOverlaps& overlap, JsonWriter& json);
+
+// "m", "mm", "in", ... as the plan files name units.
+const char* UnitName(store::LengthUnit unit);
+
+}  // namespace vscan::service

@@ -1,0 +1,19 @@
+#pragma once
+// Runs a planned bin fill on a job-runner thread: an event per simulated second (parts dropped,
+// resting, out of the bin), the settled parts and the bin into the scene in one revision when the
+// fill ends by itself, and bin.json however it ends. A cancelled, stopped or failed fill leaves
+// the scene as it was.
+
+#include <string>
+
+#include "jobs/job_runner.h"
+#include "service/bins/bin_fill_plan.h"
+#include "service/job/job_events.h"
+#include "service/context/service_context.h"
+
+namespace vscan::service {
+
+void RunBinFill(ServiceContext& context, JobRecorder& recorder, const std::string& job_id, const BinFillPlan& plan,
+                jobs::JobControl& control);
+
+}  // namespace vscan::service

@@ -1,0 +1,33 @@
+#pragma once
+// campaign.json: what every step of a campaign did (captured, unreachable, colliding), with its
+// poses and file name, written when the campaign ends.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "service/campaign/campaign_plan.h"
+#include "robots/arm_kinematics.h"
+
+namespace vscan::service {
+
+struct CampaignStepRecord {
+  uint32_t step = 0;
+  uint32_t rotation_index = 0;
+  uint32_t viewpoint_index = 0;
+  double table_angle_deg = 0.0;
+  std::string outcome;  // "captured", "unreachable", "collision"
+  std::string message;
+  double miss_distance = 0.0;
+  uint64_t seed = 0;
+  bool has_arm = false;
+  robots::ArmState arm;
+  std::string file;  // scan artifact name when captured
+  std::string artifact_id;
+  uint64_t points = 0;
+};
+
+std::string CampaignSummaryJson(const std::string& job_id, const std::string& final_state, const CampaignPlan& plan,
+                                const std::vector<CampaignStepRecord>& steps);
+
+}  // namespace vscan::service

@@ -1,0 +1,46 @@
+#pragma once
+// What every request of the service layer works with: the scene and robot registries, the stored
+// clouds and the blobs, the worker pools, the options, the renderer, scan admission and the Bullet
+// shapes of collision checks.
+
+#include <memory>
+
+#include "jobs/worker_pool.h"
+#include "robots/robot_registry.h"
+#include "scenes/scene_registry.h"
+#include "service/context/raster_provider.h"
+#include "service/context/scan_admission.h"
+#include "service/context/server_options.h"
+#include "store/blob_store.h"
+#include "store/cloud_catalogue.h"
+
+namespace vscan::collision {
+class ShapeCache;
+}
+
+namespace vscan::service {
+
+class DatasetDirectories;
+
+struct ServiceContext {
+  ServiceContext(scenes::SceneRegistry& registry, jobs::WorkerPool& workers, jobs::WorkerPool& call_workers,
+                 const ServerOptions& options, robots::RobotRegistry& robots, RasterProvider& raster,
+                 store::CloudCatalogue& clouds, store::BlobStore& blobs);
+  ~ServiceContext();
+
+  scenes::SceneRegistry& registry;
+  jobs::WorkerPool& workers;       // scans and uploads
+  jobs::WorkerPool& call_workers;  // blocking unary calls
+  const ServerOptions& options;
+  robots::RobotRegistry& robots;
+  RasterProvider& raster;
+  store::CloudCatalogue& clouds;
+  store::BlobStore& blobs;
+  ScanAdmission scans;
+  // Bullet shapes of scene meshes and links, shared by every collision check of the server.
+  std::shared_ptr<collision::ShapeCache> shapes;
+  // The dataset jobs' directories; null where no server runs them (tests).
+  DatasetDirectories* dataset_directories = nullptr;
+};
+
+}  // namespace vscan::service

@@ -1,0 +1,128 @@
+#include "service/datasets/format/dataset_manifest.h"
+
+#include "service/datasets/format/dataset_layout.h"
+#include "service/datasets/format/durable_file.h"
+#include "service/job/json_writer.h"
+
+namespace vscan::service::dataset {
+namespace {
+
+void Names(JsonWriter& json, const std::vector<std::string>& names) {
+  json.Open('[');
+  for (const std::string& name : names) json.Value(name);
+  json.Close(']');
+}
+
+// What each bin is filled with and how each sensor scans, when the plan says: two plans that name
+// the same bins but fill them differently are two datasets.
+void Fills(JsonWriter& json, const DatasetPlan& plan) {
+  json.Key("bin_fills").Open('[');
+  for (const DatasetBinFill& fill : plan.bin_fills) {
+    json.Open('{');
+    json.Key("inner_size_m").Open('[');
+    for (int axis = 0; axis < 3; ++axis) json.Value(fill.inner_size_m[axis]);
+    json.Close(']');
+    json.Key("wall_m").Value(fill.wall_thickness_m);
+    json.Key("max_simulated_s").Value(fill.max_simulated_s);
+    json.Key("parts").Open('[');
+    for (const DatasetPart& part : fill.parts) {
+      json.Open('{');
+      json.Key("mesh").Value(part.mesh_file);
+      json.Key("mesh_id").Value(part.mesh_id);
+      json.Key("unit").Value(part.unit);
+      json.Key("scale").Value(part.scale);
+      json.Key("count").Value(uint64_t{part.count});
+      json.Key("name").Value(part.name);
+      json.Close('}');
+    }
+    json.Close(']').Close('}');
+  }
+  json.Close(']');
+  json.Key("sensor_setups").Open('[');
+  for (const DatasetSensor& sensor : plan.sensor_setups) {
+    json.Open('{');
+    json.Key("preset").Value(sensor.preset);
+    json.Key("width").Value(uint64_t{sensor.width});
+    json.Key("height").Value(uint64_t{sensor.height});
+    json.Close('}');
+  }
+  json.Close(']');
+  json.Key("camera_height_m").Value(plan.camera_height_m);
+  json.Key("fail_on_underfilled_bin").Value(plan.fail_on_underfilled_bin);
+}
+
+// Only a plan that asks for other views than the single one straight down names them, so that a
+// dataset written before views existed resumes under the same manifest.
+void Views(JsonWriter& json, const DatasetPlan& plan) {
+  const auto [nearest_m, farthest_m] = ViewDistanceRange(plan);
+  json.Key("views").Open('{');
+  json.Key("count").Value(uint64_t{plan.views.count});
+  json.Key("cone_deg").Value(plan.views.cone_deg);
+  json.Key("distance_m").Open('[').Value(nearest_m).Value(farthest_m).Close(']');
+  json.Close('}');
+}
+
+}  // namespace
+
+std::string DatasetManifestJson(const DatasetPlan& plan) {
+  JsonWriter json;
+  json.Open('{');
+  json.Key("format").Value("vscan-dataset");
+  json.Key("layout_version").Value(kLayoutVersion);
+  json.Key("scene_order").Value("seed, bin, sensor");
+  json.Key("scene_count").Value(SceneCount(plan));
+  json.Key("plan").Open('{');
+  json.Key("name").Value(plan.name);
+  json.Key("bins");
+  Names(json, plan.bins);
+  json.Key("seeds").Open('[');
+  for (const uint64_t seed : plan.seeds) json.Value(seed);
+  json.Close(']');
+  json.Key("sensors");
+  Names(json, plan.sensors);
+  json.Key("depth_scale_mm").Value(plan.depth_scale_mm);
+  if (!plan.bin_fills.empty()) Fills(json, plan);
+  if (plan.views != DatasetViews{}) Views(json, plan);
+  json.Close('}').Close('}');
+  return json.str() + "\n";
+}
+
+std::string SceneIndexJson(const DatasetPlan& plan, const std::vector<uint32_t>& record_crc32) {
+  JsonWriter json;
+  json.Open('{');
+  json.Key("layout_version").Value(kLayoutVersion);
+  json.Key("scene_count").Value(SceneCount(plan));
+  json.Key("scenes").Open('[');
+  for (uint64_t id = 0; id < SceneCount(plan); ++id) {
+    const SceneKey key = SceneAt(plan, id);
+    json.Open('{');
+    json.Key("scene_id").Value(id);
+    json.Key("seed").Value(key.seed);
+    json.Key("bin").Value(plan.bins[key.bin_index]);
+    json.Key("sensor").Value(plan.sensors[key.sensor_index]);
+    json.Key("record_crc32").Value(uint64_t{record_crc32[id]});
+    json.Close('}');
+  }
+  json.Close(']').Close('}');
+  return json.str() + "\n";
+}
+
+Status EnsureRootFile(const std::filesystem::path& root, const std::string& relative, const std::string& bytes,
+                      const std::string& writer) {
+  const std::filesystem::path path = root / relative;
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec)) {
+    ASSIGN_OR_RETURN(const std::string present, ReadWholeFile(path));
+    if (present != bytes) {
+      return FailedPrecondition(path.string() + " differs from this plan's: the directory holds another dataset");
+    }
+    return Status::Ok();
+  }
+  std::filesystem::create_directories(path.parent_path(), ec);
+  if (ec) return Internal("cannot create " + path.parent_path().string() + ": " + ec.message());
+  const std::filesystem::path temporary = path.string() + ".tmp-" + writer;
+  RETURN_IF_ERROR(WriteFileDurably(temporary, bytes));
+  return RenameDurably(temporary, path);
+}
+
+}  // namespace vscan::service::dataset

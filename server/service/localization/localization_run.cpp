@@ -1,0 +1,93 @@
+#include "service/localization/localization_run.h"
+
+#include <chrono>
+#include <limits>
+#include <span>
+#include <utility>
+
+#include "service/clouds/cloud_store.h"
+#include "vscan/common/cloud_io.h"
+
+namespace vscan::service {
+namespace {
+
+StatusOr<std::shared_ptr<const TriangleMesh>> ScaledPart(ServiceContext& context, const std::string& mesh_id,
+                                                         double scale) {
+  auto mesh = context.registry.LoadMesh(mesh_id);
+  if (!mesh.ok()) {
+    if (mesh.status().code() == StatusCode::kNotFound) return NotFound("mesh_id: no mesh '" + mesh_id + "'");
+    return mesh.status();
+  }
+  if (scale == 1) return *mesh;
+  auto scaled = std::make_shared<TriangleMesh>(**mesh);
+  for (Eigen::Vector3f& v : scaled->vertices) v *= static_cast<float>(scale);
+  return std::shared_ptr<const TriangleMesh>(std::move(scaled));
+}
+
+struct SearchedCloud {
+  PointCloud cloud;
+  store::CloudFrame frame = store::CloudFrame::kWorld;
+  std::optional<Eigen::Vector3d> sensor_position;  // in the cloud's frame
+};
+
+StatusOr<SearchedCloud> ReadStoredCloud(ServiceContext& context, const std::string& cloud_id) {
+  ASSIGN_OR_RETURN(const StoredCloud stored, LoadCloud(context, cloud_id));
+  SearchedCloud searched;
+  ASSIGN_OR_RETURN(searched.cloud, ParsePly(stored.ply, "cloud '" + cloud_id + "'",
+                                            std::numeric_limits<uint64_t>::max()));
+  searched.frame = stored.record.frame;
+  if (searched.frame == store::CloudFrame::kSensor) {
+    searched.sensor_position = Eigen::Vector3d::Zero();
+  } else if (stored.record.world_from_sensor) {
+    searched.sensor_position = stored.record.world_from_sensor->block<3, 1>(0, 3);
+  }
+  return searched;
+}
+
+// The normals the localizer gets: empty means "estimate them".
+StatusOr<std::span<const Eigen::Vector3f>> ChooseNormals(const PointCloud& cloud, NormalSource source) {
+  switch (source) {
+    case NormalSource::kEstimate:
+      return std::span<const Eigen::Vector3f>();
+    case NormalSource::kCloud:
+      if (cloud.normals.size() != cloud.positions.size()) {
+        return FailedPrecondition("options.normal_source", "the cloud has no normals (POINT_FIELD_NORMAL)");
+      }
+      return std::span<const Eigen::Vector3f>(cloud.normals);
+    case NormalSource::kAuto:
+      break;
+  }
+  if (cloud.estimated_normals.size() == cloud.positions.size()) {
+    return std::span<const Eigen::Vector3f>(cloud.estimated_normals);
+  }
+  return std::span<const Eigen::Vector3f>();
+}
+
+}  // namespace
+
+StatusOr<LocalizeOutcome> RunLocalize(ServiceContext& context, const LocalizePlan& plan,
+                                      const std::atomic<bool>* cancel) {
+  const auto start = std::chrono::steady_clock::now();
+  ASSIGN_OR_RETURN(const auto part, ScaledPart(context, plan.mesh_id, plan.scale));
+  SearchedCloud searched;
+  if (!plan.cloud_id.empty()) {
+    ASSIGN_OR_RETURN(searched, ReadStoredCloud(context, plan.cloud_id));
+  } else {
+    searched.cloud.positions = plan.points;
+    if (!plan.normals.empty()) searched.cloud.normals = plan.normals;
+  }
+  ASSIGN_OR_RETURN(const auto normals, ChooseNormals(searched.cloud, plan.normal_source));
+  localization::LocalizerOptions options = plan.options;
+  options.viewpoint = plan.viewpoint.value_or(searched.sensor_position.value_or(Eigen::Vector3d::Zero()));
+
+  LocalizeOutcome outcome;
+  ASSIGN_OR_RETURN(outcome.result,
+                   localization::LocalizeInstances(*part, searched.cloud.positions, normals, options, cancel));
+  outcome.frame = searched.frame;
+  outcome.points = searched.cloud.positions.size();
+  outcome.localize_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  return outcome;
+}
+
+}  // namespace vscan::service

@@ -1,0 +1,43 @@
+#pragma once
+// ScorePoses: true and estimated poses of stored meshes scored with the BOP definitions
+// (localization/bop_scoring.h). Parts are named by their index in the request.
+
+#include <atomic>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "localization/bop_scoring.h"
+#include "service/context/service_context.h"
+#include "vscan/common/status.h"
+
+namespace vscan::service {
+
+struct ScoringPart {
+  std::string mesh_id;
+  double scale = 1;
+  // Unset: no symmetry (ADD). Set: ADD-S, and MSSD over the symmetries.
+  std::optional<localization::PartSymmetries> symmetries;
+};
+
+struct ScoringPlan {
+  std::vector<ScoringPart> parts;
+  std::vector<localization::TrueInstance> truth;          // part_id = index into parts
+  std::vector<localization::EstimatedInstance> estimates;  // likewise
+  localization::ScoringOptions options;
+};
+
+// The most vertex operations one call may cost (some 10 s on one core of a 2-core VM); each
+// pair of an estimate and a valid true instance costs vertices x (symmetry transforms + 1), and
+// ADD-S adds kAddSWorkPerVertex per vertex for its k-d tree.
+inline constexpr uint64_t kMaxScoringWork = 3'000'000'000;
+inline constexpr uint64_t kAddSWorkPerVertex = 20;
+
+// NOT_FOUND naming parts[i].mesh_id for an unknown mesh, INVALID_ARGUMENT for a mesh without
+// vertices, RESOURCE_EXHAUSTED naming estimates past kMaxScoringWork, CANCELLED once cancel (may
+// be null) is set.
+StatusOr<localization::ScanScore> ScorePoses(ServiceContext& context, const ScoringPlan& plan,
+                                             const std::atomic<bool>* cancel = nullptr);
+
+}  // namespace vscan::service

@@ -1,0 +1,90 @@
+#include "service/scan/scan_backends.h"
+
+#include <chrono>
+
+#include "raster/raster_scanner.h"
+#include "service/scan/scan_metrics.h"
+
+namespace vscan::service {
+namespace {
+
+StatusOr<PointCloud> RunRaster(const ScanPlan& plan, const sensor::PinholeCamera& camera, uint32_t fields,
+                               raycast::ScanFrame frame, const scenes::ScanTarget& target, RasterProvider& provider,
+                               const std::atomic<bool>* cancel, raycast::ScanStats* stats) {
+  ASSIGN_OR_RETURN(raster::RasterRenderer * renderer, provider.Get());
+  raster::RasterOptions options;
+  options.fields = fields;
+  options.frame = frame;
+  options.cancel = cancel;
+  const auto method = plan.backend == ScanBackend::kRasterDepth ? raster::RasterMethod::kDepthBuffer
+                                                                 : raster::RasterMethod::kColourBuffer;
+  raster::RasterStats raster_stats;
+  ASSIGN_OR_RETURN(PointCloud cloud, raster::RasterScan(*renderer, target.cache_key, *target.instances, camera,
+                                                        plan.world_from_sensor, method, options, &raster_stats));
+  stats->rays = raster_stats.pixels;
+  stats->points = raster_stats.points;
+  stats->min_range = raster_stats.min_range;
+  stats->max_range = raster_stats.max_range;
+  stats->elapsed_ms = raster_stats.elapsed_ms;
+  return cloud;
+}
+
+StatusOr<PointCloud> RunClean(const ScanPlan& plan, const scenes::ScanTarget& target, RasterProvider& raster,
+                              const std::atomic<bool>* cancel, raycast::ScanStats* stats) {
+  if (plan.backend != ScanBackend::kRaycast) {
+    return RunRaster(plan, plan.camera, plan.fields, plan.frame, target, raster, cancel, stats);
+  }
+  raycast::ScanOptions options;
+  options.fields = plan.fields;
+  options.frame = plan.frame;
+  options.cancel = cancel;
+  return raycast::Scan(*target.raycast, plan.camera, plan.world_from_sensor, options, stats);
+}
+
+// The raster backends keep the plan's depth range (their depth precision follows near and far), so
+// they report no out-of-range rejections and see through surfaces nearer than near.
+StatusOr<PointCloud> RunMeasuredRaster(const ScanPlan& plan, const capture::MeasurementSpec& spec,
+                                       const scenes::ScanTarget& target, RasterProvider& raster,
+                                       const std::atomic<bool>* cancel, raycast::ScanStats* stats,
+                                       capture::MeasureStats* measure_stats) {
+  ASSIGN_OR_RETURN(PointCloud clean, RunRaster(plan, plan.camera, capture::CleanFieldsFor(spec),
+                                               raycast::ScanFrame::kSensor, target, raster, cancel, stats));
+  ASSIGN_OR_RETURN(PointCloud cloud, capture::MeasureScan(*target.raycast, plan.camera, plan.world_from_sensor,
+                                                          std::move(clean), spec, cancel, measure_stats));
+  if (plan.frame == raycast::ScanFrame::kWorld) capture::SensorToWorld(plan.world_from_sensor, cloud);
+  return cloud;
+}
+
+StatusOr<PointCloud> RunBackend(const ScanPlan& plan, const scenes::ScanTarget& target, RasterProvider& raster,
+                                const std::atomic<bool>* cancel, raycast::ScanStats* stats,
+                                capture::MeasureStats* measure_stats) {
+  const capture::MeasurementSpec& spec = plan.measurement;
+  if (measure_stats) *measure_stats = capture::MeasureStats{};
+  if (!spec.any()) return RunClean(plan, target, raster, cancel, stats);
+  capture::MeasureStats local;
+  capture::MeasureStats& m = measure_stats ? *measure_stats : local;
+  StatusOr<PointCloud> cloud =
+      plan.backend == ScanBackend::kRaycast
+          ? capture::ScanMeasured(*target.raycast, plan.camera, plan.world_from_sensor, spec, plan.frame, cancel,
+                                  stats, &m)
+          : RunMeasuredRaster(plan, spec, target, raster, cancel, stats, &m);
+  if (!cloud.ok()) return cloud.status();
+  stats->points = m.points;
+  stats->min_range = m.min_range;
+  stats->max_range = m.max_range;
+  return cloud;
+}
+
+}  // namespace
+
+StatusOr<PointCloud> RunScanBackend(const ScanPlan& plan, const scenes::ScanTarget& target, RasterProvider& raster,
+                                    const std::atomic<bool>* cancel, raycast::ScanStats* stats,
+                                    capture::MeasureStats* measure_stats) {
+  const auto start = std::chrono::steady_clock::now();
+  StatusOr<PointCloud> cloud = RunBackend(plan, target, raster, cancel, stats, measure_stats);
+  RecordScan(plan.backend, cloud.status(), *stats,
+             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
+  return cloud;
+}
+
+}  // namespace vscan::service
