@@ -8,9 +8,12 @@
 #include "service/datasets/dataset_directories.h"
 #include "service/datasets/dataset_job_frames.h"
 #include "service/scan/request_memory.h"
+#include "service/job/job_kind.h"
 
 namespace vscan::api {
 namespace {
+
+constexpr std::string_view kDatasetKind = service::JobKindName(service::JobKind::kDataset);
 
 constexpr size_t kMaxPlanBytes = 1u << 20;
 
@@ -45,7 +48,7 @@ StatusOr<std::string> ResumedDirectory(const std::string& job_id, store::JobCata
     return NotFound("spec.resume_job_id", "no job '" + job_id + "'");
   }
   RETURN_IF_ERROR(record.status());
-  if (record->kind != "dataset") {
+  if (record->kind != kDatasetKind) {
     return FailedPrecondition("spec.resume_job_id", "job '" + job_id + "' is a " + record->kind + " job");
   }
   if (record->state == store::JobState::kQueued || record->state == store::JobState::kRunning) {
@@ -109,14 +112,14 @@ std::string DatasetDirectoryId(const v1::DatasetSpec& spec, const std::string& j
 }
 
 std::string DatasetDirectoryOf(const store::JobRecord& job) {
-  if (job.kind != "dataset") return "";
+  if (job.kind != kDatasetKind) return "";
   v1::DatasetSpec spec;
   if (!spec.ParseFromString(job.spec)) return "";
   return DatasetDirectoryId(spec, job.job_id);
 }
 
 StatusOr<std::set<std::string>> NamedDatasetDirectories(store::JobCatalogue& jobs) {
-  ASSIGN_OR_RETURN(const std::vector<store::JobRecord> datasets, jobs.ListJobsOfKind("dataset"));
+  ASSIGN_OR_RETURN(const std::vector<store::JobRecord> datasets, jobs.ListJobsOfKind(std::string(kDatasetKind)));
   std::set<std::string> named;
   for (const store::JobRecord& job : datasets) {
     // An unreadable spec keeps the directory of its own id: nothing is removed on a guess.

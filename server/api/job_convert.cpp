@@ -2,6 +2,7 @@
 
 #include <google/protobuf/util/time_util.h>
 
+#include "api/job_kinds.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::api {
@@ -44,17 +45,8 @@ Status ToProto(const store::JobRecord& job, v1::Job* out) {
   out->set_steps_total(job.steps_total);
   SetTime(job.create_time_ms, out->mutable_create_time());
   SetTime(job.update_time_ms, out->mutable_update_time());
-  if (job.kind == "campaign" && !out->mutable_campaign()->ParseFromString(job.spec)) {
-    return DataLoss("job catalogue: job '" + job.job_id + "' has an unreadable campaign spec");
-  }
-  if (job.kind == "model" && !out->mutable_model()->ParseFromString(job.spec)) {
-    return DataLoss("job catalogue: job '" + job.job_id + "' has an unreadable model spec");
-  }
-  if (job.kind == "bin_fill" && !out->mutable_bin_fill()->ParseFromString(job.spec)) {
-    return DataLoss("job catalogue: job '" + job.job_id + "' has an unreadable bin fill spec");
-  }
-  if (job.kind == "dataset" && !out->mutable_dataset()->ParseFromString(job.spec)) {
-    return DataLoss("job catalogue: job '" + job.job_id + "' has an unreadable dataset spec");
+  if (const JobKindRow* kind = FindJobKind(job.kind); kind && !kind->read_spec(job.spec, out)) {
+    return DataLoss("job catalogue: job '" + job.job_id + "' has an unreadable " + std::string(kind->spec_noun));
   }
   for (const store::ArtifactRecord& artifact : job.artifacts) RETURN_IF_ERROR(ToProto(artifact, out->add_artifacts()));
   return Status::Ok();

@@ -1,23 +1,22 @@
 #include "api/job_recorder.h"
 
-#include "service/campaign/campaign_summary.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::api {
 namespace {
 
-v1::ScanArtifactInfo ScanInfo(const service::CampaignStepRecord& record) {
+v1::ScanArtifactInfo ScanInfo(const service::ScanArtifact& scan) {
   v1::ScanArtifactInfo info;
-  info.set_viewpoint_index(record.viewpoint_index);
-  info.set_rotation_index(record.rotation_index);
-  info.set_table_angle_deg(record.table_angle_deg);
-  vscan::ToProto(record.arm.commanded_pose, info.mutable_commanded_sensor_pose());
-  vscan::ToProto(record.arm.achieved_pose, info.mutable_sensor_pose());
-  const Eigen::VectorXd& c = record.arm.commanded;
-  const Eigen::VectorXd& a = record.arm.achieved;
+  info.set_viewpoint_index(scan.viewpoint_index);
+  info.set_rotation_index(scan.rotation_index);
+  info.set_table_angle_deg(scan.table_angle_deg);
+  vscan::ToProto(scan.commanded_sensor_pose, info.mutable_commanded_sensor_pose());
+  vscan::ToProto(scan.sensor_pose, info.mutable_sensor_pose());
+  const Eigen::VectorXd& c = scan.commanded_joint_positions;
+  const Eigen::VectorXd& a = scan.achieved_joint_positions;
   info.mutable_commanded_joint_positions()->Assign(c.data(), c.data() + c.size());
   info.mutable_achieved_joint_positions()->Assign(a.data(), a.data() + a.size());
-  info.set_points(record.points);
+  info.set_points(scan.points);
   return info;
 }
 
@@ -27,7 +26,7 @@ Status TrackedJobRecorder::Record(const service::JobEventUpdate& update) { retur
 
 StatusOr<std::string> TrackedJobRecorder::RecordArtifact(const std::string& name, const std::string& media_type,
                                                          const std::string& bytes,
-                                                         const service::CampaignStepRecord* scan,
+                                                         const service::ScanArtifact* scan,
                                                          const store::CloudRecord* cloud,
                                                          const service::JobEventUpdate& update) {
   v1::ScanArtifactInfo info;

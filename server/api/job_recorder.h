@@ -1,5 +1,5 @@
 #pragma once
-// A running campaign's events and artifacts into the job tracker, scan descriptions as the
+// A running job's events and artifacts into the job tracker, scan descriptions as the
 // contract's ScanArtifactInfo, captured scans as stored clouds.
 
 #include <string>
@@ -15,7 +15,7 @@ class TrackedJobRecorder final : public service::JobRecorder {
 
   Status Record(const service::JobEventUpdate& update) override;
   StatusOr<std::string> RecordArtifact(const std::string& name, const std::string& media_type,
-                                       const std::string& bytes, const service::CampaignStepRecord* scan,
+                                       const std::string& bytes, const service::ScanArtifact* scan,
                                        const store::CloudRecord* cloud, const service::JobEventUpdate& update) override;
   Status End(const service::JobEventUpdate& update) override;
 

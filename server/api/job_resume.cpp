@@ -6,7 +6,6 @@
 
 #include "api/campaign_spec.h"
 #include "api/job_convert.h"
-#include "api/job_recorder.h"
 #include "api/job_service.h"
 #include "api/unary.h"
 #include "api/validate.h"
@@ -16,7 +15,7 @@
 namespace vscan::api {
 namespace {
 
-constexpr const char* kCampaignKind = "campaign";
+const std::string kCampaignKind(service::JobKindName(service::JobKind::kCampaign));
 
 // The scans the job's earlier runs stored, by step, as the runner reports them.
 StatusOr<service::StoredCampaignScans> StoredScans(const store::JobRecord& job, const service::CampaignPlan& plan) {
@@ -72,16 +71,16 @@ grpc::ServerUnaryReactor* JobService::ResumeJob(grpc::CallbackServerContext* ctx
     // The scans the reopen keeps are those the ended job holds with a description.
     ASSIGN_OR_RETURN(service::StoredCampaignScans scans, StoredScans(ended, *plan));
     auto stored = std::make_shared<const service::StoredCampaignScans>(std::move(scans));
-    const uint32_t max_queued = context_.options.limits.max_queued_jobs;
-    std::lock_guard admit(admit_mutex_);
-    if (runner_.queued() >= max_queued) {
-      return ResourceExhausted("job_id: " + std::to_string(max_queued) + " jobs already wait to run; retry later");
-    }
-    ASSIGN_OR_RETURN(const store::JobRecord reopened, tracker_.Reopen(job_id, kCampaignKind));
-    RETURN_IF_ERROR(Submit(job_id, [this, job_id, plan, stored](jobs::JobControl& control) {
-      TrackedJobRecorder recorder(tracker_, job_id);
-      service::RunCampaign(context_, recorder, job_id, *plan, control, *stored);
-    }));
+    store::JobRecord reopened;
+    auto reopen = [&]() -> StatusOr<std::string> {
+      ASSIGN_OR_RETURN(reopened, tracker_.Reopen(job_id, kCampaignKind));
+      return job_id;
+    };
+    RETURN_IF_ERROR(Admit("job_id", reopen,
+                          [this, plan, stored](service::JobRecorder& recorder, const std::string& id,
+                                               jobs::JobControl& control) {
+                            service::RunCampaign(context_, recorder, id, *plan, control, *stored);
+                          }));
     spdlog::info("job {}: campaign resumed, {} of {} scans stored", job_id, stored->size(), plan->steps_total());
     return ToProto(reopened, response->mutable_job());
   });

@@ -13,7 +13,7 @@
 #include "api/model_spec.h"
 #include "service/bins/bin_fill_run.h"
 #include "service/campaign/campaign_run.h"
-#include "service/job/stopped_state.h"
+#include "service/job/run_end.h"
 #include "service/model/model_run.h"
 #include "api/unary.h"
 #include "api/validate.h"
@@ -39,20 +39,15 @@ grpc::ServerUnaryReactor* JobService::StartCampaign(grpc::CallbackServerContext*
     if (!request->has_spec()) return InvalidArgument("spec: required");
     ASSIGN_OR_RETURN(service::CampaignPlan validated, ValidateCampaign(request->spec(), context_, request->validate_only()));
     if (request->validate_only()) return Status::Ok();
-    const uint32_t max_queued = context_.options.limits.max_queued_jobs;
-    std::lock_guard admit(admit_mutex_);
-    if (runner_.queued() >= max_queued) {
-      return ResourceExhausted("spec: " + std::to_string(max_queued) + " jobs already wait to run; retry later");
-    }
-    ASSIGN_OR_RETURN(v1::Job job, tracker_.CreateCampaign(request->spec(), validated.steps_total()));
-    const std::string job_id = job.job_id();
     auto plan = std::make_shared<const service::CampaignPlan>(std::move(validated));
-    RETURN_IF_ERROR(Submit(job_id, [this, job_id, plan](jobs::JobControl& control) {
-      TrackedJobRecorder recorder(tracker_, job_id);
-      service::RunCampaign(context_, recorder, job_id, *plan, control);
-    }));
-    spdlog::info("job {}: campaign of {} scans queued", job_id, plan->steps_total());
-    *response->mutable_job() = std::move(job);
+    v1::Job* job = response->mutable_job();
+    RETURN_IF_ERROR(Admit(
+        "spec",
+        [&] { return CreateJob(service::JobKind::kCampaign, request->spec().name(), request->spec(), plan->steps_total(), job); },
+        [this, plan](service::JobRecorder& recorder, const std::string& job_id, jobs::JobControl& control) {
+          service::RunCampaign(context_, recorder, job_id, *plan, control);
+        }));
+    spdlog::info("job {}: campaign of {} scans queued", job->job_id(), plan->steps_total());
     return Status::Ok();
   });
 }
@@ -64,21 +59,56 @@ grpc::ServerUnaryReactor* JobService::StartModel(grpc::CallbackServerContext* ct
     CatalogueCampaignRecords campaigns(tracker_.catalogue());
     ASSIGN_OR_RETURN(service::ModelPlan validated, ValidateModel(request->spec(), context_, campaigns));
     if (request->validate_only()) return Status::Ok();
-    const uint32_t max_queued = context_.options.limits.max_queued_jobs;
-    std::lock_guard admit(admit_mutex_);
-    if (runner_.queued() >= max_queued) {
-      return ResourceExhausted("spec: " + std::to_string(max_queued) + " jobs already wait to run; retry later");
-    }
-    ASSIGN_OR_RETURN(v1::Job job, tracker_.CreateModel(request->spec(), service::ModelStepsTotal(validated)));
-    const std::string job_id = job.job_id();
     auto plan = std::make_shared<const service::ModelPlan>(std::move(validated));
-    RETURN_IF_ERROR(Submit(job_id, [this, job_id, plan](jobs::JobControl& control) {
-      TrackedJobRecorder recorder(tracker_, job_id);
-      service::RunModel(context_, recorder, job_id, *plan, control);
-    }));
-    spdlog::info("job {}: model job over {} clouds queued", job_id, plan->clouds.size());
-    *response->mutable_job() = std::move(job);
+    v1::Job* job = response->mutable_job();
+    const uint32_t total = service::ModelStepsTotal(*plan);
+    RETURN_IF_ERROR(Admit(
+        "spec", [&] { return CreateJob(service::JobKind::kModel, request->spec().name(), request->spec(), total, job); },
+        [this, plan](service::JobRecorder& recorder, const std::string& job_id, jobs::JobControl& control) {
+          service::RunModel(context_, recorder, job_id, *plan, control);
+        }));
+    spdlog::info("job {}: model job over {} clouds queued", job->job_id(), plan->clouds.size());
     return Status::Ok();
+  });
+}
+
+grpc::ServerUnaryReactor* JobService::StartBinFill(grpc::CallbackServerContext* ctx,
+                                                   const v1::StartBinFillRequest* request,
+                                                   v1::StartBinFillResponse* response) {
+  return RunBlockingUnary(ctx, context_.options.token, "StartBinFill", context_.call_workers, [=, this]() -> Status {
+    if (!request->has_spec()) return InvalidArgument("spec: required");
+    ASSIGN_OR_RETURN(service::BinFillPlan validated, ValidateBinFill(request->spec(), context_, request->validate_only()));
+    if (request->validate_only()) return Status::Ok();
+    auto plan = std::make_shared<const service::BinFillPlan>(std::move(validated));
+    v1::Job* job = response->mutable_job();
+    const auto total = static_cast<uint32_t>(plan->parts_total());
+    RETURN_IF_ERROR(Admit(
+        "spec", [&] { return CreateJob(service::JobKind::kBinFill, request->spec().name(), request->spec(), total, job); },
+        [this, plan](service::JobRecorder& recorder, const std::string& job_id, jobs::JobControl& control) {
+          service::RunBinFill(context_, recorder, job_id, *plan, control);
+        }));
+    spdlog::info("job {}: bin fill of {} parts into scene {} queued", job->job_id(), total, plan->request.scene_id);
+    return Status::Ok();
+  });
+}
+
+StatusOr<std::string> JobService::CreateJob(service::JobKind kind, const std::string& name,
+                                            const google::protobuf::MessageLite& spec, uint32_t steps_total,
+                                            v1::Job* out) {
+  ASSIGN_OR_RETURN(*out, tracker_.Create(kind, name, spec, steps_total));
+  return out->job_id();
+}
+
+Status JobService::Admit(const std::string& field, const std::function<StatusOr<std::string>()>& record, JobRun run) {
+  const uint32_t max_queued = context_.options.limits.max_queued_jobs;
+  std::lock_guard admit(admit_mutex_);
+  if (runner_.queued() >= max_queued) {
+    return ResourceExhausted(field + ": " + std::to_string(max_queued) + " jobs already wait to run; retry later");
+  }
+  ASSIGN_OR_RETURN(const std::string job_id, record());
+  return Submit(job_id, [this, job_id, run = std::move(run)](jobs::JobControl& control) {
+    TrackedJobRecorder recorder(tracker_, job_id);
+    run(recorder, job_id, control);
   });
 }
 
@@ -98,7 +128,7 @@ Status JobService::Submit(const std::string& job_id, std::function<void(jobs::Jo
     JobEventUpdate update;
     update.state = service::StoppedState(reason);
     update.message = reason == jobs::StopReason::kCancelled ? "cancelled before it started"
-                                                            : "server stopped while the job ran";
+                                                            : service::StoppedMessage(update.state);
     const Status ended = tracker_.End(job_id, update);
     if (!ended.ok()) spdlog::error("job {}: {}", job_id, ended.ToString());
   };
@@ -107,32 +137,6 @@ Status JobService::Submit(const std::string& job_id, std::function<void(jobs::Jo
     return Unavailable("server is shutting down");
   }
   return Status::Ok();
-}
-
-grpc::ServerUnaryReactor* JobService::StartBinFill(grpc::CallbackServerContext* ctx,
-                                                   const v1::StartBinFillRequest* request,
-                                                   v1::StartBinFillResponse* response) {
-  return RunBlockingUnary(ctx, context_.options.token, "StartBinFill", context_.call_workers, [=, this]() -> Status {
-    if (!request->has_spec()) return InvalidArgument("spec: required");
-    ASSIGN_OR_RETURN(service::BinFillPlan validated, ValidateBinFill(request->spec(), context_, request->validate_only()));
-    if (request->validate_only()) return Status::Ok();
-    const uint32_t max_queued = context_.options.limits.max_queued_jobs;
-    std::lock_guard admit(admit_mutex_);
-    if (runner_.queued() >= max_queued) {
-      return ResourceExhausted("spec: " + std::to_string(max_queued) + " jobs already wait to run; retry later");
-    }
-    const auto total = static_cast<uint32_t>(validated.parts_total());
-    ASSIGN_OR_RETURN(v1::Job job, tracker_.CreateBinFill(request->spec(), total));
-    const std::string job_id = job.job_id();
-    auto plan = std::make_shared<const service::BinFillPlan>(std::move(validated));
-    RETURN_IF_ERROR(Submit(job_id, [this, job_id, plan](jobs::JobControl& control) {
-      TrackedJobRecorder recorder(tracker_, job_id);
-      service::RunBinFill(context_, recorder, job_id, *plan, control);
-    }));
-    spdlog::info("job {}: bin fill of {} parts into scene {} queued", job_id, total, plan->request.scene_id);
-    *response->mutable_job() = std::move(job);
-    return Status::Ok();
-  });
 }
 
 grpc::ServerUnaryReactor* JobService::GetJob(grpc::CallbackServerContext* ctx, const v1::GetJobRequest* request,

@@ -9,6 +9,7 @@
 #include "api/job_tracker.h"
 #include "guards/stall_watchdog.h"
 #include "service/context/service_context.h"
+#include "service/job/job_events.h"
 #include "jobs/job_runner.h"
 #include "vscan/v1/job.grpc.pb.h"
 
@@ -48,6 +49,15 @@ class JobService final : public v1::JobService::CallbackService {
                                                                    const v1::ReadArtifactRequest* request) override;
 
  private:
+  // What a started job does on the runner's thread.
+  using JobRun = std::function<void(service::JobRecorder& recorder, const std::string& job_id, jobs::JobControl&)>;
+  // The start every kind shares, under the admission lock: refuses when max_queued_jobs wait
+  // (the error names field), then record() creates or reopens the job and returns its id, then
+  // run is queued as that job.
+  Status Admit(const std::string& field, const std::function<StatusOr<std::string>()>& record, JobRun run);
+  // Records a QUEUED job of kind into out; returns its id.
+  StatusOr<std::string> CreateJob(service::JobKind kind, const std::string& name, const google::protobuf::MessageLite& spec,
+                                  uint32_t steps_total, v1::Job* out);
   // Queues work as job_id under the queue bound; false (the job then ended) when the runner stops.
   Status Submit(const std::string& job_id, std::function<void(jobs::JobControl&)> run);
 

@@ -124,30 +124,13 @@ void LiveJob::Publish(v1::WatchJobResponse response, std::optional<v1::Artifact>
   }
 }
 
-StatusOr<v1::Job> JobTracker::CreateCampaign(const v1::CampaignSpec& spec, uint32_t steps_total) {
-  return Create("campaign", spec.name(), spec.SerializeAsString(), steps_total);
-}
-
-StatusOr<v1::Job> JobTracker::CreateModel(const v1::ModelSpec& spec, uint32_t steps_total) {
-  return Create("model", spec.name(), spec.SerializeAsString(), steps_total);
-}
-
-StatusOr<v1::Job> JobTracker::CreateBinFill(const v1::BinFillSpec& spec, uint32_t steps_total) {
-  return Create("bin_fill", spec.name(), spec.SerializeAsString(), steps_total);
-}
-
-StatusOr<v1::Job> JobTracker::CreateDataset(const v1::DatasetSpec& spec, const std::string& name,
-                                            uint32_t steps_total) {
-  return Create("dataset", name, spec.SerializeAsString(), steps_total);
-}
-
-StatusOr<v1::Job> JobTracker::Create(const std::string& kind, const std::string& name, std::string spec,
-                                     uint32_t steps_total) {
+StatusOr<v1::Job> JobTracker::Create(service::JobKind kind, const std::string& name,
+                                     const google::protobuf::MessageLite& spec, uint32_t steps_total) {
   store::JobRecord record;
-  record.kind = kind;
+  record.kind = std::string(service::JobKindName(kind));
   record.state = store::JobState::kQueued;
   record.name = name;
-  record.spec = std::move(spec);
+  record.spec = spec.SerializeAsString();
   record.message = "queued";
   record.steps_total = steps_total;
   ASSIGN_OR_RETURN(record, catalogue_.InsertJob(std::move(record)));

@@ -18,6 +18,7 @@
 #include "store/blob_gc.h"
 #include "store/blob_store.h"
 #include "service/job/job_events.h"
+#include "service/job/job_kind.h"
 #include "store/job_catalogue.h"
 #include "vscan/v1/job.pb.h"
 
@@ -100,11 +101,9 @@ class JobTracker {
   void OnDeleted(DeletedJobHook hook) { on_deleted_ = std::move(hook); }
   store::BlobStore& blobs() { return blobs_; }
 
-  // Records a QUEUED job and keeps it live.
-  StatusOr<v1::Job> CreateCampaign(const v1::CampaignSpec& spec, uint32_t steps_total);
-  StatusOr<v1::Job> CreateModel(const v1::ModelSpec& spec, uint32_t steps_total);
-  StatusOr<v1::Job> CreateBinFill(const v1::BinFillSpec& spec, uint32_t steps_total);
-  StatusOr<v1::Job> CreateDataset(const v1::DatasetSpec& spec, const std::string& name, uint32_t steps_total);
+  // Records a QUEUED job of kind, its spec stored as given, and keeps it live.
+  StatusOr<v1::Job> Create(service::JobKind kind, const std::string& name, const google::protobuf::MessageLite& spec,
+                           uint32_t steps_total);
   // Puts an ended job of kind back to QUEUED and keeps it live again, its next event numbered after
   // its last (JobCatalogue::ReopenJob says what it keeps and refuses). The reports it drops free
   // the blobs nothing else names.
@@ -137,7 +136,6 @@ class JobTracker {
   StatusOr<int> DeleteEndedBefore(int64_t cutoff_ms);
 
  private:
-  StatusOr<v1::Job> Create(const std::string& kind, const std::string& name, std::string spec, uint32_t steps_total);
   StatusOr<std::shared_ptr<LiveJob>> RequireLive(const std::string& job_id);
   v1::WatchJobResponse MakeEvent(const std::shared_ptr<LiveJob>& live, const JobEventUpdate& update,
                                  uint64_t sequence, int64_t now_ms) const;

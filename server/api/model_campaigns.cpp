@@ -2,6 +2,7 @@
 
 #include "vscan/common/proto_convert.h"
 #include "vscan/v1/job.pb.h"
+#include "service/job/job_kind.h"
 
 namespace vscan::api {
 
@@ -11,7 +12,7 @@ StatusOr<service::CampaignRecord> CatalogueCampaignRecords::Get(const std::strin
   record.job_id = job.job_id;
   record.kind = job.kind;
   record.state = job.state;
-  if (job.kind != "campaign") return record;
+  if (job.kind != service::JobKindName(service::JobKind::kCampaign)) return record;
   v1::CampaignSpec spec;
   if (!spec.ParseFromString(job.spec)) {
     return DataLoss("job catalogue: job '" + job.job_id + "' has an unreadable campaign spec");

@@ -8,7 +8,7 @@
 #include "service/bins/bin_fill_report.h"
 #include "service/bins/bin_fill_simulation.h"
 #include "service/bins/bin_scene.h"
-#include "service/job/stopped_state.h"
+#include "service/job/run_end.h"
 #include "service/job/message_numbers.h"
 
 namespace vscan::service {
@@ -70,9 +70,7 @@ class BinFillRun {
                         std::to_string(report_.placement->revision) + " (" + result.message + ")";
     } else if (control_.stop_requested()) {
       report_.state = StoppedState(control_.reason());
-      report_.message = std::string(report_.state == store::JobState::kCancelled ? "cancelled"
-                                                                                 : "server stopped while the job ran") +
-                        "; the scene is unchanged";
+      report_.message = StoppedMessage(report_.state) + "; the scene is unchanged";
     } else {
       report_.state = store::JobState::kFailed;
       report_.message = status.ok() ? "the fill ended without placing its parts" : status.message();
@@ -81,9 +79,7 @@ class BinFillRun {
     const auto stored = recorder_.RecordArtifact("bin.json", kJsonMediaType, json, nullptr, nullptr,
                                                  Update("bin.json written"));
     if (!stored.ok()) spdlog::warn("job {}: bin.json not stored: {}", report_.job_id, stored.status().ToString());
-    const Status ended = recorder_.End(Update(report_.message, report_.state));
-    if (!ended.ok()) spdlog::error("job {}: cannot record its end: {}", report_.job_id, ended.ToString());
-    spdlog::info("job {}: bin fill {}", report_.job_id, report_.message);
+    RecordEnd(recorder_, report_.job_id, Update(report_.message, report_.state));
   }
 
   JobEventUpdate Update(const std::string& message, store::JobState state = store::JobState::kRunning) const {

@@ -1,5 +1,5 @@
 #include "service/campaign/campaign_run.h"
-#include "service/job/stopped_state.h"
+#include "service/job/run_end.h"
 
 #include <cstdio>
 #include <optional>
@@ -49,8 +49,7 @@ class CampaignRun {
     std::string message;
     if (control_.stop_requested()) {
       state = StoppedState(control_.reason());
-      message = state == store::JobState::kCancelled ? "cancelled" : "server stopped while the job ran";
-      message += " after " + std::to_string(records_.size()) + " of " + std::to_string(total) + " steps";
+      message = StoppedMessage(state) + " after " + std::to_string(records_.size()) + " of " + std::to_string(total) + " steps";
     } else if (!status.ok()) {
       state = store::JobState::kFailed;
       message = status.message();
@@ -61,9 +60,7 @@ class CampaignRun {
     }
     WriteSummary(state);
     if (model_) model_->WriteReport(state);
-    const Status ended = recorder_.End(Update(state, message, false));
-    if (!ended.ok()) spdlog::error("job {}: cannot record its end: {}", job_id_, ended.ToString());
-    spdlog::info("job {} {}: {}", job_id_, store::JobStateName(state), message);
+    RecordEnd(recorder_, job_id_, Update(state, message, false));
   }
 
  private:
@@ -169,7 +166,8 @@ class CampaignRun {
     ++captured_;
     record.message = CapturedMessage(record);
     records_.push_back(record);
-    auto artifact = recorder_.RecordArtifact(record.file, kPlyMediaType, ply, &records_.back(), &cloud,
+    const ScanArtifact scan = ScanArtifactOf(record);
+    auto artifact = recorder_.RecordArtifact(record.file, kPlyMediaType, ply, &scan, &cloud,
                                              Update(store::JobState::kRunning, record.message, true));
     if (!artifact.ok()) {
       return Status(artifact.status().code(), "cannot store " + record.file + ": " + artifact.status().message());

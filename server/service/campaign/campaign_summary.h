@@ -8,6 +8,7 @@
 
 #include "service/campaign/campaign_plan.h"
 #include "robots/arm_kinematics.h"
+#include "service/job/job_events.h"
 
 namespace vscan::service {
 
@@ -26,6 +27,9 @@ struct CampaignStepRecord {
   std::string artifact_id;
   uint64_t points = 0;
 };
+
+// The step's scan as the job records it with its artifact.
+ScanArtifact ScanArtifactOf(const CampaignStepRecord& record);
 
 std::string CampaignSummaryJson(const std::string& job_id, const std::string& final_state, const CampaignPlan& plan,
                                 const std::vector<CampaignStepRecord>& steps);

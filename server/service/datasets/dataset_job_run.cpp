@@ -6,7 +6,7 @@
 
 #include <spdlog/spdlog.h>
 
-#include "service/job/stopped_state.h"
+#include "service/job/run_end.h"
 #include "service/datasets/format/dataset_merge.h"
 #include "service/datasets/dataset_bounds.h"
 #include "service/datasets/dataset_job_frames.h"
@@ -152,17 +152,14 @@ class DatasetJobRun {
                 " found finished)" + UnderfilledNote(progress);
     } else if (control_.stop_requested()) {
       state = StoppedState(control_.reason());
-      message = std::string(state == store::JobState::kCancelled ? "cancelled" : "server stopped while the job ran") +
-                " after " + std::to_string(progress.done) + " of " + std::to_string(progress.total) +
+      message = StoppedMessage(state) + " after " + std::to_string(progress.done) + " of " + std::to_string(progress.total) +
                 " scenes; they stay in " + job_.root.string();
     } else {
       state = store::JobState::kFailed;
       message = status.code() == StatusCode::kResourceExhausted ? status.ToString() : status.message();
     }
     steps_done_ = static_cast<uint32_t>(progress.done);
-    const Status ended = recorder_.End(Update(message, state));
-    if (!ended.ok()) spdlog::error("job {}: cannot record its end: {}", job_id_, ended.ToString());
-    spdlog::info("job {}: dataset {}", job_id_, message);
+    RecordEnd(recorder_, job_id_, Update(message, state));
   }
 
   JobEventUpdate Update(const std::string& message, store::JobState state = store::JobState::kRunning) const {

@@ -5,6 +5,8 @@
 #include <optional>
 #include <string>
 
+#include <Eigen/Core>
+
 #include "store/cloud_catalogue.h"
 #include "store/job_catalogue.h"
 #include "vscan/common/pose.h"
@@ -12,7 +14,18 @@
 
 namespace vscan::service {
 
-struct CampaignStepRecord;
+// A scan stored as a job's artifact, described so that a resumed run can pass over its step and a
+// client can tell where it was taken.
+struct ScanArtifact {
+  uint32_t rotation_index = 0;
+  uint32_t viewpoint_index = 0;
+  double table_angle_deg = 0;
+  Pose3 commanded_sensor_pose = Pose3::Identity();
+  Pose3 sensor_pose = Pose3::Identity();  // where the arm reached
+  Eigen::VectorXd commanded_joint_positions;
+  Eigen::VectorXd achieved_joint_positions;
+  uint64_t points = 0;
+};
 
 // One scan's alignment as a model job reports it (a model job's events, model.json).
 struct ScanAlignmentRecord {
@@ -54,7 +67,7 @@ class JobRecorder {
   // the bytes hold, and cloud the stored cloud they also are (its origin, job, blob and size are
   // filled in). Returns the artifact's id.
   virtual StatusOr<std::string> RecordArtifact(const std::string& name, const std::string& media_type,
-                                               const std::string& bytes, const CampaignStepRecord* scan,
+                                               const std::string& bytes, const ScanArtifact* scan,
                                                const store::CloudRecord* cloud, const JobEventUpdate& update) = 0;
   // The final event: update.state must be final.
   virtual Status End(const JobEventUpdate& update) = 0;

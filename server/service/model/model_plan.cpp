@@ -10,6 +10,7 @@
 #include "vscan/common/physical_limits.h"
 #include "vscan/common/point_cloud.h"
 #include "service/job/message_numbers.h"
+#include "service/job/job_kind.h"
 
 namespace vscan::service {
 namespace {
@@ -132,7 +133,7 @@ StatusOr<std::vector<ModelCloud>> CampaignClouds(ServiceContext& context, Campai
     return found.status();
   }
   const CampaignRecord& campaign = **found;
-  if (campaign.kind != "campaign") {
+  if (campaign.kind != JobKindName(JobKind::kCampaign)) {
     return InvalidArgument(kField, "job '" + job_id + "' is a " + campaign.kind + " job, not a campaign");
   }
   if (campaign.state == store::JobState::kQueued || campaign.state == store::JobState::kRunning) {

@@ -12,6 +12,7 @@
 #include "evaluation/metrics.h"
 #include "service/job/job_events.h"
 #include "service/model/model_crop.h"
+#include "service/job/job_kind.h"
 
 namespace vscan::service {
 
@@ -58,7 +59,7 @@ struct ModelEvaluationReport {
 
 struct ModelReport {
   std::string job_id;
-  std::string kind = "model";
+  std::string kind{JobKindName(JobKind::kModel)};
   std::string state;
   std::string scene_id;
   size_t clouds = 0;

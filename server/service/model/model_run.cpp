@@ -9,7 +9,7 @@
 
 #include "evaluation/surface_sampling.h"
 #include "registration/feature_alignment.h"
-#include "service/job/stopped_state.h"
+#include "service/job/run_end.h"
 #include "service/model/model_alignment.h"
 #include "service/model/model_evaluation.h"
 #include "service/model/model_ground_truth.h"
@@ -21,6 +21,7 @@
 #include "service/model/model_union.h"
 #include "vscan/common/cloud_io.h"
 #include "service/job/message_numbers.h"
+#include "service/job/job_kind.h"
 
 namespace vscan::service {
 namespace {
@@ -69,8 +70,7 @@ class ModelRun {
     std::string message;
     if (control_.stop_requested()) {
       state = StoppedState(control_.reason());
-      message = state == store::JobState::kCancelled ? "cancelled" : "server stopped while the job ran";
-      message += " after " + std::to_string(steps_done_) + " of " + std::to_string(ModelStepsTotal(plan_)) + " steps";
+      message = StoppedMessage(state) + " after " + std::to_string(steps_done_) + " of " + std::to_string(ModelStepsTotal(plan_)) + " steps";
     } else if (!status.ok()) {
       state = store::JobState::kFailed;
       message = status.message();
@@ -79,9 +79,7 @@ class ModelRun {
       steps_done_ = ModelStepsTotal(plan_);
     }
     WriteReport(state);
-    const Status ended = recorder_.End(Update(state, message));
-    if (!ended.ok()) spdlog::error("job {}: cannot record its end: {}", job_id_, ended.ToString());
-    spdlog::info("job {} {}: {}", job_id_, store::JobStateName(state), message);
+    RecordEnd(recorder_, job_id_, Update(state, message));
   }
 
   // A campaign's part: the model's events count from the campaign's steps, and its scans are
@@ -436,7 +434,7 @@ uint32_t CampaignModelSteps(const ModelPlan& plan) {
 CampaignModel::CampaignModel(ServiceContext& context, JobRecorder& recorder, const std::string& job_id,
                              ModelPlan plan, jobs::JobControl& control)
     : run_(std::make_unique<ModelRun>(context, recorder, job_id, std::move(plan), control)) {
-  run_->SetReportKind("campaign");
+  run_->SetReportKind(std::string(JobKindName(JobKind::kCampaign)));
 }
 CampaignModel::~CampaignModel() = default;
 

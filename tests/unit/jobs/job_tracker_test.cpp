@@ -102,7 +102,7 @@ class JobTrackerTest : public ::testing::Test {
   std::string Create(uint32_t steps_total) {
     v1::CampaignSpec spec;
     spec.set_name("tracked");
-    auto job = tracker_->CreateCampaign(spec, steps_total);
+    auto job = tracker_->Create(service::JobKind::kCampaign, spec.name(), spec, steps_total);
     EXPECT_TRUE(job.ok()) << job.status().ToString();
     return job.ok() ? job->job_id() : "";
   }

@@ -33,7 +33,7 @@ class RecordedFill final : public JobRecorder {
     return Status::Ok();
   }
   StatusOr<std::string> RecordArtifact(const std::string& name, const std::string&, const std::string& bytes,
-                                       const CampaignStepRecord*, const store::CloudRecord*,
+                                       const ScanArtifact*, const store::CloudRecord*,
                                        const JobEventUpdate&) override {
     if (name == "bin.json") bin_json = bytes;
     return std::string("art_1");

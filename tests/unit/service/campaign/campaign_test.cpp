@@ -92,7 +92,7 @@ class RecordedJob final : public JobRecorder {
     return Status::Ok();
   }
   StatusOr<std::string> RecordArtifact(const std::string& name, const std::string&, const std::string& bytes,
-                                       const CampaignStepRecord* scan, const store::CloudRecord* cloud,
+                                       const ScanArtifact* scan, const store::CloudRecord* cloud,
                                        const JobEventUpdate& update) override {
     messages.push_back(update.message);
     artifacts.push_back(name);

@@ -45,7 +45,7 @@ Status StoredJob::Record(const JobEventUpdate& update) {
 }
 
 StatusOr<std::string> StoredJob::RecordArtifact(const std::string& name, const std::string& media_type,
-                                                const std::string& bytes, const CampaignStepRecord* scan,
+                                                const std::string& bytes, const ScanArtifact* scan,
                                                 const store::CloudRecord* cloud, const JobEventUpdate& update) {
   messages.push_back(update.message);
   ASSIGN_OR_RETURN(const store::BlobPin pin, world_.blobs().PutPinned(bytes));
@@ -60,7 +60,7 @@ StatusOr<std::string> StoredJob::RecordArtifact(const std::string& name, const s
   ASSIGN_OR_RETURN(const store::ArtifactRecord stored,
                    world_.jobs().AddArtifact(artifact, Progress(update), row ? &*row : nullptr));
   artifacts[name] = bytes;
-  if (scan) scans.push_back({name, scan->arm.commanded_pose, scan->arm.commanded});
+  if (scan) scans.push_back({name, scan->commanded_sensor_pose, scan->commanded_joint_positions});
   return stored.artifact_id;
 }
 

@@ -27,7 +27,7 @@ class StoredJob final : public JobRecorder {
 
   Status Record(const JobEventUpdate& update) override;
   StatusOr<std::string> RecordArtifact(const std::string& name, const std::string& media_type,
-                                       const std::string& bytes, const CampaignStepRecord* scan,
+                                       const std::string& bytes, const ScanArtifact* scan,
                                        const store::CloudRecord* cloud, const JobEventUpdate& update) override;
   Status End(const JobEventUpdate& update) override;
 

@@ -1,0 +1,32 @@
+#pragma once
+// How a job of any kind ends when its runner stops it, and how every run records its end.
+
+#include <string>
+
+#include <spdlog/spdlog.h>
+
+#include "jobs/job_runner.h"
+#include "service/job/job_events.h"
+#include "store/stored_enums.h"
+
+namespace vscan::service {
+
+// Cancelled when a client asked; interrupted (resumable) when the server shut down.
+inline store::JobState StoppedState(jobs::StopReason reason) {
+  return reason == jobs::StopReason::kCancelled ? store::JobState::kCancelled : store::JobState::kInterrupted;
+}
+
+// How a stopped job's message begins.
+inline std::string StoppedMessage(store::JobState state) {
+  return state == store::JobState::kCancelled ? "cancelled" : "server stopped while the job ran";
+}
+
+// The final event of a run. Nothing is left for the run to do when it cannot be stored, so that
+// is logged, not returned; the catalogue marks the job interrupted at the next start.
+inline void RecordEnd(JobRecorder& recorder, const std::string& job_id, const JobEventUpdate& final_update) {
+  const Status ended = recorder.End(final_update);
+  if (!ended.ok()) spdlog::error("job {}: cannot record its end: {}", job_id, ended.ToString());
+  spdlog::info("job {} {}: {}", job_id, store::JobStateName(final_update.state), final_update.message);
+}
+
+}  // namespace vscan::service
