@@ -25,7 +25,5 @@ void AddModelCommands(CLI::App& app, Context& ctx);
 void AddLocalizationCommands(CLI::App& group, Context& ctx);
 // `vscan dataset run|watch|cancel|download|list|delete` (cmd_dataset.cpp).
 void AddDatasetCommands(CLI::App& app, Context& ctx);
-// `vscan bench load` (cmd_bench.cpp).
-void AddBenchCommands(CLI::App& app, Context& ctx);
 
 }  // namespace vscan::cli

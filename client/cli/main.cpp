@@ -24,6 +24,5 @@ int main(int argc, char** argv) {
   vscan::cli::AddLocalizationCommands(app, ctx);
   vscan::cli::AddDatasetCommands(app, ctx);
   vscan::cli::AddSensorsCommand(app, ctx);
-  vscan::cli::AddBenchCommands(app, ctx);
   return vscan::cli::ParseAndRun(app, ctx, argc, argv);
 }
