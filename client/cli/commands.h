@@ -2,18 +2,9 @@
 // Each function adds one command group to the app; the chosen command's callback stores its
 // work in Context::action.
 
-#include <functional>
-
-#include <CLI/CLI.hpp>
-
-#include "context.h"
+#include "app_main.h"
 
 namespace vscan::cli {
-
-// Makes run the work of cmd once cmd has been parsed.
-inline void OnRun(CLI::App* cmd, Context& ctx, std::function<int()> run) {
-  cmd->callback([&ctx, run = std::move(run)] { ctx.action = run; });
-}
 
 void AddHealthCommand(CLI::App& app, Context& ctx);
 void AddSceneCommands(CLI::App& app, Context& ctx);
@@ -34,7 +25,5 @@ void AddModelCommands(CLI::App& app, Context& ctx);
 void AddLocalizationCommands(CLI::App& group, Context& ctx);
 // `vscan dataset run|watch|cancel|download|list|delete` (cmd_dataset.cpp).
 void AddDatasetCommands(CLI::App& app, Context& ctx);
-// `vscan bench load` (cmd_bench.cpp).
-void AddBenchCommands(CLI::App& app, Context& ctx);
 
 }  // namespace vscan::cli

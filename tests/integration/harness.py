@@ -13,6 +13,7 @@ BUILD_DIR = os.environ["VSCAN_BUILD_DIR"]
 SOURCE_DIR = os.environ["VSCAN_SOURCE_DIR"]
 VSCAND = os.path.join(BUILD_DIR, "server", "vscand")
 VSCAN = os.path.join(BUILD_DIR, "client", "cli", "vscan")
+VSCAN_LOAD = os.path.join(BUILD_DIR, "bench", "load", "vscan-load")
 DATA = os.path.join(SOURCE_DIR, "data")
 BUNNY = os.path.join(DATA, "meshes", "bunny", "bunny_zipper_res2.ply")
 

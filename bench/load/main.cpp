@@ -1,5 +1,6 @@
-// `vscan bench load`: concurrent clients against a local vscand, with latency and server memory.
+// vscan-load: concurrent clients against a local vscand, with latency and server memory.
 
+#include <algorithm>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -7,8 +8,8 @@
 #include <grpcpp/create_channel.h>
 #include <grpcpp/security/credentials.h>
 
+#include "app_main.h"
 #include "campaign_setup.h"
-#include "commands.h"
 #include "load_address.h"
 #include "load_report.h"
 #include "memory_sampler.h"
@@ -88,7 +89,7 @@ client::Client MakeClient(const Context& ctx, const std::shared_ptr<grpc::Channe
 int RunLoadBench(Context& ctx, const LoadArgs& args) {
   const auto port = LoopbackPort(ctx.global.server);
   if (!port) {
-    return ctx.UsageError("--server: bench load drives only a server on this machine (localhost, 127.0.0.0/8, "
+    return ctx.UsageError("--server: vscan-load drives only a server on this machine (localhost, 127.0.0.0/8, "
                           "[::1] or unix:), not '" + ctx.global.server + "'");
   }
   const auto weights = ParseMix(args.mix);
@@ -101,7 +102,7 @@ int RunLoadBench(Context& ctx, const LoadArgs& args) {
     return ctx.LocalError(plan.status());
   }
   if (plan->spec.viewpoints().empty() || (!plan->robot && plan->mount_id.empty())) {
-    return ctx.UsageError(args.plan + ": bench load needs a plan with viewpoints and a robot (or mount_id)");
+    return ctx.UsageError(args.plan + ": vscan-load needs a plan with viewpoints and a robot (or mount_id)");
   }
 
   CampaignSetup setup;
@@ -145,30 +146,36 @@ int RunLoadBench(Context& ctx, const LoadArgs& args) {
   return none_ok ? kExitServerError : kExitOk;
 }
 
-}  // namespace
-
-void AddBenchCommands(CLI::App& app, Context& ctx) {
-  auto* group = app.add_subcommand("bench", "Measurements against a local vscand");
-  group->require_subcommand(1);
+// The load options on app itself: vscan-load has no subcommands.
+void AddLoadOptions(CLI::App& app, Context& ctx) {
   auto args = std::make_shared<LoadArgs>();
-  auto* cmd = group->add_subcommand(
-      "load", "Concurrent clients calling scans, inverse kinematics and catalogue reads in the scene and with the "
-              "robot of a campaign plan (created, then removed); reports throughput, latency and server memory");
-  cmd->add_option("PLAN", args->plan, "Campaign plan YAML: its scene, robot, viewpoints and noise")->required();
-  cmd->add_option("--clients", args->clients, "Concurrent clients, each with its own channel")
+  app.add_option("PLAN", args->plan, "Campaign plan YAML: its scene, robot, viewpoints and noise")->required();
+  app.add_option("--clients", args->clients, "Concurrent clients, each with its own channel")
       ->capture_default_str()->check(CLI::Range(1, 64));
-  cmd->add_option("--duration", args->duration_s, "Seconds after which no call starts")
+  app.add_option("--duration", args->duration_s, "Seconds after which no call starts")
       ->capture_default_str()->check(CLI::Range(0.1, 600.0));
-  cmd->add_option("--requests", args->requests, "Stop after this many calls in all (sooner than --duration)")
+  app.add_option("--requests", args->requests, "Stop after this many calls in all (sooner than --duration)")
       ->check(CLI::Range(uint64_t{1}, uint64_t{1000000}));
-  cmd->add_option("--mix", args->mix, "Relative weights of the calls")->capture_default_str();
-  cmd->add_option("--width", args->width, "Scan width in pixels")->capture_default_str()->check(CLI::Range(1, 8192));
-  cmd->add_option("--height", args->height, "Scan height in pixels")->capture_default_str()->check(CLI::Range(1, 8192));
-  cmd->add_option("--seed", args->seed, "Seeds each client's draws (client i uses seed + i)")->capture_default_str();
-  cmd->add_option("--server-pid", args->server_pid,
-                  "The server's process id, for its memory (default: the process listening on --server's port)")
+  app.add_option("--mix", args->mix, "Relative weights of the calls")->capture_default_str();
+  app.add_option("--width", args->width, "Scan width in pixels")->capture_default_str()->check(CLI::Range(1, 8192));
+  app.add_option("--height", args->height, "Scan height in pixels")->capture_default_str()->check(CLI::Range(1, 8192));
+  app.add_option("--seed", args->seed, "Seeds each client's draws (client i uses seed + i)")->capture_default_str();
+  app.add_option("--server-pid", args->server_pid,
+                 "The server's process id, for its memory (default: the process listening on --server's port)")
       ->check(CLI::Range(1, 1 << 22));
-  OnRun(cmd, ctx, [&ctx, args] { return RunLoadBench(ctx, *args); });
+  OnRun(&app, ctx, [&ctx, args] { return RunLoadBench(ctx, *args); });
 }
 
+}  // namespace
 }  // namespace vscan::cli
+
+int main(int argc, char** argv) {
+  vscan::cli::Context ctx;
+  CLI::App app{"vscan-load: concurrent clients calling scans, inverse kinematics and catalogue reads against a local "
+               "vscand, in the scene and with the robot of a campaign plan (created, then removed); reports "
+               "throughput, latency and server memory", "vscan-load"};
+  app.set_version_flag("--version", VSCAN_VERSION);
+  vscan::cli::AddGlobalOptions(app, ctx.global);
+  vscan::cli::AddLoadOptions(app, ctx);
+  return vscan::cli::ParseAndRun(app, ctx, argc, argv);
+}

@@ -1,5 +1,5 @@
 #pragma once
-// The outcome of `vscan bench load` as text or one JSON object.
+// The outcome of vscan-load as text or one JSON object.
 
 #include <optional>
 #include <string>

@@ -1,5 +1,5 @@
 #pragma once
-// The clients of `vscan bench load`: each on its own thread and channel, drawing scans, inverse
+// The clients of vscan-load: each on its own thread and channel, drawing scans, inverse
 // kinematics and catalogue reads from a weighted mix until a request count or a deadline.
 
 #include <array>

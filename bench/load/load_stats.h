@@ -1,5 +1,5 @@
 #pragma once
-// What the clients of `vscan bench load` record, and its summary: counts, errors by code and
+// What the clients of vscan-load record, and its summary: counts, errors by code and
 // latency percentiles per kind of call.
 
 #include <array>

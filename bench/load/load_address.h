@@ -1,5 +1,5 @@
 #pragma once
-// Which server addresses `vscan bench load` may drive: only this machine's.
+// Which server addresses vscan-load may drive: only this machine's.
 
 #include <cstdint>
 #include <optional>
