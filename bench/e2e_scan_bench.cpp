@@ -14,7 +14,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "api/server.h"
+#include "api/server/server.h"
 #include "bench_meshes.h"
 #include "grid_scene_upload.h"
 #include "packet_loop.h"

@@ -22,12 +22,12 @@
 #include <google/protobuf/stubs/logging.h>
 #include <google/protobuf/text_format.h>
 
-#include "api/bin_fill_spec.h"
-#include "api/campaign_spec.h"
-#include "api/dataset_spec.h"
-#include "api/ik_request.h"
-#include "api/localization_request.h"
-#include "api/model_spec.h"
+#include "api/bins/bin_fill_spec.h"
+#include "api/campaign/campaign_spec.h"
+#include "api/datasets/dataset_spec.h"
+#include "api/robot/ik_request.h"
+#include "api/localization/localization_request.h"
+#include "api/model/model_spec.h"
 #include "robot/forward_kinematics.h"
 #include "robots/arm_kinematics.h"
 #include "scan_fuzz_world.h"

@@ -16,7 +16,7 @@
 #include <google/protobuf/text_format.h>
 
 #include "service/scan/scan_backends.h"
-#include "api/scan_request.h"
+#include "api/scan/scan_request.h"
 #include "service/scan/scan_target.h"
 #include "scan_fuzz_world.h"
 

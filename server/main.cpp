@@ -16,7 +16,7 @@
 #include <pthread.h>
 #include <spdlog/spdlog.h>
 
-#include "api/server.h"
+#include "api/server/server.h"
 #include "dataset_oneshot.h"
 #include "limit_options.h"
 #include "observability/log_format.h"

@@ -47,6 +47,11 @@ int Finish(Context& ctx, const v1::Job& job, const std::string& out_dir, const s
   return JobExitCode(job.state());
 }
 
+JobFinish BinFinish(Context& ctx) {
+  return [&ctx](const WatchResult& watched, const std::string& out_dir, const std::vector<std::string>& files,
+                double seconds) { return Finish(ctx, watched.job, out_dir, files, seconds); };
+}
+
 int RunFill(Context& ctx, const FillArgs& args) {
   const auto started = std::chrono::steady_clock::now();
   const auto plan = LoadBinPlan(args.plan);
@@ -71,22 +76,9 @@ int RunFill(Context& ctx, const FillArgs& args) {
   }
   const std::string started_line = "started bin fill job " + job->job_id() + " (" +
                                    std::to_string(job->steps_total()) + " parts into scene " + setup.scene_id + ")";
-  if (args.detach) {
-    if (ctx.json()) ctx.EmitJson("{\"job\":" + ToJson(*job) + ",\"sceneId\":" + JsonQuote(setup.scene_id) + "}");
-    ctx.Done(started_line, job->job_id());
-    return kExitOk;
-  }
-  ctx.Say(started_line);
-  WatchResult watched;
-  if (const int rc = WatchJobToEnd(ctx, job->job_id(), &watched); rc != kExitOk) return rc;
-  std::string out_dir;
-  std::vector<std::string> files;
-  if (!args.no_download) {
-    out_dir = args.out_dir.empty() ? plan->name + "-" + job->job_id() : args.out_dir;
-    if (const int rc = DownloadArtifacts(ctx, watched.job, out_dir, &files); rc != kExitOk) return rc;
-  }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  return Finish(ctx, watched.job, out_dir, files, seconds);
+  if (SayStarted(ctx, *job, started_line, ",\"sceneId\":" + JsonQuote(setup.scene_id), args.detach)) return kExitOk;
+  const std::string out_dir = args.no_download ? "" : args.out_dir.empty() ? plan->name + "-" + job->job_id() : args.out_dir;
+  return FollowJob(ctx, job->job_id(), out_dir, started, BinFinish(ctx));
 }
 
 void AddFill(CLI::App& group, Context& ctx) {
@@ -97,19 +89,6 @@ void AddFill(CLI::App& group, Context& ctx) {
   cmd->add_flag("--no-download", args->no_download, "Leave bin.json on the server");
   cmd->add_flag("--detach", args->detach, "Start the fill, print its job id and return");
   OnRun(cmd, ctx, [&ctx, args] { return RunFill(ctx, *args); });
-}
-
-void AddBinWatch(CLI::App& group, Context& ctx) {
-  auto* cmd = group.add_subcommand("watch", "Follow a bin fill until it ends; exit 0 if it succeeded");
-  auto id = std::make_shared<std::string>();
-  cmd->add_option("JOB", *id, "Job id")->required();
-  OnRun(cmd, ctx, [&ctx, id]() -> int {
-    const auto started = std::chrono::steady_clock::now();
-    WatchResult watched;
-    if (const int rc = WatchJobToEnd(ctx, *id, &watched); rc != kExitOk) return rc;
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-    return Finish(ctx, watched.job, "", {}, seconds);
-  });
 }
 
 void AddBinGet(CLI::App& group, Context& ctx) {
@@ -139,7 +118,7 @@ void AddBinCommands(CLI::App& app, Context& ctx) {
   auto* group = app.add_subcommand("bin", "Bin picking scenes: fill a bin with parts, scan it with ground truth, localize and score");
   group->require_subcommand(1);
   AddFill(*group, ctx);
-  AddBinWatch(*group, ctx);
+  AddJobWatch(*group, ctx, "Follow a bin fill until it ends; exit 0 if it succeeded", BinFinish(ctx), false);
   AddBinGet(*group, ctx);
   AddJobList(*group, ctx, "bin_fill", "List bin fill jobs");
   AddJobCancel(*group, ctx, "Cancel a bin fill; the scene stays as it was");

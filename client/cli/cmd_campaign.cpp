@@ -12,6 +12,7 @@
 #include "job_commands.h"
 #include "job_download.h"
 #include "job_watch.h"
+#include "text_format.h"
 #include "model_fetch.h"
 #include "model_report.h"
 
@@ -24,12 +25,6 @@ struct CampaignRunArgs {
   bool no_download = false;
   bool detach = false;
 };
-
-std::string FormatSeconds(double seconds) {
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%.1f s", seconds);
-  return buf;
-}
 
 // The end of `run` and `watch`: the table (or JSON), the files, the exit code of the job's state.
 int Finish(Context& ctx, const WatchResult& watched, const std::string& out_dir, const std::vector<std::string>& files,
@@ -55,7 +50,7 @@ int Finish(Context& ctx, const WatchResult& watched, const std::string& out_dir,
       points += row.points;
     }
     std::cout << "job " << job.job_id() << " " << JobStateName(job.state()) << ": " << captured << " of " << rows.size()
-              << " scans, " << points << " points in " << FormatSeconds(seconds)
+              << " scans, " << points << " points in " << Format("%.1f s", seconds)
               << (job.message().empty() ? "" : "; " + job.message()) << '\n';
     if (model) std::cout << FormatModelReport(*model);
     if (!out_dir.empty()) std::cout << "files in " << out_dir << '\n';
@@ -63,6 +58,11 @@ int Finish(Context& ctx, const WatchResult& watched, const std::string& out_dir,
     ctx.Print(job.job_id());
   }
   return JobExitCode(job.state());
+}
+
+JobFinish CampaignFinish(Context& ctx) {
+  return [&ctx](const WatchResult& watched, const std::string& out_dir, const std::vector<std::string>& files,
+                double seconds) { return Finish(ctx, watched, out_dir, files, "", seconds); };
 }
 
 int RunCampaign(Context& ctx, const CampaignRunArgs& args) {
@@ -94,24 +94,13 @@ int RunCampaign(Context& ctx, const CampaignRunArgs& args) {
     return rc;
   }
   const std::string ids = ",\"sceneId\":" + JsonQuote(setup.scene_id) + ",\"mountId\":" + JsonQuote(setup.mount_id);
-  if (args.detach) {
-    if (ctx.json()) ctx.EmitJson("{\"job\":" + ToJson(*job) + ids + "}");
-    ctx.Done("started campaign job " + job->job_id() + " (" + std::to_string(job->steps_total()) + " steps)",
-             job->job_id());
-    return kExitOk;
-  }
-  ctx.Say("started campaign job " + job->job_id() + " (" + std::to_string(job->steps_total()) + " steps)");
-
-  WatchResult watched;
-  if (const int rc = WatchJobToEnd(ctx, job->job_id(), &watched); rc != kExitOk) return rc;
-  std::string out_dir;
-  std::vector<std::string> files;
-  if (!args.no_download) {
-    out_dir = args.out_dir.empty() ? plan->name + "-" + job->job_id() : args.out_dir;
-    if (const int rc = DownloadArtifacts(ctx, watched.job, out_dir, &files); rc != kExitOk) return rc;
-  }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  return Finish(ctx, watched, out_dir, files, ids, seconds);
+  const std::string line = "started campaign job " + job->job_id() + " (" + std::to_string(job->steps_total()) + " steps)";
+  if (SayStarted(ctx, *job, line, ids, args.detach)) return kExitOk;
+  const std::string out_dir = args.no_download ? "" : args.out_dir.empty() ? plan->name + "-" + job->job_id() : args.out_dir;
+  return FollowJob(ctx, job->job_id(), out_dir, started, [&ctx, &ids](const WatchResult& watched, const std::string& dir,
+                                                                      const std::vector<std::string>& files, double s) {
+    return Finish(ctx, watched, dir, files, ids, s);
+  });
 }
 
 void AddCampaignRun(CLI::App& group, Context& ctx) {
@@ -141,24 +130,11 @@ int ResumeCampaign(Context& ctx, const ResumeArgs& args) {
                                                           [](const v1::Artifact& a) { return a.has_scan(); }));
   const std::string what = "resumed campaign job " + job->job_id() + " (" + std::to_string(stored) + " scans stored, " +
                            std::to_string(job->steps_total()) + " steps)";
-  if (!args.watch) {
-    if (ctx.json()) ctx.EmitJson("{\"job\":" + ToJson(*job) + "}");
-    ctx.Done(what, job->job_id());
-    return kExitOk;
-  }
-  ctx.Say(what);
-  WatchResult watched;
-  if (const int rc = WatchJobToEnd(ctx, job->job_id(), &watched); rc != kExitOk) return rc;
-  std::string out_dir;
-  std::vector<std::string> files;
-  if (!args.no_download) {
-    const std::string& named = job->campaign().name();
-    const std::string name = named.empty() ? "campaign" : named;
-    out_dir = args.out_dir.empty() ? name + "-" + job->job_id() : args.out_dir;
-    if (const int rc = DownloadArtifacts(ctx, watched.job, out_dir, &files); rc != kExitOk) return rc;
-  }
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-  return Finish(ctx, watched, out_dir, files, "", seconds);
+  if (SayStarted(ctx, *job, what, "", !args.watch)) return kExitOk;
+  const std::string& named = job->campaign().name();
+  const std::string name = named.empty() ? "campaign" : named;
+  const std::string out_dir = args.no_download ? "" : args.out_dir.empty() ? name + "-" + job->job_id() : args.out_dir;
+  return FollowJob(ctx, job->job_id(), out_dir, started, CampaignFinish(ctx));
 }
 
 void AddResume(CLI::App& group, Context& ctx) {
@@ -195,19 +171,6 @@ void AddCampaignGet(CLI::App& group, Context& ctx) {
   });
 }
 
-void AddCampaignWatch(CLI::App& group, Context& ctx) {
-  auto* cmd = group.add_subcommand("watch", "Follow a campaign job until it ends; exit 0 if it succeeded");
-  auto id = std::make_shared<std::string>();
-  cmd->add_option("JOB", *id, "Job id")->required();
-  OnRun(cmd, ctx, [&ctx, id]() -> int {
-    const auto started = std::chrono::steady_clock::now();
-    WatchResult watched;
-    if (const int rc = WatchJobToEnd(ctx, *id, &watched); rc != kExitOk) return rc;
-    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
-    return Finish(ctx, watched, "", {}, "", seconds);
-  });
-}
-
 }  // namespace
 
 void AddCampaignCommands(CLI::App& app, Context& ctx) {
@@ -217,7 +180,7 @@ void AddCampaignCommands(CLI::App& app, Context& ctx) {
   AddResume(*group, ctx);
   AddJobList(*group, ctx, "campaign", "List campaign jobs");
   AddCampaignGet(*group, ctx);
-  AddCampaignWatch(*group, ctx);
+  AddJobWatch(*group, ctx, "Follow a campaign job until it ends; exit 0 if it succeeded", CampaignFinish(ctx), false);
   AddJobCancel(*group, ctx, "Cancel a campaign job; scans stored so far are kept");
   AddJobDelete(*group, ctx, "Delete an ended campaign job and its scans from the server");
   AddJobArtifacts(*group, ctx);

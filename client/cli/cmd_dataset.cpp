@@ -135,17 +135,23 @@ int Download(Context& ctx, const std::string& job_id, const std::string& dir) {
                                             JobStateName(job->state()) + ": " + job->message() + ")"));
 }
 
+// The end of a followed dataset job: its state, then its tar extracted into out_dir when it
+// succeeded (the artifacts are one tar, so FollowJob downloads nothing itself).
+JobFinish DatasetFinish(Context& ctx, const std::string& out_dir) {
+  return [&ctx, out_dir](const WatchResult& watched, const std::string&, const std::vector<std::string>&, double) {
+    const v1::Job& job = watched.job;
+    if (ctx.json()) ctx.EmitJson("{\"job\":" + ToJson(job) + "}");
+    ctx.Say("job " + job.job_id() + " " + JobStateName(job.state()) +
+            (job.message().empty() ? "" : "; " + job.message()));
+    if (!out_dir.empty() && job.state() == v1::JOB_STATE_SUCCEEDED) {
+      if (const int rc = Download(ctx, job.job_id(), out_dir); rc != kExitOk) return rc;
+    }
+    return JobExitCode(job.state());
+  };
+}
+
 int Follow(Context& ctx, const std::string& job_id, const std::string& out_dir) {
-  WatchResult watched;
-  if (const int rc = WatchJobToEnd(ctx, job_id, &watched); rc != kExitOk) return rc;
-  const v1::Job& job = watched.job;
-  if (ctx.json()) ctx.EmitJson("{\"job\":" + ToJson(job) + "}");
-  ctx.Say("job " + job.job_id() + " " + JobStateName(job.state()) +
-          (job.message().empty() ? "" : "; " + job.message()));
-  if (!out_dir.empty() && job.state() == v1::JOB_STATE_SUCCEEDED) {
-    if (const int rc = Download(ctx, job_id, out_dir); rc != kExitOk) return rc;
-  }
-  return JobExitCode(job.state());
+  return FollowJob(ctx, job_id, "", JobClock::now(), DatasetFinish(ctx, out_dir));
 }
 
 int Run(Context& ctx, const DatasetRunArgs& args) {
@@ -167,14 +173,8 @@ int Run(Context& ctx, const DatasetRunArgs& args) {
     return kExitOk;
   }
   const v1::Job& job = started->job();
-  if (!args.watch && args.out_dir.empty()) {
-    if (ctx.json()) ctx.EmitJson("{\"job\":" + ToJson(job) + "}");
-    ctx.Done("started dataset job " + job.job_id() + " of " + std::to_string(job.steps_total()) +
-                 " scenes; follow it with `vscan dataset watch " + job.job_id() + "`",
-             job.job_id());
-    return kExitOk;
-  }
-  ctx.Say("started dataset job " + job.job_id() + " of " + std::to_string(job.steps_total()) + " scenes");
+  const std::string line = "started dataset job " + job.job_id() + " of " + std::to_string(job.steps_total()) + " scenes";
+  if (SayStarted(ctx, job, line, "", !args.watch && args.out_dir.empty())) return kExitOk;
   return Follow(ctx, job.job_id(), args.out_dir);
 }
 

@@ -12,6 +12,7 @@
 #include "job_commands.h"
 #include "job_download.h"
 #include "job_watch.h"
+#include "text_format.h"
 #include "model_args.h"
 #include "model_fetch.h"
 #include "model_report.h"
@@ -25,14 +26,6 @@ struct ModelRunArgs {
   bool no_wait = false;
   bool validate = false;
 };
-
-using Clock = std::chrono::steady_clock;
-
-std::string Seconds(Clock::time_point since) {
-  char buf[32];
-  std::snprintf(buf, sizeof(buf), "%.1f s", std::chrono::duration<double>(Clock::now() - since).count());
-  return buf;
-}
 
 std::string AlignmentsJson(const std::vector<v1::ScanAlignment>& alignments) {
   std::string out = "[";
@@ -58,16 +51,10 @@ void SayWhereTheMeshIs(Context& ctx, const v1::Job& job, const std::string& out_
   ctx.Say("mesh: " + mesh + "; look at it with `vscan render " + mesh + " -o mesh.png`");
 }
 
-// Follows the job to its end, downloads its artifacts into out_dir (when given) and prints the
-// summary of its model.json.
-int FollowModelJob(Context& ctx, const std::string& job_id, const std::string& out_dir, Clock::time_point started) {
-  WatchResult watched;
-  if (const int rc = WatchJobToEnd(ctx, job_id, &watched); rc != kExitOk) return rc;
+// The summary of a model job's model.json once it has ended.
+int FinishModelJob(Context& ctx, const WatchResult& watched, const std::string& out_dir,
+                   const std::vector<std::string>& files, double seconds) {
   const v1::Job& job = watched.job;
-  std::vector<std::string> files;
-  if (!out_dir.empty()) {
-    if (const int rc = DownloadArtifacts(ctx, job, out_dir, &files); rc != kExitOk) return rc;
-  }
   std::optional<google::protobuf::Struct> model;
   if (const int rc = FetchModelReport(ctx, job, &model); rc != kExitOk) return rc;
   if (ctx.json()) {
@@ -81,11 +68,16 @@ int FollowModelJob(Context& ctx, const std::string& job_id, const std::string& o
     return JobExitCode(job.state());
   }
   if (model) std::cout << FormatModelReport(*model);
-  ctx.Say("job " + job.job_id() + " " + JobStateName(job.state()) + " in " + Seconds(started) +
+  ctx.Say("job " + job.job_id() + " " + JobStateName(job.state()) + " in " + Format("%.1f s", seconds) +
           (job.message().empty() ? "" : "; " + job.message()));
   if (!out_dir.empty()) ctx.Say("files in " + out_dir);
   SayWhereTheMeshIs(ctx, job, out_dir);
   return JobExitCode(job.state());
+}
+
+JobFinish ModelFinish(Context& ctx) {
+  return [&ctx](const WatchResult& watched, const std::string& out_dir, const std::vector<std::string>& files,
+                double seconds) { return FinishModelJob(ctx, watched, out_dir, files, seconds); };
 }
 
 std::string Inputs(const v1::ModelSpec& spec) {
@@ -94,7 +86,7 @@ std::string Inputs(const v1::ModelSpec& spec) {
 }
 
 int RunModel(Context& ctx, ModelCommand command, const ModelRunArgs& args) {
-  const auto started = Clock::now();
+  const auto started = JobClock::now();
   const auto spec = BuildModelSpec(command, args.model);
   if (!spec.ok()) return ctx.UsageError(spec.status().message());
   auto* client = ctx.GetClient();
@@ -109,15 +101,10 @@ int RunModel(Context& ctx, ModelCommand command, const ModelRunArgs& args) {
   }
   const auto job = client->StartModel(*spec);
   if (!job.ok()) return ctx.ServerError(NameOptionInError(command, job.status()));
-  if (args.no_wait) {
-    if (ctx.json()) ctx.EmitJson("{\"job\":" + ToJson(*job) + "}");
-    ctx.Done("started model job " + job->job_id() + " on " + Inputs(*spec) + "; follow it with `vscan model watch " +
-                 job->job_id() + "`",
-             job->job_id());
+  if (SayStarted(ctx, *job, "started model job " + job->job_id() + " on " + Inputs(*spec), "", args.no_wait)) {
     return kExitOk;
   }
-  ctx.Say("started model job " + job->job_id() + " on " + Inputs(*spec));
-  return FollowModelJob(ctx, job->job_id(), args.out_dir, started);
+  return FollowJob(ctx, job->job_id(), args.out_dir, started, ModelFinish(ctx));
 }
 
 void AddInputOptions(CLI::App* cmd, ModelRunArgs& args) {
@@ -192,16 +179,6 @@ void AddModelCommand(CLI::App& app, Context& ctx, ModelCommand command) {
   OnRun(cmd, ctx, [&ctx, command, args] { return RunModel(ctx, command, *args); });
 }
 
-void AddModelWatch(CLI::App& group, Context& ctx) {
-  auto* cmd = group.add_subcommand(
-      "watch", "Follow a model job until it ends and print its report; exit 0 if it succeeded");
-  auto id = std::make_shared<std::string>();
-  auto out_dir = std::make_shared<std::string>();
-  cmd->add_option("JOB", *id, "Job id")->required();
-  cmd->add_option("-o,--out", *out_dir, "Download the artifacts into this directory");
-  OnRun(cmd, ctx, [&ctx, id, out_dir] { return FollowModelJob(ctx, *id, *out_dir, Clock::now()); });
-}
-
 }  // namespace
 
 void AddModelCommands(CLI::App& app, Context& ctx) {
@@ -211,7 +188,8 @@ void AddModelCommands(CLI::App& app, Context& ctx) {
   auto* group = app.add_subcommand("model", "Model jobs (align, reconstruct, evaluate): follow, list, fetch");
   group->require_subcommand(1);
   AddJobList(*group, ctx, "model", "List model jobs");
-  AddModelWatch(*group, ctx);
+  AddJobWatch(*group, ctx, "Follow a model job until it ends and print its report; exit 0 if it succeeded",
+              ModelFinish(ctx), true);
   AddJobCancel(*group, ctx, "Cancel a model job");
   AddJobDelete(*group, ctx, "Delete an ended model job and its artifacts from the server");
   AddJobArtifacts(*group, ctx);

@@ -5,7 +5,9 @@
 #include <iostream>
 #include <optional>
 
+#include "app_main.h"
 #include "campaign_report.h"
+#include "job_download.h"
 #include "model_report.h"
 #include "progress.h"
 
@@ -17,10 +19,7 @@ std::string Counter(const v1::Job& job) {
 }
 
 // The command that picks the watch up again.
-std::string WatchCommand(const v1::Job& job) {
-  if (job.kind() == "bin_fill") return "vscan bin watch " + job.job_id();
-  return (job.kind() == "model" ? "vscan model watch " : "vscan campaign watch ") + job.job_id();
-}
+std::string WatchCommand(const v1::Job& job) { return "vscan " + JobGroup(job.kind()) + " watch " + job.job_id(); }
 
 // One line of --json output per event: the event and where the job stands.
 std::string EventJson(const v1::WatchJobResponse& response) {
@@ -73,6 +72,43 @@ int WatchJobToEnd(Context& ctx, const std::string& job_id, WatchResult* result) 
                                        JobStateName(job->state()) + "; run `" + WatchCommand(*job) + "`"));
   }
   return kExitOk;
+}
+
+std::string JobGroup(const std::string& kind) {
+  static const std::map<std::string, std::string> kGroups = {
+      {"campaign", "campaign"}, {"model", "model"}, {"bin_fill", "bin"}, {"dataset", "dataset"}};
+  const auto group = kGroups.find(kind);
+  return group == kGroups.end() ? "job" : group->second;
+}
+
+bool SayStarted(Context& ctx, const v1::Job& job, const std::string& line, const std::string& json_extra, bool detach) {
+  if (!detach) {
+    ctx.Say(line);
+    return false;
+  }
+  if (ctx.json()) ctx.EmitJson("{\"job\":" + ToJson(job) + json_extra + "}");
+  ctx.Done(line + "; follow it with `" + WatchCommand(job) + "`", job.job_id());
+  return true;
+}
+
+int FollowJob(Context& ctx, const std::string& job_id, const std::string& out_dir, JobClock::time_point started,
+              const JobFinish& finish) {
+  WatchResult watched;
+  if (const int rc = WatchJobToEnd(ctx, job_id, &watched); rc != kExitOk) return rc;
+  std::vector<std::string> files;
+  if (!out_dir.empty()) {
+    if (const int rc = DownloadArtifacts(ctx, watched.job, out_dir, &files); rc != kExitOk) return rc;
+  }
+  return finish(watched, out_dir, files, std::chrono::duration<double>(JobClock::now() - started).count());
+}
+
+void AddJobWatch(CLI::App& group, Context& ctx, const std::string& help, JobFinish finish, bool with_output) {
+  auto* cmd = group.add_subcommand("watch", help);
+  auto id = std::make_shared<std::string>();
+  auto out_dir = std::make_shared<std::string>();
+  cmd->add_option("JOB", *id, "Job id")->required();
+  if (with_output) cmd->add_option("-o,--out", *out_dir, "Download the artifacts into this directory");
+  OnRun(cmd, ctx, [&ctx, id, out_dir, finish] { return FollowJob(ctx, *id, *out_dir, JobClock::now(), finish); });
 }
 
 }  // namespace vscan::cli

@@ -21,7 +21,7 @@ SERVICE_USES = {
     "localization": {"context", "clouds"},
     "model": {"context", "job", "scan", "clouds"},
     "campaign": {"context", "job", "scan", "robot", "clouds", "model"},
-    "bins": {"context", "job"},
+    "bins": {"job"},
     "datasets": {"context", "job", "scan"},
 }
 # Folders under server/ that sit above the engine and the service layer.

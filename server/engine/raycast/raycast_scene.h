@@ -32,9 +32,9 @@ class RaycastScene {
   // Instance id of Embree geometry geom_id (0 when out of range).
   uint32_t InstanceOfGeometry(uint32_t geom_id) const;
 
-  struct Impl;
-
  private:
+  // Embree's scene and geometry (embree_scene.h); only the raycast queries reach it, via EmbreeOf.
+  struct Impl;
   friend const Impl& EmbreeOf(const RaycastScene& scene);
   explicit RaycastScene(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;

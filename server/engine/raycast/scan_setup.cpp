@@ -9,7 +9,7 @@ namespace vscan::raycast {
 ScanSetup MakeScanSetup(const RaycastScene& scene, const sensor::PinholeCamera& camera,
                         const Pose3& world_from_sensor, const ScanOptions& options) {
   ScanSetup s;
-  const RaycastScene::Impl& embree = EmbreeOf(scene);
+  const auto& embree = EmbreeOf(scene);
   s.scene = embree.scene;
   s.instance_of_geometry = embree.instance_of_geometry;
   s.instance_of_geometry.push_back(0);

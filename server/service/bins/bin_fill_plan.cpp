@@ -11,8 +11,8 @@ namespace {
 std::string PartField(size_t i, const char* member) { return "parts[" + std::to_string(i) + "]." + member; }
 
 // The stored mesh (metres) times the part's scale: the part's own frame for the physics.
-StatusOr<TriangleMesh> ScaledPart(ServiceContext& context, const BinPartRequest& part, size_t i) {
-  ASSIGN_OR_RETURN(const auto loaded, context.registry.LoadMesh(part.mesh_id));
+StatusOr<TriangleMesh> ScaledPart(scenes::SceneRegistry& registry, const BinPartRequest& part, size_t i) {
+  ASSIGN_OR_RETURN(const auto loaded, registry.LoadMesh(part.mesh_id));
   TriangleMesh mesh = *loaded;
   for (Eigen::Vector3f& v : mesh.vertices) v *= static_cast<float>(part.scale);
   Eigen::Vector3f lo, hi;
@@ -26,13 +26,13 @@ StatusOr<TriangleMesh> ScaledPart(ServiceContext& context, const BinPartRequest&
 }
 
 // The stored bin mesh (metres) times its scale: the bin frame for the physics.
-StatusOr<TriangleMesh> ScaledBin(ServiceContext& context, const std::string& mesh_id, double scale) {
-  auto record = context.registry.catalogue().GetMesh(mesh_id);
+StatusOr<TriangleMesh> ScaledBin(scenes::SceneRegistry& registry, const std::string& mesh_id, double scale) {
+  auto record = registry.catalogue().GetMesh(mesh_id);
   if (!record.ok() && record.status().code() == StatusCode::kNotFound) {
     return NotFound("bin_mesh.mesh_id", "no mesh '" + mesh_id + "'");
   }
   RETURN_IF_ERROR(record.status());
-  ASSIGN_OR_RETURN(const auto loaded, context.registry.LoadMesh(mesh_id));
+  ASSIGN_OR_RETURN(const auto loaded, registry.LoadMesh(mesh_id));
   TriangleMesh mesh = *loaded;
   for (Eigen::Vector3f& v : mesh.vertices) v *= static_cast<float>(scale);
   Eigen::Vector3f lo, hi;
@@ -55,15 +55,15 @@ size_t BinFillPlan::parts_total() const {
   return total;
 }
 
-StatusOr<BinFillPlan> PlanBinFill(ServiceContext& context, BinFillRequest request, bool validate_only) {
+StatusOr<BinFillPlan> PlanBinFill(scenes::SceneRegistry& registry, BinFillRequest request, bool validate_only) {
   if (!request.scene_id.empty() || !validate_only) {
-    RETURN_IF_ERROR(context.registry.catalogue().GetScene(request.scene_id).status());
+    RETURN_IF_ERROR(registry.catalogue().GetScene(request.scene_id).status());
   }
   bool every_mesh = true;
   if (request.mesh_bin && request.bin_mesh_id.empty() && validate_only) {
     every_mesh = false;
   } else if (request.mesh_bin) {
-    ASSIGN_OR_RETURN(request.bin.mesh, ScaledBin(context, request.bin_mesh_id, request.bin_mesh_scale));
+    ASSIGN_OR_RETURN(request.bin.mesh, ScaledBin(registry, request.bin_mesh_id, request.bin_mesh_scale));
   }
   // Every corner of the bin must stay within the bounds where meshes may lie.
   if (every_mesh) {
@@ -85,13 +85,13 @@ StatusOr<BinFillPlan> PlanBinFill(ServiceContext& context, BinFillRequest reques
       every_mesh = false;
       continue;
     }
-    auto record = context.registry.catalogue().GetMesh(asked.mesh_id);
+    auto record = registry.catalogue().GetMesh(asked.mesh_id);
     if (!record.ok() && record.status().code() == StatusCode::kNotFound) {
       return NotFound(PartField(i, "mesh_id"), "no mesh '" + asked.mesh_id + "'");
     }
     RETURN_IF_ERROR(record.status());
     physics::PartType part;
-    ASSIGN_OR_RETURN(part.mesh, ScaledPart(context, asked, i));
+    ASSIGN_OR_RETURN(part.mesh, ScaledPart(registry, asked, i));
     part.name = asked.name.empty() ? record->name : asked.name;
     part.count = asked.count;
     part.mass_kg = asked.mass_kg;

@@ -10,7 +10,7 @@
 
 #include "physics/bin_fill.h"
 #include "physics/part_geometry.h"
-#include "service/context/service_context.h"
+#include "scenes/scene_registry.h"
 #include "store/catalogue.h"
 
 namespace vscan::service {
@@ -53,6 +53,6 @@ struct BinFillPlan {
 // "parts[i].mesh_id"), loads a mesh bin into request.bin.mesh and
 // checks the scaled parts against the physical bounds. validate_only skips the scene and the
 // meshes whose ids are empty (the plan then lacks those parts).
-StatusOr<BinFillPlan> PlanBinFill(ServiceContext& context, BinFillRequest request, bool validate_only = false);
+StatusOr<BinFillPlan> PlanBinFill(scenes::SceneRegistry& registry, BinFillRequest request, bool validate_only = false);
 
 }  // namespace vscan::service

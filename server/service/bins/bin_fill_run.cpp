@@ -18,9 +18,9 @@ constexpr const char* kJsonMediaType = "application/json";
 
 class BinFillRun {
  public:
-  BinFillRun(ServiceContext& context, JobRecorder& recorder, const std::string& job_id, const BinFillPlan& plan,
+  BinFillRun(scenes::SceneRegistry& registry, JobRecorder& recorder, const std::string& job_id, const BinFillPlan& plan,
              jobs::JobControl& control)
-      : context_(context), recorder_(recorder), plan_(plan), control_(control), total_(plan.parts_total()) {
+      : registry_(registry), recorder_(recorder), plan_(plan), control_(control), total_(plan.parts_total()) {
     report_.job_id = job_id;
   }
 
@@ -51,7 +51,7 @@ class BinFillRun {
     steps_done_ = static_cast<uint32_t>(report_.result->spawned);
     // A stop asked after the physics ended still wins: nothing has touched the scene yet.
     if (control_.stop_requested() || report_.result->end == physics::FillEnd::kCancelled) return Status::Ok();
-    auto placement = PlaceBinInScene(context_, plan_, *report_.result);
+    auto placement = PlaceBinInScene(registry_, plan_, *report_.result);
     if (!placement.ok()) {
       return Status(placement.status().code(), "the settled parts could not be placed in scene '" +
                                                    plan_.request.scene_id + "': " + placement.status().message());
@@ -92,7 +92,7 @@ class BinFillRun {
 
   Status Event(const std::string& message) { return recorder_.Record(Update(message)); }
 
-  ServiceContext& context_;
+  scenes::SceneRegistry& registry_;
   JobRecorder& recorder_;
   const BinFillPlan& plan_;
   jobs::JobControl& control_;
@@ -103,9 +103,9 @@ class BinFillRun {
 
 }  // namespace
 
-void RunBinFill(ServiceContext& context, JobRecorder& recorder, const std::string& job_id, const BinFillPlan& plan,
+void RunBinFill(scenes::SceneRegistry& registry, JobRecorder& recorder, const std::string& job_id, const BinFillPlan& plan,
                 jobs::JobControl& control) {
-  BinFillRun(context, recorder, job_id, plan, control).Run();
+  BinFillRun(registry, recorder, job_id, plan, control).Run();
 }
 
 }  // namespace vscan::service

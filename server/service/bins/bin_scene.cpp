@@ -18,7 +18,7 @@ std::string BinMeshName(const physics::BinSpec& bin) {
 
 std::string PartLabel(const std::string& name, size_t instance) { return name + "#" + std::to_string(instance + 1); }
 
-StatusOr<BinPlacement> PlaceBinInScene(ServiceContext& context, const BinFillPlan& plan,
+StatusOr<BinPlacement> PlaceBinInScene(scenes::SceneRegistry& registry, const BinFillPlan& plan,
                                        const physics::FillResult& result) {
   const physics::BinSpec& bin = plan.request.bin;
   std::vector<store::ObjectRecord> objects;
@@ -39,8 +39,8 @@ StatusOr<BinPlacement> PlaceBinInScene(ServiceContext& context, const BinFillPla
     objects.push_back(std::move(part));
   }
   auto stored = plan.request.mesh_bin
-                    ? context.registry.catalogue().AddObjects(plan.request.scene_id, std::move(objects))
-                    : context.registry.AddObjectsWithMesh(plan.request.scene_id,
+                    ? registry.catalogue().AddObjects(plan.request.scene_id, std::move(objects))
+                    : registry.AddObjectsWithMesh(plan.request.scene_id,
                                                           geometry::OpenBinMesh(bin.inner_size, bin.wall_thickness),
                                                           BinMeshName(bin), std::move(objects));
   ASSIGN_OR_RETURN(store::Catalogue::AddedObjects added, std::move(stored));

@@ -7,7 +7,7 @@
 
 #include "physics/bin_fill.h"
 #include "service/bins/bin_fill_plan.h"
-#include "service/context/service_context.h"
+#include "scenes/scene_registry.h"
 #include "store/catalogue.h"
 
 namespace vscan::service {
@@ -20,7 +20,7 @@ struct BinPlacement {
 };
 
 // NOT_FOUND when the scene (or a part's mesh) went away while the bin filled.
-StatusOr<BinPlacement> PlaceBinInScene(ServiceContext& context, const BinFillPlan& plan,
+StatusOr<BinPlacement> PlaceBinInScene(scenes::SceneRegistry& registry, const BinFillPlan& plan,
                                        const physics::FillResult& result);
 
 // "<name>#<instance + 1>"

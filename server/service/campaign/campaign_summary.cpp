@@ -1,109 +1,12 @@
 #include "service/campaign/campaign_summary.h"
 
-#include <cmath>
-#include <cstdio>
+#include "service/job/json_writer.h"
 
 namespace vscan::service {
-namespace {
-
-// A minimal JSON writer: the caller opens and closes containers, the writer places commas.
-class Json {
- public:
-  std::string str() const { return out_; }
-  Json& Open(char bracket) {
-    Separate();
-    out_ += bracket;
-    first_ = true;
-    return *this;
-  }
-  Json& Close(char bracket) {
-    out_ += bracket;
-    first_ = false;
-    return *this;
-  }
-  Json& Key(const std::string& key) {
-    Separate();
-    String(key);
-    out_ += ':';
-    first_ = true;
-    return *this;
-  }
-  Json& Value(const std::string& text) {
-    Separate();
-    String(text);
-    return *this;
-  }
-  Json& Value(double x) {
-    Separate();
-    if (!std::isfinite(x)) {
-      out_ += "null";
-      return *this;
-    }
-    char buffer[32];
-    std::snprintf(buffer, sizeof(buffer), "%.17g", x);
-    out_ += buffer;
-    return *this;
-  }
-  Json& Value(uint64_t x) {
-    Separate();
-    out_ += std::to_string(x);
-    return *this;
-  }
-  Json& Value(bool b) {
-    Separate();
-    out_ += b ? "true" : "false";
-    return *this;
-  }
-  Json& Array(const Eigen::VectorXd& v) {
-    Open('[');
-    for (Eigen::Index i = 0; i < v.size(); ++i) Value(v[i]);
-    return Close(']');
-  }
-  // Row-major 4x4, as the wire's Matrix4.
-  Json& Matrix(const Pose3& pose) {
-    Open('[');
-    for (int r = 0; r < 4; ++r) {
-      for (int c = 0; c < 4; ++c) Value(pose.matrix()(r, c));
-    }
-    return Close(']');
-  }
-
- private:
-  void Separate() {
-    if (!first_) out_ += ',';
-    first_ = false;
-  }
-  void String(const std::string& s) {
-    out_ += '"';
-    for (const char ch : s) {
-      const auto c = static_cast<unsigned char>(ch);
-      if (c == '"' || c == '\\') {
-        out_ += '\\';
-        out_ += ch;
-      } else if (c < 0x20) {
-        char buffer[8];
-        std::snprintf(buffer, sizeof(buffer), "\\u%04x", c);
-        out_ += buffer;
-      } else {
-        out_ += ch;
-      }
-    }
-    out_ += '"';
-  }
-
-  std::string out_;
-  bool first_ = true;
-};
-
-void Vector(Json& json, const char* key, const Eigen::Vector3d& v) {
-  json.Key(key).Open('[').Value(v.x()).Value(v.y()).Value(v.z()).Close(']');
-}
-
-}  // namespace
 
 std::string CampaignSummaryJson(const std::string& job_id, const std::string& final_state, const CampaignPlan& plan,
                                 const std::vector<CampaignStepRecord>& steps) {
-  Json json;
+  JsonWriter json;
   json.Open('{');
   json.Key("job_id").Value(job_id);
   json.Key("state").Value(final_state);
@@ -118,8 +21,8 @@ std::string CampaignSummaryJson(const std::string& job_id, const std::string& fi
   json.Key("viewpoints").Open('[');
   for (const CampaignViewpoint& v : plan.viewpoints) {
     json.Open('{');
-    Vector(json, "position", v.position);
-    Vector(json, "target", v.target);
+    json.Key("position").Vector(v.position);
+    json.Key("target").Vector(v.target);
     json.Close('}');
   }
   json.Close(']');

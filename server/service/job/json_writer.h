@@ -61,6 +61,11 @@ class JsonWriter {
     out_ += b ? "true" : "false";
     return *this;
   }
+  JsonWriter& Array(const Eigen::VectorXd& v) {
+    Open('[');
+    for (Eigen::Index i = 0; i < v.size(); ++i) Value(v[i]);
+    return Close(']');
+  }
   JsonWriter& Vector(const Eigen::Vector3d& v) { return Open('[').Value(v.x()).Value(v.y()).Value(v.z()).Close(']'); }
   // Row-major 4x4, as the wire's Matrix4.
   JsonWriter& Matrix(const Pose3& pose) {

@@ -40,14 +40,14 @@ Status CheckScoringWork(const std::vector<localization::PartDefinition>& parts, 
 
 }  // namespace
 
-StatusOr<localization::ScanScore> ScorePoses(ServiceContext& context, const ScoringPlan& plan,
+StatusOr<localization::ScanScore> ScorePoses(scenes::SceneRegistry& registry, const ScoringPlan& plan,
                                              const std::atomic<bool>* cancel) {
   std::vector<localization::PartDefinition> parts;
   parts.reserve(plan.parts.size());
   for (size_t i = 0; i < plan.parts.size(); ++i) {
     const ScoringPart& part = plan.parts[i];
     const std::string field = "parts[" + std::to_string(i) + "].mesh_id";
-    auto mesh = context.registry.LoadMesh(part.mesh_id);
+    auto mesh = registry.LoadMesh(part.mesh_id);
     if (!mesh.ok()) {
       if (mesh.status().code() == StatusCode::kNotFound) return NotFound(field, "no mesh '" + part.mesh_id + "'");
       return mesh.status();

@@ -9,7 +9,7 @@
 #include <vector>
 
 #include "localization/bop_scoring.h"
-#include "service/context/service_context.h"
+#include "scenes/scene_registry.h"
 #include "vscan/common/status.h"
 
 namespace vscan::service {
@@ -37,7 +37,7 @@ inline constexpr uint64_t kAddSWorkPerVertex = 20;
 // NOT_FOUND naming parts[i].mesh_id for an unknown mesh, INVALID_ARGUMENT for a mesh without
 // vertices, RESOURCE_EXHAUSTED naming estimates past kMaxScoringWork, CANCELLED once cancel (may
 // be null) is set.
-StatusOr<localization::ScanScore> ScorePoses(ServiceContext& context, const ScoringPlan& plan,
+StatusOr<localization::ScanScore> ScorePoses(scenes::SceneRegistry& registry, const ScoringPlan& plan,
                                              const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace vscan::service

@@ -6,13 +6,13 @@
 
 namespace vscan::service {
 
-StatusOr<ModelGroundTruth> LoadGroundTruth(ServiceContext& context, const store::SceneRecord& scene) {
+StatusOr<ModelGroundTruth> LoadGroundTruth(scenes::SceneRegistry& registry, const store::SceneRecord& scene) {
   const bool any_on_table = scene.table.enabled && std::any_of(scene.objects.begin(), scene.objects.end(),
                                                                [](const store::ObjectRecord& o) { return o.on_table; });
   ModelGroundTruth truth;
   for (const store::ObjectRecord& object : scene.objects) {
     if (any_on_table && !object.on_table) continue;
-    ASSIGN_OR_RETURN(const auto mesh, context.registry.LoadMesh(object.mesh_id));
+    ASSIGN_OR_RETURN(const auto mesh, registry.LoadMesh(object.mesh_id));
     const Pose3 model_from_object = scenes::SceneRegistry::WorldFromObject(scene, object, 0.0);
     const auto first = static_cast<uint32_t>(truth.mesh.vertices.size());
     for (const Eigen::Vector3f& v : mesh->vertices) {

@@ -9,7 +9,7 @@
 #include <Eigen/Core>
 
 #include "service/model/model_crop.h"
-#include "service/context/service_context.h"
+#include "scenes/scene_registry.h"
 #include "store/catalogue.h"
 #include "vscan/common/mesh.h"
 
@@ -22,7 +22,7 @@ struct ModelGroundTruth {
   double diagonal = 0;                               // of the bounding box, metres
 };
 
-StatusOr<ModelGroundTruth> LoadGroundTruth(ServiceContext& context, const store::SceneRecord& scene);
+StatusOr<ModelGroundTruth> LoadGroundTruth(scenes::SceneRegistry& registry, const store::SceneRecord& scene);
 
 // The default crop about the truth: about the table's axis, or the vertical through the truth's
 // centre when the scene has no table.

@@ -55,7 +55,7 @@ struct Candidate {
 
 }  // namespace
 
-StatusOr<ProposedViews> ProposeNextBestViews(ServiceContext& context, const NextBestViewRequest& request,
+StatusOr<ProposedViews> ProposeNextBestViews(robots::RobotRegistry& robots, const NextBestViewRequest& request,
                                              const std::atomic<bool>* cancel) {
   ProposedViews out;
   const double distance = MedianDistance(request.scan_poses, request.centre);
@@ -63,7 +63,7 @@ StatusOr<ProposedViews> ProposeNextBestViews(ServiceContext& context, const Next
     out.note = "no aligned scan to take the viewing distance from";
     return out;
   }
-  ASSIGN_OR_RETURN(const robots::MountedRobot mounted, context.robots.Mount(request.mount_id));
+  ASSIGN_OR_RETURN(const robots::MountedRobot mounted, robots.Mount(request.mount_id));
   robots::IkSettings settings;
   settings.position_tolerance = kIkTolerance;
   settings.orientation_tolerance = kIkTolerance;

@@ -15,7 +15,7 @@
 
 #include "sensor/camera.h"
 #include "service/model/model_report.h"
-#include "service/context/service_context.h"
+#include "robots/robot_registry.h"
 #include "store/catalogue.h"
 #include "vscan/common/mesh.h"
 #include "vscan/common/pose.h"
@@ -42,7 +42,7 @@ struct ProposedViews {
 };
 
 // CANCELLED when cancel becomes true.
-StatusOr<ProposedViews> ProposeNextBestViews(ServiceContext& context, const NextBestViewRequest& request,
+StatusOr<ProposedViews> ProposeNextBestViews(robots::RobotRegistry& robots, const NextBestViewRequest& request,
                                              const std::atomic<bool>* cancel);
 
 }  // namespace vscan::service

@@ -11,7 +11,7 @@
 
 #include <Eigen/Core>
 
-#include "service/model/model_campaigns.h"
+#include "service/model/campaign_records.h"
 #include "service/context/service_context.h"
 #include "store/catalogue.h"
 #include "store/cloud_catalogue.h"

@@ -200,7 +200,7 @@ class ModelRun {
   // The ground truth defines the default crop and the sizes the defaults are picked from.
   Status PrepareTruth() {
     if (plan_.scene && !plan_.scene->objects.empty()) {
-      auto truth = LoadGroundTruth(context_, *plan_.scene);
+      auto truth = LoadGroundTruth(context_.registry, *plan_.scene);
       if (!truth.ok() && plan_.evaluate) return truth.status();
       if (truth.ok()) truth_ = std::move(truth).value();
     }
@@ -387,7 +387,7 @@ class ModelRun {
       return Status::Ok();
     }
     request.camera = *camera;
-    auto proposed = ProposeNextBestViews(context_, request, cancel());
+    auto proposed = ProposeNextBestViews(context_.robots, request, cancel());
     if (!proposed.ok()) return Stopped() ? Stop() : proposed.status();
     report.next_best_views = proposed->views;
     if (!proposed->note.empty()) report.next_best_views_note = proposed->note;

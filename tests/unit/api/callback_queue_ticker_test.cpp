@@ -1,4 +1,4 @@
-#include "api/callback_queue_ticker.h"
+#include "api/server/callback_queue_ticker.h"
 
 #include <chrono>
 #include <thread>

@@ -7,7 +7,7 @@
 #include <memory>
 #include <string>
 
-#include "api/campaign_spec.h"
+#include "api/campaign/campaign_spec.h"
 #include "service_world.h"
 #include "vscan/common/proto_convert.h"
 

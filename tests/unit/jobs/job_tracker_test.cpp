@@ -1,4 +1,4 @@
-#include "api/job_tracker.h"
+#include "api/job/job_tracker.h"
 
 #include <gtest/gtest.h>
 #include <sqlite3.h>

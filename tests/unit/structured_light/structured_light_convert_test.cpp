@@ -5,7 +5,7 @@
 
 #include <gtest/gtest.h>
 
-#include "api/structured_light_convert.h"
+#include "api/scan/structured_light_convert.h"
 #include "sensor/presets.h"
 
 namespace vscan::api {

@@ -132,13 +132,13 @@ ScanPlan ScanFromAbove(const std::string& scene_id, const Pose3& world_from_bin)
 TEST(BinFill, SettledPartsBecomeTheScenesObjectsInOneRevision) {
   testing::ServiceWorld world;
   const std::string scene_id = world.EmptyScene();
-  auto plan = PlanBinFill(world.context(), Request(world, scene_id, 10, 10));
+  auto plan = PlanBinFill(world.context().registry, Request(world, scene_id, 10, 10));
   ASSERT_TRUE(plan.ok()) << plan.status().ToString();
   const uint64_t revision_before = Scene(world, scene_id).revision;
 
   RecordedFill recorder;
   jobs::JobControl control;
-  RunBinFill(world.context(), recorder, "job_test", *plan, control);
+  RunBinFill(world.context().registry, recorder, "job_test", *plan, control);
   ASSERT_EQ(recorder.end_state, store::JobState::kSucceeded) << recorder.end_message;
   EXPECT_NE(recorder.bin_json.find("\"applied\":true"), std::string::npos);
   // The settled meshes' overlaps, as measured on the parts, within the fill's 0.5 mm bound.
@@ -175,11 +175,11 @@ TEST(BinFill, SettledPartsBecomeTheScenesObjectsInOneRevision) {
 TEST(BinFill, AScanOfTheBinCarriesGroundTruthThatAgreesWithIndependentCounts) {
   testing::ServiceWorld world;
   const std::string scene_id = world.EmptyScene();
-  auto plan = PlanBinFill(world.context(), Request(world, scene_id, 10, 10));
+  auto plan = PlanBinFill(world.context().registry, Request(world, scene_id, 10, 10));
   ASSERT_TRUE(plan.ok()) << plan.status().ToString();
   RecordedFill recorder;
   jobs::JobControl control;
-  RunBinFill(world.context(), recorder, "job_test", *plan, control);
+  RunBinFill(world.context().registry, recorder, "job_test", *plan, control);
   ASSERT_EQ(recorder.end_state, store::JobState::kSucceeded) << recorder.end_message;
 
   CloudConsumer out;
@@ -228,11 +228,11 @@ TEST(BinFill, AScanOfTheBinCarriesGroundTruthThatAgreesWithIndependentCounts) {
 TEST(BinFill, APartAloneInTheBinIsSeenWholeFromAbove) {
   testing::ServiceWorld world;
   const std::string scene_id = world.EmptyScene();
-  auto plan = PlanBinFill(world.context(), Request(world, scene_id, 1, 0));
+  auto plan = PlanBinFill(world.context().registry, Request(world, scene_id, 1, 0));
   ASSERT_TRUE(plan.ok()) << plan.status().ToString();
   RecordedFill recorder;
   jobs::JobControl control;
-  RunBinFill(world.context(), recorder, "job_test", *plan, control);
+  RunBinFill(world.context().registry, recorder, "job_test", *plan, control);
   ASSERT_EQ(recorder.end_state, store::JobState::kSucceeded) << recorder.end_message;
   const store::SceneRecord scene = Scene(world, scene_id);
   ASSERT_EQ(scene.objects.size(), 2u);
@@ -265,14 +265,14 @@ TEST(BinFill, APartAloneInTheBinIsSeenWholeFromAbove) {
 TEST(BinFill, ACancelledFillLeavesTheSceneAsItWas) {
   testing::ServiceWorld world;
   const std::string scene_id = world.EmptyScene();
-  auto plan = PlanBinFill(world.context(), Request(world, scene_id, 6, 6));
+  auto plan = PlanBinFill(world.context().registry, Request(world, scene_id, 6, 6));
   ASSERT_TRUE(plan.ok()) << plan.status().ToString();
   const store::SceneRecord before = Scene(world, scene_id);
 
   RecordedFill recorder;
   jobs::JobControl control;
   recorder.stop_at_progress = &control;
-  RunBinFill(world.context(), recorder, "job_test", *plan, control);
+  RunBinFill(world.context().registry, recorder, "job_test", *plan, control);
   EXPECT_EQ(recorder.end_state, store::JobState::kCancelled) << recorder.end_message;
   EXPECT_NE(recorder.bin_json.find("\"applied\":false"), std::string::npos);
   EXPECT_NE(recorder.bin_json.find("\"end\":\"cancelled\""), std::string::npos);
@@ -286,13 +286,13 @@ TEST(BinFill, UnknownMeshesAndScenesAreNotFoundNamingTheField) {
   const std::string scene_id = world.EmptyScene();
   BinFillRequest request = Request(world, scene_id, 1, 1);
   request.parts[1].mesh_id = "msh_0000000000000000";
-  auto plan = PlanBinFill(world.context(), request);
+  auto plan = PlanBinFill(world.context().registry, request);
   ASSERT_FALSE(plan.ok());
   EXPECT_EQ(plan.status().code(), StatusCode::kNotFound);
   EXPECT_EQ(plan.status().field(), "parts[1].mesh_id");
 
   request = Request(world, "scn_0000000000000000", 1, 0);
-  plan = PlanBinFill(world.context(), request);
+  plan = PlanBinFill(world.context().registry, request);
   ASSERT_FALSE(plan.ok());
   EXPECT_EQ(plan.status().code(), StatusCode::kNotFound);
   EXPECT_TRUE(plan.status().message().starts_with("scene_id")) << plan.status().message();
@@ -334,11 +334,11 @@ TEST(BinFill, AMeshBinIsTheBinObjectAndHoldsTheParts) {
   request.mesh_bin = true;
   request.bin_mesh_id = UploadTote(world);
   request.bin_mesh_scale = 1.0;
-  auto plan = PlanBinFill(world.context(), request);
+  auto plan = PlanBinFill(world.context().registry, request);
   ASSERT_TRUE(plan.ok()) << plan.status().ToString();
   RecordedFill recorder;
   jobs::JobControl control;
-  RunBinFill(world.context(), recorder, "job_test", *plan, control);
+  RunBinFill(world.context().registry, recorder, "job_test", *plan, control);
   ASSERT_EQ(recorder.end_state, store::JobState::kSucceeded) << recorder.end_message;
   EXPECT_NE(recorder.bin_json.find("\"mesh_id\":\"" + request.bin_mesh_id + "\""), std::string::npos);
   EXPECT_EQ(recorder.bin_json.find("inner_size"), std::string::npos);
@@ -367,7 +367,7 @@ TEST(BinFill, AMeshBinIsCheckedNamingItsField) {
   BinFillRequest request = Request(world, scene_id, 1, 0);
   request.mesh_bin = true;
   request.bin_mesh_id = "msh_0000000000000000";
-  auto plan = PlanBinFill(world.context(), request);
+  auto plan = PlanBinFill(world.context().registry, request);
   ASSERT_FALSE(plan.ok());
   EXPECT_EQ(plan.status().code(), StatusCode::kNotFound);
   EXPECT_EQ(plan.status().field(), "bin_mesh.mesh_id");
@@ -375,14 +375,14 @@ TEST(BinFill, AMeshBinIsCheckedNamingItsField) {
   // Scaled down to 0.1 mm deep the tote holds no volume.
   request.bin_mesh_id = UploadTote(world);
   request.bin_mesh_scale = 1e-3;
-  plan = PlanBinFill(world.context(), request);
+  plan = PlanBinFill(world.context().registry, request);
   ASSERT_FALSE(plan.ok());
   EXPECT_EQ(plan.status().code(), StatusCode::kInvalidArgument);
   EXPECT_EQ(plan.status().field(), "bin_mesh.scale");
 
   // An opening narrower than the parts: the fill ends full with nothing in the bin.
   request.bin_mesh_scale = 0.1;
-  plan = PlanBinFill(world.context(), request);
+  plan = PlanBinFill(world.context().registry, request);
   ASSERT_TRUE(plan.ok()) << plan.status().ToString();
   const physics::FillResult result = SimulateBinFill(*plan, nullptr, nullptr);
   EXPECT_EQ(result.end, physics::FillEnd::kFull);

@@ -48,7 +48,7 @@ localization::ScanScore Score(testing::ServiceWorld& world, const std::string& m
   for (const auto& instance : found.result.instances) {
     scoring.estimates.push_back({0, instance.world_from_part, instance.score});
   }
-  auto score = ScorePoses(world.context(), scoring);
+  auto score = ScorePoses(world.context().registry, scoring);
   EXPECT_TRUE(score.ok()) << score.status().ToString();
   return score.ok() ? *score : localization::ScanScore{};
 }

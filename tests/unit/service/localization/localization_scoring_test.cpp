@@ -57,7 +57,7 @@ TEST_F(LocalizationServiceScoring, ExactEstimatesScorePerfectly) {
     plan.truth.push_back({0, pose, 1.0});
     plan.estimates.push_back({0, pose, 0.5});
   }
-  const auto score = ScorePoses(world_.context(), plan);
+  const auto score = ScorePoses(world_.context().registry, plan);
   ASSERT_TRUE(score.ok()) << score.status().ToString();
   const localization::PartScore& part = score->parts[0];
   EXPECT_NEAR(part.diameter, Diameter(*LoadPart(FixturePart::kAngleBlock)), 1e-9);
@@ -89,7 +89,7 @@ TEST_F(LocalizationServiceScoring, KnownOffsetsGiveTheirErrorsAndAMissBeyondTheT
     estimate.translation() += offsets[i] * directions[i];
     plan.estimates.push_back({0, estimate, 1.0});
   }
-  const auto score = ScorePoses(world_.context(), plan);
+  const auto score = ScorePoses(world_.context().registry, plan);
   ASSERT_TRUE(score.ok()) << score.status().ToString();
   const localization::PartScore& part = score->parts[0];
   const double diameter = Diameter(*LoadPart(FixturePart::kAngleBlock));
@@ -132,7 +132,7 @@ TEST_F(LocalizationServiceScoring, ATubeTurnedOntoItselfIsRightOnlyUpToItsSymmet
     plan.truth.push_back({part, truth, 1.0});
     plan.estimates.push_back({part, truth * onto_itself, 1.0});
   }
-  const auto score = ScorePoses(world_.context(), plan);
+  const auto score = ScorePoses(world_.context().registry, plan);
   ASSERT_TRUE(score.ok()) << score.status().ToString();
 
   const TriangleMesh& tube = *LoadPart(FixturePart::kRound);
@@ -168,7 +168,7 @@ TEST_F(LocalizationServiceScoring, ATubeTurnedOntoItselfIsRightOnlyUpToItsSymmet
   // With every estimate kept matched, the plain part's errors show: the mean and largest shifts.
   plan.options.add_threshold = 10;
   plan.options.mssd_thresholds = {10};
-  const auto loose = ScorePoses(world_.context(), plan);
+  const auto loose = ScorePoses(world_.context().registry, plan);
   ASSERT_TRUE(loose.ok()) << loose.status().ToString();
   EXPECT_NEAR(loose->parts[1].instances[0].add_error, mean_shift, 1e-6);
   EXPECT_NEAR(loose->parts[1].instances[0].mssd_error, largest_shift, 1e-6);
@@ -178,7 +178,7 @@ TEST_F(LocalizationServiceScoring, AScaleShrinksThePart) {
   ScoringPlan plan;
   plan.parts.push_back({id(FixturePart::kAngleBlock), 1, std::nullopt});
   plan.parts.push_back({id(FixturePart::kAngleBlock), 0.5, std::nullopt});
-  const auto score = ScorePoses(world_.context(), plan);
+  const auto score = ScorePoses(world_.context().registry, plan);
   ASSERT_TRUE(score.ok()) << score.status().ToString();
   const double diameter = Diameter(*LoadPart(FixturePart::kAngleBlock));
   EXPECT_NEAR(score->parts[0].diameter, diameter, 1e-9);
@@ -191,7 +191,7 @@ TEST_F(LocalizationServiceScoring, AnEmptyEstimateListMissesEveryInstance) {
   ScoringPlan plan;
   plan.parts.push_back({id(FixturePart::kAngleBlock), 1, std::nullopt});
   for (const Pose3& pose : ThreeBlocks()) plan.truth.push_back({0, pose, 1.0});
-  const auto score = ScorePoses(world_.context(), plan);
+  const auto score = ScorePoses(world_.context().registry, plan);
   ASSERT_TRUE(score.ok()) << score.status().ToString();
   EXPECT_EQ(score->valid_instances, 3u);
   EXPECT_EQ(*score->add_recall, 0.0);
@@ -209,32 +209,32 @@ TEST_F(LocalizationServiceScoring, RefusesBadPosesUnknownPartsAndUnknownMeshes) 
   good.parts.push_back({id(FixturePart::kAngleBlock), 1, std::nullopt});
   good.truth.push_back({0, Pose3::Identity(), 1.0});
   good.estimates.push_back({0, Pose3::Identity(), 1.0});
-  ASSERT_TRUE(ScorePoses(world_.context(), good).ok());
+  ASSERT_TRUE(ScorePoses(world_.context().registry, good).ok());
   const double nan = std::numeric_limits<double>::quiet_NaN();
 
   ScoringPlan plan = good;
   plan.estimates[0].world_from_part.translation().y() = nan;
-  ExpectRefused(ScorePoses(world_.context(), plan), StatusCode::kInvalidArgument, "estimates[0].world_from_part");
+  ExpectRefused(ScorePoses(world_.context().registry, plan), StatusCode::kInvalidArgument, "estimates[0].world_from_part");
 
   plan = good;
   plan.truth[0].world_from_part.linear()(1, 2) = nan;
-  ExpectRefused(ScorePoses(world_.context(), plan), StatusCode::kInvalidArgument, "truth[0].world_from_part");
+  ExpectRefused(ScorePoses(world_.context().registry, plan), StatusCode::kInvalidArgument, "truth[0].world_from_part");
 
   plan = good;
   plan.estimates[0].score = nan;
-  ExpectRefused(ScorePoses(world_.context(), plan), StatusCode::kInvalidArgument, "estimates[0].score");
+  ExpectRefused(ScorePoses(world_.context().registry, plan), StatusCode::kInvalidArgument, "estimates[0].score");
 
   plan = good;
   plan.estimates.push_back({1, Pose3::Identity(), 1.0});
-  ExpectRefused(ScorePoses(world_.context(), plan), StatusCode::kInvalidArgument, "estimates[1].part_id");
+  ExpectRefused(ScorePoses(world_.context().registry, plan), StatusCode::kInvalidArgument, "estimates[1].part_id");
 
   plan = good;
   plan.truth[0].part_id = 7;
-  ExpectRefused(ScorePoses(world_.context(), plan), StatusCode::kInvalidArgument, "truth[0].part_id");
+  ExpectRefused(ScorePoses(world_.context().registry, plan), StatusCode::kInvalidArgument, "truth[0].part_id");
 
   plan = good;
   plan.parts.push_back({"msh_0000000000000000", 1, std::nullopt});
-  ExpectRefused(ScorePoses(world_.context(), plan), StatusCode::kNotFound, "parts[1].mesh_id");
+  ExpectRefused(ScorePoses(world_.context().registry, plan), StatusCode::kNotFound, "parts[1].mesh_id");
 }
 
 // 200 x 200 poses of a part with a symmetry axis: each pair places every vertex for each of 315
@@ -247,14 +247,14 @@ TEST_F(LocalizationServiceScoring, RequestsPastTheWorkBoundAreRefusedUpFront) {
     plan.truth.push_back({0, pose, 1.0});
     plan.estimates.push_back({0, pose, 1.0});
   }
-  const auto refused = ScorePoses(world_.context(), plan);
+  const auto refused = ScorePoses(world_.context().registry, plan);
   ASSERT_EQ(refused.status().code(), StatusCode::kResourceExhausted) << refused.status().ToString();
   EXPECT_NE(refused.status().message().find("estimates"), std::string::npos) << refused.status().message();
   // Truths the scan barely sees are not scored, so they cost nothing.
   for (auto& truth : plan.truth) truth.visible_fraction = 0.0;
   plan.truth[0].visible_fraction = 1.0;
   plan.estimates.resize(2);
-  EXPECT_TRUE(ScorePoses(world_.context(), plan).ok());
+  EXPECT_TRUE(ScorePoses(world_.context().registry, plan).ok());
 }
 
 TEST_F(LocalizationServiceScoring, ACancelledCallEndsCancelled) {
@@ -265,7 +265,7 @@ TEST_F(LocalizationServiceScoring, ACancelledCallEndsCancelled) {
     plan.estimates.push_back({0, pose, 0.5});
   }
   const std::atomic<bool> cancel{true};
-  EXPECT_EQ(ScorePoses(world_.context(), plan, &cancel).status().code(), StatusCode::kCancelled);
+  EXPECT_EQ(ScorePoses(world_.context().registry, plan, &cancel).status().code(), StatusCode::kCancelled);
 }
 
 }  // namespace

@@ -13,7 +13,7 @@
 #include "jobs/job_runner.h"
 #include "service/campaign/campaign_plan.h"
 #include "service/job/job_events.h"
-#include "service/model/model_campaigns.h"
+#include "service/model/campaign_records.h"
 #include "service/model/model_plan.h"
 #include "service_world.h"
 #include "model_test_block.h"

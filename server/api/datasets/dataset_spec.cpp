@@ -1,0 +1,162 @@
+#include "api/datasets/dataset_spec.h"
+
+#include <spdlog/spdlog.h>
+
+#include "api/transport/validate.h"
+#include "service/datasets/format/dataset_plan_yaml.h"
+#include "service/datasets/dataset_bounds.h"
+#include "service/datasets/dataset_directories.h"
+#include "service/datasets/dataset_job_frames.h"
+#include "service/scan/request_memory.h"
+#include "service/job/job_kind.h"
+
+namespace vscan::api {
+namespace {
+
+constexpr std::string_view kDatasetKind = service::JobKindName(service::JobKind::kDataset);
+
+constexpr size_t kMaxPlanBytes = 1u << 20;
+
+service::DatasetMeshLoader StoredMeshes(const v1::DatasetSpec& spec, service::ServiceContext& context) {
+  return [&spec, &context](const service::dataset::DatasetPart& part,
+                           const std::string& field) -> StatusOr<TriangleMesh> {
+    std::string mesh_id = part.mesh_id;
+    std::string id_field = "spec.plan_yaml." + field + ".mesh_id";
+    if (mesh_id.empty()) {
+      const auto found = spec.mesh_ids().find(part.mesh_file);
+      if (found == spec.mesh_ids().end()) {
+        return InvalidArgument("spec.mesh_ids", "no stored mesh for '" + part.mesh_file + "' (" + field +
+                                                    ".mesh); upload the file and map its path to the mesh id");
+      }
+      mesh_id = found->second;
+      id_field = "spec.mesh_ids[" + part.mesh_file + "]";
+    }
+    const StatusOr<std::shared_ptr<const TriangleMesh>> mesh = context.registry.LoadMesh(mesh_id);
+    if (!mesh.ok() && mesh.status().code() == StatusCode::kNotFound) {
+      return NotFound(id_field, "no mesh '" + mesh_id + "'");
+    }
+    RETURN_IF_ERROR(mesh.status());
+    return **mesh;
+  };
+}
+
+// The job whose directory a resumed job writes (the first of a chain of resumptions).
+StatusOr<std::string> ResumedDirectory(const std::string& job_id, store::JobCatalogue& jobs) {
+  RETURN_IF_ERROR(RequireId(job_id, "spec.resume_job_id"));
+  const StatusOr<store::JobRecord> record = jobs.GetJob(job_id);
+  if (!record.ok() && record.status().code() == StatusCode::kNotFound) {
+    return NotFound("spec.resume_job_id", "no job '" + job_id + "'");
+  }
+  RETURN_IF_ERROR(record.status());
+  if (record->kind != kDatasetKind) {
+    return FailedPrecondition("spec.resume_job_id", "job '" + job_id + "' is a " + record->kind + " job");
+  }
+  if (record->state == store::JobState::kQueued || record->state == store::JobState::kRunning) {
+    return FailedPrecondition("spec.resume_job_id", "job '" + job_id + "' has not ended; cancel it first");
+  }
+  v1::DatasetSpec earlier;
+  if (!earlier.ParseFromString(record->spec)) return DataLoss("job '" + job_id + "' has an unreadable dataset spec");
+  return earlier.resume_job_id().empty() ? job_id : earlier.resume_job_id();
+}
+
+}  // namespace
+
+StatusOr<ValidatedDataset> ValidateDataset(const v1::DatasetSpec& spec, service::ServiceContext& context,
+                                           store::JobCatalogue& jobs) {
+  if (spec.plan_yaml().empty()) return InvalidArgument("spec.plan_yaml", "required: the plan file's text");
+  if (spec.plan_yaml().size() > kMaxPlanBytes) return InvalidArgument("spec.plan_yaml", "longer than 1 MiB");
+  StatusOr<service::dataset::DatasetPlan> plan = service::dataset::ParseDatasetPlanYaml(spec.plan_yaml(), "plan");
+  if (!plan.ok()) {
+    // "plan: bins[0].box: ..." reads as a field of plan_yaml.
+    const std::string text = plan.status().message();
+    return InvalidArgument("spec.plan_yaml", text.rfind("plan: ", 0) == 0 ? text.substr(6) : text);
+  }
+  // Before any mesh is loaded: the count needs the plan alone.
+  RETURN_IF_ERROR(service::CheckDatasetScenes(*plan, context.options.limits.max_dataset_scenes)
+                      .WithFieldPrefix("spec.plan_yaml"));
+  StatusOr<service::DatasetSetup> setup =
+      service::PrepareDataset(*plan, StoredMeshes(spec, context), context.options.limits.max_rays_per_scan);
+  if (!setup.ok()) {
+    const Status& error = setup.status();
+    return error.field().rfind("spec.", 0) == 0 ? error : error.WithFieldPrefix("spec.plan_yaml");
+  }
+  // Frames captured ahead (and a scene's views) are held at once, each with its whole cloud.
+  for (size_t i = 0; i < setup->sensors.size(); ++i) {
+    const uint64_t frame_bytes = service::ScanMemoryBytes(service::DatasetFramePlan(setup->sensors[i]), false);
+    const size_t in_flight = service::dataset::FramesInFlight(service::DatasetFramesAhead(), plan->views.count);
+    RETURN_IF_ERROR(service::CheckRequestMemory(frame_bytes * in_flight,
+                                                context.options.limits,
+                                                "spec.plan_yaml",
+                                                "sensors[" + std::to_string(i) + "]: capturing its frames"));
+  }
+  ValidatedDataset validated;
+  validated.spec = spec;
+  if (!spec.resume_job_id().empty()) {
+    ASSIGN_OR_RETURN(*validated.spec.mutable_resume_job_id(), ResumedDirectory(spec.resume_job_id(), jobs));
+  }
+  if (context.dataset_directories) {
+    const service::DatasetBytes bytes = service::EstimateDatasetBytes(
+        *setup, service::DatasetTarBound(context.options.limits.max_request_memory_bytes));
+    const std::string what = "the plan's " + std::to_string(service::DatasetImageCount(*plan)) +
+                             " images, models" + (bytes.tar > 0 ? " and dataset.tar" : "");
+    const Status room = context.dataset_directories->CheckRoom(
+        bytes.total(), validated.spec.resume_job_id(), what);
+    if (!room.ok()) return ResourceExhausted("spec.plan_yaml", room.message());
+  }
+  validated.setup = std::make_shared<const service::DatasetSetup>(std::move(setup).value());
+  return validated;
+}
+
+std::string DatasetDirectoryId(const v1::DatasetSpec& spec, const std::string& job_id) {
+  return spec.resume_job_id().empty() ? job_id : spec.resume_job_id();
+}
+
+std::string DatasetDirectoryOf(const store::JobRecord& job) {
+  if (job.kind != kDatasetKind) return "";
+  v1::DatasetSpec spec;
+  if (!spec.ParseFromString(job.spec)) return "";
+  return DatasetDirectoryId(spec, job.job_id);
+}
+
+StatusOr<std::set<std::string>> NamedDatasetDirectories(store::JobCatalogue& jobs) {
+  ASSIGN_OR_RETURN(const std::vector<store::JobRecord> datasets, jobs.ListJobsOfKind(std::string(kDatasetKind)));
+  std::set<std::string> named;
+  for (const store::JobRecord& job : datasets) {
+    // An unreadable spec keeps the directory of its own id: nothing is removed on a guess.
+    const std::string directory = DatasetDirectoryOf(job);
+    named.insert(directory.empty() ? job.job_id : directory);
+  }
+  return named;
+}
+
+uint64_t RemoveDatasetDirectoryOf(const store::JobRecord& job, store::JobCatalogue& jobs,
+                                  service::DatasetDirectories& directories) {
+  const std::string directory = DatasetDirectoryOf(job);
+  if (directory.empty()) return 0;
+  StatusOr<std::filesystem::path> aside = std::filesystem::path();
+  {
+    auto names = directories.HoldNames();
+    const StatusOr<std::set<std::string>> named = NamedDatasetDirectories(jobs);
+    if (!named.ok()) {
+      spdlog::error("job {}: dataset directory {} kept: {}", job.job_id, directory, named.status().ToString());
+      return 0;
+    }
+    if (named->count(directory)) return 0;  // a resumption of it is still recorded
+    aside = directories.MoveAside(directory);
+  }
+  // Files go outside the lock: a large dataset takes a while.
+  const StatusOr<uint64_t> removed = aside.ok() ? directories.RemoveAside(*aside) : StatusOr<uint64_t>(aside.status());
+  if (!removed.ok()) {
+    spdlog::error("job {}: dataset directory {} kept: {}", job.job_id, directory, removed.status().ToString());
+    return 0;
+  }
+  spdlog::info("job {}: dataset directory {} removed ({} bytes)", job.job_id, directory, *removed);
+  return *removed;
+}
+
+std::filesystem::path DatasetRootOf(const v1::DatasetSpec& spec, const std::string& job_id,
+                                    const service::ServerOptions& options) {
+  return service::DatasetJobRoot(options.data_dir, DatasetDirectoryId(spec, job_id));
+}
+
+}  // namespace vscan::api

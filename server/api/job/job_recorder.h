@@ -1,0 +1,27 @@
+#pragma once
+// A running job's events and artifacts into the job tracker, scan descriptions as the
+// contract's ScanArtifactInfo, captured scans as stored clouds.
+
+#include <string>
+
+#include "api/job/job_tracker.h"
+#include "service/job/job_events.h"
+
+namespace vscan::api {
+
+class TrackedJobRecorder final : public service::JobRecorder {
+ public:
+  TrackedJobRecorder(JobTracker& tracker, std::string job_id) : tracker_(tracker), job_id_(std::move(job_id)) {}
+
+  Status Record(const service::JobEventUpdate& update) override;
+  StatusOr<std::string> RecordArtifact(const std::string& name, const std::string& media_type,
+                                       const std::string& bytes, const service::ScanArtifact* scan,
+                                       const store::CloudRecord* cloud, const service::JobEventUpdate& update) override;
+  Status End(const service::JobEventUpdate& update) override;
+
+ private:
+  JobTracker& tracker_;
+  const std::string job_id_;
+};
+
+}  // namespace vscan::api
