@@ -77,7 +77,7 @@ int RunFill(Context& ctx, const FillArgs& args) {
   const std::string started_line = "started bin fill job " + job->job_id() + " (" +
                                    std::to_string(job->steps_total()) + " parts into scene " + setup.scene_id + ")";
   if (SayStarted(ctx, *job, started_line, ",\"sceneId\":" + JsonQuote(setup.scene_id), args.detach)) return kExitOk;
-  const std::string out_dir = args.no_download ? "" : args.out_dir.empty() ? plan->name + "-" + job->job_id() : args.out_dir;
+  const std::string out_dir = RunDirectory(args.out_dir, args.no_download, plan->name, job->job_id());
   return FollowJob(ctx, job->job_id(), out_dir, started, BinFinish(ctx));
 }
 

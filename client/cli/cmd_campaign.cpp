@@ -60,9 +60,12 @@ int Finish(Context& ctx, const WatchResult& watched, const std::string& out_dir,
   return JobExitCode(job.state());
 }
 
-JobFinish CampaignFinish(Context& ctx) {
-  return [&ctx](const WatchResult& watched, const std::string& out_dir, const std::vector<std::string>& files,
-                double seconds) { return Finish(ctx, watched, out_dir, files, "", seconds); };
+// extra_json joins the job in --json output (the scene and mount a run set up).
+JobFinish CampaignFinish(Context& ctx, const std::string& extra_json = "") {
+  return [&ctx, extra_json](const WatchResult& watched, const std::string& out_dir,
+                            const std::vector<std::string>& files, double seconds) {
+    return Finish(ctx, watched, out_dir, files, extra_json, seconds);
+  };
 }
 
 int RunCampaign(Context& ctx, const CampaignRunArgs& args) {
@@ -94,13 +97,11 @@ int RunCampaign(Context& ctx, const CampaignRunArgs& args) {
     return rc;
   }
   const std::string ids = ",\"sceneId\":" + JsonQuote(setup.scene_id) + ",\"mountId\":" + JsonQuote(setup.mount_id);
-  const std::string line = "started campaign job " + job->job_id() + " (" + std::to_string(job->steps_total()) + " steps)";
+  const std::string line =
+      "started campaign job " + job->job_id() + " (" + std::to_string(job->steps_total()) + " steps)";
   if (SayStarted(ctx, *job, line, ids, args.detach)) return kExitOk;
-  const std::string out_dir = args.no_download ? "" : args.out_dir.empty() ? plan->name + "-" + job->job_id() : args.out_dir;
-  return FollowJob(ctx, job->job_id(), out_dir, started, [&ctx, &ids](const WatchResult& watched, const std::string& dir,
-                                                                      const std::vector<std::string>& files, double s) {
-    return Finish(ctx, watched, dir, files, ids, s);
-  });
+  const std::string out_dir = RunDirectory(args.out_dir, args.no_download, plan->name, job->job_id());
+  return FollowJob(ctx, job->job_id(), out_dir, started, CampaignFinish(ctx, ids));
 }
 
 void AddCampaignRun(CLI::App& group, Context& ctx) {
@@ -133,7 +134,7 @@ int ResumeCampaign(Context& ctx, const ResumeArgs& args) {
   if (SayStarted(ctx, *job, what, "", !args.watch)) return kExitOk;
   const std::string& named = job->campaign().name();
   const std::string name = named.empty() ? "campaign" : named;
-  const std::string out_dir = args.no_download ? "" : args.out_dir.empty() ? name + "-" + job->job_id() : args.out_dir;
+  const std::string out_dir = RunDirectory(args.out_dir, args.no_download, name, job->job_id());
   return FollowJob(ctx, job->job_id(), out_dir, started, CampaignFinish(ctx));
 }
 

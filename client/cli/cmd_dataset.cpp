@@ -173,7 +173,8 @@ int Run(Context& ctx, const DatasetRunArgs& args) {
     return kExitOk;
   }
   const v1::Job& job = started->job();
-  const std::string line = "started dataset job " + job.job_id() + " of " + std::to_string(job.steps_total()) + " scenes";
+  const std::string line =
+      "started dataset job " + job.job_id() + " of " + std::to_string(job.steps_total()) + " scenes";
   if (SayStarted(ctx, job, line, "", !args.watch && args.out_dir.empty())) return kExitOk;
   return Follow(ctx, job.job_id(), args.out_dir);
 }

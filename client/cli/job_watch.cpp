@@ -91,6 +91,11 @@ bool SayStarted(Context& ctx, const v1::Job& job, const std::string& line, const
   return true;
 }
 
+std::string RunDirectory(const std::string& out_dir, bool no_download, const std::string& name, const std::string& job_id) {
+  if (no_download) return "";
+  return out_dir.empty() ? name + "-" + job_id : out_dir;
+}
+
 int FollowJob(Context& ctx, const std::string& job_id, const std::string& out_dir, JobClock::time_point started,
               const JobFinish& finish) {
   WatchResult watched;

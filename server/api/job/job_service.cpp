@@ -37,13 +37,13 @@ grpc::ServerUnaryReactor* JobService::StartCampaign(grpc::CallbackServerContext*
                                                     v1::StartCampaignResponse* response) {
   return RunBlockingUnary(ctx, context_.options.token, "StartCampaign", context_.call_workers, [=, this]() -> Status {
     if (!request->has_spec()) return InvalidArgument("spec: required");
-    ASSIGN_OR_RETURN(service::CampaignPlan validated, ValidateCampaign(request->spec(), context_, request->validate_only()));
+    const v1::CampaignSpec& spec = request->spec();
+    ASSIGN_OR_RETURN(service::CampaignPlan validated, ValidateCampaign(spec, context_, request->validate_only()));
     if (request->validate_only()) return Status::Ok();
     auto plan = std::make_shared<const service::CampaignPlan>(std::move(validated));
     v1::Job* job = response->mutable_job();
     RETURN_IF_ERROR(Admit(
-        "spec",
-        [&] { return CreateJob(service::JobKind::kCampaign, request->spec().name(), request->spec(), plan->steps_total(), job); },
+        "spec", [&] { return CreateJob(service::JobKind::kCampaign, spec.name(), spec, plan->steps_total(), job); },
         [this, plan](service::JobRecorder& recorder, const std::string& job_id, jobs::JobControl& control) {
           service::RunCampaign(context_, recorder, job_id, *plan, control);
         }));
@@ -62,8 +62,9 @@ grpc::ServerUnaryReactor* JobService::StartModel(grpc::CallbackServerContext* ct
     auto plan = std::make_shared<const service::ModelPlan>(std::move(validated));
     v1::Job* job = response->mutable_job();
     const uint32_t total = service::ModelStepsTotal(*plan);
+    const v1::ModelSpec& spec = request->spec();
     RETURN_IF_ERROR(Admit(
-        "spec", [&] { return CreateJob(service::JobKind::kModel, request->spec().name(), request->spec(), total, job); },
+        "spec", [&] { return CreateJob(service::JobKind::kModel, spec.name(), spec, total, job); },
         [this, plan](service::JobRecorder& recorder, const std::string& job_id, jobs::JobControl& control) {
           service::RunModel(context_, recorder, job_id, *plan, control);
         }));
@@ -77,13 +78,14 @@ grpc::ServerUnaryReactor* JobService::StartBinFill(grpc::CallbackServerContext* 
                                                    v1::StartBinFillResponse* response) {
   return RunBlockingUnary(ctx, context_.options.token, "StartBinFill", context_.call_workers, [=, this]() -> Status {
     if (!request->has_spec()) return InvalidArgument("spec: required");
-    ASSIGN_OR_RETURN(service::BinFillPlan validated, ValidateBinFill(request->spec(), context_, request->validate_only()));
+    const v1::BinFillSpec& spec = request->spec();
+    ASSIGN_OR_RETURN(service::BinFillPlan validated, ValidateBinFill(spec, context_, request->validate_only()));
     if (request->validate_only()) return Status::Ok();
     auto plan = std::make_shared<const service::BinFillPlan>(std::move(validated));
     v1::Job* job = response->mutable_job();
     const auto total = static_cast<uint32_t>(plan->parts_total());
     RETURN_IF_ERROR(Admit(
-        "spec", [&] { return CreateJob(service::JobKind::kBinFill, request->spec().name(), request->spec(), total, job); },
+        "spec", [&] { return CreateJob(service::JobKind::kBinFill, spec.name(), spec, total, job); },
         [this, plan](service::JobRecorder& recorder, const std::string& job_id, jobs::JobControl& control) {
           service::RunBinFill(context_.registry, recorder, job_id, *plan, control);
         }));

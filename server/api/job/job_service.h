@@ -56,8 +56,8 @@ class JobService final : public v1::JobService::CallbackService {
   // run is queued as that job.
   Status Admit(const std::string& field, const std::function<StatusOr<std::string>()>& record, JobRun run);
   // Records a QUEUED job of kind into out; returns its id.
-  StatusOr<std::string> CreateJob(service::JobKind kind, const std::string& name, const google::protobuf::MessageLite& spec,
-                                  uint32_t steps_total, v1::Job* out);
+  StatusOr<std::string> CreateJob(service::JobKind kind, const std::string& name,
+                                  const google::protobuf::MessageLite& spec, uint32_t steps_total, v1::Job* out);
   // Queues work as job_id under the queue bound; false (the job then ended) when the runner stops.
   Status Submit(const std::string& job_id, std::function<void(jobs::JobControl&)> run);
 
