@@ -15,10 +15,10 @@ namespace vscan::evaluation {
 namespace {
 
 constexpr int kPanel = 200;
-constexpr float kRadius = 0.1f;
+constexpr float kCoverageRadius = 0.1f;
 
 std::vector<Eigen::Vector3f> SphereSamples() {
-  return SampleSurface(test::MakeIcosphere(Eigen::Vector3d::Zero(), kRadius, 4), 80'000, 21);
+  return SampleSurface(test::MakeIcosphere(Eigen::Vector3d::Zero(), kCoverageRadius, 4), 80'000, 21);
 }
 
 RgbPixels Render(std::span<const Eigen::Vector3f> samples, std::span<const uint8_t> covered) {

@@ -12,10 +12,10 @@
 namespace vscan::evaluation {
 namespace {
 
-constexpr double kTau = 0.002;
-constexpr double kRadius = 0.1;
+constexpr double kTruthTau = 0.002;
+constexpr double kTruthRadius = 0.1;
 
-GroundTruth Prepare(const TriangleMesh& mesh, double tau = kTau) {
+GroundTruth Prepare(const TriangleMesh& mesh, double tau = kTruthTau) {
   EvaluationOptions options;
   options.tau = tau;
   auto truth = GroundTruth::Prepare(mesh, options);
@@ -35,36 +35,36 @@ std::vector<Eigen::Vector3f> NoisySamples(const TriangleMesh& mesh, size_t n, do
 }
 
 TEST(GroundTruth, SphereSamplesWithNoiseBelowTauScorePerfectly) {
-  const TriangleMesh sphere = test::MakeIcosphere(Eigen::Vector3d::Zero(), kRadius, 4);
+  const TriangleMesh sphere = test::MakeIcosphere(Eigen::Vector3d::Zero(), kTruthRadius, 4);
   const GroundTruth truth = Prepare(sphere);
   // About one point per (tau / 2.8)^2 of area, each off the surface by a quarter of tau.
-  const auto points = NoisySamples(sphere, 250'000, kTau / 4, 3);
+  const auto points = NoisySamples(sphere, 250'000, kTruthTau / 4, 3);
   const Evaluation e = truth.EvaluatePoints(points);
   EXPECT_DOUBLE_EQ(e.precision, 1.0);
   EXPECT_DOUBLE_EQ(e.recall, 1.0);
   EXPECT_DOUBLE_EQ(e.f_score, 1.0);
   EXPECT_TRUE(e.uncovered.positions.empty());
-  EXPECT_LE(e.accuracy.mean, kTau / 4 + 1e-6);
-  EXPECT_GT(e.accuracy.mean, kTau / 16);
-  EXPECT_LT(e.chamfer, kTau / 2);
+  EXPECT_LE(e.accuracy.mean, kTruthTau / 4 + 1e-6);
+  EXPECT_GT(e.accuracy.mean, kTruthTau / 16);
+  EXPECT_LT(e.chamfer, kTruthTau / 2);
   EXPECT_EQ(e.reconstruction_points, points.size());
   // tau / 2 spacing: about area / spacing^2 samples.
-  EXPECT_NEAR(static_cast<double>(e.ground_truth_samples), truth.area() / (kTau * kTau / 4), 1.0);
+  EXPECT_NEAR(static_cast<double>(e.ground_truth_samples), truth.area() / (kTruthTau * kTruthTau / 4), 1.0);
 }
 
 TEST(GroundTruth, PlaneShiftedByTwiceTauScoresZero) {
   const TriangleMesh plane = test::MakeGrid(0.05, 4);
   const GroundTruth truth = Prepare(plane);
   std::vector<Eigen::Vector3f> points = SampleSurface(plane, 20'000, 5);
-  for (auto& p : points) p.z() += 2 * kTau;
+  for (auto& p : points) p.z() += 2 * kTruthTau;
   const Evaluation e = truth.EvaluatePoints(points);
   EXPECT_EQ(e.precision, 0.0);
   EXPECT_EQ(e.recall, 0.0);
   EXPECT_EQ(e.f_score, 0.0);
   EXPECT_EQ(e.uncovered.size(), e.ground_truth_samples);
-  EXPECT_NEAR(e.accuracy.mean, 2 * kTau, 1e-6);
-  EXPECT_NEAR(e.accuracy.median, 2 * kTau, 1e-6);
-  EXPECT_GE(e.completeness.median, 2 * kTau - 1e-6);
+  EXPECT_NEAR(e.accuracy.mean, 2 * kTruthTau, 1e-6);
+  EXPECT_NEAR(e.accuracy.median, 2 * kTruthTau, 1e-6);
+  EXPECT_GE(e.completeness.median, 2 * kTruthTau - 1e-6);
 }
 
 // Mean distance from a sphere of radius r to the same sphere shifted by d: the distance of the
@@ -80,25 +80,25 @@ double MeanDistanceToShiftedSphere(double r, double d) {
 }
 
 TEST(GroundTruth, SphereShiftedByAKnownDistanceScoresTauOverTheShift) {
-  const TriangleMesh sphere = test::MakeIcosphere(Eigen::Vector3d::Zero(), kRadius, 5);
+  const TriangleMesh sphere = test::MakeIcosphere(Eigen::Vector3d::Zero(), kTruthRadius, 5);
   const GroundTruth truth = Prepare(sphere);
-  const double shift = 4 * kTau;
+  const double shift = 4 * kTruthTau;
   std::vector<Eigen::Vector3f> points = SampleSurface(sphere, 400'000, 7);
   for (auto& p : points) p.x() += static_cast<float>(shift);
   const Evaluation e = truth.EvaluatePoints(points);
   // |distance| <= tau on a band of the sphere whose share of its area is exactly tau / shift, both
   // ways: precision = recall = F = 1/4.
-  EXPECT_NEAR(e.precision, kTau / shift, 0.01);
-  EXPECT_NEAR(e.recall, kTau / shift, 0.01);
-  EXPECT_NEAR(e.f_score, kTau / shift, 0.01);
-  const double mean = MeanDistanceToShiftedSphere(kRadius, shift);
+  EXPECT_NEAR(e.precision, kTruthTau / shift, 0.01);
+  EXPECT_NEAR(e.recall, kTruthTau / shift, 0.01);
+  EXPECT_NEAR(e.f_score, kTruthTau / shift, 0.01);
+  const double mean = MeanDistanceToShiftedSphere(kTruthRadius, shift);
   EXPECT_NEAR(e.accuracy.mean, mean, 0.02 * mean);
   EXPECT_NEAR(e.completeness.mean, mean, 0.02 * mean);
   EXPECT_NEAR(e.chamfer, mean, 0.02 * mean);
 }
 
 TEST(GroundTruth, HalfASphereHasHalfTheRecallAndFullPrecision) {
-  const TriangleMesh sphere = test::MakeIcosphere(Eigen::Vector3d::Zero(), kRadius, 4);
+  const TriangleMesh sphere = test::MakeIcosphere(Eigen::Vector3d::Zero(), kTruthRadius, 4);
   const GroundTruth truth = Prepare(sphere);
   std::vector<Eigen::Vector3f> points;
   for (const auto& p : SampleSurface(sphere, 300'000, 9)) {
@@ -107,7 +107,7 @@ TEST(GroundTruth, HalfASphereHasHalfTheRecallAndFullPrecision) {
   const Evaluation e = truth.EvaluatePoints(points);
   EXPECT_DOUBLE_EQ(e.precision, 1.0);
   // Samples within tau below the cut are covered too: a band of height tau on the equator.
-  EXPECT_NEAR(e.recall, 0.5 + kTau / (2 * kRadius), 0.01);
+  EXPECT_NEAR(e.recall, 0.5 + kTruthTau / (2 * kTruthRadius), 0.01);
   EXPECT_NEAR(e.f_score, 2 * e.recall / (1 + e.recall), 1e-12);
   for (const auto& p : e.uncovered.positions) EXPECT_LT(p.z(), 0.0f);
   EXPECT_NEAR(static_cast<double>(e.uncovered.size()) / e.ground_truth_samples, 1 - e.recall, 1e-12);

@@ -17,7 +17,7 @@ namespace {
 
 // A box 0.2 x 0.1 x 0.3 m: faces of 0.03 m^2 across x, 0.06 across y and 0.02 across z.
 const Eigen::Vector3d kLo(-0.1, -0.05, -0.15), kHi(0.1, 0.05, 0.15);
-constexpr double kTau = 0.006;
+constexpr double kViewsTau = 0.006;
 constexpr float kOnFace = 1e-5f;
 
 enum Side : size_t { kPlusX, kMinusX, kPlusY, kMinusY, kPlusZ, kMinusZ };
@@ -47,7 +47,7 @@ std::vector<CandidateView> AxisViews() {
 
 NextBestViewOptions Options() {
   NextBestViewOptions options;
-  options.tau = kTau;
+  options.tau = kViewsTau;
   options.max_views = 6;
   return options;
 }
@@ -70,7 +70,7 @@ BoxCase ScannedFromTheSides() {
   BoxCase box;
   for (const Eigen::Vector3f& p : box.samples) {
     const bool side = std::abs(p.y()) >= 0.05f - kOnFace;
-    const bool back = p.x() < -0.1f + 2 * kTau;
+    const bool back = p.x() < -0.1f + 2 * kViewsTau;
     box.covered.push_back(side || back ? 1 : 0);
   }
   return box;
@@ -89,7 +89,8 @@ TEST(NextBestViews, PicksTheFaceWithMostMissedAreaThenTheRest) {
 
   // +x first: its face, plus the missed samples on the faces across z within tau of its edge.
   const size_t face = box.Count([](const Eigen::Vector3f& p) { return p.x() >= 0.1f - kOnFace; });
-  const size_t band = box.Count([](const Eigen::Vector3f& p) { return p.x() > 0.1f - kTau && p.x() < 0.1f - kOnFace; });
+  const size_t band =
+      box.Count([](const Eigen::Vector3f& p) { return p.x() > 0.1f - kViewsTau && p.x() < 0.1f - kOnFace; });
   EXPECT_EQ((*picks)[0].candidate, kPlusX);
   EXPECT_GE((*picks)[0].gained_samples, face);
   EXPECT_LE((*picks)[0].gained_samples, face + band);

@@ -22,12 +22,12 @@ namespace {
 constexpr MeshFileFormat kAllFormats[] = {MeshFileFormat::kAuto, MeshFileFormat::kPly, MeshFileFormat::kObj,
                                           MeshFileFormat::kStl};
 
-constexpr char kTrianglePly[] =
+constexpr char kRejectTrianglePly[] =
     "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
     "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
     "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
 
-void ExpectInvalid(const StatusOr<TriangleMesh>& result, const std::string& prefix) {
+void ExpectInvalidMesh(const StatusOr<TriangleMesh>& result, const std::string& prefix) {
   ASSERT_FALSE(result.ok()) << "accepted a mesh with " << result->triangles.size() << " triangles";
   EXPECT_EQ(result.status().code(), StatusCode::kInvalidArgument) << result.status().ToString();
   EXPECT_EQ(result.status().message().rfind(prefix, 0), 0u) << result.status().message();
@@ -48,22 +48,22 @@ std::string BinaryStl(const std::vector<std::array<float, 9>>& facets) {
 
 TEST(MeshImportRejectTest, BadScale) {
   for (double scale : {0.0, -1.0, std::nan(""), std::numeric_limits<double>::infinity()}) {
-    ExpectInvalid(ImportMesh(kTrianglePly, MeshFileFormat::kPly, scale), "scale: ");
+    ExpectInvalidMesh(ImportMesh(kRejectTrianglePly, MeshFileFormat::kPly, scale), "scale: ");
   }
-  EXPECT_TRUE(ImportMesh(kTrianglePly, MeshFileFormat::kPly, 1e-6).ok());
+  EXPECT_TRUE(ImportMesh(kRejectTrianglePly, MeshFileFormat::kPly, 1e-6).ok());
 }
 
 TEST(MeshImportRejectTest, VerticesBeyondTenKilometresOnceScaled) {
   const std::string huge = BinaryStl({{1e38f, 0, 0, 0, 1, 0, 0, 0, 1}});
-  ExpectInvalid(ImportMesh(huge, MeshFileFormat::kStl, 1.0), "mesh data: a vertex lies beyond 10 km");
+  ExpectInvalidMesh(ImportMesh(huge, MeshFileFormat::kStl, 1.0), "mesh data: a vertex lies beyond 10 km");
   // 2 m in kilometres is 2 km: in bounds; 20 km is not.
   const std::string two = BinaryStl({{2, 0, 0, 0, 1, 0, 0, 0, 1}});
   EXPECT_TRUE(ImportMesh(two, MeshFileFormat::kStl, 1000.0).ok());
-  ExpectInvalid(ImportMesh(two, MeshFileFormat::kStl, 10000.0), "mesh data: a vertex lies beyond 10 km");
+  ExpectInvalidMesh(ImportMesh(two, MeshFileFormat::kStl, 10000.0), "mesh data: a vertex lies beyond 10 km");
 }
 
 TEST(MeshImportRejectTest, EmptyBytes) {
-  for (auto format : kAllFormats) ExpectInvalid(ImportMesh("", format, 1.0), "mesh data: empty");
+  for (auto format : kAllFormats) ExpectInvalidMesh(ImportMesh("", format, 1.0), "mesh data: empty");
 }
 
 TEST(MeshImportRejectTest, GarbageBytes) {
@@ -71,75 +71,75 @@ TEST(MeshImportRejectTest, GarbageBytes) {
   for (int round = 0; round < 8; ++round) {
     std::string garbage(200 + 333 * round, '\0');
     for (auto& c : garbage) c = static_cast<char>(rng() & 0xff);
-    for (auto format : kAllFormats) ExpectInvalid(ImportMesh(garbage, format, 1.0), "mesh data: ");
+    for (auto format : kAllFormats) ExpectInvalidMesh(ImportMesh(garbage, format, 1.0), "mesh data: ");
   }
-  ExpectInvalid(ImportMesh("this is not a mesh\n", MeshFileFormat::kAuto, 1.0), "mesh data: ");
+  ExpectInvalidMesh(ImportMesh("this is not a mesh\n", MeshFileFormat::kAuto, 1.0), "mesh data: ");
 }
 
 TEST(MeshImportRejectTest, PlyWithoutFaces) {
   constexpr char kPoints[] =
       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
       "end_header\n0 0 0\n1 0 0\n0 1 0\n";
-  ExpectInvalid(ImportMesh(kPoints, MeshFileFormat::kAuto, 1.0), "mesh data: ");
+  ExpectInvalidMesh(ImportMesh(kPoints, MeshFileFormat::kAuto, 1.0), "mesh data: ");
 }
 
 TEST(MeshImportRejectTest, LinesAndPointsOnlyHaveNoTriangles) {
-  ExpectInvalid(ImportMesh("v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\nl 2 3\n", MeshFileFormat::kObj, 1.0), "mesh data: ");
+  ExpectInvalidMesh(ImportMesh("v 0 0 0\nv 1 0 0\nv 0 1 0\nl 1 2\nl 2 3\n", MeshFileFormat::kObj, 1.0), "mesh data: ");
 }
 
 TEST(MeshImportRejectTest, NonFiniteVertices) {
   for (const char* bad : {"nan", "inf", "-inf"}) {
-    std::string ply = kTrianglePly;
+    std::string ply = kRejectTrianglePly;
     ply.replace(ply.find("1 0 0\n"), 1, bad);
-    ExpectInvalid(ImportMesh(ply, MeshFileFormat::kPly, 1.0), "mesh data: ");
+    ExpectInvalidMesh(ImportMesh(ply, MeshFileFormat::kPly, 1.0), "mesh data: ");
   }
   float nan = std::numeric_limits<float>::quiet_NaN();
-  ExpectInvalid(ImportMesh(BinaryStl({{0, 0, 0, 1, 0, 0, 0, nan, 0}}), MeshFileFormat::kStl, 1.0), "mesh data: ");
-  ExpectInvalid(ImportMesh(BinaryStl({{0, 0, 0, 1, 0, 0, 0, nan, 0}}), MeshFileFormat::kAuto, 1.0), "mesh data: ");
+  ExpectInvalidMesh(ImportMesh(BinaryStl({{0, 0, 0, 1, 0, 0, 0, nan, 0}}), MeshFileFormat::kStl, 1.0), "mesh data: ");
+  ExpectInvalidMesh(ImportMesh(BinaryStl({{0, 0, 0, 1, 0, 0, 0, nan, 0}}), MeshFileFormat::kAuto, 1.0), "mesh data: ");
   EXPECT_TRUE(ImportMesh(BinaryStl({{0, 0, 0, 1, 0, 0, 0, 1, 0}}), MeshFileFormat::kAuto, 1.0).ok());
 }
 
 TEST(MeshImportRejectTest, CoordinatesThatOverflowFloatAfterScaling) {
-  std::string ply = kTrianglePly;
+  std::string ply = kRejectTrianglePly;
   ply.replace(ply.find("1 0 0\n"), 1, "3e38");
-  ExpectInvalid(ImportMesh(ply, MeshFileFormat::kPly, 1.0), "mesh data: ");
-  ExpectInvalid(ImportMesh(ply, MeshFileFormat::kPly, 10.0), "mesh data: ");
+  ExpectInvalidMesh(ImportMesh(ply, MeshFileFormat::kPly, 1.0), "mesh data: ");
+  ExpectInvalidMesh(ImportMesh(ply, MeshFileFormat::kPly, 10.0), "mesh data: ");
 }
 
 TEST(MeshImportRejectTest, FaceIndexOutOfRange) {
   // Without validation before post-processing, this PLY crashes assimp 5.2.
-  std::string ply = kTrianglePly;
+  std::string ply = kRejectTrianglePly;
   ply.replace(ply.find("3 0 1 2"), 7, "3 0 1 100000");
-  ExpectInvalid(ImportMesh(ply, MeshFileFormat::kPly, 1.0), "mesh data: ");
-  ExpectInvalid(ImportMesh("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 100000\n", MeshFileFormat::kObj, 1.0), "mesh data: ");
+  ExpectInvalidMesh(ImportMesh(ply, MeshFileFormat::kPly, 1.0), "mesh data: ");
+  ExpectInvalidMesh(ImportMesh("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 100000\n", MeshFileFormat::kObj, 1.0), "mesh data: ");
 }
 
 TEST(MeshImportRejectTest, MalformedPlyHeadersFailFast) {
   // Found by fuzzing: assimp's PLY loader hangs or reads out of bounds on these, so they must be
   // turned away before it sees them.
-  std::string no_end = kTrianglePly;
+  std::string no_end = kRejectTrianglePly;
   no_end.replace(no_end.find("end_header"), 10, std::string("e\0\0_header", 10));
-  ExpectInvalid(ImportMesh(no_end, MeshFileFormat::kAuto, 1.0), "mesh data: PLY header");
-  std::string bad_keyword = kTrianglePly;
+  ExpectInvalidMesh(ImportMesh(no_end, MeshFileFormat::kAuto, 1.0), "mesh data: PLY header");
+  std::string bad_keyword = kRejectTrianglePly;
   bad_keyword.replace(bad_keyword.find("element vertex"), 14, "elem tnveertex");
-  ExpectInvalid(ImportMesh(bad_keyword, MeshFileFormat::kPly, 1.0), "mesh data: PLY header");
-  std::string huge_count = kTrianglePly;
+  ExpectInvalidMesh(ImportMesh(bad_keyword, MeshFileFormat::kPly, 1.0), "mesh data: PLY header");
+  std::string huge_count = kRejectTrianglePly;
   huge_count.replace(huge_count.find("element vertex 3"), 16, "element vertex 4000000000");
-  ExpectInvalid(ImportMesh(huge_count, MeshFileFormat::kPly, 1.0), "mesh data: PLY header");
+  ExpectInvalidMesh(ImportMesh(huge_count, MeshFileFormat::kPly, 1.0), "mesh data: PLY header");
 }
 
 TEST(MeshImportRejectTest, FaceWithoutVertices) {
   // A face list of length zero trips an assertion inside assimp's triangulation.
-  std::string ply = kTrianglePly;
+  std::string ply = kRejectTrianglePly;
   ply.replace(ply.find("3 0 1 2"), 7, "0");
-  ExpectInvalid(ImportMesh(ply, MeshFileFormat::kPly, 1.0), "mesh data: ");
+  ExpectInvalidMesh(ImportMesh(ply, MeshFileFormat::kPly, 1.0), "mesh data: ");
 }
 
 TEST(MeshImportRejectTest, TruncatedFiles) {
   std::string stl = BinaryStl({{0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 0, 1, 1, 0, 1, 0, 1, 1}});
-  ExpectInvalid(ImportMesh(stl.substr(0, stl.size() - 10), MeshFileFormat::kStl, 1.0), "mesh data: ");
-  std::string ply = kTrianglePly;
-  ExpectInvalid(ImportMesh(ply.substr(0, ply.size() - 10), MeshFileFormat::kPly, 1.0), "mesh data: ");
+  ExpectInvalidMesh(ImportMesh(stl.substr(0, stl.size() - 10), MeshFileFormat::kStl, 1.0), "mesh data: ");
+  std::string ply = kRejectTrianglePly;
+  ExpectInvalidMesh(ImportMesh(ply.substr(0, ply.size() - 10), MeshFileFormat::kPly, 1.0), "mesh data: ");
 }
 
 // An OBJ's mtllib names a path chosen by the uploader; the importer must not open it. A FIFO shows

@@ -26,7 +26,7 @@ namespace {
 
 using namespace std::chrono_literals;
 
-constexpr char kTrianglePly[] =
+constexpr char kSandboxTrianglePly[] =
     "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
     "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
     "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
@@ -83,7 +83,7 @@ void ExpectSameMesh(const TriangleMesh& a, const TriangleMesh& b) {
   EXPECT_TRUE(a.triangles == b.triangles);
 }
 
-void ExpectInvalid(const StatusOr<TriangleMesh>& result, const std::string& text) {
+void ExpectInvalidSandboxed(const StatusOr<TriangleMesh>& result, const std::string& text) {
   ASSERT_FALSE(result.ok());
   EXPECT_EQ(result.status().code(), StatusCode::kInvalidArgument) << result.status().ToString();
   EXPECT_EQ(result.status().message().rfind("mesh data: ", 0), 0u) << result.status().message();
@@ -125,11 +125,11 @@ TEST_F(SandboxedImportTest, ErrorsComeBackAsImportMeshReportsThem) {
                                {"", MeshFileFormat::kObj}}) {
     auto local = ImportMesh(bytes, format, 1.0);
     auto isolated = ImportMeshIsolated(bytes, format, 1.0, Sandbox());
-    ExpectInvalid(isolated, "");
+    ExpectInvalidSandboxed(isolated, "");
     ASSERT_FALSE(local.ok());
     EXPECT_EQ(isolated.status().message(), local.status().message());
   }
-  auto bad_scale = ImportMeshIsolated(kTrianglePly, MeshFileFormat::kPly, -1.0, Sandbox());
+  auto bad_scale = ImportMeshIsolated(kSandboxTrianglePly, MeshFileFormat::kPly, -1.0, Sandbox());
   ASSERT_FALSE(bad_scale.ok());
   EXPECT_EQ(bad_scale.status().code(), StatusCode::kInvalidArgument);
   EXPECT_EQ(bad_scale.status().message().rfind("scale: ", 0), 0u) << bad_scale.status().message();
@@ -137,14 +137,14 @@ TEST_F(SandboxedImportTest, ErrorsComeBackAsImportMeshReportsThem) {
 
 TEST_F(SandboxedImportTest, ImporterAbortIsReportedWithTheSignal) {
   ScopedEnv crash("VSCAN_MESH_IMPORT_TEST_CRASH", "abort");
-  ExpectInvalid(ImportMeshIsolated(kTrianglePly, MeshFileFormat::kPly, 1.0, Sandbox()),
+  ExpectInvalidSandboxed(ImportMeshIsolated(kSandboxTrianglePly, MeshFileFormat::kPly, 1.0, Sandbox()),
                 "could not be parsed (importer stopped by signal " + std::to_string(SIGABRT) + ")");
 }
 
 TEST_F(SandboxedImportTest, ImporterThatHangsIsKilledAtTheTimeout) {
   ScopedEnv hang("VSCAN_MESH_IMPORT_TEST_CRASH", "hang");
   const auto start = std::chrono::steady_clock::now();
-  ExpectInvalid(ImportMeshIsolated(kTrianglePly, MeshFileFormat::kPly, 1.0, Sandbox(500ms)),
+  ExpectInvalidSandboxed(ImportMeshIsolated(kSandboxTrianglePly, MeshFileFormat::kPly, 1.0, Sandbox(500ms)),
                 "import did not finish within 0.5 s");
   const auto elapsed = std::chrono::steady_clock::now() - start;
   EXPECT_GE(elapsed, 500ms);
@@ -154,10 +154,10 @@ TEST_F(SandboxedImportTest, ImporterThatHangsIsKilledAtTheTimeout) {
 TEST_F(SandboxedImportTest, HelperThatFailsOrPrintsNonsense) {
   ImportSandbox sandbox = Sandbox();
   sandbox.helper_path = "/bin/false";
-  ExpectInvalid(ImportMeshIsolated(kTrianglePly, MeshFileFormat::kPly, 1.0, sandbox),
+  ExpectInvalidSandboxed(ImportMeshIsolated(kSandboxTrianglePly, MeshFileFormat::kPly, 1.0, sandbox),
                 "importer exited with status 1");
   sandbox.helper_path = "/bin/echo";
-  auto echoed = ImportMeshIsolated(kTrianglePly, MeshFileFormat::kPly, 1.0, sandbox);
+  auto echoed = ImportMeshIsolated(kSandboxTrianglePly, MeshFileFormat::kPly, 1.0, sandbox);
   ASSERT_FALSE(echoed.ok());
   EXPECT_EQ(echoed.status().code(), StatusCode::kInternal) << echoed.status().ToString();
 }
@@ -166,7 +166,7 @@ TEST_F(SandboxedImportTest, MissingHelperIsUnavailable) {
   for (const char* path : {"/nonexistent/vscan-mesh-import", "/", "/etc/hostname", ""}) {
     ImportSandbox sandbox = Sandbox();
     sandbox.helper_path = path;
-    auto result = ImportMeshIsolated(kTrianglePly, MeshFileFormat::kPly, 1.0, sandbox);
+    auto result = ImportMeshIsolated(kSandboxTrianglePly, MeshFileFormat::kPly, 1.0, sandbox);
     ASSERT_FALSE(result.ok()) << path;
     EXPECT_EQ(result.status().code(), StatusCode::kUnavailable) << result.status().ToString();
     EXPECT_EQ(result.status().message().rfind(std::string("mesh importer: cannot start '") + path + "'", 0), 0u)
@@ -216,7 +216,7 @@ TEST_F(SandboxedImportTest, ConcurrentImportsKeepTheirPipesApart) {
   for (int t = 0; t < 6; ++t) {
     threads.emplace_back([&good] {
       for (int i = 0; i < 8; ++i) {
-        auto mesh = ImportMeshIsolated(kTrianglePly, MeshFileFormat::kPly, 1.0, Sandbox(20s));
+        auto mesh = ImportMeshIsolated(kSandboxTrianglePly, MeshFileFormat::kPly, 1.0, Sandbox(20s));
         if (mesh.ok() && mesh->triangles.size() == 1) ++good;
       }
     });

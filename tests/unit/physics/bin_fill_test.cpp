@@ -13,7 +13,7 @@ namespace vscan::physics {
 namespace {
 
 // A small bin, moved and turned in the world so that the bin frame matters.
-BinSpec SmallBin() {
+BinSpec SmallFillBin() {
   BinSpec bin;
   bin.inner_size = Eigen::Vector3d(0.20, 0.15, 0.10);
   bin.wall_thickness = 0.01;
@@ -31,7 +31,7 @@ FillResult Fill(const BinSpec& bin, const std::vector<PartType>& parts, const Fi
 }
 
 TEST(FillBin, SettledPartsLieInsideTheBinBelowTheRim) {
-  const BinSpec bin = SmallBin();
+  const BinSpec bin = SmallFillBin();
   const auto parts = Mix(6, 6);
   const FillResult result = Fill(bin, parts, FillOptions{});
   EXPECT_EQ(result.end, FillEnd::kSettled) << result.message;
@@ -52,7 +52,7 @@ TEST(FillBin, SettledPartsLieInsideTheBinBelowTheRim) {
 }
 
 TEST(FillBin, PartsBarelyInterpenetrate) {
-  const FillResult result = Fill(SmallBin(), Mix(8, 8), FillOptions{});
+  const FillResult result = Fill(SmallFillBin(), Mix(8, 8), FillOptions{});
   EXPECT_EQ(result.end, FillEnd::kSettled) << result.message;
   EXPECT_LT(result.max_part_part_penetration_m, 0.002);
   EXPECT_LT(result.max_part_bin_penetration_m, 0.002);
@@ -62,10 +62,10 @@ TEST(FillBin, OneSeedGivesTheSameBitsAnotherSeedOtherPoses) {
   FillOptions options;
   options.seed = 7;
   const auto parts = Mix(4, 4);
-  const FillResult first = Fill(SmallBin(), parts, options);
-  const FillResult again = Fill(SmallBin(), parts, options);
+  const FillResult first = Fill(SmallFillBin(), parts, options);
+  const FillResult again = Fill(SmallFillBin(), parts, options);
   options.seed = 8;
-  const FillResult other = Fill(SmallBin(), parts, options);
+  const FillResult other = Fill(SmallFillBin(), parts, options);
   ASSERT_EQ(first.parts.size(), again.parts.size());
   EXPECT_EQ(first.steps, again.steps);
   bool all_equal_to_other = first.parts.size() == other.parts.size();
@@ -93,7 +93,7 @@ TEST(FillBin, MorePartsThanTheBinHoldsEndsFull) {
 TEST(FillBin, ATinyTimeBoundEndsAtTheBound) {
   FillOptions options;
   options.max_simulated_s = 0.05;
-  const FillResult result = Fill(SmallBin(), Mix(4, 4), options);
+  const FillResult result = Fill(SmallFillBin(), Mix(4, 4), options);
   EXPECT_EQ(result.end, FillEnd::kTimeBound) << result.message;
   EXPECT_EQ(result.steps, 12u);  // ceil(0.05 * 240)
   EXPECT_NEAR(result.simulated_s, 0.05, 1e-3);
@@ -101,7 +101,7 @@ TEST(FillBin, ATinyTimeBoundEndsAtTheBound) {
 
 TEST(FillBin, CancelStopsTheRun) {
   std::atomic<bool> cancel{true};
-  auto result = FillBin(SmallBin(), Mix(4, 4), FillOptions{}, &cancel);
+  auto result = FillBin(SmallFillBin(), Mix(4, 4), FillOptions{}, &cancel);
   ASSERT_TRUE(result.ok());
   EXPECT_EQ(result->end, FillEnd::kCancelled);
   EXPECT_EQ(result->steps, 0u);
@@ -116,7 +116,7 @@ std::string FieldOf(const BinSpec& bin, const std::vector<PartType>& parts, cons
 }
 
 TEST(FillBin, BadInputNamesItsField) {
-  const BinSpec good_bin = SmallBin();
+  const BinSpec good_bin = SmallFillBin();
   const auto good_parts = Mix(2, 2);
   const FillOptions good_options;
 
@@ -160,7 +160,7 @@ TEST(FillBin, BadInputNamesItsField) {
 constexpr float kFloorX = 0.16f, kFloorY = 0.12f, kTopX = 0.22f, kTopY = 0.16f, kDepth = 0.10f;
 
 BinSpec ToteBin() {
-  BinSpec bin = SmallBin();
+  BinSpec bin = SmallFillBin();
   bin.mesh = test::SlopedTote(kFloorX, kFloorY, kTopX, kTopY, kDepth);
   return bin;
 }
@@ -215,7 +215,7 @@ TEST(FillBin, AMeshBinWhoseOpeningIsNarrowerThanThePartsEndsFull) {
 }
 
 TEST(FillBin, AMeshBinWithoutVolumeIsRefused) {
-  BinSpec bin = SmallBin();
+  BinSpec bin = SmallFillBin();
   bin.mesh = test::SlopedTote(0.1f, 0.1f, 0.1f, 0.1f, 0.0f);
   EXPECT_EQ(FieldOf(bin, Mix(1, 1), FillOptions{}), "bin.mesh");
   bin.mesh = test::SlopedTote(0.1f, 0.1f, 0.2f, 0.2f, 0.1f);

@@ -11,7 +11,7 @@
 namespace vscan::physics {
 namespace {
 
-double OutsideBy(const Eigen::Vector3d& p, const std::vector<Eigen::Vector3d>& points) {
+double ShapeOutsideBy(const Eigen::Vector3d& p, const std::vector<Eigen::Vector3d>& points) {
   return test::OutsideHullBy(p, points, 2000);
 }
 
@@ -25,7 +25,7 @@ TEST(CollisionShape, ASimplifiedHullHoldsEveryHullVertexWithinTheTolerance) {
     double worst = 0.0, worst_by_support = 0.0;
     for (const auto& p : exact) {
       worst = std::max(worst, DistanceOutsideHull(p, simplified));
-      worst_by_support = std::max(worst_by_support, OutsideBy(p, simplified));
+      worst_by_support = std::max(worst_by_support, ShapeOutsideBy(p, simplified));
     }
     EXPECT_LE(worst, kTolerance);
     EXPECT_LE(worst_by_support, worst + 1e-9);  // the support bound never exceeds the distance

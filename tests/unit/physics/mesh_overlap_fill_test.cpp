@@ -69,7 +69,7 @@ double DeepestVertexOverlap(const std::vector<PartType>& parts, const std::vecto
   return deepest;
 }
 
-BinSpec SmallBin() {
+BinSpec SmallOverlapBin() {
   BinSpec bin;
   bin.inner_size = Eigen::Vector3d(0.20, 0.15, 0.10);
   bin.world_from_bin = RotationAboutLine(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), 0.4);
@@ -80,7 +80,7 @@ BinSpec SmallBin() {
 void ExpectWithinBound(const std::vector<PartType>& parts, uint64_t seed) {
   FillOptions options;
   options.seed = seed;
-  auto result = FillBin(SmallBin(), parts, options);
+  auto result = FillBin(SmallOverlapBin(), parts, options);
   ASSERT_TRUE(result.ok()) << result.status().ToString();
   EXPECT_EQ(result->end, FillEnd::kSettled) << result->message;
   const MeshOverlaps& overlap = result->mesh_overlap;
@@ -114,7 +114,7 @@ TEST(MeshOverlapFill, WithoutSeparationTheOverlapIsOnlyMeasured) {
   options.seed = 1;
   options.max_mesh_overlap_m = 0.0;
   const std::vector<PartType> parts = {test::AngleBlock(8), test::RoundPin(8)};
-  auto result = FillBin(SmallBin(), parts, options);
+  auto result = FillBin(SmallOverlapBin(), parts, options);
   ASSERT_TRUE(result.ok());
   EXPECT_EQ(result->mesh_overlap.moved_parts, 0u);
   EXPECT_EQ(result->mesh_overlap.rounds, 0);
@@ -128,9 +128,9 @@ TEST(MeshOverlapFill, WithoutTheMeasureTheFillIsTheSameAndReportsNoOverlaps) {
   options.seed = 2;
   options.max_mesh_overlap_m = 0.0;
   const std::vector<PartType> parts = {test::AngleBlock(4), test::RoundPin(4)};
-  auto measured = FillBin(SmallBin(), parts, options);
+  auto measured = FillBin(SmallOverlapBin(), parts, options);
   options.measure_mesh_overlaps = false;
-  auto unmeasured = FillBin(SmallBin(), parts, options);
+  auto unmeasured = FillBin(SmallOverlapBin(), parts, options);
   ASSERT_TRUE(measured.ok() && unmeasured.ok());
   EXPECT_GT(measured->mesh_overlap.resolution_m, 0.0);
   EXPECT_EQ(unmeasured->mesh_overlap.resolution_m, 0.0);

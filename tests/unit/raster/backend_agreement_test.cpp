@@ -91,13 +91,13 @@ struct Agreement {
   double rms_dz = 0;
 };
 
-struct Case {
+struct AgreementCase {
   RasterMethod method;
   DepthFormat format;
   const char* name;
 };
 
-class BackendAgreementTest : public ::testing::TestWithParam<Case> {
+class BackendAgreementTest : public ::testing::TestWithParam<AgreementCase> {
  protected:
   static void SetUpTestSuite() {
     scene_ = new Scene(MakeScene());
@@ -199,11 +199,12 @@ TEST_P(BackendAgreementTest, MatchesTheRayCaster) {
   EXPECT_EQ(a.intensity_outliers, 0u);
 }
 
-INSTANTIATE_TEST_SUITE_P(Methods, BackendAgreementTest,
-                         ::testing::Values(Case{RasterMethod::kDepthBuffer, DepthFormat::kFloat32Reversed, "DepthFloat32Reversed"},
-                                           Case{RasterMethod::kDepthBuffer, DepthFormat::kFixed24, "DepthFixed24"},
-                                           Case{RasterMethod::kColourBuffer, DepthFormat::kFloat32Reversed, "Colour"}),
-                         [](const auto& info) { return std::string(info.param.name); });
+INSTANTIATE_TEST_SUITE_P(
+    Methods, BackendAgreementTest,
+    ::testing::Values(AgreementCase{RasterMethod::kDepthBuffer, DepthFormat::kFloat32Reversed, "DepthFloat32Reversed"},
+                      AgreementCase{RasterMethod::kDepthBuffer, DepthFormat::kFixed24, "DepthFixed24"},
+                      AgreementCase{RasterMethod::kColourBuffer, DepthFormat::kFloat32Reversed, "Colour"}),
+    [](const auto& info) { return std::string(info.param.name); });
 
 }  // namespace
 }  // namespace vscan::raster

@@ -72,13 +72,13 @@ double WindowDepth(double z, double n, double f, bool reversed) {
   return reversed ? n * (f - z) / (z * (f - n)) : f * (z - n) / (z * (f - n));
 }
 
-struct Case {
+struct PlaneCase {
   RasterMethod method;
   DepthFormat format;
   const char* name;
 };
 
-class PlaneTest : public ::testing::TestWithParam<Case> {};
+class PlaneTest : public ::testing::TestWithParam<PlaneCase> {};
 
 TEST_P(PlaneTest, EveryPixelWithinQuantisationOfTheTruth) {
   RasterRenderer* renderer = testing::SharedRenderer();
@@ -150,12 +150,13 @@ TEST_P(PlaneTest, WorldPointsLieOnThePlane) {
   EXPECT_LT(worst, 1e-4);
 }
 
-INSTANTIATE_TEST_SUITE_P(Methods, PlaneTest,
-                         ::testing::Values(Case{RasterMethod::kDepthBuffer, DepthFormat::kFixed24, "DepthFixed24"},
-                                           Case{RasterMethod::kDepthBuffer, DepthFormat::kFloat32, "DepthFloat32"},
-                                           Case{RasterMethod::kDepthBuffer, DepthFormat::kFloat32Reversed, "DepthFloat32Reversed"},
-                                           Case{RasterMethod::kColourBuffer, DepthFormat::kFloat32Reversed, "Colour"}),
-                         [](const auto& info) { return std::string(info.param.name); });
+INSTANTIATE_TEST_SUITE_P(
+    Methods, PlaneTest,
+    ::testing::Values(PlaneCase{RasterMethod::kDepthBuffer, DepthFormat::kFixed24, "DepthFixed24"},
+                      PlaneCase{RasterMethod::kDepthBuffer, DepthFormat::kFloat32, "DepthFloat32"},
+                      PlaneCase{RasterMethod::kDepthBuffer, DepthFormat::kFloat32Reversed, "DepthFloat32Reversed"},
+                      PlaneCase{RasterMethod::kColourBuffer, DepthFormat::kFloat32Reversed, "Colour"}),
+    [](const auto& info) { return std::string(info.param.name); });
 
 }  // namespace
 }  // namespace vscan::raster

@@ -30,7 +30,7 @@ struct Arm {
   Status Load() const { return LoadUrdfBundle("r.urdf", {{"r.urdf", Urdf()}, {"m.stl", "solid m"}}).status(); }
 };
 
-void ExpectInvalid(const Status& status, const std::string& fragment) {
+void ExpectInvalidBounds(const Status& status, const std::string& fragment) {
   EXPECT_EQ(status.code(), StatusCode::kInvalidArgument) << status.ToString();
   EXPECT_NE(status.message().find(fragment), std::string::npos) << status.message();
 }
@@ -50,9 +50,9 @@ TEST(UrdfBounds, ValuesAtTheBoundLoad) {
 TEST(UrdfBounds, JointOriginsAreBounded) {
   Arm arm;
   arm.joint_xyz = "1e300 0 0";
-  ExpectInvalid(arm.Load(), "joints['j'].origin.xyz: coordinates beyond");
+  ExpectInvalidBounds(arm.Load(), "joints['j'].origin.xyz: coordinates beyond");
   arm.joint_xyz = "0 0 -10000.5";
-  ExpectInvalid(arm.Load(), "joints['j'].origin.xyz");
+  ExpectInvalidBounds(arm.Load(), "joints['j'].origin.xyz");
 }
 
 TEST(UrdfBounds, NonNumericOrOverflowingValuesAreRefused) {
@@ -77,38 +77,38 @@ TEST(UrdfBounds, HugeFiniteRpyIsStillARotation) {
 TEST(UrdfBounds, VisualAndCollisionOriginsAreBounded) {
   Arm arm;
   arm.visual_xyz = "0 1e300 0";
-  ExpectInvalid(arm.Load(), "links['arm'].visual[0].origin.xyz");
+  ExpectInvalidBounds(arm.Load(), "links['arm'].visual[0].origin.xyz");
   arm = Arm();
   arm.collision_xyz = "0 0 2e4";
-  ExpectInvalid(arm.Load(), "links['arm'].collision[0].origin.xyz");
+  ExpectInvalidBounds(arm.Load(), "links['arm'].collision[0].origin.xyz");
 }
 
 TEST(UrdfBounds, PrimitiveSizesAreBounded) {
   Arm arm;
   arm.visual_geometry = "<box size='1 1e300 1'/>";
-  ExpectInvalid(arm.Load(), "links['arm'].visual[0].box.size");
+  ExpectInvalidBounds(arm.Load(), "links['arm'].visual[0].box.size");
   arm.visual_geometry = "<sphere radius='1e300'/>";
-  ExpectInvalid(arm.Load(), "links['arm'].visual[0].sphere.radius");
+  ExpectInvalidBounds(arm.Load(), "links['arm'].visual[0].sphere.radius");
   arm = Arm();
   arm.collision_geometry = "<cylinder radius='0.1' length='1e300'/>";
-  ExpectInvalid(arm.Load(), "links['arm'].collision[0].cylinder.length");
+  ExpectInvalidBounds(arm.Load(), "links['arm'].collision[0].cylinder.length");
   arm.collision_geometry = "<cylinder radius='1e300' length='1'/>";
-  ExpectInvalid(arm.Load(), "links['arm'].collision[0].cylinder.radius");
+  ExpectInvalidBounds(arm.Load(), "links['arm'].collision[0].cylinder.radius");
 }
 
 TEST(UrdfBounds, MeshScalesAreBounded) {
   Arm arm;
   arm.collision_geometry = "<mesh filename='m.stl' scale='1 1 1e300'/>";
-  ExpectInvalid(arm.Load(), "links['arm'].collision[0].mesh.scale");
+  ExpectInvalidBounds(arm.Load(), "links['arm'].collision[0].mesh.scale");
   arm.collision_geometry = "<mesh filename='m.stl' scale='-2e4 1 1'/>";
-  ExpectInvalid(arm.Load(), "links['arm'].collision[0].mesh.scale");
+  ExpectInvalidBounds(arm.Load(), "links['arm'].collision[0].mesh.scale");
 }
 
 TEST(UrdfBounds, PrismaticLimitsAreBounded) {
   Arm arm;
   arm.joint_type = "prismatic";
   arm.limits = "lower='0' upper='1e300'";
-  ExpectInvalid(arm.Load(), "joints['j'].limit");
+  ExpectInvalidBounds(arm.Load(), "joints['j'].limit");
   // Angles are not lengths: a revolute joint's limits are not bound here.
   arm.joint_type = "revolute";
   const Status status = arm.Load();

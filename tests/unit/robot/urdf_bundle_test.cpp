@@ -24,7 +24,7 @@ StatusOr<UrdfBundle> LoadArm(const std::string& mesh_filename, std::vector<Bundl
   return LoadUrdfBundle(urdf_path, std::move(extra));
 }
 
-void ExpectInvalid(const Status& status, const std::string& fragment) {
+void ExpectInvalidBundle(const Status& status, const std::string& fragment) {
   EXPECT_EQ(status.code(), StatusCode::kInvalidArgument) << status.ToString();
   EXPECT_NE(status.message().find(fragment), std::string::npos) << status.message();
 }
@@ -33,31 +33,31 @@ TEST(BundlePaths, NormalisesWithinTheRoot) {
   EXPECT_EQ(NormalizeBundlePath("a//./b/../c.stl", "f").value(), "a/c.stl");
   EXPECT_EQ(ParentDirectory("a/b/c.stl"), "a/b");
   EXPECT_EQ(ParentDirectory("c.stl"), "");
-  ExpectInvalid(NormalizeBundlePath("../x.stl", "f").status(), "escapes");
-  ExpectInvalid(NormalizeBundlePath("a/../../x.stl", "f").status(), "escapes");
-  ExpectInvalid(NormalizeBundlePath("/etc/passwd", "f").status(), "absolute");
-  ExpectInvalid(NormalizeBundlePath("a\\..\\x", "f").status(), "backslash");
-  ExpectInvalid(NormalizeBundlePath("a/..", "f").status(), "root");
-  ExpectInvalid(NormalizeBundlePath("", "f").status(), "empty");
+  ExpectInvalidBundle(NormalizeBundlePath("../x.stl", "f").status(), "escapes");
+  ExpectInvalidBundle(NormalizeBundlePath("a/../../x.stl", "f").status(), "escapes");
+  ExpectInvalidBundle(NormalizeBundlePath("/etc/passwd", "f").status(), "absolute");
+  ExpectInvalidBundle(NormalizeBundlePath("a\\..\\x", "f").status(), "backslash");
+  ExpectInvalidBundle(NormalizeBundlePath("a/..", "f").status(), "root");
+  ExpectInvalidBundle(NormalizeBundlePath("", "f").status(), "empty");
 }
 
 TEST(UrdfBundle, RefusesFilePathsThatEscapeNamingTheIndex) {
   std::vector<BundleFile> files = {{"arm.urdf", ArmUrdf("m.stl")}, {"../x.stl", "solid"}};
-  ExpectInvalid(LoadUrdfBundle("arm.urdf", files).status(), "files[1].path");
+  ExpectInvalidBundle(LoadUrdfBundle("arm.urdf", files).status(), "files[1].path");
   files[1].path = "/etc/passwd";
-  ExpectInvalid(LoadUrdfBundle("arm.urdf", files).status(), "files[1].path");
+  ExpectInvalidBundle(LoadUrdfBundle("arm.urdf", files).status(), "files[1].path");
   files[1].path = "./arm.urdf";
-  ExpectInvalid(LoadUrdfBundle("arm.urdf", files).status(), "same file as files[0]");
+  ExpectInvalidBundle(LoadUrdfBundle("arm.urdf", files).status(), "same file as files[0]");
 }
 
 TEST(UrdfBundle, RefusesMeshReferencesThatEscape) {
-  ExpectInvalid(LoadArm("../x.stl").status(), "'../x.stl' escapes the bundle");
-  ExpectInvalid(LoadArm("../../x.stl", {}, "urdf/arm.urdf").status(), "'../../x.stl' escapes the bundle");
-  ExpectInvalid(LoadArm("meshes/../../x.stl").status(), "escapes the bundle");
-  ExpectInvalid(LoadArm("/etc/passwd").status(), "'/etc/passwd'");
-  ExpectInvalid(LoadArm("package://p/../../x").status(), "'package://p/../../x' escapes the bundle");
-  ExpectInvalid(LoadArm("file:///etc/passwd").status(), "file://");
-  ExpectInvalid(LoadArm("http://example.com/m.stl").status(), "scheme");
+  ExpectInvalidBundle(LoadArm("../x.stl").status(), "'../x.stl' escapes the bundle");
+  ExpectInvalidBundle(LoadArm("../../x.stl", {}, "urdf/arm.urdf").status(), "'../../x.stl' escapes the bundle");
+  ExpectInvalidBundle(LoadArm("meshes/../../x.stl").status(), "escapes the bundle");
+  ExpectInvalidBundle(LoadArm("/etc/passwd").status(), "'/etc/passwd'");
+  ExpectInvalidBundle(LoadArm("package://p/../../x").status(), "'package://p/../../x' escapes the bundle");
+  ExpectInvalidBundle(LoadArm("file:///etc/passwd").status(), "file://");
+  ExpectInvalidBundle(LoadArm("http://example.com/m.stl").status(), "scheme");
 }
 
 TEST(UrdfBundle, ResolvesRelativeMeshesFromTheUrdfDirectory) {
@@ -108,14 +108,14 @@ TEST(UrdfBundle, Ur5MissingMeshesAreWarningsNotErrors) {
 
 TEST(UrdfBundle, ParseFailuresAreInvalidArgumentWithUrdfdomReason) {
   StatusOr<UrdfBundle> bundle = LoadUrdfBundle("a.urdf", {{"a.urdf", "<robot name='r'><link name='a'/><joint"}});
-  ExpectInvalid(bundle.status(), "urdf: ");
+  ExpectInvalidBundle(bundle.status(), "urdf: ");
   StatusOr<UrdfBundle> no_robot = LoadUrdfBundle("a.urdf", {{"a.urdf", "<notarobot/>"}});
-  ExpectInvalid(no_robot.status(), "urdf: ");
+  ExpectInvalidBundle(no_robot.status(), "urdf: ");
   EXPECT_GT(no_robot.status().message().size(), std::string("urdf: ").size());
 }
 
 TEST(UrdfBundle, UrdfPathMustBeInTheBundle) {
-  ExpectInvalid(LoadUrdfBundle("missing.urdf", {{"a.urdf", ArmUrdf("m.stl")}}).status(), "urdf_path");
+  ExpectInvalidBundle(LoadUrdfBundle("missing.urdf", {{"a.urdf", ArmUrdf("m.stl")}}).status(), "urdf_path");
 }
 
 TEST(UrdfBundle, LimitsAreResourceExhausted) {

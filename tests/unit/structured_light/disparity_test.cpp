@@ -25,7 +25,7 @@ std::vector<Eigen::Vector3f> TiltedPlanePoints(const PinholeCamera& camera) {
   return points;
 }
 
-StructuredLight Scanner(double step, double convergence) {
+StructuredLight DisparityScanner(double step, double convergence) {
   StructuredLight sl;
   sl.camera = CameraFromFov(160, 120, 60.0, 0.1, 5.0);
   sl.projector_offset = {0.08, 0, 0};
@@ -66,14 +66,14 @@ void ExpectOnInverseDepthGrid(const StructuredLight& sl) {
   EXPECT_GT(moved, clean.size() / 2);
 }
 
-TEST(QuantiseDisparity, ParallelAxesSnapToFbOverKStep) { ExpectOnInverseDepthGrid(Scanner(0.5, 0)); }
+TEST(QuantiseDisparity, ParallelAxesSnapToFbOverKStep) { ExpectOnInverseDepthGrid(DisparityScanner(0.5, 0)); }
 
 TEST(QuantiseDisparity, ConvergedAxesMeasureDisparityFromTheConvergencePlane) {
-  ExpectOnInverseDepthGrid(Scanner(0.5, 0.8));
+  ExpectOnInverseDepthGrid(DisparityScanner(0.5, 0.8));
 }
 
 TEST(QuantiseDisparity, ZeroStepLeavesPointsUnchanged) {
-  const StructuredLight sl = Scanner(0, 0.8);
+  const StructuredLight sl = DisparityScanner(0, 0.8);
   const std::vector<Eigen::Vector3f> clean = TiltedPlanePoints(sl.camera);
   std::vector<Eigen::Vector3f> points = clean;
   QuantiseDisparity(sl, points);
@@ -82,7 +82,7 @@ TEST(QuantiseDisparity, ZeroStepLeavesPointsUnchanged) {
 
 TEST(QuantiseDisparity, ConvergencePlaneIsAFixedPoint) {
   // Disparity 0 is on every grid: a point at the convergence depth does not move.
-  const StructuredLight sl = Scanner(0.7, 0.8);
+  const StructuredLight sl = DisparityScanner(0.7, 0.8);
   std::vector<Eigen::Vector3f> points{{0.1f, -0.05f, 0.8f}};
   QuantiseDisparity(sl, points);
   EXPECT_NEAR(points[0].z(), 0.8f, 1e-6);
@@ -90,7 +90,7 @@ TEST(QuantiseDisparity, ConvergencePlaneIsAFixedPoint) {
 }
 
 TEST(QuantiseDisparity, ZeroDisparityWithParallelAxesHasNoDepth) {
-  StructuredLight sl = Scanner(1.0, 0);
+  StructuredLight sl = DisparityScanner(1.0, 0);
   sl.projector_offset = {0.01, 0, 0};
   // d = fx * 0.01 / 4 < 0.5 px rounds to 0: infinitely far.
   ASSERT_LT(DisparityAtDepth(sl, 4.0), 0.5);
@@ -100,7 +100,7 @@ TEST(QuantiseDisparity, ZeroDisparityWithParallelAxesHasNoDepth) {
 }
 
 TEST(Disparity, VerticalBaselineUsesFy) {
-  StructuredLight sl = Scanner(0, 0);
+  StructuredLight sl = DisparityScanner(0, 0);
   sl.camera.fy = 2 * sl.camera.fx;
   sl.projector_offset = {0, -0.1, 0};
   EXPECT_DOUBLE_EQ(DisparityBaseline(sl), 0.1);

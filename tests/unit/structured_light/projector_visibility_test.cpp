@@ -67,7 +67,7 @@ ClassifiedScan ScanAndClassify(const raycast::RaycastScene& scene, const Structu
   return out;
 }
 
-StructuredLight Scanner(double baseline_x) {
+StructuredLight VisibilityScanner(double baseline_x) {
   StructuredLight sl;
   sl.camera = CameraFromFov(240, 120, 60.0, 0.05, 10.0);
   sl.projector_offset = {baseline_x, 0, 0};
@@ -99,7 +99,7 @@ Expect Predict(const StructuredLight& sl, uint32_t u) {
 
 // Checks every pixel against the prediction; returns the mean column of the shadowed pixels.
 double CheckShadow(double baseline_x) {
-  const StructuredLight sl = Scanner(baseline_x);
+  const StructuredLight sl = VisibilityScanner(baseline_x);
   const auto scene = Scene({Rectangle(-2, 2, -2, 2, kPlaneDepth), Rectangle(kPostX0, kPostX1, -2, 2, kPostDepth)});
   const ClassifiedScan scan = ScanAndClassify(*scene, sl);
   EXPECT_EQ(scan.cloud.size(), sl.camera.pixel_count());
@@ -129,7 +129,7 @@ double CheckShadow(double baseline_x) {
 
 TEST(ProjectorShadow, MatchesSimilarTrianglesAndFollowsTheBaseline) {
   // Projector on the right (+x): the post's shadow falls on its left; swapped, on its right.
-  const StructuredLight sl = Scanner(0.1);
+  const StructuredLight sl = VisibilityScanner(0.1);
   const double post_left_column = kPostX0 / kPostDepth * sl.camera.fx + sl.camera.cx;
   const double post_right_column = kPostX1 / kPostDepth * sl.camera.fx + sl.camera.cx;
   const double right = CheckShadow(0.1);
@@ -139,7 +139,7 @@ TEST(ProjectorShadow, MatchesSimilarTrianglesAndFollowsTheBaseline) {
 }
 
 TEST(ProjectorShadow, NothingIsShadowedWithoutAnOccluder) {
-  const StructuredLight sl = Scanner(0.2);
+  const StructuredLight sl = VisibilityScanner(0.2);
   const auto scene = Scene({Rectangle(-2, 2, -2, 2, kPlaneDepth)});
   const ClassifiedScan scan = ScanAndClassify(*scene, sl);
   ASSERT_EQ(scan.cloud.size(), sl.camera.pixel_count());
@@ -149,7 +149,7 @@ TEST(ProjectorShadow, NothingIsShadowedWithoutAnOccluder) {
 
 TEST(ProjectorField, RowsOutsideANarrowVerticalFieldAreUnlit) {
   for (const double convergence : {0.0, 0.8}) {
-    StructuredLight sl = Scanner(0.1);
+    StructuredLight sl = VisibilityScanner(0.1);
     sl.projector_vfov_deg = 10;
     sl.convergence_distance = convergence;
     const auto scene = Scene({Rectangle(-2, 2, -2, 2, kPlaneDepth)});
@@ -178,7 +178,7 @@ TEST(ProjectorField, RowsOutsideANarrowVerticalFieldAreUnlit) {
 }
 
 TEST(ProjectorField, NonFinitePointsAreUnlit) {
-  const StructuredLight sl = Scanner(0.1);
+  const StructuredLight sl = VisibilityScanner(0.1);
   const auto scene = Scene({});
   const std::vector<Eigen::Vector3f> points{{NAN, 0, 1}, {0, 0, 1}};
   const auto visibility = ProjectorVisibilityOf(*scene, kWorldFromSensor, sl, points);

@@ -26,7 +26,8 @@ v1::StructuredLightScanner ValidMessage() {
   return m;
 }
 
-void ExpectRejected(const v1::StructuredLightScanner& m, const std::string& field, const service::Limits& limits = {}) {
+void ExpectConvertRejected(const v1::StructuredLightScanner& m, const std::string& field,
+                           const service::Limits& limits = {}) {
   const auto sl = StructuredLightFromProto(m, Camera(), limits);
   ASSERT_FALSE(sl.ok()) << field;
   EXPECT_TRUE(sl.status().message().starts_with(field)) << sl.status().message();
@@ -46,28 +47,28 @@ TEST(StructuredLightFromProto, ReadsEveryField) {
 TEST(StructuredLightFromProto, RejectsBadFieldsByName) {
   v1::StructuredLightScanner m = ValidMessage();
   m.clear_camera();
-  ExpectRejected(m, "sensor.structured_light.camera: required");
+  ExpectConvertRejected(m, "sensor.structured_light.camera: required");
   m = ValidMessage();
   m.clear_projector_offset();
-  ExpectRejected(m, "sensor.structured_light.projector_offset: required");
+  ExpectConvertRejected(m, "sensor.structured_light.projector_offset: required");
   m = ValidMessage();
   m.mutable_projector_offset()->set_x(0);
-  ExpectRejected(m, "sensor.structured_light.projector_offset:");
+  ExpectConvertRejected(m, "sensor.structured_light.projector_offset:");
   m = ValidMessage();
   m.mutable_projector_offset()->set_y(std::numeric_limits<double>::infinity());
-  ExpectRejected(m, "sensor.structured_light.projector_offset:");
+  ExpectConvertRejected(m, "sensor.structured_light.projector_offset:");
   m = ValidMessage();
   m.set_projector_horizontal_fov_deg(200);
-  ExpectRejected(m, "sensor.structured_light.projector_horizontal_fov_deg:");
+  ExpectConvertRejected(m, "sensor.structured_light.projector_horizontal_fov_deg:");
   m = ValidMessage();
   m.set_projector_vertical_fov_deg(std::numeric_limits<double>::quiet_NaN());
-  ExpectRejected(m, "sensor.structured_light.projector_vertical_fov_deg:");
+  ExpectConvertRejected(m, "sensor.structured_light.projector_vertical_fov_deg:");
   m = ValidMessage();
   m.set_disparity_step_px(-1);
-  ExpectRejected(m, "sensor.structured_light.disparity_step_px:");
+  ExpectConvertRejected(m, "sensor.structured_light.disparity_step_px:");
   m = ValidMessage();
   m.set_convergence_distance(-0.5);
-  ExpectRejected(m, "sensor.structured_light.convergence_distance:");
+  ExpectConvertRejected(m, "sensor.structured_light.convergence_distance:");
   service::Limits small;
   small.max_rays_per_scan = 1000;
   const auto too_many = StructuredLightFromProto(ValidMessage(), Camera(), small);

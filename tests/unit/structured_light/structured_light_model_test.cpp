@@ -20,7 +20,7 @@ StructuredLight ValidScanner() {
   return sl;
 }
 
-void ExpectRejected(const StructuredLight& sl, const std::string& field_prefix) {
+void ExpectModelRejected(const StructuredLight& sl, const std::string& field_prefix) {
   const Status status = ValidateStructuredLight(sl, "sensor.structured_light");
   EXPECT_FALSE(status.ok()) << field_prefix;
   EXPECT_EQ(status.code(), StatusCode::kInvalidArgument) << status.ToString();
@@ -41,35 +41,35 @@ TEST(StructuredLightValidation, NamesTheOffendingField) {
   const double nan = std::numeric_limits<double>::quiet_NaN();
   StructuredLight sl = ValidScanner();
   sl.camera.fx = 0;
-  ExpectRejected(sl, "sensor.structured_light.camera.fx");
+  ExpectModelRejected(sl, "sensor.structured_light.camera.fx");
 
   sl = ValidScanner();
   sl.projector_offset = {0, 0, 0.1};
-  ExpectRejected(sl, "sensor.structured_light.projector_offset:");
+  ExpectModelRejected(sl, "sensor.structured_light.projector_offset:");
   sl.projector_offset = {nan, 0, 0};
-  ExpectRejected(sl, "sensor.structured_light.projector_offset:");
+  ExpectModelRejected(sl, "sensor.structured_light.projector_offset:");
   sl.projector_offset = {20, 0, 0};
-  ExpectRejected(sl, "sensor.structured_light.projector_offset:");
+  ExpectModelRejected(sl, "sensor.structured_light.projector_offset:");
 
   sl = ValidScanner();
   sl.projector_hfov_deg = 180;
-  ExpectRejected(sl, "sensor.structured_light.projector_horizontal_fov_deg:");
+  ExpectModelRejected(sl, "sensor.structured_light.projector_horizontal_fov_deg:");
   sl = ValidScanner();
   sl.projector_vfov_deg = -1;
-  ExpectRejected(sl, "sensor.structured_light.projector_vertical_fov_deg:");
+  ExpectModelRejected(sl, "sensor.structured_light.projector_vertical_fov_deg:");
 
   sl = ValidScanner();
   sl.disparity_step_px = -0.5;
-  ExpectRejected(sl, "sensor.structured_light.disparity_step_px:");
+  ExpectModelRejected(sl, "sensor.structured_light.disparity_step_px:");
   sl.disparity_step_px = std::numeric_limits<double>::infinity();
-  ExpectRejected(sl, "sensor.structured_light.disparity_step_px:");
+  ExpectModelRejected(sl, "sensor.structured_light.disparity_step_px:");
 
   sl = ValidScanner();
   sl.convergence_distance = -1;
-  ExpectRejected(sl, "sensor.structured_light.convergence_distance:");
+  ExpectModelRejected(sl, "sensor.structured_light.convergence_distance:");
   sl.projector_offset = {0.1, 0, 0.5};
   sl.convergence_distance = 0.4;  // behind the projector
-  ExpectRejected(sl, "sensor.structured_light.convergence_distance:");
+  ExpectModelRejected(sl, "sensor.structured_light.convergence_distance:");
 }
 
 TEST(SensorFromProjector, ParallelAxesKeepTheCameraOrientation) {
