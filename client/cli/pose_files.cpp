@@ -1,12 +1,12 @@
 #include "pose_files.h"
 
 #include <cmath>
-#include <cstdio>
 #include <fstream>
 #include <sstream>
 
 #include <yaml-cpp/yaml.h>
 
+#include "text_format.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::cli {
@@ -58,11 +58,8 @@ StatusOr<Eigen::Vector3d> Vector(const YAML::Node& node, const std::string& fiel
 
 std::string Prefixed(const std::string& path, const Status& status) { return path + ": " + status.message(); }
 
-std::string Number(double v) {
-  char buf[40];
-  std::snprintf(buf, sizeof(buf), "%.17g", v);
-  return buf;
-}
+// Every digit a double holds, so a pose file reads back exactly.
+std::string Number(double v) { return Format("%.17g", v); }
 
 std::string Quote(const std::string& text) {
   std::string out = "\"";

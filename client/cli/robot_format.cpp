@@ -1,19 +1,15 @@
 #include "robot_format.h"
 
-#include <cstdio>
-
 #include <Eigen/Geometry>
 
+#include "text_format.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::cli {
 namespace {
 
-std::string Number(double v, const char* format = "%.6g") {
-  char buf[48];
-  std::snprintf(buf, sizeof(buf), format, v);
-  return buf;
-}
+// Six significant digits: what a person reads in a robot's description.
+std::string Number(double v) { return Format("%.6g", v); }
 
 const char* JointTypeName(v1::JointType type) {
   switch (type) {
@@ -45,13 +41,13 @@ std::string DescribeMatrix(const v1::Matrix4& matrix) {
 
 std::string JoinNumbers(const google::protobuf::RepeatedField<double>& values) {
   std::string out;
-  for (int i = 0; i < values.size(); ++i) out += (i ? "," : "") + Number(values[i], "%.17g");
+  for (int i = 0; i < values.size(); ++i) out += (i ? "," : "") + Format("%.17g", values[i]);
   return out;
 }
 
 std::string Describe(const v1::Robot& robot) {
   return robot.robot_id() + "  '" + robot.name() + "'  " + robot.base_link() + " -> " + robot.tip_link() + "  " +
-         std::to_string(robot.joints_size()) + " joints  reach " + Number(robot.reach(), "%.3f") + " m  " +
+         std::to_string(robot.joints_size()) + " joints  reach " + Format("%.3f", robot.reach()) + " m  " +
          std::to_string(robot.warnings_size()) + " warnings";
 }
 
