@@ -78,7 +78,7 @@ std::string JobGroup(const std::string& kind) {
   static const std::map<std::string, std::string> kGroups = {
       {"campaign", "campaign"}, {"model", "model"}, {"bin_fill", "bin"}, {"dataset", "dataset"}};
   const auto group = kGroups.find(kind);
-  return group == kGroups.end() ? "job" : group->second;
+  return group == kGroups.end() ? kind : group->second;
 }
 
 bool SayStarted(Context& ctx, const v1::Job& job, const std::string& line, const std::string& json_extra, bool detach) {
@@ -91,7 +91,8 @@ bool SayStarted(Context& ctx, const v1::Job& job, const std::string& line, const
   return true;
 }
 
-std::string RunDirectory(const std::string& out_dir, bool no_download, const std::string& name, const std::string& job_id) {
+std::string RunDirectory(const std::string& out_dir, bool no_download, const std::string& name,
+                         const std::string& job_id) {
   if (no_download) return "";
   return out_dir.empty() ? name + "-" + job_id : out_dir;
 }

@@ -42,7 +42,8 @@ using JobFinish = std::function<int(const WatchResult& watched, const std::strin
 // (json_extra joins the job in --json output), and true is returned: the command is done.
 bool SayStarted(Context& ctx, const v1::Job& job, const std::string& line, const std::string& json_extra, bool detach);
 // Where a run downloads its job's files: out_dir, else ./NAME-JOBID; empty with no_download.
-std::string RunDirectory(const std::string& out_dir, bool no_download, const std::string& name, const std::string& job_id);
+std::string RunDirectory(const std::string& out_dir, bool no_download, const std::string& name,
+                         const std::string& job_id);
 // Follows job_id to its end, downloads its artifacts into out_dir unless it is empty, then finishes.
 int FollowJob(Context& ctx, const std::string& job_id, const std::string& out_dir, JobClock::time_point started,
               const JobFinish& finish);

@@ -15,8 +15,6 @@
 namespace vscan::api {
 namespace {
 
-const std::string kCampaignKind(service::JobKindName(service::JobKind::kCampaign));
-
 // The scans the job's earlier runs stored, by step, as the runner reports them.
 StatusOr<service::StoredCampaignScans> StoredScans(const store::JobRecord& job, const service::CampaignPlan& plan) {
   const auto viewpoints = static_cast<uint32_t>(plan.viewpoints.size());
@@ -58,7 +56,8 @@ grpc::ServerUnaryReactor* JobService::ResumeJob(grpc::CallbackServerContext* ctx
     const std::string& job_id = request->job_id();
     RETURN_IF_ERROR(RequireId(job_id, "job_id"));
     ASSIGN_OR_RETURN(const store::JobRecord ended, tracker_.catalogue().GetJob(job_id));
-    RETURN_IF_ERROR(store::CheckResumable(ended, kCampaignKind));
+    const std::string campaign_kind(service::JobKindName(service::JobKind::kCampaign));
+    RETURN_IF_ERROR(store::CheckResumable(ended, campaign_kind));
     v1::CampaignSpec spec;
     if (!spec.ParseFromString(ended.spec)) return DataLoss("job '" + job_id + "': its stored spec does not parse");
     // The world may have changed since: a scene or mount deleted meanwhile refuses the resume.
@@ -73,7 +72,7 @@ grpc::ServerUnaryReactor* JobService::ResumeJob(grpc::CallbackServerContext* ctx
     auto stored = std::make_shared<const service::StoredCampaignScans>(std::move(scans));
     store::JobRecord reopened;
     auto reopen = [&]() -> StatusOr<std::string> {
-      ASSIGN_OR_RETURN(reopened, tracker_.Reopen(job_id, kCampaignKind));
+      ASSIGN_OR_RETURN(reopened, tracker_.Reopen(job_id, campaign_kind));
       return job_id;
     };
     RETURN_IF_ERROR(Admit("job_id", reopen,
