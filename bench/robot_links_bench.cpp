@@ -16,8 +16,8 @@
 #include "raycast/raycast_scene.h"
 #include "robot/urdf_bundle.h"
 #include "robot/urdf_chain.h"
-#include "robots/link_collision.h"
-#include "robots/link_geometry.h"
+#include "robot_registry/link_collision.h"
+#include "robot_registry/link_geometry.h"
 
 namespace vscan {
 namespace {
@@ -51,10 +51,10 @@ struct Fixture {
                                                                              "/robots/ur5/ur5_robot.urdf")}});
     chain = std::make_shared<robot::KinematicChain>(*robot::BuildChain(*bundle->model, {"base_link", "tool0", {}}));
     // Every mesh reference reads as the box spanning its link to the link's first child joint.
-    robots::LinkMeshImporter import = [&](std::string_view, std::string_view) -> StatusOr<TriangleMesh> {
+    robot_registry::LinkMeshImporter import = [&](std::string_view, std::string_view) -> StatusOr<TriangleMesh> {
       return InvalidArgument("unused");
     };
-    links = *robots::LoadRobotLinks(*bundle, *chain, import);
+    links = *robot_registry::LoadRobotLinks(*bundle, *chain, import);
     for (size_t i = 0; i < links.names.size(); ++i) {
       const auto link = bundle->model->getLink(links.names[i]);
       if (link->child_joints.empty()) continue;
@@ -63,7 +63,7 @@ struct Fixture {
       links.visual[i] = {{box, Pose3::Identity()}};
       links.collision[i] = links.visual[i];
     }
-    links.allowed_contacts = robots::AllowedLinkContacts(links, shapes);
+    links.allowed_contacts = robot_registry::AllowedLinkContacts(links, shapes);
     obstacles.push_back({"object 'bunny'", {{bunny, bunny_pose, Eigen::Vector3d::Constant(3.0)}}});
   }
 
@@ -72,8 +72,8 @@ struct Fixture {
   std::shared_ptr<const TriangleMesh> bunny;
   std::vector<raycast::SceneInstance> scene;
   std::shared_ptr<robot::KinematicChain> chain;
-  robots::RobotLinks links;
-  std::vector<robots::Obstacle> obstacles;
+  robot_registry::RobotLinks links;
+  std::vector<robot_registry::Obstacle> obstacles;
   std::shared_ptr<collision::ShapeCache> shapes = std::make_shared<collision::ShapeCache>();
   std::mt19937_64 rng{7};
 };
@@ -86,7 +86,7 @@ Fixture& Shared() {
 void BM_PrepareLinksVisibleTarget(benchmark::State& state) {
   Fixture& f = Shared();
   for (auto _ : state) {
-    const std::vector<Pose3> poses = robots::LinkPoses(f.links, f.Random());
+    const std::vector<Pose3> poses = robot_registry::LinkPoses(f.links, f.Random());
     std::vector<raycast::SceneInstance> instances = f.scene;
     for (size_t i = 0; i < f.links.names.size(); ++i) {
       for (const auto& shape : f.links.visual[i]) {
@@ -104,8 +104,8 @@ void BM_CollisionCheckPerConfiguration(benchmark::State& state) {
   Fixture& f = Shared();
   int64_t contacts = 0;
   for (auto _ : state) {
-    auto found = robots::FindLinkContact(f.links, f.links.allowed_contacts, Pose3::Identity(), f.Random(),
-                                         f.obstacles, f.shapes);
+    auto found = robot_registry::FindLinkContact(f.links, f.links.allowed_contacts, Pose3::Identity(), f.Random(),
+                                                f.obstacles, f.shapes);
     contacts += found.ok() && found->has_value();
   }
   state.counters["colliding_fraction"] =

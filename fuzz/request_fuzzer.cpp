@@ -29,7 +29,7 @@
 #include "api/localization/localization_request.h"
 #include "api/model/model_spec.h"
 #include "robot/forward_kinematics.h"
-#include "robots/arm_kinematics.h"
+#include "robot_registry/arm_kinematics.h"
 #include "scan_fuzz_world.h"
 #include "service/robot/inverse_kinematics.h"
 #include "store/job_catalogue.h"
@@ -162,7 +162,8 @@ void ForwardKinematics(ScanFuzzWorld& world, const vscan::v1::ForwardKinematicsR
       Eigen::Map<const Eigen::VectorXd>(request.joint_positions().data(), request.joint_positions().size());
   std::optional<uint64_t> seed;
   if (request.apply_encoder_noise()) seed = request.encoder_noise_seed();
-  const auto state = vscan::robots::CommandJoints(*target->chain, target->placement, q, "joint_positions", seed);
+  const auto state =
+      vscan::robot_registry::CommandJoints(*target->chain, target->placement, q, "joint_positions", seed);
   if (!state.ok()) return CheckRefusal(state.status(), "forward kinematics");
   Check(state->achieved.allFinite(), "forward kinematics: non-finite achieved joints");
   const auto links = vscan::robot::ChainLinkPoses(*target->chain, q);
@@ -184,10 +185,11 @@ void InverseKinematics(ScanFuzzWorld& world, const vscan::v1::InverseKinematicsR
         "inverse kinematics accepted a time budget past kMaxIkTimeoutMs");
   const auto target = vscan::service::ResolveArm(*world.robots, "", MountOf(world, request.mount_id()));
   if (!target.ok()) return CheckRefusal(target.status(), "inverse kinematics mount");
-  vscan::robots::IkSettings quick = settings;
+  vscan::robot_registry::IkSettings quick = settings;
   quick.time_budget = std::min<std::chrono::microseconds>(settings.time_budget, kIkBudget);
   const Eigen::VectorXd seed = Eigen::Map<const Eigen::VectorXd>(request.seed().data(), request.seed().size());
-  const auto answer = vscan::robots::SolveInPlacement(*target->chain, target->placement, plan->goal, seed, quick);
+  const auto answer =
+      vscan::robot_registry::SolveInPlacement(*target->chain, target->placement, plan->goal, seed, quick);
   if (!answer.ok()) return CheckRefusal(answer.status(), "inverse kinematics");
   Check(answer->result.joint_positions.allFinite(), "inverse kinematics: non-finite joints");
   Check(std::isfinite(answer->miss_distance), "inverse kinematics: non-finite miss distance");

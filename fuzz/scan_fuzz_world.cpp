@@ -11,7 +11,7 @@
 
 #include <spdlog/spdlog.h>
 
-#include "robots/bundle_codec.h"
+#include "robot_registry/bundle_codec.h"
 
 namespace vscan::fuzz {
 namespace {
@@ -85,7 +85,7 @@ void AddObjects(ScanFuzzWorld& w) {
 
 // The Panda, mounted beside the objects with its links visible and noisy encoders.
 store::RobotRecord AddPanda(ScanFuzzWorld& w) {
-  robots::RobotUpload upload;
+  robot_registry::RobotUpload upload;
   upload.urdf_path = "panda.urdf";
   upload.base_link = "panda_link0";
   upload.tip_link = "panda_hand_tcp";
@@ -130,7 +130,7 @@ void AddLegacyMounts(ScanFuzzWorld& w, const store::RobotRecord& panda) {
   robot::BundleFiles by_path;
   for (robot::BundleFile& file : files) by_path[file.path] = std::move(file.bytes);
   store::RobotRecord far_robot = panda;
-  far_robot.bundle_sha256 = Must(w.blobs->Put(robots::EncodeBundle(by_path)), "far bundle");
+  far_robot.bundle_sha256 = Must(w.blobs->Put(robot_registry::EncodeBundle(by_path)), "far bundle");
   auto inserted = w.robot_catalogue->InsertRobot(far_robot);
   if (!inserted.ok()) return;
   store::MountRecord far_mount;
@@ -170,8 +170,8 @@ ScanFuzzWorld* Build() {
   // No import sandbox: meshes are parsed in this process.
   w->scenes = std::make_unique<scenes::SceneRegistry>(*w->catalogue, *w->blobs);
   w->robot_catalogue = Must(store::RobotCatalogue::Open(w->data_dir / "catalogue.sqlite"), "robot catalogue");
-  w->robots = std::make_unique<robots::RobotRegistry>(*w->robot_catalogue, *w->blobs,
-                                                      w->options.limits.max_upload_bytes);
+  w->robots = std::make_unique<robot_registry::RobotRegistry>(*w->robot_catalogue, *w->blobs,
+                                                             w->options.limits.max_upload_bytes);
   w->workers = std::make_unique<jobs::WorkerPool>(1);
   w->clouds = Must(store::CloudCatalogue::Open(w->data_dir / "catalogue.sqlite"), "cloud catalogue");
   w->context.reset(new service::ServiceContext(*w->scenes, *w->workers, *w->workers, w->options, *w->robots, w->raster,

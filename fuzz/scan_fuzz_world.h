@@ -12,7 +12,7 @@
 #include "service/context/server_options.h"
 #include "service/context/service_context.h"
 #include "jobs/worker_pool.h"
-#include "robots/robot_registry.h"
+#include "robot_registry/robot_registry.h"
 #include "scenes/scene_registry.h"
 #include "store/blob_store.h"
 #include "store/catalogue.h"
@@ -31,7 +31,7 @@ struct ScanFuzzWorld {
   std::unique_ptr<store::BlobStore> blobs;
   std::unique_ptr<scenes::SceneRegistry> scenes;
   std::unique_ptr<store::RobotCatalogue> robot_catalogue;
-  std::unique_ptr<robots::RobotRegistry> robots;
+  std::unique_ptr<robot_registry::RobotRegistry> robots;
   std::unique_ptr<store::CloudCatalogue> clouds;
   std::unique_ptr<jobs::WorkerPool> workers;
   service::RasterProvider raster;

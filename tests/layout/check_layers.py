@@ -25,7 +25,7 @@ SERVICE_USES = {
     "datasets": {"context", "job", "scan"},
 }
 # Folders under server/ that sit above the engine and the service layer.
-ABOVE_ENGINE = ("service/", "api/", "scenes/", "robots/", "jobs/", "store/", "guards/", "observability/")
+ABOVE_ENGINE = ("service/", "api/", "scenes/", "robot_registry/", "jobs/", "store/", "guards/", "observability/")
 
 
 def sources(folder):

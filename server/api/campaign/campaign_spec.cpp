@@ -87,7 +87,7 @@ Status CheckIds(const v1::CampaignSpec& spec, bool dry_run) {
 // ScanRequests (the spec names them as a ScanRequest does). The sensor pose is a stand-in: each
 // step puts the sensor where the arm holds it.
 StatusOr<service::ScanPlan> StepScanSettings(const v1::CampaignSpec& spec, const service::Limits& limits,
-                                             robots::RobotRegistry& robots) {
+                                             robot_registry::RobotRegistry& robots) {
   v1::ScanRequest request;
   request.set_scene_id(spec.scene_id().empty() ? "validate-only" : spec.scene_id());
   *request.mutable_sensor() = spec.sensor();

@@ -53,12 +53,12 @@ StatusOr<double> PositiveOrDefault(double value, double fallback, double max, co
   return value;
 }
 
-StatusOr<robots::IkSettings> SettingsFromRequest(const v1::InverseKinematicsRequest& request) {
-  robots::IkSettings settings;
+StatusOr<robot_registry::IkSettings> SettingsFromRequest(const v1::InverseKinematicsRequest& request) {
+  robot_registry::IkSettings settings;
   switch (request.method()) {
     case v1::IK_METHOD_UNSPECIFIED:
-    case v1::IK_METHOD_DEFAULT: settings.solver = robots::IkSolverKind::kDefault; break;
-    case v1::IK_METHOD_GRADIENT_DESCENT: settings.solver = robots::IkSolverKind::kGradientDescent; break;
+    case v1::IK_METHOD_DEFAULT: settings.solver = robot_registry::IkSolverKind::kDefault; break;
+    case v1::IK_METHOD_GRADIENT_DESCENT: settings.solver = robot_registry::IkSolverKind::kGradientDescent; break;
     default: return InvalidArgument("method: unknown value " + std::to_string(request.method()));
   }
   ASSIGN_OR_RETURN(settings.position_tolerance,

@@ -3,7 +3,7 @@
 // before any robot is looked up.
 
 #include "robot/ik_types.h"
-#include "robots/arm_kinematics.h"
+#include "robot_registry/arm_kinematics.h"
 #include "vscan/common/status.h"
 #include "vscan/v1/robot.pb.h"
 
@@ -15,7 +15,7 @@ inline constexpr double kMaxIkPositionTolerance = 1.0;  // metres
 
 struct IkRequestPlan {
   robot::IkGoal goal;
-  robots::IkSettings settings;
+  robot_registry::IkSettings settings;
 };
 
 // INVALID_ARGUMENT naming the field: no goal, a goal with a missing or non-finite part or beyond

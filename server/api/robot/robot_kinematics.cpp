@@ -19,7 +19,7 @@ namespace {
 using service::ArmTarget;
 
 // The arm the request names: ids checked here, looked up by the service layer.
-StatusOr<ArmTarget> ResolveTarget(robots::RobotRegistry& robots, const std::string& robot_id,
+StatusOr<ArmTarget> ResolveTarget(robot_registry::RobotRegistry& robots, const std::string& robot_id,
                                   const std::string& mount_id) {
   if (!robot_id.empty()) RETURN_IF_ERROR(RequireId(robot_id, "robot_id"));
   if (!mount_id.empty()) RETURN_IF_ERROR(RequireId(mount_id, "mount_id"));
@@ -60,8 +60,8 @@ grpc::ServerUnaryReactor* RobotService::ForwardKinematics(grpc::CallbackServerCo
     ASSIGN_OR_RETURN(const auto noise_seed,
                      NoiseSeed(target, request->apply_encoder_noise(), request->encoder_noise_seed()));
     const Eigen::VectorXd q = ToVector(request->joint_positions());
-    ASSIGN_OR_RETURN(const robots::ArmState state,
-                     robots::CommandJoints(*target.chain, target.placement, q, "joint_positions", noise_seed));
+    ASSIGN_OR_RETURN(const robot_registry::ArmState state,
+                     robot_registry::CommandJoints(*target.chain, target.placement, q, "joint_positions", noise_seed));
     ASSIGN_OR_RETURN(const auto links, robot::ChainLinkPoses(*target.chain, q));
     vscan::ToProto(state.commanded_pose, response->mutable_tool_pose());
     for (const robot::LinkPose& link : links) {
@@ -86,7 +86,7 @@ grpc::ServerUnaryReactor* RobotService::InverseKinematics(grpc::CallbackServerCo
     ASSIGN_OR_RETURN(const service::CheckedIkAnswer checked,
                      service::SolveIkAvoidingCollisions(context_, target, plan.goal, ToVector(request->seed()), plan.settings,
                                                         request->avoid_collisions()));
-    const robots::IkAnswer& answer = checked.answer;
+    const robot_registry::IkAnswer& answer = checked.answer;
     if (!answer.reached && !request->allow_partial()) {
       return RenameGoal(answer.failure, *request).WithCode(StatusCode::kOutOfRange);
     }
@@ -108,8 +108,9 @@ grpc::ServerUnaryReactor* RobotService::InverseKinematics(grpc::CallbackServerCo
     response->set_restarts(static_cast<uint32_t>(r.restarts));
     response->set_solve_ms(r.elapsed_seconds * 1e3);
     ASSIGN_OR_RETURN(
-        const robots::ArmState state,
-        robots::CommandJoints(*target.chain, target.placement, r.joint_positions, "joint_positions", noise_seed));
+        const robot_registry::ArmState state,
+        robot_registry::CommandJoints(*target.chain, target.placement, r.joint_positions, "joint_positions",
+                                      noise_seed));
     ToProto(state.achieved, response->mutable_achieved_joint_positions());
     vscan::ToProto(state.achieved_pose, response->mutable_achieved_tool_pose());
     return Status::Ok();

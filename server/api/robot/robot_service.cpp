@@ -41,10 +41,10 @@ StatusOr<store::MountRecord> MountFromRequest(const v1::MountRobotRequest& reque
 }
 
 // The mount as the client sees it: with the robot's tool when the mount has none of its own.
-Status MountToProto(robots::RobotRegistry& robots, const store::MountRecord& mount, v1::Mount* out) {
+Status MountToProto(robot_registry::RobotRegistry& robots, const store::MountRecord& mount, v1::Mount* out) {
   ASSIGN_OR_RETURN(const store::RobotRecord robot, robots.catalogue().GetRobot(mount.robot_id));
   ToProto(mount, robot.tool_offset, out);
-  if (mount.links_visible) out->set_link_instance_id_base(robots::LinkInstanceIdBase(mount.mount_id));
+  if (mount.links_visible) out->set_link_instance_id_base(robot_registry::LinkInstanceIdBase(mount.mount_id));
   return Status::Ok();
 }
 

@@ -94,7 +94,7 @@ class UploadRobotReactor final : public UploadReactor<v1::UploadRobotRequest> {
 
   v1::UploadRobotResponse* response_;
   bool has_header_ = false;
-  robots::RobotUpload upload_;
+  robot_registry::RobotUpload upload_;
   uint64_t total_bytes_ = 0;
 };
 

@@ -14,7 +14,8 @@ namespace vscan::api {
 namespace {
 
 // The sensor pose of a robot-held scan, from the mount and the commanded joints.
-StatusOr<service::RobotPlacement> PlaceRobotSensor(const v1::ScanRequest& request, robots::RobotRegistry& robots,
+StatusOr<service::RobotPlacement> PlaceRobotSensor(const v1::ScanRequest& request,
+                                                   robot_registry::RobotRegistry& robots,
                                                    Pose3* world_from_sensor) {
   const v1::RobotPose& pose = request.robot();
   RETURN_IF_ERROR(RequireId(pose.mount_id(), "robot.mount_id"));
@@ -49,7 +50,7 @@ StatusOr<raycast::ScanFrame> FrameFromProto(int frame) {
 }
 
 StatusOr<ScanPlan> ParseScanRequest(const v1::ScanRequest& request, const service::Limits& limits,
-                                    robots::RobotRegistry& robots) {
+                                    robot_registry::RobotRegistry& robots) {
   ScanPlan plan;
   RETURN_IF_ERROR(RequireId(request.scene_id(), "scene_id"));
   plan.scene_id = request.scene_id();

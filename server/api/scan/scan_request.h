@@ -3,7 +3,7 @@
 
 #include "service/scan/scan_plan.h"
 #include "service/context/server_options.h"
-#include "robots/robot_registry.h"
+#include "robot_registry/robot_registry.h"
 #include "vscan/v1/scan.pb.h"
 
 namespace vscan::api {
@@ -18,6 +18,6 @@ StatusOr<raycast::ScanFrame> FrameFromProto(int frame);
 // Checks every field of the request; the first problem found is returned, naming its field.
 // Robot placements are resolved through robots.
 StatusOr<ScanPlan> ParseScanRequest(const v1::ScanRequest& request, const service::Limits& limits,
-                                    robots::RobotRegistry& robots);
+                                    robot_registry::RobotRegistry& robots);
 
 }  // namespace vscan::api

@@ -182,7 +182,7 @@ struct Server::Impl {
   std::unique_ptr<store::BlobStore> blobs;
   std::unique_ptr<scenes::SceneRegistry> registry;
   std::unique_ptr<store::RobotCatalogue> robot_catalogue;
-  std::unique_ptr<robots::RobotRegistry> robots;
+  std::unique_ptr<robot_registry::RobotRegistry> robots;
   std::unique_ptr<store::CloudCatalogue> cloud_catalogue;
   service::RasterProvider raster;
   std::unique_ptr<jobs::WorkerPool> workers;
@@ -254,7 +254,7 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& op
   impl->registry = std::make_unique<scenes::SceneRegistry>(*impl->catalogue, *impl->blobs,
                                                            options.scene_cache_entries, std::move(import_sandbox));
   impl->robot_catalogue = std::make_unique<store::RobotCatalogue>(impl->database);
-  impl->robots = std::make_unique<robots::RobotRegistry>(
+  impl->robots = std::make_unique<robot_registry::RobotRegistry>(
       *impl->robot_catalogue, *impl->blobs,
       robot::BundleLimits{options.limits.max_robot_bundle_bytes, options.limits.max_robot_files});
   impl->workers = std::make_unique<jobs::WorkerPool>(std::max<uint32_t>(1, options.worker_threads));

@@ -30,7 +30,7 @@ Status CheckCampaignWorld(ServiceContext& context, const CampaignPlan& plan, boo
   }
   if (dry_run && plan.mount_id.empty()) return Status::Ok();
   if (plan.mount_id.empty()) return InvalidArgument("mount_id", "required");
-  ASSIGN_OR_RETURN(const robots::MountedRobot mounted, context.robots.Mount(plan.mount_id));
+  ASSIGN_OR_RETURN(const robot_registry::MountedRobot mounted, context.robots.Mount(plan.mount_id));
   if (mounted.mount.scene_id != plan.scene_id) {
     return FailedPrecondition("mount_id", "mount '" + plan.mount_id + "' is in scene '" + mounted.mount.scene_id +
                               "', not in scene_id '" + plan.scene_id + "'");

@@ -79,7 +79,7 @@ class CampaignRun {
   }
 
   Status Steps() {
-    ASSIGN_OR_RETURN(const robots::MountedRobot mounted, context_.robots.Mount(plan_.mount_id));
+    ASSIGN_OR_RETURN(const robot_registry::MountedRobot mounted, context_.robots.Mount(plan_.mount_id));
     std::vector<std::optional<ViewpointSolution>> solutions(plan_.viewpoints.size());
     const auto viewpoints = static_cast<uint32_t>(plan_.viewpoints.size());
     for (uint32_t r = 0; r < plan_.rotations; ++r) {

@@ -17,13 +17,14 @@ uint64_t StepSeed(uint64_t campaign_seed, uint32_t step) {
   return random::SplitMix64(campaign_seed ^ random::SplitMix64(step));
 }
 
-StatusOr<ViewpointSolution> SolveViewpoint(const robots::MountedRobot& mounted, const CampaignViewpoint& viewpoint) {
-  robots::IkSettings settings;
+StatusOr<ViewpointSolution> SolveViewpoint(const robot_registry::MountedRobot& mounted,
+                                           const CampaignViewpoint& viewpoint) {
+  robot_registry::IkSettings settings;
   settings.position_tolerance = kIkTolerance;
   settings.orientation_tolerance = kIkTolerance;
   settings.time_budget = kIkBudget;
-  ASSIGN_OR_RETURN(const robots::IkAnswer answer,
-                   robots::SolveInPlacement(*mounted.chain, mounted.placement, viewpoint.goal, {}, settings));
+  ASSIGN_OR_RETURN(const robot_registry::IkAnswer answer,
+                   robot_registry::SolveInPlacement(*mounted.chain, mounted.placement, viewpoint.goal, {}, settings));
   ViewpointSolution solution;
   solution.reached = answer.reached;
   solution.miss_distance = answer.miss_distance;

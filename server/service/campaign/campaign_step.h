@@ -11,7 +11,7 @@
 #include "service/campaign/campaign_plan.h"
 #include "service/context/service_context.h"
 #include "raycast/scanner.h"
-#include "robots/robot_registry.h"
+#include "robot_registry/robot_registry.h"
 #include "vscan/common/point_cloud.h"
 
 namespace vscan::service {
@@ -28,7 +28,7 @@ struct StepResult {
   enum class Outcome { kCaptured, kUnreachable, kCollision };
   Outcome outcome = Outcome::kUnreachable;
   std::string collision;  // what touches what, for kCollision
-  robots::ArmState arm;   // commanded and achieved joints and sensor poses (not for kUnreachable)
+  robot_registry::ArmState arm;   // commanded and achieved joints and sensor poses (not for kUnreachable)
   uint64_t seed = 0;
   PointCloud cloud;
   raycast::ScanStats stats;
@@ -37,7 +37,8 @@ struct StepResult {
 // A distinct, reproducible seed per step (encoder noise and measurement noise).
 uint64_t StepSeed(uint64_t campaign_seed, uint32_t step);
 
-StatusOr<ViewpointSolution> SolveViewpoint(const robots::MountedRobot& mounted, const CampaignViewpoint& viewpoint);
+StatusOr<ViewpointSolution> SolveViewpoint(const robot_registry::MountedRobot& mounted,
+                                           const CampaignViewpoint& viewpoint);
 
 // Runs a step whose viewpoint has been solved: the arm at the solution, the collision check when
 // the plan asks, then the scan. Stops early (CANCELLED) when *cancel is set.

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "service/campaign/campaign_plan.h"
-#include "robots/arm_kinematics.h"
+#include "robot_registry/arm_kinematics.h"
 #include "service/job/job_events.h"
 
 namespace vscan::service {
@@ -22,7 +22,7 @@ struct CampaignStepRecord {
   double miss_distance = 0.0;
   uint64_t seed = 0;
   bool has_arm = false;
-  robots::ArmState arm;
+  robot_registry::ArmState arm;
   std::string file;  // scan artifact name when captured
   std::string artifact_id;
   uint64_t points = 0;

@@ -10,8 +10,8 @@ constexpr size_t kCachedShapes = 512;
 
 ServiceContext::ServiceContext(scenes::SceneRegistry& registry, jobs::WorkerPool& workers,
                                jobs::WorkerPool& call_workers, const ServerOptions& options,
-                               robots::RobotRegistry& robots, RasterProvider& raster, store::CloudCatalogue& clouds,
-                               store::BlobStore& blobs)
+                               robot_registry::RobotRegistry& robots, RasterProvider& raster,
+                               store::CloudCatalogue& clouds, store::BlobStore& blobs)
     : registry(registry), workers(workers), call_workers(call_workers), options(options), robots(robots), raster(raster),
       clouds(clouds), blobs(blobs), scans(options.limits.max_concurrent_scans),
       shapes(std::make_shared<collision::ShapeCache>(kCachedShapes)) {}

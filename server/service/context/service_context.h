@@ -6,7 +6,7 @@
 #include <memory>
 
 #include "jobs/worker_pool.h"
-#include "robots/robot_registry.h"
+#include "robot_registry/robot_registry.h"
 #include "scenes/scene_registry.h"
 #include "service/context/raster_provider.h"
 #include "service/context/scan_admission.h"
@@ -24,7 +24,7 @@ class DatasetDirectories;
 
 struct ServiceContext {
   ServiceContext(scenes::SceneRegistry& registry, jobs::WorkerPool& workers, jobs::WorkerPool& call_workers,
-                 const ServerOptions& options, robots::RobotRegistry& robots, RasterProvider& raster,
+                 const ServerOptions& options, robot_registry::RobotRegistry& robots, RasterProvider& raster,
                  store::CloudCatalogue& clouds, store::BlobStore& blobs);
   ~ServiceContext();
 
@@ -32,7 +32,7 @@ struct ServiceContext {
   jobs::WorkerPool& workers;       // scans and uploads
   jobs::WorkerPool& call_workers;  // blocking unary calls
   const ServerOptions& options;
-  robots::RobotRegistry& robots;
+  robot_registry::RobotRegistry& robots;
   RasterProvider& raster;
   store::CloudCatalogue& clouds;
   store::BlobStore& blobs;

@@ -6,7 +6,7 @@
 
 #include "evaluation/next_best_views.h"
 #include "robot/ik_types.h"
-#include "robots/arm_kinematics.h"
+#include "robot_registry/arm_kinematics.h"
 #include "service/model/model_frame.h"
 
 namespace vscan::service {
@@ -55,7 +55,7 @@ struct Candidate {
 
 }  // namespace
 
-StatusOr<ProposedViews> ProposeNextBestViews(robots::RobotRegistry& robots, const NextBestViewRequest& request,
+StatusOr<ProposedViews> ProposeNextBestViews(robot_registry::RobotRegistry& robots, const NextBestViewRequest& request,
                                              const std::atomic<bool>* cancel) {
   ProposedViews out;
   const double distance = MedianDistance(request.scan_poses, request.centre);
@@ -63,8 +63,8 @@ StatusOr<ProposedViews> ProposeNextBestViews(robots::RobotRegistry& robots, cons
     out.note = "no aligned scan to take the viewing distance from";
     return out;
   }
-  ASSIGN_OR_RETURN(const robots::MountedRobot mounted, robots.Mount(request.mount_id));
-  robots::IkSettings settings;
+  ASSIGN_OR_RETURN(const robot_registry::MountedRobot mounted, robots.Mount(request.mount_id));
+  robot_registry::IkSettings settings;
   settings.position_tolerance = kIkTolerance;
   settings.orientation_tolerance = kIkTolerance;
   settings.time_budget = kIkBudget;
@@ -82,8 +82,8 @@ StatusOr<ProposedViews> ProposeNextBestViews(robots::RobotRegistry& robots, cons
   for (const RingPoint& point : ring) {
     if (cancel && cancel->load()) return Cancelled("model job stopped");
     ASSIGN_OR_RETURN(const robot::IkGoal goal, robot::LookAtGoal(point.eye, aim, "next_best_view"));
-    ASSIGN_OR_RETURN(const robots::IkAnswer answer,
-                     robots::SolveInPlacement(*mounted.chain, mounted.placement, goal, {}, settings));
+    ASSIGN_OR_RETURN(const robot_registry::IkAnswer answer,
+                     robot_registry::SolveInPlacement(*mounted.chain, mounted.placement, goal, {}, settings));
     if (!answer.reached) continue;
     reached.push_back(answer.frame_from_tool);
     eyes.push_back(point.eye);

@@ -15,7 +15,7 @@
 
 #include "sensor/camera.h"
 #include "service/model/model_report.h"
-#include "robots/robot_registry.h"
+#include "robot_registry/robot_registry.h"
 #include "store/catalogue.h"
 #include "vscan/common/mesh.h"
 #include "vscan/common/pose.h"
@@ -42,7 +42,7 @@ struct ProposedViews {
 };
 
 // CANCELLED when cancel becomes true.
-StatusOr<ProposedViews> ProposeNextBestViews(robots::RobotRegistry& robots, const NextBestViewRequest& request,
+StatusOr<ProposedViews> ProposeNextBestViews(robot_registry::RobotRegistry& robots, const NextBestViewRequest& request,
                                              const std::atomic<bool>* cancel);
 
 }  // namespace vscan::service

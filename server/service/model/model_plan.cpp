@@ -267,7 +267,7 @@ StatusOr<std::string> ResolveMount(ServiceContext& context, CampaignCache& campa
                                    const std::vector<ModelCloud>& clouds,
                                    const std::optional<store::SceneRecord>& scene) {
   if (!request.mount_id.empty()) {
-    ASSIGN_OR_RETURN(const robots::MountedRobot mounted, context.robots.Mount(request.mount_id));
+    ASSIGN_OR_RETURN(const robot_registry::MountedRobot mounted, context.robots.Mount(request.mount_id));
     if (scene && mounted.mount.scene_id != scene->scene_id) {
       return FailedPrecondition("mount_id", "mount '" + request.mount_id + "' stands in scene '" +
                                                 mounted.mount.scene_id + "', not in '" + scene->scene_id + "'");

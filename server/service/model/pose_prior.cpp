@@ -4,7 +4,7 @@
 
 #include <Eigen/Geometry>
 
-#include "robots/arm_kinematics.h"
+#include "robot_registry/arm_kinematics.h"
 
 namespace vscan::service {
 namespace {
@@ -24,7 +24,7 @@ Eigen::Matrix<double, 6, 1> RightPerturbation(const Pose3& from, const Pose3& to
 
 }  // namespace
 
-StatusOr<PoseInformation> CommandedPoseInformation(const robots::MountedRobot& mounted,
+StatusOr<PoseInformation> CommandedPoseInformation(const robot_registry::MountedRobot& mounted,
                                                    const Eigen::VectorXd& commanded, bool encoder_noise) {
   if (commanded.size() != mounted.chain->dof() || !commanded.allFinite()) {
     return InvalidArgument("commanded_joints", "expected " + std::to_string(mounted.chain->dof()) +
@@ -33,8 +33,8 @@ StatusOr<PoseInformation> CommandedPoseInformation(const robots::MountedRobot& m
   PoseInformation covariance = PoseInformation::Identity() * (kFloorSigma * kFloorSigma);
   const Eigen::VectorXd& sigma = mounted.placement.encoder_sigma;
   if (encoder_noise && sigma.size() > 0 && sigma.size() == commanded.size()) {
-    ASSIGN_OR_RETURN(const robots::ArmState base,
-                     robots::CommandJoints(*mounted.chain, mounted.placement, commanded, "commanded_joints"));
+    ASSIGN_OR_RETURN(const robot_registry::ArmState base,
+                     robot_registry::CommandJoints(*mounted.chain, mounted.placement, commanded, "commanded_joints"));
     const Eigen::VectorXd upper = mounted.chain->UpperLimits();
     for (Eigen::Index j = 0; j < commanded.size(); ++j) {
       if (sigma[j] <= 0) continue;
@@ -42,8 +42,8 @@ StatusOr<PoseInformation> CommandedPoseInformation(const robots::MountedRobot& m
       // Step away from the nearer limit, so that the clamp into the limits does not flatten it.
       const double step = commanded[j] + kJointStep <= upper[j] ? kJointStep : -kJointStep;
       moved[j] += step;
-      ASSIGN_OR_RETURN(const robots::ArmState turned,
-                       robots::CommandJoints(*mounted.chain, mounted.placement, moved, "commanded_joints"));
+      ASSIGN_OR_RETURN(const robot_registry::ArmState turned,
+                       robot_registry::CommandJoints(*mounted.chain, mounted.placement, moved, "commanded_joints"));
       const Eigen::Matrix<double, 6, 1> column = RightPerturbation(base.commanded_pose, turned.commanded_pose) / step;
       covariance += sigma[j] * sigma[j] * column * column.transpose();
     }

@@ -6,7 +6,7 @@
 
 #include <Eigen/Core>
 
-#include "robots/robot_registry.h"
+#include "robot_registry/robot_registry.h"
 #include "vscan/common/status.h"
 
 namespace vscan::service {
@@ -14,7 +14,7 @@ namespace vscan::service {
 using PoseInformation = Eigen::Matrix<double, 6, 6>;
 
 // commanded: the joints the arm was told to take. INVALID_ARGUMENT when they do not fit the chain.
-StatusOr<PoseInformation> CommandedPoseInformation(const robots::MountedRobot& mounted,
+StatusOr<PoseInformation> CommandedPoseInformation(const robot_registry::MountedRobot& mounted,
                                                    const Eigen::VectorXd& commanded, bool encoder_noise);
 
 }  // namespace vscan::service

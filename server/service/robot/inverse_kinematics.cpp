@@ -7,7 +7,7 @@
 
 namespace vscan::service {
 
-StatusOr<ArmTarget> ResolveArm(robots::RobotRegistry& robots, const std::string& robot_id,
+StatusOr<ArmTarget> ResolveArm(robot_registry::RobotRegistry& robots, const std::string& robot_id,
                                const std::string& mount_id) {
   ArmTarget target;
   if (mount_id.empty()) {
@@ -15,7 +15,7 @@ StatusOr<ArmTarget> ResolveArm(robots::RobotRegistry& robots, const std::string&
     ASSIGN_OR_RETURN(target.chain, robots.Chain(robot_id));
     return target;
   }
-  ASSIGN_OR_RETURN(robots::MountedRobot mounted, robots.Mount(mount_id));
+  ASSIGN_OR_RETURN(robot_registry::MountedRobot mounted, robots.Mount(mount_id));
   if (!robot_id.empty() && robot_id != mounted.mount.robot_id) {
     return InvalidArgument("robot_id", "mount '" + mount_id + "' holds robot '" + mounted.mount.robot_id +
                            "', not '" + robot_id + "'");
@@ -30,19 +30,19 @@ StatusOr<ArmTarget> ResolveArm(robots::RobotRegistry& robots, const std::string&
 
 StatusOr<CheckedIkAnswer> SolveIkAvoidingCollisions(ServiceContext& context, const ArmTarget& target,
                                                     const robot::IkGoal& goal, const Eigen::VectorXd& seed,
-                                                    const robots::IkSettings& settings, bool avoid_collisions) {
+                                                    const robot_registry::IkSettings& settings, bool avoid_collisions) {
   if (avoid_collisions && !target.mounted) {
     return InvalidArgument("avoid_collisions", "needs mount_id (collisions are with the mount's scene)");
   }
   CheckedIkAnswer out;
-  ASSIGN_OR_RETURN(out.answer, robots::SolveInPlacement(*target.chain, target.placement, goal, seed, settings));
+  ASSIGN_OR_RETURN(out.answer, robot_registry::SolveInPlacement(*target.chain, target.placement, goal, seed, settings));
   if (!avoid_collisions || !out.answer.reached) return out;
   using Clock = std::chrono::steady_clock;
   const auto deadline = Clock::now() + settings.time_budget;
   ASSIGN_OR_RETURN(const store::SceneRecord scene, context.registry.catalogue().GetScene(target.scene_id));
   std::mt19937_64 rng(0x5eed);
-  robots::IkSettings retry = settings;
-  for (robots::IkAnswer attempt = out.answer;;) {
+  robot_registry::IkSettings retry = settings;
+  for (robot_registry::IkAnswer attempt = out.answer;;) {
     ASSIGN_OR_RETURN(auto collision, FindRobotCollision(context, target.mount_id, attempt.result.joint_positions,
                                                         scene.table.angle_deg));
     ++out.checks;
@@ -54,8 +54,8 @@ StatusOr<CheckedIkAnswer> SolveIkAvoidingCollisions(ServiceContext& context, con
     const auto left = std::chrono::duration_cast<std::chrono::microseconds>(deadline - Clock::now());
     if (left.count() <= 0) return out;
     retry.time_budget = left;
-    ASSIGN_OR_RETURN(attempt, robots::SolveInPlacement(*target.chain, target.placement, goal,
-                                                       robot::RandomJointPositions(*target.chain, rng), retry));
+    ASSIGN_OR_RETURN(attempt, robot_registry::SolveInPlacement(*target.chain, target.placement, goal,
+                                                              robot::RandomJointPositions(*target.chain, rng), retry));
     if (!attempt.reached) return out;
   }
 }

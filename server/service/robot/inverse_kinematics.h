@@ -10,8 +10,8 @@
 #include <Eigen/Core>
 
 #include "robot/ik_types.h"
-#include "robots/arm_kinematics.h"
-#include "robots/robot_registry.h"
+#include "robot_registry/arm_kinematics.h"
+#include "robot_registry/robot_registry.h"
 #include "service/context/service_context.h"
 
 namespace vscan::service {
@@ -19,7 +19,7 @@ namespace vscan::service {
 // A chain and where it stands: the robot's base frame, or the world of a mount.
 struct ArmTarget {
   std::shared_ptr<const robot::KinematicChain> chain;
-  robots::Placement placement;
+  robot_registry::Placement placement;
   bool mounted = false;
   std::string mount_id;
   std::string scene_id;
@@ -27,12 +27,12 @@ struct ArmTarget {
 
 // The mount's arm when mount_id is set (robot_id, if set too, must be its robot), else the robot's.
 // Errors name "robot_id" or "mount_id".
-StatusOr<ArmTarget> ResolveArm(robots::RobotRegistry& robots, const std::string& robot_id,
+StatusOr<ArmTarget> ResolveArm(robot_registry::RobotRegistry& robots, const std::string& robot_id,
                                const std::string& mount_id);
 
 // A solution and, with avoid_collisions, what it touches.
 struct CheckedIkAnswer {
-  robots::IkAnswer answer;
+  robot_registry::IkAnswer answer;
   std::optional<std::string> collision;
   uint32_t checks = 0;
 };
@@ -42,6 +42,6 @@ struct CheckedIkAnswer {
 // nothing was reached.
 StatusOr<CheckedIkAnswer> SolveIkAvoidingCollisions(ServiceContext& context, const ArmTarget& target,
                                                     const robot::IkGoal& goal, const Eigen::VectorXd& seed,
-                                                    const robots::IkSettings& settings, bool avoid_collisions);
+                                                    const robot_registry::IkSettings& settings, bool avoid_collisions);
 
 }  // namespace vscan::service

@@ -18,7 +18,7 @@ std::string Extension(std::string_view path) {
 
 }  // namespace
 
-robots::LinkMeshImporter LinkMeshImporter(scenes::SceneRegistry& registry) {
+robot_registry::LinkMeshImporter LinkMeshImporter(scenes::SceneRegistry& registry) {
   return [&registry](std::string_view bytes, std::string_view path) -> StatusOr<TriangleMesh> {
     const std::string ext = Extension(path);
     geometry::MeshFileFormat format;
@@ -35,7 +35,8 @@ robots::LinkMeshImporter LinkMeshImporter(scenes::SceneRegistry& registry) {
   };
 }
 
-StatusOr<std::vector<store::MountRecord>> SceneMounts(robots::RobotRegistry& robots, const std::string& scene_id) {
+StatusOr<std::vector<store::MountRecord>> SceneMounts(robot_registry::RobotRegistry& robots,
+                                                       const std::string& scene_id) {
   std::vector<store::MountRecord> all;
   std::string after;
   while (true) {

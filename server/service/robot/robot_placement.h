@@ -10,7 +10,7 @@
 #include "vscan/common/pose.h"
 #include "vscan/common/status.h"
 
-namespace vscan::robots {
+namespace vscan::robot_registry {
 class RobotRegistry;
 }
 
@@ -25,7 +25,7 @@ struct RobotPlacement {
 
 // The mount must stand in scene_id. Encoder noise is applied when noise_seed is set. Errors name
 // "mount_id" or "joint_positions".
-StatusOr<RobotPlacement> PlaceRobotSensor(robots::RobotRegistry& robots, const std::string& scene_id,
+StatusOr<RobotPlacement> PlaceRobotSensor(robot_registry::RobotRegistry& robots, const std::string& scene_id,
                                           const std::string& mount_id, const Eigen::VectorXd& joint_positions,
                                           std::optional<uint64_t> noise_seed, Pose3* world_from_sensor);
 

@@ -27,19 +27,19 @@ StatusOr<scenes::ScanTarget> PrepareScanTarget(ServiceContext& context, const Sc
   std::string key;
   for (const store::MountRecord& record : mounts) {
     if (!record.links_visible) continue;
-    ASSIGN_OR_RETURN(const robots::MountedRobot mounted, context.robots.Mount(record.mount_id));
+    ASSIGN_OR_RETURN(const robot_registry::MountedRobot mounted, context.robots.Mount(record.mount_id));
     ASSIGN_OR_RETURN(const auto geometry,
                      context.robots.Links(record.robot_id, LinkMeshImporter(context.registry)));
     // The carrying robot stands where the scan put it; other mounts stand at home.
     const bool carrying = plan.robot && plan.robot->mount_id == record.mount_id;
     const Eigen::VectorXd q = carrying ? plan.robot->achieved_joint_positions : HomePositions(*mounted.chain);
     key += ConfigurationKey(record.mount_id, q);
-    const std::vector<Pose3> base_from_link = robots::LinkPoses(*geometry, q);
-    for (size_t i = 0; i < geometry->names.size() && i < robots::kMaxVisibleLinks; ++i) {
+    const std::vector<Pose3> base_from_link = robot_registry::LinkPoses(*geometry, q);
+    for (size_t i = 0; i < geometry->names.size() && i < robot_registry::kMaxVisibleLinks; ++i) {
       const Pose3 world_from_link = mounted.placement.frame_from_base * base_from_link[i];
-      for (const robots::LinkShape& shape : geometry->visual[i]) {
+      for (const robot_registry::LinkShape& shape : geometry->visual[i]) {
         links.push_back({shape.mesh, world_from_link * shape.link_from_shape, 1.0,
-                         robots::LinkInstanceId(record.mount_id, i)});
+                         robot_registry::LinkInstanceId(record.mount_id, i)});
       }
     }
   }

@@ -34,7 +34,7 @@ ServiceWorld::ServiceWorld(ServerOptions options) : options_(std::move(options))
   blobs_ = std::make_unique<store::BlobStore>(dir_.path() / "blobs");
   EXPECT_TRUE(blobs_->Open().ok());
   scenes_ = std::make_unique<scenes::SceneRegistry>(*catalogue_, *blobs_);
-  robots_ = std::make_unique<robots::RobotRegistry>(*robot_catalogue_, *blobs_, 64u << 20);
+  robots_ = std::make_unique<robot_registry::RobotRegistry>(*robot_catalogue_, *blobs_, 64u << 20);
   clouds_ = std::make_unique<store::CloudCatalogue>(database_);
   jobs_ = std::make_unique<store::JobCatalogue>(database_);
   context_ = std::make_unique<ServiceContext>(*scenes_, workers_, workers_, options_, *robots_, raster_, *clouds_,
@@ -69,7 +69,7 @@ std::string ServiceWorld::SceneWith(const TriangleMesh& mesh, const Pose3& world
 std::string ServiceWorld::Mount(const std::string& robot_name, const std::string& scene_id,
                                 const Pose3& world_from_base) {
   const auto& fixture = robot::testing::Fixture(robot_name);
-  robots::RobotUpload upload;
+  robot_registry::RobotUpload upload;
   upload.urdf_path = fixture.urdf_path;
   upload.base_link = fixture.base_link;
   upload.tip_link = fixture.tip_link;

@@ -8,7 +8,7 @@
 #include <string>
 
 #include "jobs/worker_pool.h"
-#include "robots/robot_registry.h"
+#include "robot_registry/robot_registry.h"
 #include "scenes/scene_registry.h"
 #include "service/context/service_context.h"
 #include "store/blob_store.h"
@@ -51,7 +51,7 @@ class ServiceWorld {
   std::unique_ptr<store::CloudCatalogue> clouds_;
   std::unique_ptr<store::JobCatalogue> jobs_;
   std::unique_ptr<scenes::SceneRegistry> scenes_;
-  std::unique_ptr<robots::RobotRegistry> robots_;
+  std::unique_ptr<robot_registry::RobotRegistry> robots_;
   jobs::WorkerPool workers_{1};
   RasterProvider raster_;
   std::unique_ptr<ServiceContext> context_;

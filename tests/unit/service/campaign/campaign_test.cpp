@@ -45,7 +45,7 @@ class CampaignTest : public ::testing::Test {
     plan_.scan.measurement.fields = kFieldPosition;
   }
 
-  robots::MountedRobot Mounted() { return world_.context().robots.Mount(plan_.mount_id).value(); }
+  robot_registry::MountedRobot Mounted() { return world_.context().robots.Mount(plan_.mount_id).value(); }
 
   testing::ServiceWorld world_;
   std::string scene_;

@@ -86,7 +86,7 @@ ModelWorld::ModelWorld(double encoder_sigma, const TriangleMesh& object, const P
   object.Bounds(min, max);
   target = world_from_object * ((min + max) / 2).cast<double>();
   const auto& fixture = robot::testing::Fixture("ur5");
-  robots::RobotUpload upload;
+  robot_registry::RobotUpload upload;
   upload.urdf_path = fixture.urdf_path;
   upload.base_link = fixture.base_link;
   upload.tip_link = fixture.tip_link;

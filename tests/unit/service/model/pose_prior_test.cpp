@@ -9,7 +9,7 @@
 
 #include "model_test_world.h"
 #include "robot/encoder_noise.h"
-#include "robots/arm_kinematics.h"
+#include "robot_registry/arm_kinematics.h"
 
 namespace vscan::service {
 namespace {
@@ -34,14 +34,14 @@ TEST(PosePriorTest, TheCovarianceIsThatOfThePosesTheNoisyArmReaches) {
   ASSERT_TRUE(information.ok()) << information.status().ToString();
   const PoseInformation predicted = information->inverse();
 
-  const auto commanded = robots::CommandJoints(*mounted->chain, mounted->placement, q, "q");
+  const auto commanded = robot_registry::CommandJoints(*mounted->chain, mounted->placement, q, "q");
   ASSERT_TRUE(commanded.ok());
   constexpr int kDraws = 4000;
   PoseInformation sampled = PoseInformation::Zero();
   for (int i = 0; i < kDraws; ++i) {
     const auto noisy = robot::AddEncoderNoise(q, mounted->placement.encoder_sigma, 1000 + i);
     ASSERT_TRUE(noisy.ok());
-    const auto reached = robots::CommandJoints(*mounted->chain, mounted->placement, *noisy, "q");
+    const auto reached = robot_registry::CommandJoints(*mounted->chain, mounted->placement, *noisy, "q");
     ASSERT_TRUE(reached.ok());
     const Eigen::Matrix<double, 6, 1> v = Perturbation(commanded->commanded_pose, reached->commanded_pose);
     sampled += v * v.transpose() / kDraws;

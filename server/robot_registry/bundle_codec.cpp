@@ -1,8 +1,8 @@
-#include "robots/bundle_codec.h"
+#include "robot_registry/bundle_codec.h"
 
 #include "store/byte_codec.h"
 
-namespace vscan::robots {
+namespace vscan::robot_registry {
 namespace {
 
 constexpr std::string_view kMagic = "VSRB";
@@ -42,4 +42,4 @@ StatusOr<std::vector<robot::BundleFile>> DecodeBundle(std::string_view blob) {
   return files;
 }
 
-}  // namespace vscan::robots
+}  // namespace vscan::robot_registry

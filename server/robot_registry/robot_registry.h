@@ -11,13 +11,13 @@
 #include <utility>
 
 #include "robot/chain.h"
-#include "robots/arm_kinematics.h"
-#include "robots/link_geometry.h"
-#include "robots/robot_import.h"
+#include "robot_registry/arm_kinematics.h"
+#include "robot_registry/link_geometry.h"
+#include "robot_registry/robot_import.h"
 #include "store/blob_store.h"
 #include "store/robot_catalogue.h"
 
-namespace vscan::robots {
+namespace vscan::robot_registry {
 
 // A mount with everything needed to move its robot in world coordinates.
 struct MountedRobot {
@@ -69,4 +69,4 @@ class RobotRegistry {
   std::map<std::string, std::shared_ptr<const RobotLinks>> links_;
 };
 
-}  // namespace vscan::robots
+}  // namespace vscan::robot_registry

@@ -20,7 +20,7 @@
 #include "vscan/common/pose.h"
 #include "vscan/common/status.h"
 
-namespace vscan::robots {
+namespace vscan::robot_registry {
 
 // A mesh in metres, the URDF's mesh scale applied, placed in its link: link_point = link_from_shape * mesh_point.
 struct LinkShape {
@@ -68,4 +68,4 @@ inline uint32_t LinkInstanceId(std::string_view mount_id, size_t link_index) {
   return link_index < kMaxVisibleLinks ? LinkInstanceIdBase(mount_id) + static_cast<uint32_t>(link_index) + 1 : 0;
 }
 
-}  // namespace vscan::robots
+}  // namespace vscan::robot_registry

@@ -1,12 +1,12 @@
-#include "robots/robot_import.h"
+#include "robot_registry/robot_import.h"
 
 #include <urdf_model/model.h>
 
 #include "robot/reach.h"
 #include "robot/urdf_chain.h"
-#include "robots/bundle_codec.h"
+#include "robot_registry/bundle_codec.h"
 
-namespace vscan::robots {
+namespace vscan::robot_registry {
 namespace {
 
 store::JointKind KindOf(robot::JointType type) {
@@ -87,4 +87,4 @@ StatusOr<std::shared_ptr<const robot::KinematicChain>> LoadStoredChain(const sto
   return std::make_shared<const robot::KinematicChain>(std::move(chain).value());
 }
 
-}  // namespace vscan::robots
+}  // namespace vscan::robot_registry

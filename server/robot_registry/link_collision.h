@@ -16,9 +16,9 @@
 #include <Eigen/Core>
 
 #include "collision/collision_world.h"
-#include "robots/link_geometry.h"
+#include "robot_registry/link_geometry.h"
 
-namespace vscan::robots {
+namespace vscan::robot_registry {
 
 struct Obstacle {
   std::string description;  // e.g. "object 'obj_...' (bunny)"
@@ -37,4 +37,4 @@ StatusOr<std::optional<std::string>> FindLinkContact(const RobotLinks& links,
                                                      std::span<const Obstacle> obstacles,
                                                      const std::shared_ptr<collision::ShapeCache>& shapes);
 
-}  // namespace vscan::robots
+}  // namespace vscan::robot_registry

@@ -1,4 +1,4 @@
-#include "robots/robot_registry.h"
+#include "robot_registry/robot_registry.h"
 
 #include <gtest/gtest.h>
 
@@ -9,7 +9,7 @@
 #include "robot_fixtures.h"
 #include "store/catalogue.h"
 
-namespace vscan::robots {
+namespace vscan::robot_registry {
 namespace {
 
 Pose3 Tool() {
@@ -151,4 +151,4 @@ TEST_F(RobotRegistryTest, DeletingTheLastUserRemovesTheBundle) {
 }
 
 }  // namespace
-}  // namespace vscan::robots
+}  // namespace vscan::robot_registry

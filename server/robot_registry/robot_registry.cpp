@@ -1,12 +1,12 @@
-#include "robots/robot_registry.h"
+#include "robot_registry/robot_registry.h"
 
 #include <spdlog/spdlog.h>
 
-#include "robots/bundle_codec.h"
-#include "robots/link_collision.h"
+#include "robot_registry/bundle_codec.h"
+#include "robot_registry/link_collision.h"
 #include "store/blob_gc.h"
 
-namespace vscan::robots {
+namespace vscan::robot_registry {
 namespace {
 
 Pose3 ToPose(const Eigen::Matrix4d& m) {
@@ -126,4 +126,4 @@ StatusOr<std::shared_ptr<const RobotLinks>> RobotRegistry::Links(const std::stri
   return shared;
 }
 
-}  // namespace vscan::robots
+}  // namespace vscan::robot_registry

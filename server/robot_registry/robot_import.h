@@ -13,7 +13,7 @@
 #include "vscan/common/pose.h"
 #include "vscan/common/status.h"
 
-namespace vscan::robots {
+namespace vscan::robot_registry {
 
 struct RobotUpload {
   std::string name;  // empty: the URDF's robot name
@@ -38,4 +38,4 @@ StatusOr<ImportedRobot> ImportRobot(RobotUpload upload, const robot::BundleLimit
 StatusOr<std::shared_ptr<const robot::KinematicChain>> LoadStoredChain(const store::RobotRecord& record,
                                                                        std::vector<robot::BundleFile> files);
 
-}  // namespace vscan::robots
+}  // namespace vscan::robot_registry

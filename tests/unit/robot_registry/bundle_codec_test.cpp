@@ -1,8 +1,8 @@
-#include "robots/bundle_codec.h"
+#include "robot_registry/bundle_codec.h"
 
 #include <gtest/gtest.h>
 
-namespace vscan::robots {
+namespace vscan::robot_registry {
 namespace {
 
 TEST(BundleCodecTest, RoundTripsInPathOrder) {
@@ -41,4 +41,4 @@ TEST(BundleCodecTest, RejectsDamagedBlobs) {
 }
 
 }  // namespace
-}  // namespace vscan::robots
+}  // namespace vscan::robot_registry

@@ -3,11 +3,11 @@
 #include <gtest/gtest.h>
 
 #include "robot/urdf_chain.h"
-#include "robots/link_collision.h"
-#include "robots/link_geometry.h"
+#include "robot_registry/link_collision.h"
+#include "robot_registry/link_geometry.h"
 #include "vscan/common/physical_limits.h"
 
-namespace vscan::robots {
+namespace vscan::robot_registry {
 namespace {
 
 // Links a and b hang from each other: no checked URDF gives this, but the walks must still end.
@@ -63,4 +63,4 @@ TEST(LinkGeometry, ScaledMeshBeyondTheBoundIsLeftOutWithAWarning) {
 }
 
 }  // namespace
-}  // namespace vscan::robots
+}  // namespace vscan::robot_registry

@@ -15,7 +15,7 @@
 #include "vscan/common/pose.h"
 #include "vscan/common/status.h"
 
-namespace vscan::robots {
+namespace vscan::robot_registry {
 
 // Where a chain stands and how exact its encoders are.
 struct Placement {
@@ -61,4 +61,4 @@ StatusOr<IkAnswer> SolveInPlacement(const robot::KinematicChain& chain, const Pl
                                     const robot::IkGoal& frame_goal, const Eigen::VectorXd& seed,
                                     const IkSettings& settings);
 
-}  // namespace vscan::robots
+}  // namespace vscan::robot_registry

@@ -1,8 +1,8 @@
-#include "robots/link_collision.h"
+#include "robot_registry/link_collision.h"
 
 #include <algorithm>
 
-namespace vscan::robots {
+namespace vscan::robot_registry {
 namespace {
 
 // Links whose pose no chain joint changes.
@@ -109,4 +109,4 @@ StatusOr<std::optional<std::string>> FindLinkContact(const RobotLinks& links,
   return std::optional<std::string>(link + " touches " + obstacles[world.obstacle_of_body[contact->second]].description);
 }
 
-}  // namespace vscan::robots
+}  // namespace vscan::robot_registry

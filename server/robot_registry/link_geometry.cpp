@@ -1,4 +1,4 @@
-#include "robots/link_geometry.h"
+#include "robot_registry/link_geometry.h"
 
 #include <urdf_model/model.h>
 
@@ -12,7 +12,7 @@
 
 #include "vscan/common/physical_limits.h"
 
-namespace vscan::robots {
+namespace vscan::robot_registry {
 namespace {
 
 constexpr int kRoundSegments = 32;
@@ -296,4 +296,4 @@ uint32_t LinkInstanceIdBase(std::string_view mount_id) {
   return kLinkInstanceIdBit | (bits >> 1) << 8;
 }
 
-}  // namespace vscan::robots
+}  // namespace vscan::robot_registry

@@ -1,4 +1,4 @@
-#include "robots/arm_kinematics.h"
+#include "robot_registry/arm_kinematics.h"
 
 #include <sstream>
 
@@ -10,7 +10,7 @@
 #include "robot/ik_solver.h"
 #include "robot/reach.h"
 
-namespace vscan::robots {
+namespace vscan::robot_registry {
 namespace {
 
 robot::IkGoal InBaseFrame(const robot::IkGoal& goal, const Pose3& base_from_frame) {
@@ -103,4 +103,4 @@ StatusOr<IkAnswer> SolveInPlacement(const robot::KinematicChain& chain, const Pl
   return answer;
 }
 
-}  // namespace vscan::robots
+}  // namespace vscan::robot_registry

@@ -11,11 +11,11 @@
 #include "robot/urdf_bundle.h"
 #include "vscan/common/status.h"
 
-namespace vscan::robots {
+namespace vscan::robot_registry {
 
 std::string EncodeBundle(const robot::BundleFiles& files);
 
 // DATA_LOSS for anything but a well-formed version 1 blob.
 StatusOr<std::vector<robot::BundleFile>> DecodeBundle(std::string_view blob);
 
-}  // namespace vscan::robots
+}  // namespace vscan::robot_registry
