@@ -10,8 +10,8 @@
 #include <cstdlib>
 #include <string>
 
-#include "bin_plan.h"
-#include "campaign_plan.h"
+#include "bins/bin_plan.h"
+#include "campaign/campaign_plan.h"
 #include "service/datasets/format/dataset_plan.h"
 #include "service/datasets/format/dataset_plan_yaml.h"
 

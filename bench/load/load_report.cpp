@@ -3,8 +3,8 @@
 #include <cstdio>
 #include <sstream>
 
-#include "context.h"
-#include "text_format.h"
+#include "session/context.h"
+#include "session/text_format.h"
 
 namespace vscan::cli {
 namespace {

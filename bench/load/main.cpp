@@ -8,8 +8,8 @@
 #include <grpcpp/create_channel.h>
 #include <grpcpp/security/credentials.h>
 
-#include "app_main.h"
-#include "campaign_setup.h"
+#include "session/app_main.h"
+#include "campaign/campaign_setup.h"
 #include "load_address.h"
 #include "load_report.h"
 #include "memory_sampler.h"

@@ -1,4 +1,4 @@
-#include "commands.h"
+#include "session/commands.h"
 
 namespace vscan::cli {
 

@@ -1,6 +1,6 @@
 // vscan: command-line client for vscand.
 
-#include "commands.h"
+#include "session/commands.h"
 
 int main(int argc, char** argv) {
   vscan::cli::Context ctx;

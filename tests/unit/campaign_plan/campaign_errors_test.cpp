@@ -1,7 +1,7 @@
 // Server errors traced back to the plan: the field a call's message names becomes the plan's
 // file, line and key; failures that name no field of the plan stay server errors.
 
-#include "campaign_errors.h"
+#include "campaign/campaign_errors.h"
 #include "plan_text.h"
 
 #include <gtest/gtest.h>

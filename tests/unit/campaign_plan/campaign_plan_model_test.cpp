@@ -5,8 +5,8 @@
 
 #include <string>
 
-#include "campaign_errors.h"
-#include "campaign_plan.h"
+#include "campaign/campaign_errors.h"
+#include "campaign/campaign_plan.h"
 #include "plan_text.h"
 
 namespace vscan::cli {

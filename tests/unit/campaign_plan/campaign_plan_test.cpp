@@ -1,7 +1,7 @@
 // Campaign plans: a full plan maps to the expected messages; every malformed plan is rejected
 // with the file, the line and the key path of the offending value.
 
-#include "campaign_plan.h"
+#include "campaign/campaign_plan.h"
 
 #include <google/protobuf/util/message_differencer.h>
 #include <gtest/gtest.h>

@@ -5,7 +5,7 @@
 #include <filesystem>
 #include <string>
 
-#include "campaign_plan.h"
+#include "campaign/campaign_plan.h"
 
 namespace vscan::cli::test {
 

@@ -1,4 +1,4 @@
-#include "args.h"
+#include "session/args.h"
 
 #include <google/protobuf/util/message_differencer.h>
 #include <gtest/gtest.h>
@@ -9,7 +9,7 @@
 
 #include "vscan/common/chunk_limits.h"
 #include "vscan/common/proto_convert.h"
-#include "model_args.h"
+#include "model/model_args.h"
 
 namespace vscan::cli {
 namespace {

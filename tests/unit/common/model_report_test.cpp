@@ -1,7 +1,7 @@
 // The model.json printer of `vscan align|reconstruct|evaluate` and `vscan campaign run`: a
 // hand-written report printed line by line, with its numbers converted to the units shown.
 
-#include "model_report.h"
+#include "model/model_report.h"
 
 #include <gtest/gtest.h>
 

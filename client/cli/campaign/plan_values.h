@@ -1,0 +1,22 @@
+#pragma once
+// Values every YAML plan reads the same way: poses and paths relative to the plan file.
+
+#include <filesystem>
+
+#include "campaign/campaign_yaml.h"
+#include "vscan/v1/common.pb.h"
+
+namespace vscan::cli {
+
+// {xyz, rpy_deg | quat} or {matrix} or {look_at: {eye, target, up}}, checked as the server checks
+// poses.
+StatusOr<v1::Pose> ReadPlanPose(const YamlReader& yaml, const YamlAt& at);
+
+// [x, y, z] in metres, required.
+StatusOr<Eigen::Vector3d> RequiredVector(const YamlReader& yaml, const YamlAt& at);
+
+// A path relative to base_dir that must exist.
+StatusOr<std::filesystem::path> ReadPlanPath(const YamlReader& yaml, const YamlAt& at,
+                                             const std::filesystem::path& base_dir);
+
+}  // namespace vscan::cli
