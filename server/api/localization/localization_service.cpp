@@ -64,7 +64,8 @@ grpc::ServerUnaryReactor* LocalizationService::Localize(grpc::CallbackServerCont
                              [=, this](const std::atomic<bool>& cancel) -> Status {
                                ASSIGN_OR_RETURN(const service::LocalizePlan plan, ParseLocalizeRequest(*request));
                                ASSIGN_OR_RETURN(const service::LocalizeOutcome outcome,
-                                                service::RunLocalize(context_, plan, &cancel));
+                                                service::RunLocalize(context_.registry,
+                                                                     service::StoredCloudsOf(context_), plan, &cancel));
                                ToResponse(outcome, response);
                                return Status::Ok();
                              });

@@ -66,10 +66,10 @@ StatusOr<store::CloudRecord> ImportCloud(ServiceContext& context, std::string_vi
   return inserted;
 }
 
-StatusOr<StoredCloud> LoadCloud(ServiceContext& context, const std::string& cloud_id) {
+StatusOr<StoredCloud> LoadCloud(const StoredClouds& clouds, const std::string& cloud_id) {
   StoredCloud stored;
-  ASSIGN_OR_RETURN(stored.record, context.clouds.Get(cloud_id));
-  ASSIGN_OR_RETURN(stored.ply, context.blobs.Get(stored.record.sha256));
+  ASSIGN_OR_RETURN(stored.record, clouds.records.Get(cloud_id));
+  ASSIGN_OR_RETURN(stored.ply, clouds.blobs.Get(stored.record.sha256));
   return stored;
 }
 

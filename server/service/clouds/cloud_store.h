@@ -38,8 +38,16 @@ struct StoredCloud {
   std::string ply;  // the binary PLY bytes, hash checked
 };
 
+// What reading a stored cloud needs: the clouds' rows and the blobs that hold their PLY bytes.
+struct StoredClouds {
+  store::CloudCatalogue& records;
+  store::BlobStore& blobs;
+};
+
+inline StoredClouds StoredCloudsOf(ServiceContext& context) { return {context.clouds, context.blobs}; }
+
 // NOT_FOUND naming cloud_id for an unknown cloud.
-StatusOr<StoredCloud> LoadCloud(ServiceContext& context, const std::string& cloud_id);
+StatusOr<StoredCloud> LoadCloud(const StoredClouds& clouds, const std::string& cloud_id);
 
 // Deletes an uploaded cloud and then its blob unless another row names it. NOT_FOUND for an
 // unknown cloud, FAILED_PRECONDITION for a campaign's scan (it goes with its job).

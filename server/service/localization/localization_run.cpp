@@ -11,9 +11,9 @@
 namespace vscan::service {
 namespace {
 
-StatusOr<std::shared_ptr<const TriangleMesh>> ScaledPart(ServiceContext& context, const std::string& mesh_id,
+StatusOr<std::shared_ptr<const TriangleMesh>> ScaledPart(scenes::SceneRegistry& registry, const std::string& mesh_id,
                                                          double scale) {
-  auto mesh = context.registry.LoadMesh(mesh_id);
+  auto mesh = registry.LoadMesh(mesh_id);
   if (!mesh.ok()) {
     if (mesh.status().code() == StatusCode::kNotFound) return NotFound("mesh_id: no mesh '" + mesh_id + "'");
     return mesh.status();
@@ -30,8 +30,8 @@ struct SearchedCloud {
   std::optional<Eigen::Vector3d> sensor_position;  // in the cloud's frame
 };
 
-StatusOr<SearchedCloud> ReadStoredCloud(ServiceContext& context, const std::string& cloud_id) {
-  ASSIGN_OR_RETURN(const StoredCloud stored, LoadCloud(context, cloud_id));
+StatusOr<SearchedCloud> ReadStoredCloud(const StoredClouds& clouds, const std::string& cloud_id) {
+  ASSIGN_OR_RETURN(const StoredCloud stored, LoadCloud(clouds, cloud_id));
   SearchedCloud searched;
   ASSIGN_OR_RETURN(searched.cloud, ParsePly(stored.ply, "cloud '" + cloud_id + "'",
                                             std::numeric_limits<uint64_t>::max()));
@@ -65,13 +65,13 @@ StatusOr<std::span<const Eigen::Vector3f>> ChooseNormals(const PointCloud& cloud
 
 }  // namespace
 
-StatusOr<LocalizeOutcome> RunLocalize(ServiceContext& context, const LocalizePlan& plan,
-                                      const std::atomic<bool>* cancel) {
+StatusOr<LocalizeOutcome> RunLocalize(scenes::SceneRegistry& registry, const StoredClouds& clouds,
+                                      const LocalizePlan& plan, const std::atomic<bool>* cancel) {
   const auto start = std::chrono::steady_clock::now();
-  ASSIGN_OR_RETURN(const auto part, ScaledPart(context, plan.mesh_id, plan.scale));
+  ASSIGN_OR_RETURN(const auto part, ScaledPart(registry, plan.mesh_id, plan.scale));
   SearchedCloud searched;
   if (!plan.cloud_id.empty()) {
-    ASSIGN_OR_RETURN(searched, ReadStoredCloud(context, plan.cloud_id));
+    ASSIGN_OR_RETURN(searched, ReadStoredCloud(clouds, plan.cloud_id));
   } else {
     searched.cloud.positions = plan.points;
     if (!plan.normals.empty()) searched.cloud.normals = plan.normals;

@@ -11,7 +11,8 @@
 #include <Eigen/Core>
 
 #include "localization/baseline_localizer.h"
-#include "service/context/service_context.h"
+#include "scenes/scene_registry.h"
+#include "service/clouds/cloud_store.h"
 #include "store/cloud_catalogue.h"
 #include "vscan/common/status.h"
 
@@ -45,7 +46,7 @@ struct LocalizeOutcome {
 
 // NOT_FOUND naming cloud_id or mesh_id; FAILED_PRECONDITION (normal_source) when kCloud is asked
 // of points without normals; CANCELLED when cancel turns true.
-StatusOr<LocalizeOutcome> RunLocalize(ServiceContext& context, const LocalizePlan& plan,
-                                      const std::atomic<bool>* cancel);
+StatusOr<LocalizeOutcome> RunLocalize(scenes::SceneRegistry& registry, const StoredClouds& clouds,
+                                      const LocalizePlan& plan, const std::atomic<bool>* cancel);
 
 }  // namespace vscan::service

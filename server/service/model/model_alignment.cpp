@@ -298,25 +298,25 @@ Pose3 FitPoses(const std::vector<Pose3>& from, const std::vector<Pose3>& to, dou
   return fit;
 }
 
-StatusOr<AlignedScans> AlignScans(ServiceContext& context, const ModelPlan& plan, const ModelCrop& crop,
+StatusOr<AlignedScans> AlignScans(const StoredClouds& clouds, const ModelPlan& plan, const ModelCrop& crop,
                                   const AlignmentSettings& settings, const ScanAlignedCallback& on_scan,
                                   const std::atomic<bool>* cancel) {
   ModelAligner aligner(settings, on_scan, cancel);
   for (size_t i = 0; i < plan.clouds.size(); ++i) {
     if (cancel && cancel->load()) return vscan::Cancelled("model job stopped");
-    ASSIGN_OR_RETURN(ModelScan scan, LoadModelScan(context, plan, i, crop));
+    ASSIGN_OR_RETURN(ModelScan scan, LoadModelScan(clouds, plan, i, crop));
     RETURN_IF_ERROR(aligner.Add(std::move(scan)));
   }
   return aligner.Finish();
 }
 
-StatusOr<AlignedScans> TakeScansAsTheyAre(ServiceContext& context, const ModelPlan& plan, const ModelCrop& crop,
+StatusOr<AlignedScans> TakeScansAsTheyAre(const StoredClouds& clouds, const ModelPlan& plan, const ModelCrop& crop,
                                           const std::atomic<bool>* cancel) {
   AlignedScans out;
   out.initial_pose = "known";
   for (size_t i = 0; i < plan.clouds.size(); ++i) {
     if (cancel && cancel->load()) return vscan::Cancelled("model job stopped");
-    ASSIGN_OR_RETURN(const ModelScan scan, LoadModelScan(context, plan, i, crop));
+    ASSIGN_OR_RETURN(const ModelScan scan, LoadModelScan(clouds, plan, i, crop));
     ScanAlignmentRecord record;
     record.cloud_id = scan.cloud_id;
     record.name = scan.name;

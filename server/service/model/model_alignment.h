@@ -15,7 +15,6 @@
 #include "service/model/model_crop.h"
 #include "service/model/model_plan.h"
 #include "service/model/model_scans.h"
-#include "service/context/service_context.h"
 #include "vscan/common/pose.h"
 
 namespace vscan::service {
@@ -61,12 +60,12 @@ class ModelAligner {
 };
 
 // Every cloud of plan through a ModelAligner. CANCELLED when cancel becomes true.
-StatusOr<AlignedScans> AlignScans(ServiceContext& context, const ModelPlan& plan, const ModelCrop& crop,
+StatusOr<AlignedScans> AlignScans(const StoredClouds& clouds, const ModelPlan& plan, const ModelCrop& crop,
                                   const AlignmentSettings& settings, const ScanAlignedCallback& on_scan,
                                   const std::atomic<bool>* cancel);
 
 // The clouds as they are (skip_alignment): each at its stored pose.
-StatusOr<AlignedScans> TakeScansAsTheyAre(ServiceContext& context, const ModelPlan& plan, const ModelCrop& crop,
+StatusOr<AlignedScans> TakeScansAsTheyAre(const StoredClouds& clouds, const ModelPlan& plan, const ModelCrop& crop,
                                           const std::atomic<bool>* cancel);
 
 // Rotation (degrees) and translation (metres) between two poses.

@@ -14,14 +14,15 @@ namespace {
 
 bool Stopped(const std::atomic<bool>* cancel) { return cancel && cancel->load(); }
 
-StatusOr<TriangleMesh> Tsdf(ServiceContext& context, const ModelPlan& plan, const AlignedScans& aligned,
-                            const ModelCrop& crop, double voxel_size, const std::atomic<bool>* cancel) {
+StatusOr<TriangleMesh> Tsdf(const StoredClouds& clouds, const ServerOptions& server_options, const ModelPlan& plan,
+                            const AlignedScans& aligned, const ModelCrop& crop, double voxel_size,
+                            const std::atomic<bool>* cancel) {
   std::vector<reconstruction::RangeImage> images;
   for (size_t i = 0; i < aligned.scans.size(); ++i) {
     const ScanAlignmentRecord& record = aligned.scans[i];
     if (!record.aligned) continue;
     if (Stopped(cancel)) return Cancelled("model job stopped");
-    ASSIGN_OR_RETURN(const ModelScan scan, LoadModelScan(context, plan, i, ModelCrop{}));
+    ASSIGN_OR_RETURN(const ModelScan scan, LoadModelScan(clouds, plan, i, ModelCrop{}));
     if (!scan.camera || scan.pixels.size() != scan.points.size()) {
       return FailedPrecondition("reconstruction.method", "TSDF needs the camera and pixels of cloud '" +
                                                              scan.cloud_id + "'");
@@ -43,7 +44,7 @@ StatusOr<TriangleMesh> Tsdf(ServiceContext& context, const ModelPlan& plan, cons
   if (Stopped(cancel)) return Cancelled("model job stopped");
   reconstruction::TsdfFusionOptions options;
   options.tsdf.voxel_size = static_cast<float>(voxel_size);
-  options.tsdf.max_block_bytes = context.options.limits.max_request_memory_bytes;
+  options.tsdf.max_block_bytes = server_options.limits.max_request_memory_bytes;
   auto fused = reconstruction::FuseRangeImages(images, options, nullptr, cancel);
   if (fused.status().code() == StatusCode::kCancelled) return Cancelled("model job stopped");
   if (fused.status().code() == StatusCode::kResourceExhausted) {
@@ -54,15 +55,15 @@ StatusOr<TriangleMesh> Tsdf(ServiceContext& context, const ModelPlan& plan, cons
   return fused;
 }
 
-StatusOr<TriangleMesh> Poisson(ServiceContext& context, const PlacedScans& placed, const ModelPlan& plan,
+StatusOr<TriangleMesh> Poisson(const ServerOptions& server_options, const PlacedScans& placed, const ModelPlan& plan,
                                double voxel_size, const std::atomic<bool>* cancel) {
   std::vector<reconstruction::ScanPoints> scans;
   for (size_t k = 0; k < placed.points.size(); ++k) scans.push_back({placed.points[k], placed.origins[k]});
   reconstruction::PoissonPipelineOptions options;
   options.voxel_size = static_cast<float>(voxel_size);
   options.poisson.depth = static_cast<int>(plan.poisson_depth);
-  options.helper_path = context.options.poisson_helper_path;
-  options.max_memory_bytes = context.options.limits.max_request_memory_bytes;
+  options.helper_path = server_options.poisson_helper_path;
+  options.max_memory_bytes = server_options.limits.max_request_memory_bytes;
   auto mesh = reconstruction::ReconstructPoisson(scans, options, nullptr, cancel);
   if (mesh.status().code() == StatusCode::kResourceExhausted) {
     // The engine names its own option; the client set reconstruction.poisson_depth.
@@ -75,9 +76,9 @@ StatusOr<TriangleMesh> Poisson(ServiceContext& context, const PlacedScans& place
 
 }  // namespace
 
-StatusOr<ModelMesh> ReconstructModel(ServiceContext& context, const ModelPlan& plan, const AlignedScans& aligned,
-                                     const PlacedScans& placed, const ModelCrop& crop, double voxel_size,
-                                     const std::atomic<bool>* cancel) {
+StatusOr<ModelMesh> ReconstructModel(const StoredClouds& clouds, const ServerOptions& options, const ModelPlan& plan,
+                                     const AlignedScans& aligned, const PlacedScans& placed, const ModelCrop& crop,
+                                     double voxel_size, const std::atomic<bool>* cancel) {
   const auto start = std::chrono::steady_clock::now();
   ModelMesh out;
   out.voxel_size = voxel_size;
@@ -85,10 +86,10 @@ StatusOr<ModelMesh> ReconstructModel(ServiceContext& context, const ModelPlan& p
   TriangleMesh mesh;
   if (plan.reconstruction == ReconstructionKind::kTsdf) {
     out.method = "tsdf";
-    ASSIGN_OR_RETURN(mesh, Tsdf(context, plan, aligned, crop, voxel_size, cancel));
+    ASSIGN_OR_RETURN(mesh, Tsdf(clouds, options, plan, aligned, crop, voxel_size, cancel));
   } else {
     out.method = "poisson";
-    ASSIGN_OR_RETURN(mesh, Poisson(context, placed, plan, voxel_size, cancel));
+    ASSIGN_OR_RETURN(mesh, Poisson(options, placed, plan, voxel_size, cancel));
   }
   if (Stopped(cancel)) return Cancelled("model job stopped");
   out.mesh = ClipMesh(mesh, crop);

@@ -10,7 +10,8 @@
 #include "service/model/model_crop.h"
 #include "service/model/model_plan.h"
 #include "service/model/model_union.h"
-#include "service/context/service_context.h"
+#include "service/clouds/cloud_store.h"
+#include "service/context/server_options.h"
 #include "vscan/common/mesh.h"
 
 namespace vscan::service {
@@ -23,8 +24,9 @@ struct ModelMesh {
 };
 
 // voxel_size > 0. CANCELLED when cancel becomes true (checked between scans and stages).
-StatusOr<ModelMesh> ReconstructModel(ServiceContext& context, const ModelPlan& plan, const AlignedScans& aligned,
-                                     const PlacedScans& placed, const ModelCrop& crop, double voxel_size,
-                                     const std::atomic<bool>* cancel);
+// TSDF reads the scans again from clouds; options bound the memory and name the Poisson helper.
+StatusOr<ModelMesh> ReconstructModel(const StoredClouds& clouds, const ServerOptions& options, const ModelPlan& plan,
+                                     const AlignedScans& aligned, const PlacedScans& placed, const ModelCrop& crop,
+                                     double voxel_size, const std::atomic<bool>* cancel);
 
 }  // namespace vscan::service

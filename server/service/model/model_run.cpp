@@ -55,7 +55,7 @@ class ModelRun {
  public:
   ModelRun(ServiceContext& context, JobRecorder& recorder, const std::string& job_id, ModelPlan plan,
            jobs::JobControl& control)
-      : context_(context), recorder_(recorder), job_id_(job_id), plan_(std::move(plan)), control_(control) {
+      : context_(context), clouds_(StoredCloudsOf(context)), recorder_(recorder), job_id_(job_id), plan_(std::move(plan)), control_(control) {
     report_.job_id = job_id;
     report_.clouds = plan_.clouds.size();
     if (plan_.scene) report_.scene_id = plan_.scene->scene_id;
@@ -216,12 +216,12 @@ class ModelRun {
 
   Status Align() {
     if (!plan_.align) {
-      ASSIGN_OR_RETURN(aligned_, TakeScansAsTheyAre(context_, plan_, crop_, cancel()));
+      ASSIGN_OR_RETURN(aligned_, TakeScansAsTheyAre(clouds_, plan_, crop_, cancel()));
       steps_done_ = static_cast<uint32_t>(plan_.clouds.size());
       return Event(std::to_string(plan_.clouds.size()) + " clouds taken at their stored poses");
     }
     auto on_scan = [this](const ScanAlignmentRecord& scan, size_t done) { return OnScan(scan, done); };
-    return Aligned(AlignScans(context_, plan_, crop_, Settings(), on_scan, cancel()));
+    return Aligned(AlignScans(clouds_, plan_, crop_, Settings(), on_scan, cancel()));
   }
 
   AlignmentSettings Settings() const {
@@ -284,7 +284,7 @@ class ModelRun {
   // set is laid onto the truth by features too, so that crop and evaluation apply.
   Status PlaceOnTruth() {
     ModelCrop none;
-    ASSIGN_OR_RETURN(const PlacedScans placed, PlaceScans(context_, plan_, *aligned_, none, cancel()));
+    ASSIGN_OR_RETURN(const PlacedScans placed, PlaceScans(clouds_, plan_, *aligned_, none, cancel()));
     // Both sides' normals get their signs from outside the shape (the sensors that saw the points,
     // the mesh's faces): on flat machined faces a shape-made sign differs between the two clouds.
     const reconstruction::UnionCloud seen_union = ThinnedUnion(placed, aligned_->voxel_size);
@@ -313,7 +313,7 @@ class ModelRun {
   Status Merge() {
     // Without a model frame (features, no truth) the crop, which lives in it, cannot apply.
     if (!aligned_->in_model_frame) crop_ = ModelCrop{};
-    ASSIGN_OR_RETURN(placed_, PlaceScans(context_, plan_, *aligned_, crop_, cancel()));
+    ASSIGN_OR_RETURN(placed_, PlaceScans(clouds_, plan_, *aligned_, crop_, cancel()));
     if (size_ <= 0) size_ = PlacedDiagonal(*placed_);
     if (plan_.evaluate) tau_ = plan_.tau > 0 ? plan_.tau : size_ * kTauPerSize;
     // Fine enough to keep every detail alignment resolves and, for evaluation, coverage at tau.
@@ -333,7 +333,7 @@ class ModelRun {
     const double voxel =
         plan_.reconstruction_voxel_size > 0 ? plan_.reconstruction_voxel_size
                                             : std::clamp(size_ * kReconstructionVoxelPerSize, 2e-4, 0.02);
-    auto mesh = ReconstructModel(context_, plan_, *aligned_, *placed_, crop_, voxel, cancel());
+    auto mesh = ReconstructModel(clouds_, context_.options, plan_, *aligned_, *placed_, crop_, voxel, cancel());
     if (!mesh.ok()) return Stopped() ? Stop() : mesh.status();
     mesh_ = std::move(mesh).value();
     ModelReconstructionReport& report = report_.reconstruction.emplace();
@@ -399,6 +399,7 @@ class ModelRun {
   }
 
   ServiceContext& context_;
+  const StoredClouds clouds_;
   JobRecorder& recorder_;
   const std::string job_id_;
   ModelPlan plan_;

@@ -21,10 +21,11 @@ sensor::PinholeCamera CameraFromRecord(const store::CloudCamera& c) {
   return camera;
 }
 
-StatusOr<ModelScan> LoadModelScan(ServiceContext& context, const ModelPlan& plan, size_t index, const ModelCrop& crop) {
+StatusOr<ModelScan> LoadModelScan(const StoredClouds& clouds, const ModelPlan& plan, size_t index,
+                                  const ModelCrop& crop) {
   const ModelCloud& cloud = plan.clouds.at(index);
   const store::CloudRecord& record = cloud.record;
-  ASSIGN_OR_RETURN(const StoredCloud stored, LoadCloud(context, record.cloud_id));
+  ASSIGN_OR_RETURN(const StoredCloud stored, LoadCloud(clouds, record.cloud_id));
   ASSIGN_OR_RETURN(const PointCloud points,
                    ParsePly(stored.ply, "cloud '" + record.cloud_id + "'", std::numeric_limits<uint64_t>::max()));
   return ModelScanFromPoints(plan, cloud, index, points, crop);

@@ -12,9 +12,9 @@
 #include <Eigen/Core>
 
 #include "sensor/camera.h"
+#include "service/clouds/cloud_store.h"
 #include "service/model/model_crop.h"
 #include "service/model/model_plan.h"
-#include "service/context/service_context.h"
 #include "vscan/common/point_cloud.h"
 #include "vscan/common/pose.h"
 
@@ -41,7 +41,8 @@ struct ModelScan {
 };
 
 // Reads plan.clouds[index]. crop applies to scans whose initial pose is known.
-StatusOr<ModelScan> LoadModelScan(ServiceContext& context, const ModelPlan& plan, size_t index, const ModelCrop& crop);
+StatusOr<ModelScan> LoadModelScan(const StoredClouds& clouds, const ModelPlan& plan, size_t index,
+                                  const ModelCrop& crop);
 
 // The same from points already in memory (a campaign's scan just captured), framed as cloud.record says.
 ModelScan ModelScanFromPoints(const ModelPlan& plan, const ModelCloud& cloud, size_t index, const PointCloud& points,

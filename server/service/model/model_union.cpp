@@ -13,14 +13,14 @@ size_t PlacedScans::total_points() const {
   return n;
 }
 
-StatusOr<PlacedScans> PlaceScans(ServiceContext& context, const ModelPlan& plan, const AlignedScans& aligned,
+StatusOr<PlacedScans> PlaceScans(const StoredClouds& clouds, const ModelPlan& plan, const AlignedScans& aligned,
                                  const ModelCrop& crop, const std::atomic<bool>* cancel) {
   PlacedScans placed;
   for (size_t i = 0; i < aligned.scans.size(); ++i) {
     const ScanAlignmentRecord& record = aligned.scans[i];
     if (!record.aligned) continue;
     if (cancel && cancel->load()) return Cancelled("model job stopped");
-    ASSIGN_OR_RETURN(ModelScan scan, LoadModelScan(context, plan, i, ModelCrop{}));
+    ASSIGN_OR_RETURN(ModelScan scan, LoadModelScan(clouds, plan, i, ModelCrop{}));
     const Eigen::Isometry3f model_from_sensor = record.model_from_sensor.cast<float>();
     std::vector<Eigen::Vector3f> points;
     points.reserve(scan.points.size());

@@ -11,7 +11,6 @@
 #include "service/model/model_alignment.h"
 #include "service/model/model_crop.h"
 #include "service/model/model_plan.h"
-#include "service/context/service_context.h"
 
 namespace vscan::service {
 
@@ -23,7 +22,7 @@ struct PlacedScans {
 };
 
 // Only the scans alignment placed (aligned = true). CANCELLED when cancel becomes true.
-StatusOr<PlacedScans> PlaceScans(ServiceContext& context, const ModelPlan& plan, const AlignedScans& aligned,
+StatusOr<PlacedScans> PlaceScans(const StoredClouds& clouds, const ModelPlan& plan, const AlignedScans& aligned,
                                  const ModelCrop& crop, const std::atomic<bool>* cancel);
 
 // One point per voxel of edge voxel_size (the centroid of the points in it), with the mean

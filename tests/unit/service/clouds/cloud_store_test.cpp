@@ -72,7 +72,7 @@ TEST_F(CloudStoreTest, APlyKeepsEveryFieldAndIsStoredAsItsCanonicalPly) {
   EXPECT_FALSE(record.world_from_sensor.has_value());
   EXPECT_FALSE(record.camera.has_value());
 
-  const StoredCloud stored = LoadCloud(world_.context(), record.cloud_id).value();
+  const StoredCloud stored = LoadCloud(StoredCloudsOf(world_.context()), record.cloud_id).value();
   EXPECT_EQ(stored.ply, Ply(cloud));
   EXPECT_EQ(stored.record.size_bytes, stored.ply.size());
   EXPECT_EQ(stored.record.sha256, record.sha256);
@@ -91,7 +91,7 @@ TEST_F(CloudStoreTest, APcdBecomesTheSamePlyWhetherItsFormatIsGivenOrTold) {
   EXPECT_EQ(from_pcd.fields, kEveryField);
   EXPECT_EQ(from_pcd.sha256, from_ply.sha256);
   EXPECT_EQ(again.sha256, from_ply.sha256);
-  EXPECT_EQ(LoadCloud(world_.context(), from_pcd.cloud_id).value().ply, Ply(cloud));
+  EXPECT_EQ(LoadCloud(StoredCloudsOf(world_.context()), from_pcd.cloud_id).value().ply, Ply(cloud));
 }
 
 TEST_F(CloudStoreTest, WhatTheClientSaysAboutTheCloudIsKept) {
@@ -142,7 +142,8 @@ TEST_F(CloudStoreTest, AnOrganisedAsciiCloudKeepsItsPointsAndDropsItsHoles) {
                           "0.5 0 1 0.25\nnan nan nan nan\n-0.5 0 1.5 0.75\nnan nan nan 0\n";
   const store::CloudRecord record = ImportCloud(world_.context(), pcd, CloudUpload{}).value();
   EXPECT_EQ(record.points, 2u);
-  const PointCloud stored = ParsePly(LoadCloud(world_.context(), record.cloud_id).value().ply, "stored", UINT64_MAX).value();
+  const std::string ply = LoadCloud(StoredCloudsOf(world_.context()), record.cloud_id).value().ply;
+  const PointCloud stored = ParsePly(ply, "stored", UINT64_MAX).value();
   ASSERT_EQ(stored.size(), 2u);
   EXPECT_EQ(stored.positions[1], Eigen::Vector3f(-0.5f, 0, 1.5f));
   EXPECT_EQ(stored.intensities, (std::vector<float>{0.25f, 0.75f}));
@@ -219,7 +220,7 @@ TEST_F(CloudStoreTest, DeletingACloudCollectsItsBlobOnceNothingNamesIt) {
   const store::CollectedBlobs kept = DeleteCloud(world_.context(), a.cloud_id).value();
   EXPECT_EQ(kept.files, 0u);
   EXPECT_EQ(BlobFiles(), blobs);
-  EXPECT_EQ(LoadCloud(world_.context(), a.cloud_id).status().code(), StatusCode::kNotFound);
+  EXPECT_EQ(LoadCloud(StoredCloudsOf(world_.context()), a.cloud_id).status().code(), StatusCode::kNotFound);
   const store::CollectedBlobs freed = DeleteCloud(world_.context(), b.cloud_id).value();
   EXPECT_EQ(freed.files, 1u);
   EXPECT_EQ(freed.bytes, ply.size());

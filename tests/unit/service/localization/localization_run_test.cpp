@@ -66,7 +66,7 @@ class LocalizationServiceRun : public ::testing::Test {
   }
 
   LocalizeOutcome Run(const LocalizePlan& plan) {
-    auto found = RunLocalize(world_.context(), plan, nullptr);
+    auto found = RunLocalize(world_.context().registry, StoredCloudsOf(world_.context()), plan, nullptr);
     EXPECT_TRUE(found.ok()) << found.status().ToString();
     return found.ok() ? *found : LocalizeOutcome{};
   }
@@ -118,20 +118,20 @@ TEST_F(LocalizationServiceRun, EstimatesNormalsTowardsTheStoredSensorPose) {
 
 TEST_F(LocalizationServiceRun, RefusesUnknownMeshesAndCloudsAndMissingNormals) {
   LocalizePlan plan = Plan("cld_0000000000000000", NormalSource::kAuto);
-  const auto no_cloud = RunLocalize(world_.context(), plan, nullptr);
+  const auto no_cloud = RunLocalize(world_.context().registry, StoredCloudsOf(world_.context()), plan, nullptr);
   EXPECT_EQ(no_cloud.status().code(), StatusCode::kNotFound);
   EXPECT_TRUE(no_cloud.status().message().starts_with("cloud_id")) << no_cloud.status().message();
 
   const auto placed = LyingParts({{FixturePart::kAngleBlock, 1}}, kFloorSide, 1);
   plan.cloud_id = StoreScan(world_, ScanFloor(placed, kFloorSide, 160, 120), false);
   plan.normal_source = NormalSource::kCloud;
-  const auto no_normals = RunLocalize(world_.context(), plan, nullptr);
+  const auto no_normals = RunLocalize(world_.context().registry, StoredCloudsOf(world_.context()), plan, nullptr);
   EXPECT_EQ(no_normals.status().code(), StatusCode::kFailedPrecondition);
   EXPECT_TRUE(no_normals.status().message().starts_with("options.normal_source")) << no_normals.status().message();
 
   plan.normal_source = NormalSource::kAuto;
   plan.mesh_id = "msh_0000000000000000";
-  const auto no_mesh = RunLocalize(world_.context(), plan, nullptr);
+  const auto no_mesh = RunLocalize(world_.context().registry, StoredCloudsOf(world_.context()), plan, nullptr);
   EXPECT_EQ(no_mesh.status().code(), StatusCode::kNotFound);
   EXPECT_TRUE(no_mesh.status().message().starts_with("mesh_id")) << no_mesh.status().message();
 }
@@ -139,9 +139,8 @@ TEST_F(LocalizationServiceRun, RefusesUnknownMeshesAndCloudsAndMissingNormals) {
 TEST_F(LocalizationServiceRun, StopsWhenCancelled) {
   const auto placed = LyingParts({{FixturePart::kAngleBlock, 3}}, kFloorSide, 1);
   const std::atomic<bool> cancel{true};
-  const auto found = RunLocalize(
-      world_.context(), Plan(StoreScan(world_, ScanFloor(placed, kFloorSide, 320, 240), true), NormalSource::kCloud),
-      &cancel);
+  const LocalizePlan plan = Plan(StoreScan(world_, ScanFloor(placed, kFloorSide, 320, 240), true), NormalSource::kCloud);
+  const auto found = RunLocalize(world_.context().registry, StoredCloudsOf(world_.context()), plan, &cancel);
   EXPECT_EQ(found.status().code(), StatusCode::kCancelled);
 }
 
