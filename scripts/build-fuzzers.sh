@@ -1,7 +1,11 @@
 #!/usr/bin/env bash
 # Configures build/fuzz with clang and builds the libFuzzer targets (fuzz/README.md). They link the
 # regular build's libraries (VSCAN_PRESET, default release; not asan), which this builds first.
+# --configure-only stops before the clang build; --build-only runs just that build (after a
+# --configure-only), so that scripts/test.sh can compile the targets while other tests run.
 set -euo pipefail
+STAGE="${1:-all}"
+case "$STAGE" in all|--configure-only|--build-only) ;; *) echo "build-fuzzers: unknown option $STAGE" >&2; exit 2;; esac
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 PRESET="${VSCAN_PRESET:-release}"
 if [ "$PRESET" = asan ]; then
@@ -12,6 +16,10 @@ cd "$ROOT"
 export CCACHE_DIR="${CCACHE_DIR:-$HOME/.cache/ccache}"
 export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$ROOT}"
 JOBS="${VSCAN_JOBS:-$(nproc)}"
+
+if [ "$STAGE" = --build-only ]; then
+  exec cmake --build build/fuzz -j "$JOBS" --target fuzzers
+fi
 
 cmake --preset "$PRESET" >/dev/null
 cmake --build --preset "$PRESET" -j "$JOBS" --target vscan_api vscan_cli_args
@@ -25,4 +33,5 @@ cmake -S . -B build/fuzz -G Ninja -DCMAKE_C_COMPILER=clang -DCMAKE_CXX_COMPILER=
   -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O1 -gline-tables-only" \
   -DVSCAN_BUILD_FUZZERS=ON -DVSCAN_BUILD_TESTS=OFF -DVSCAN_BUILD_BENCH=OFF -DVSCAN_WERROR=ON \
   -DVSCAN_PREBUILT_DIR="$ROOT/build/$PRESET" "${launcher[@]}" >/dev/null
+[ "$STAGE" = --configure-only ] && exit 0
 cmake --build build/fuzz -j "$JOBS" --target fuzzers
