@@ -28,12 +28,12 @@ struct FillArgs {
 // The end of `fill` and `watch`: the summary of bin.json (or JSON), the files, the job's exit code.
 int Finish(Context& ctx, const v1::Job& job, const std::string& out_dir, const std::vector<std::string>& files,
            double seconds) {
-  std::optional<google::protobuf::Struct> report;
+  std::optional<v1::BinReport> report;
   if (const int rc = FetchBinReport(ctx, job, &report); rc != kExitOk) return rc;
   if (ctx.json()) {
     ctx.EmitJson("{\"job\":" + ToJson(job) + ",\"sceneId\":" + JsonQuote(job.bin_fill().scene_id()) +
                  ",\"outputDir\":" + JsonQuote(out_dir) + ",\"files\":" + JsonStrings(files) +
-                 (report ? ",\"bin\":" + ToJson(*report) : "") + ",\"clientSeconds\":" + std::to_string(seconds) +
+                 (report ? ",\"bin\":" + ReportJson(*report) : "") + ",\"clientSeconds\":" + std::to_string(seconds) +
                  "}");
     return JobExitCode(job.state());
   }
@@ -105,7 +105,7 @@ void AddBinGet(CLI::App& group, Context& ctx) {
       return kExitOk;
     }
     ctx.Print("job " + DescribeJob(*job));
-    std::optional<google::protobuf::Struct> report;
+    std::optional<v1::BinReport> report;
     if (const int rc = FetchBinReport(ctx, *job, &report); rc != kExitOk) return rc;
     if (report && !ctx.quiet()) std::cout << FormatBinReport(*report);
     return kExitOk;

@@ -32,12 +32,12 @@ int Finish(Context& ctx, const WatchResult& watched, const std::string& out_dir,
   const v1::Job& job = watched.job;
   const auto rows = CampaignRows(job, watched.notes);
   // A campaign that aligned its scans leaves model.json.
-  std::optional<google::protobuf::Struct> model;
+  std::optional<v1::ModelReport> model;
   if (const int rc = FetchModelReport(ctx, job, &model); rc != kExitOk) return rc;
   if (ctx.json()) {
     ctx.EmitJson("{\"job\":" + ToJson(job) + extra_json + ",\"outputDir\":" + JsonQuote(out_dir) +
                  ",\"files\":" + JsonStrings(files) + ",\"steps\":" + CampaignRowsJson(rows) +
-                 (model ? ",\"model\":" + ModelReportJson(*model) : "") +
+                 (model ? ",\"model\":" + ReportJson(*model) : "") +
                  ",\"clientSeconds\":" + std::to_string(seconds) + "}");
     return JobExitCode(job.state());
   }

@@ -55,11 +55,11 @@ void SayWhereTheMeshIs(Context& ctx, const v1::Job& job, const std::string& out_
 int FinishModelJob(Context& ctx, const WatchResult& watched, const std::string& out_dir,
                    const std::vector<std::string>& files, double seconds) {
   const v1::Job& job = watched.job;
-  std::optional<google::protobuf::Struct> model;
+  std::optional<v1::ModelReport> model;
   if (const int rc = FetchModelReport(ctx, job, &model); rc != kExitOk) return rc;
   if (ctx.json()) {
     ctx.EmitJson("{\"job\":" + ToJson(job) + ",\"alignments\":" + AlignmentsJson(watched.alignments) +
-                 ",\"model\":" + (model ? ModelReportJson(*model) : "null") + ",\"outputDir\":" + JsonQuote(out_dir) +
+                 ",\"model\":" + (model ? ReportJson(*model) : "null") + ",\"outputDir\":" + JsonQuote(out_dir) +
                  ",\"files\":" + JsonStrings(files) + "}");
     return JobExitCode(job.state());
   }

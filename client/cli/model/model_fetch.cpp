@@ -22,7 +22,7 @@ int FetchArtifactText(Context& ctx, const v1::Job& job, std::string_view name, s
   return kExitOk;
 }
 
-int FetchModelReport(Context& ctx, const v1::Job& job, std::optional<google::protobuf::Struct>* report) {
+int FetchModelReport(Context& ctx, const v1::Job& job, std::optional<v1::ModelReport>* report) {
   std::optional<std::string> text;
   if (const int rc = FetchArtifactText(ctx, job, kModelReportName, &text); rc != kExitOk || !text) return rc;
   auto parsed = ParseModelReport(*text);

@@ -5,9 +5,8 @@
 #include <string>
 #include <string_view>
 
-#include <google/protobuf/struct.pb.h>
-
 #include "session/context.h"
+#include "vscan/v1/reports.pb.h"
 
 namespace vscan::cli {
 
@@ -17,6 +16,6 @@ int FetchArtifactText(Context& ctx, const v1::Job& job, std::string_view name, s
 
 // Sets *report to the job's parsed model.json, or leaves it empty when the job has none. Returns
 // an exit code (3 for a report that cannot be read or parsed).
-int FetchModelReport(Context& ctx, const v1::Job& job, std::optional<google::protobuf::Struct>* report);
+int FetchModelReport(Context& ctx, const v1::Job& job, std::optional<v1::ModelReport>* report);
 
 }  // namespace vscan::cli

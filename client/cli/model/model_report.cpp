@@ -1,19 +1,13 @@
 #include "model/model_report.h"
 
-#include <google/protobuf/util/json_util.h>
-
 #include <cstdio>
-#include <optional>
 #include <vector>
 
 #include "session/text_format.h"
+#include "vscan/common/report_json.h"
 
 namespace vscan::cli {
 namespace {
-
-using google::protobuf::ListValue;
-using google::protobuf::Struct;
-using google::protobuf::Value;
 
 std::string Pad(const std::string& text, size_t width) {
   return text.size() >= width ? text : std::string(width - text.size(), ' ') + text;
@@ -21,105 +15,60 @@ std::string Pad(const std::string& text, size_t width) {
 
 std::string Mm(double metres) { return Format("%.3f", metres * 1000.0); }
 std::string Percent(double share) { return Format("%.1f %%", share * 100.0); }
-
-const Value* Field(const Struct& object, const char* key) {
-  const auto it = object.fields().find(key);
-  return it == object.fields().end() ? nullptr : &it->second;
-}
-
-std::optional<double> Number(const Struct& object, const char* key) {
-  const Value* value = Field(object, key);
-  if (value == nullptr || value->kind_case() != Value::kNumberValue) return std::nullopt;
-  return value->number_value();
-}
-
-double NumberOr(const Struct& object, const char* key, double fallback = 0.0) {
-  return Number(object, key).value_or(fallback);
-}
-
-std::string Text(const Struct& object, const char* key) {
-  const Value* value = Field(object, key);
-  return value != nullptr && value->kind_case() == Value::kStringValue ? value->string_value() : "";
-}
-
-bool Flag(const Struct& object, const char* key) {
-  const Value* value = Field(object, key);
-  return value != nullptr && value->kind_case() == Value::kBoolValue && value->bool_value();
-}
-
-const Struct* Object(const Struct& object, const char* key) {
-  const Value* value = Field(object, key);
-  return value != nullptr && value->kind_case() == Value::kStructValue ? &value->struct_value() : nullptr;
-}
-
-const ListValue* List(const Struct& object, const char* key) {
-  const Value* value = Field(object, key);
-  return value != nullptr && value->kind_case() == Value::kListValue ? &value->list_value() : nullptr;
-}
-
 std::string Count(double n) { return Format("%.0f", n); }
 
-std::string Point(const ListValue* xyz) {
-  if (xyz == nullptr || xyz->values_size() != 3) return "?";
+std::string Point(const google::protobuf::RepeatedField<double>& xyz) {
+  if (xyz.size() != 3) return "?";
   std::string out;
-  for (int i = 0; i < 3; ++i) out += (i ? ", " : "") + Format("%.3f", xyz->values(i).number_value());
+  for (int i = 0; i < 3; ++i) out += (i ? ", " : "") + Format("%.3f", xyz[i]);
   return out;
 }
 
-// "mean 0.012  max 0.034" of a {"mean", "max"} object, scaled.
-std::string MeanMax(const Struct* stats, double scale, const char* format) {
-  if (stats == nullptr) return "";
-  return std::string("mean ") + Format(format, NumberOr(*stats, "mean") * scale) + ", max " +
-         Format(format, NumberOr(*stats, "max") * scale);
+// "mean 0.012, max 0.034" of a figure's summary, scaled.
+std::string MeanMax(const v1::ModelReportErrorSummary& stats, double scale, const char* format) {
+  return std::string("mean ") + Format(format, stats.mean() * scale) + ", max " + Format(format, stats.max() * scale);
 }
 
-void AppendHeader(const Struct& report, std::string* out) {
+// A figure a report leaves at zero was not measured (a hand-made or older report's missing key).
+void AppendHeader(const v1::ModelReport& report, std::string* out) {
   std::string line;
-  if (const auto clouds = Number(report, "clouds")) line += Count(*clouds) + " clouds";
-  if (const std::string scene = Text(report, "scene_id"); !scene.empty()) line += " of scene " + scene;
-  if (const std::string frame = Text(report, "frame"); !frame.empty()) line += ", in the " + frame;
-  if (const Struct* crop = Object(report, "crop")) line += "; crop: " + Text(*crop, "kind");
+  if (report.clouds() > 0) line += Count(report.clouds()) + " clouds";
+  if (!report.scene_id().empty()) line += " of scene " + report.scene_id();
+  if (!report.frame().empty()) line += ", in the " + report.frame();
+  if (report.has_crop()) line += "; crop: " + report.crop().kind();
   if (!line.empty()) *out += line + '\n';
 }
 
-void AppendAlignment(const Struct& alignment, std::string* out) {
-  const double aligned = NumberOr(alignment, "aligned");
-  const double unaligned = NumberOr(alignment, "unaligned");
-  std::string how = Text(alignment, "initial_pose") + " initial poses";
-  if (const auto voxel = Number(alignment, "voxel_size")) how += ", voxel " + Mm(*voxel) + " mm";
-  how += Flag(alignment, "pose_graph") ? ", pose graph" : ", no pose graph";
-  *out += "alignment: " + Count(aligned) + " of " + Count(aligned + unaligned) + " scans aligned (" + how + ")";
-  if (const auto seconds = Number(alignment, "seconds")) *out += " in " + Format("%.1f", *seconds) + " s";
+void AppendAlignment(const v1::ModelReportAlignment& alignment, std::string* out) {
+  std::string how = alignment.initial_pose() + " initial poses";
+  if (alignment.voxel_size() > 0) how += ", voxel " + Mm(alignment.voxel_size()) + " mm";
+  how += alignment.pose_graph() ? ", pose graph" : ", no pose graph";
+  *out += "alignment: " + Count(alignment.aligned()) + " of " + Count(alignment.aligned() + alignment.unaligned()) +
+          " scans aligned (" + how + ")";
+  if (alignment.seconds() > 0) *out += " in " + Format("%.1f", alignment.seconds()) + " s";
   *out += '\n';
-  if (const Struct* rotation = Object(alignment, "rotation_error_deg")) {
-    *out += "  pose error:    rotation " + MeanMax(rotation, 1.0, "%.3f") + " deg; translation " +
-            MeanMax(Object(alignment, "translation_error_m"), 1000.0, "%.3f") + " mm\n";
+  if (alignment.has_rotation_error_deg()) {
+    *out += "  pose error:    rotation " + MeanMax(alignment.rotation_error_deg(), 1.0, "%.3f") + " deg; translation " +
+            MeanMax(alignment.translation_error_m(), 1000.0, "%.3f") + " mm\n";
   }
-  if (const Struct* rotation = Object(alignment, "initial_rotation_error_deg")) {
-    *out += "  started from:  rotation " + MeanMax(rotation, 1.0, "%.3f") + " deg; translation " +
-            MeanMax(Object(alignment, "initial_translation_error_m"), 1000.0, "%.3f") + " mm\n";
+  if (alignment.has_initial_rotation_error_deg()) {
+    *out += "  started from:  rotation " + MeanMax(alignment.initial_rotation_error_deg(), 1.0, "%.3f") +
+            " deg; translation " + MeanMax(alignment.initial_translation_error_m(), 1000.0, "%.3f") + " mm\n";
   }
-  if (const ListValue* scans = List(alignment, "scans")) {
-    for (const Value& item : scans->values()) {
-      if (item.kind_case() != Value::kStructValue || Flag(item.struct_value(), "aligned")) continue;
-      const Struct& scan = item.struct_value();
-      const std::string name = Text(scan, "name");
-      *out += "  scan " + Count(NumberOr(scan, "index")) + " (" + Text(scan, "cloud_id") +
-              (name.empty() ? "" : " '" + name + "'") + ") NOT aligned: " + Text(scan, "reason") + '\n';
-    }
+  for (const v1::ModelReportScan& scan : alignment.scans()) {
+    if (scan.aligned()) continue;
+    *out += "  scan " + Count(scan.index()) + " (" + scan.cloud_id() +
+            (scan.name().empty() ? "" : " '" + scan.name() + "'") + ") NOT aligned: " + scan.reason() + '\n';
   }
-  if (const std::string artifact = Text(alignment, "artifact"); !artifact.empty()) {
-    *out += "  aligned scans: " + artifact + '\n';
-  }
+  if (!alignment.artifact().empty()) *out += "  aligned scans: " + alignment.artifact() + '\n';
 }
 
-void AppendReconstruction(const Struct& reconstruction, std::string* out) {
-  *out += "reconstruction: " + Text(reconstruction, "method");
-  if (const auto voxel = Number(reconstruction, "voxel_size")) *out += ", voxel " + Mm(*voxel) + " mm";
-  *out += ": " + Count(NumberOr(reconstruction, "vertices")) + " vertices, " +
-          Count(NumberOr(reconstruction, "triangles")) + " triangles";
-  if (const auto seconds = Number(reconstruction, "seconds")) *out += " in " + Format("%.1f", *seconds) + " s";
-  if (const std::string artifact = Text(reconstruction, "artifact"); !artifact.empty()) *out += ": " + artifact;
+void AppendReconstruction(const v1::ModelReportReconstruction& reconstruction, std::string* out) {
+  *out += "reconstruction: " + reconstruction.method();
+  if (reconstruction.voxel_size() > 0) *out += ", voxel " + Mm(reconstruction.voxel_size()) + " mm";
+  *out += ": " + Count(reconstruction.vertices()) + " vertices, " + Count(reconstruction.triangles()) + " triangles";
+  if (reconstruction.seconds() > 0) *out += " in " + Format("%.1f", reconstruction.seconds()) + " s";
+  if (!reconstruction.artifact().empty()) *out += ": " + reconstruction.artifact();
   *out += '\n';
 }
 
@@ -133,82 +82,70 @@ std::string MetricsLine(const std::string& part, const std::vector<std::string>&
   return line + '\n';
 }
 
-void AppendMetricsRow(const std::string& part, const Struct& metrics, std::string* out) {
-  const auto pair = [&](const char* mean, const char* median) {
-    return Mm(NumberOr(metrics, mean)) + " / " + Mm(NumberOr(metrics, median));
-  };
-  *out += MetricsLine(part, {Percent(NumberOr(metrics, "precision")), Percent(NumberOr(metrics, "recall")),
-                             Percent(NumberOr(metrics, "f_score")), pair("accuracy_mean", "accuracy_median"),
-                             pair("completeness_mean", "completeness_median"), Mm(NumberOr(metrics, "chamfer"))});
+void AppendMetricsRow(const std::string& part, const v1::ModelReportMetrics& m, std::string* out) {
+  *out += MetricsLine(part, {Percent(m.precision()), Percent(m.recall()), Percent(m.f_score()),
+                             Mm(m.accuracy_mean()) + " / " + Mm(m.accuracy_median()),
+                             Mm(m.completeness_mean()) + " / " + Mm(m.completeness_median()), Mm(m.chamfer())});
 }
 
-void AppendNextBestViews(const Struct& evaluation, std::string* out) {
-  const ListValue* views = List(evaluation, "next_best_views");
-  if (views == nullptr || views->values_size() == 0) {
-    const std::string note = Text(evaluation, "next_best_views_note");
-    if (!note.empty()) *out += "next best views: none (" + note + ")\n";
+void AppendNextBestViews(const v1::ModelReportEvaluation& evaluation, std::string* out) {
+  if (evaluation.next_best_views().empty()) {
+    if (!evaluation.next_best_views_note().empty()) {
+      *out += "next best views: none (" + evaluation.next_best_views_note() + ")\n";
+    }
     return;
   }
   *out += "next best views (world frame, table at the angle given):\n";
   int rank = 0;
-  for (const Value& item : views->values()) {
-    if (item.kind_case() != Value::kStructValue) continue;
-    const Struct& view = item.struct_value();
-    *out += "  " + std::to_string(++rank) + ". position " + Point(List(view, "position")) + "  target " +
-            Point(List(view, "target")) + "  table " + Format("%.1f", NumberOr(view, "table_angle_deg")) +
-            " deg  +" + Percent(NumberOr(view, "coverage_gain")) + " -> " +
-            Percent(NumberOr(view, "coverage_after")) + '\n';
+  for (const v1::ModelReportNextBestView& view : evaluation.next_best_views()) {
+    *out += "  " + std::to_string(++rank) + ". position " + Point(view.position()) + "  target " +
+            Point(view.target()) + "  table " + Format("%.1f", view.table_angle_deg()) + " deg  +" +
+            Percent(view.coverage_gain()) + " -> " + Percent(view.coverage_after()) + '\n';
   }
 }
 
-void AppendEvaluation(const Struct& evaluation, std::string* out) {
-  *out += "evaluation at tau " + Mm(NumberOr(evaluation, "tau")) + " mm";
-  if (const Struct* truth = Object(evaluation, "ground_truth")) {
-    const ListValue* objects = List(*truth, "objects");
-    const int count = objects == nullptr ? 0 : objects->values_size();
+void AppendEvaluation(const v1::ModelReportEvaluation& evaluation, std::string* out) {
+  *out += "evaluation at tau " + Mm(evaluation.tau()) + " mm";
+  if (evaluation.has_ground_truth()) {
+    const v1::ModelReportGroundTruth& truth = evaluation.ground_truth();
+    const int count = truth.objects_size();
     *out += " against " + std::to_string(count) + (count == 1 ? " object" : " objects") + " (" +
-            Format("%.4f", NumberOr(*truth, "area_m2")) + " m2, " + Count(NumberOr(*truth, "samples")) +
-            " samples)";
+            Format("%.4f", truth.area_m2()) + " m2, " + Count(truth.samples()) + " samples)";
   }
-  if (const auto seconds = Number(evaluation, "seconds")) *out += " in " + Format("%.1f", *seconds) + " s";
+  if (evaluation.seconds() > 0) *out += " in " + Format("%.1f", evaluation.seconds()) + " s";
   *out += ":\n";
   *out += MetricsLine("part", {"precision", "recall", "F-score", "accuracy mm", "completeness mm", "Chamfer mm"});
   *out += MetricsLine("", {"", "", "", "mean / median", "mean / median", ""});
-  if (const Struct* metrics = Object(evaluation, "union")) AppendMetricsRow("union", *metrics, out);
-  if (const Struct* metrics = Object(evaluation, "mesh")) AppendMetricsRow("mesh", *metrics, out);
-  if (const auto coverage = Number(evaluation, "coverage")) {
-    *out += "  coverage " + Percent(*coverage);
-    std::string files = Text(evaluation, "uncovered_artifact");
-    if (const std::string image = Text(evaluation, "coverage_image"); !image.empty()) {
-      files += (files.empty() ? "" : ", ") + image;
-    }
-    if (!files.empty()) *out += " (" + files + ")";
-    *out += '\n';
-  }
+  if (evaluation.has_union_()) AppendMetricsRow("union", evaluation.union_(), out);
+  if (evaluation.has_mesh()) AppendMetricsRow("mesh", evaluation.mesh(), out);
+  *out += "  coverage " + Percent(evaluation.coverage());
+  std::string files = evaluation.uncovered_artifact();
+  if (!evaluation.coverage_image().empty()) files += (files.empty() ? "" : ", ") + evaluation.coverage_image();
+  if (!files.empty()) *out += " (" + files + ")";
+  *out += '\n';
   AppendNextBestViews(evaluation, out);
 }
 
 }  // namespace
 
-StatusOr<Struct> ParseModelReport(std::string_view text) {
-  Struct report;
-  const auto parsed = google::protobuf::util::JsonStringToMessage(std::string(text), &report);
-  if (!parsed.ok()) return DataLoss("model.json: not a JSON object: " + std::string(parsed.message()));
+StatusOr<v1::ModelReport> ParseModelReport(std::string_view text) {
+  v1::ModelReport report;
+  RETURN_IF_ERROR(ParseReport(text, std::string(kModelReportName), &report));
   return report;
 }
 
-std::string FormatModelReport(const Struct& report) {
+std::string FormatModelReport(const v1::ModelReport& report) {
   std::string out;
   AppendHeader(report, &out);
-  if (const Struct* alignment = Object(report, "alignment")) AppendAlignment(*alignment, &out);
-  if (const Struct* reconstruction = Object(report, "reconstruction")) AppendReconstruction(*reconstruction, &out);
-  if (const Struct* evaluation = Object(report, "evaluation")) AppendEvaluation(*evaluation, &out);
+  if (report.has_alignment()) AppendAlignment(report.alignment(), &out);
+  if (report.has_reconstruction()) AppendReconstruction(report.reconstruction(), &out);
+  if (report.has_evaluation()) AppendEvaluation(report.evaluation(), &out);
   return out;
 }
 
-std::string ModelReportJson(const Struct& report) {
-  std::string out;
-  if (!google::protobuf::util::MessageToJsonString(report, &out).ok()) return "null";
+std::string ReportJson(const google::protobuf::Message& report) {
+  std::string out = PrintReport(report);
+  while (!out.empty() && out.back() == '\n') out.pop_back();
   return out;
 }
 

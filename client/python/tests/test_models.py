@@ -16,6 +16,15 @@ from vscan.jobs import campaign_spec  # noqa: E402
 from vscan.v1 import model_pb2  # noqa: E402
 
 
+def _subset(pattern, value):
+    """value cut down to the keys pattern has (recursively), to compare with pattern."""
+    if isinstance(pattern, dict) and isinstance(value, dict):
+        return {k: _subset(v, value[k]) for k, v in pattern.items() if k in value}
+    if isinstance(pattern, list) and isinstance(value, list):
+        return [_subset(p, v) for p, v in zip(pattern, value)]
+    return value
+
+
 class ModelSpecTest(unittest.TestCase):
     def test_flat_options_fill_every_part(self):
         spec = model_spec(["cld-a", "cld-b"], initial_pose="features", voxel_size=0.002, min_fitness=0.4,
@@ -105,8 +114,13 @@ class ModelCallsTest(unittest.TestCase):
         self.assertEqual(scans[1].reason, "fitness 0.10 below 0.30")
 
     def test_model_report_is_the_parsed_json(self):
+        # Read through the schema: the file's keys and values, plus the fields it left at their defaults.
         self.client.start_model(["cld-a", "cld-b"], evaluate=True)
-        self.assertEqual(self.client.model_report("job-m1"), MODEL_REPORT)
+        report = self.client.model_report("job-m1")
+        self.assertEqual(_subset(MODEL_REPORT, report), MODEL_REPORT)
+        self.assertEqual(report["alignment"]["scans"][1]["fitness"], 0)
+        self.assertEqual(report["reconstruction"]["artifact"], "mesh.ply")
+        self.assertNotIn("mesh", report["evaluation"])  # a section the file left out stays out
         with self.assertRaises(VscanError) as caught:
             self.client.model_report("job-other")
         self.assertEqual(caught.exception.code, grpc.StatusCode.NOT_FOUND)

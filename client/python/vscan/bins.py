@@ -1,10 +1,9 @@
 """Bin fill calls of the Client: parts dropped into an open bin (a box or an uploaded mesh), settled by physics, then placed in
 the scene (JobService.StartBinFill), and the report they leave (bin.json)."""
 
-import json
-
 from . import convert
 from ._stubs import sensor_pb2  # noqa: F401  (puts the generated stubs on sys.path)
+from .reports import parse_report
 
 from vscan.v1 import job_pb2  # noqa: E402
 
@@ -82,12 +81,13 @@ class BinCalls:
         self._call(self._jobs.StartBinFill, job_pb2.StartBinFillRequest(spec=spec, validate_only=True))
 
     def bin_report(self, job_id):
-        """The job's bin.json as a dict: bin, parts with object and instance ids and world poses,
-        end reason, counters, times; None when the job has none."""
+        """The job's bin.json as a dict, read through its message BinReport (proto/vscan/v1/reports.proto):
+        bin, parts with object and instance ids and world poses, end reason, counters, times; None
+        when the job has none. Raises VscanError DATA_LOSS when the schema cannot read it."""
         for artifact in self.get_job(job_id).artifacts:
             if artifact.name == BIN_REPORT:
                 _, data = self.read_artifact(job_id, artifact.artifact_id)
-                return json.loads(data)
+                return parse_report(BIN_REPORT, data)
         return None
 
     def bin_fill(self, scene_id=None, inner_size=None, parts=(), spec=None, timeout=None, **options):

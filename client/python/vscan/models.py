@@ -1,13 +1,12 @@
 """Model jobs of the Client: alignment, reconstruction and evaluation of stored clouds (StartModel),
 and the report they leave (model.json)."""
 
-import json
-
 import grpc
 
 from . import convert
 from ._stubs import sensor_pb2  # noqa: F401  (puts the generated stubs on sys.path)
 from .errors import VscanError
+from .reports import parse_report
 
 from vscan.v1 import job_pb2, model_pb2  # noqa: E402
 
@@ -115,16 +114,15 @@ class ModelCalls:
                 yield response.event.alignment
 
     def model_report(self, job_id):
-        """The job's model.json as a dict (docs/MODEL.md): alignment, reconstruction, evaluation.
+        """The job's model.json as a dict (docs/MODEL.md), read through its message ModelReport
+        (proto/vscan/v1/reports.proto): alignment, reconstruction, evaluation.
 
-        Raises VscanError NOT_FOUND when the job left none (it did not align, or has not ended)."""
+        Raises VscanError NOT_FOUND when the job left none (it did not align, or has not ended),
+        DATA_LOSS when the schema cannot read it."""
         job = self.get_job(job_id)
         artifact = next((a for a in job.artifacts if a.name == MODEL_REPORT), None)
         if artifact is None:
             raise VscanError(grpc.StatusCode.NOT_FOUND,
                              f"job '{job_id}' has no {MODEL_REPORT} (state {job_pb2.JobState.Name(job.state)})")
         _, data = self.read_artifact(job_id, artifact.artifact_id)
-        try:
-            return json.loads(data)
-        except ValueError as err:
-            raise VscanError(grpc.StatusCode.DATA_LOSS, f"job '{job_id}': {MODEL_REPORT}: {err}") from None
+        return parse_report(MODEL_REPORT, data)

@@ -1,10 +1,11 @@
 #pragma once
 // A running job's events and artifacts into the job tracker, scan descriptions as the
-// contract's ScanArtifactInfo, captured scans as stored clouds.
+// contract's ScanArtifactInfo, captured scans as stored clouds, reports through their messages.
 
 #include <string>
 
 #include "api/job/job_tracker.h"
+#include "api/reports/proto_report_writer.h"
 #include "service/job/job_events.h"
 
 namespace vscan::api {
@@ -18,10 +19,12 @@ class TrackedJobRecorder final : public service::JobRecorder {
                                        const std::string& bytes, const service::ScanArtifact* scan,
                                        const store::CloudRecord* cloud, const service::JobEventUpdate& update) override;
   Status End(const service::JobEventUpdate& update) override;
+  const service::ReportWriter& reports() const override { return reports_; }
 
  private:
   JobTracker& tracker_;
   const std::string job_id_;
+  ProtoReportWriter reports_;
 };
 
 }  // namespace vscan::api

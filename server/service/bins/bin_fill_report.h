@@ -1,6 +1,7 @@
 #pragma once
 // bin.json: what a bin fill did, written however it ends: the bin, each part's type, mesh, object
 // and settled pose, the parts that left the bin, the end reason, the physics' counters and times.
+// The job's ReportWriter prints it as proto/vscan/v1/reports.proto's BinReport.
 
 #include <optional>
 #include <string>
@@ -8,7 +9,6 @@
 #include "physics/bin_fill.h"
 #include "service/bins/bin_fill_plan.h"
 #include "service/bins/bin_scene.h"
-#include "service/job/json_writer.h"
 #include "store/job_catalogue.h"
 
 namespace vscan::service {
@@ -22,12 +22,6 @@ struct BinFillReport {
   // Set when the settled parts became objects of the scene.
   std::optional<BinPlacement> placement;
 };
-
-std::string BinFillJson(const BinFillPlan& plan, const BinFillReport& report);
-
-// {"max_part_part_m", "p95_part_part_m", "overlapping_pairs", "max_part_bin_m", "resolution_m"}:
-// the settled meshes' overlaps (physics::MeshOverlaps) as bin.json and a dataset scene record hold them.
-void WriteMeshOverlap(const physics::MeshOverlaps& overlap, JsonWriter& json);
 
 // "m", "mm", "in", ... as the plan files name units.
 const char* UnitName(store::LengthUnit unit);

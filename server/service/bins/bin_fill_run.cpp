@@ -75,7 +75,7 @@ class BinFillRun {
       report_.state = store::JobState::kFailed;
       report_.message = status.ok() ? "the fill ended without placing its parts" : status.message();
     }
-    const std::string json = BinFillJson(plan_, report_);
+    const std::string json = recorder_.reports().BinFillJson(plan_, report_);
     const auto stored = recorder_.RecordArtifact("bin.json", kJsonMediaType, json, nullptr, nullptr,
                                                  Update("bin.json written"));
     if (!stored.ok()) spdlog::warn("job {}: bin.json not stored: {}", report_.job_id, stored.status().ToString());

@@ -217,7 +217,7 @@ class CampaignRun {
   }
 
   void WriteSummary(store::JobState state) {
-    const std::string json = CampaignSummaryJson(job_id_, store::JobStateName(state), plan_, records_);
+    const std::string json = recorder_.reports().CampaignJson(job_id_, store::JobStateName(state), plan_, records_);
     auto written = recorder_.RecordArtifact("campaign.json", kJsonMediaType, json, nullptr, nullptr,
                                             Update(store::JobState::kRunning, "campaign.json written", false));
     if (!written.ok()) spdlog::error("job {}: cannot store campaign.json: {}", job_id_, written.status().ToString());

@@ -1,6 +1,7 @@
 #pragma once
 // campaign.json: what every step of a campaign did (captured, unreachable, colliding), with its
-// poses and file name, written when the campaign ends.
+// poses and file name, written when the campaign ends; the job's ReportWriter prints it as
+// proto/vscan/v1/reports.proto's CampaignReport.
 
 #include <cstdint>
 #include <string>
@@ -30,8 +31,5 @@ struct CampaignStepRecord {
 
 // The step's scan as the job records it with its artifact.
 ScanArtifact ScanArtifactOf(const CampaignStepRecord& record);
-
-std::string CampaignSummaryJson(const std::string& job_id, const std::string& final_state, const CampaignPlan& plan,
-                                const std::vector<CampaignStepRecord>& steps);
 
 }  // namespace vscan::service

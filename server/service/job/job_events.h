@@ -7,6 +7,7 @@
 
 #include <Eigen/Core>
 
+#include "service/job/report_writer.h"
 #include "store/cloud_catalogue.h"
 #include "store/job_catalogue.h"
 #include "vscan/common/pose.h"
@@ -71,6 +72,8 @@ class JobRecorder {
                                                const store::CloudRecord* cloud, const JobEventUpdate& update) = 0;
   // The final event: update.state must be final.
   virtual Status End(const JobEventUpdate& update) = 0;
+  // How the job's JSON reports are printed before RecordArtifact stores them.
+  virtual const ReportWriter& reports() const = 0;
 };
 
 }  // namespace vscan::service

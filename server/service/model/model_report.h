@@ -1,6 +1,7 @@
 #pragma once
 // model.json: what a model job did and found, section by section (alignment, reconstruction,
-// evaluation); a section that did not run is left out.
+// evaluation); a section that did not run is left out. The job's ReportWriter prints it as
+// proto/vscan/v1/reports.proto's ModelReport.
 
 #include <cstddef>
 #include <optional>
@@ -69,9 +70,8 @@ struct ModelReport {
   std::optional<ModelEvaluationReport> evaluation;
 };
 
-std::string ModelReportJson(const ModelReport& report);
-
-// Mean and largest of a per-scan figure over the scans that have it.
+// Mean and largest of a per-scan figure over the scans that have it: the final errors over the
+// aligned scans, the initial ones over all.
 struct ErrorSummary {
   size_t count = 0;
   double mean = 0;
@@ -79,5 +79,7 @@ struct ErrorSummary {
 };
 ErrorSummary SummariseFinalRotation(const std::vector<ScanAlignmentRecord>& scans);
 ErrorSummary SummariseFinalTranslation(const std::vector<ScanAlignmentRecord>& scans);
+ErrorSummary SummariseInitialRotation(const std::vector<ScanAlignmentRecord>& scans);
+ErrorSummary SummariseInitialTranslation(const std::vector<ScanAlignmentRecord>& scans);
 
 }  // namespace vscan::service

@@ -116,7 +116,7 @@ class ModelRun {
     report_.state = store::JobStateName(state);
     report_.clouds = plan_.clouds.size();
     if (report_.alignment) report_.alignment->artifact = placed_ ? "aligned.ply" : "";
-    const std::string json = ModelReportJson(report_);
+    const std::string json = recorder_.reports().ModelJson(report_);
     auto written = recorder_.RecordArtifact("model.json", kJsonMediaType, json, nullptr, nullptr,
                                             Update(store::JobState::kRunning, "model.json written"));
     if (!written.ok()) spdlog::error("job {}: cannot store model.json: {}", job_id_, written.status().ToString());

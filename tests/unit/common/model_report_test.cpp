@@ -117,7 +117,7 @@ TEST(ModelReport, RefusesWhatIsNotAJsonObject) {
 TEST(ModelReport, JsonOnOneLineKeepsTheValues) {
   const auto report = ParseModelReport(kReport);
   ASSERT_TRUE(report.ok());
-  const std::string json = ModelReportJson(*report);
+  const std::string json = ReportJson(*report);
   EXPECT_EQ(json.find('\n'), std::string::npos);
   const auto again = ParseModelReport(json);
   ASSERT_TRUE(again.ok()) << json;

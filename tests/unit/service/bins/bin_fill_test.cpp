@@ -9,6 +9,7 @@
 #include <map>
 #include <sstream>
 
+#include "api/reports/proto_report_writer.h"
 #include "jobs/job_runner.h"
 #include "service/bins/bin_fill_plan.h"
 #include "service/bins/bin_fill_run.h"
@@ -43,7 +44,9 @@ class RecordedFill final : public JobRecorder {
     end_message = update.message;
     return Status::Ok();
   }
+  const ReportWriter& reports() const override { return reports_; }
 
+  api::ProtoReportWriter reports_;
   std::vector<std::string> messages;
   std::string bin_json;
   store::JobState end_state = store::JobState::kRunning;

@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "api/reports/proto_report_writer.h"
 #include "jobs/job_runner.h"
 #include "service/campaign/campaign_run.h"
 #include "service/campaign/campaign_step.h"
@@ -106,7 +107,9 @@ class RecordedJob final : public JobRecorder {
     end_message = update.message;
     return Status::Ok();
   }
+  const ReportWriter& reports() const override { return reports_; }
 
+  api::ProtoReportWriter reports_;
   std::vector<std::string> messages;
   std::vector<std::string> artifacts;
   std::vector<uint64_t> scan_points;

@@ -8,6 +8,7 @@
 #include <numbers>
 #include <random>
 
+#include "api/reports/proto_report_writer.h"
 #include "evaluation/surface_sampling.h"
 #include "geometry/mesh_import.h"
 #include "model_test_block.h"
@@ -137,7 +138,7 @@ TEST(ModelReportTest, ModelJsonHoldsTheSectionsThatRanWithTheirSummaries) {
     scan.initial_rotation_error_deg = 0.1;
     alignment.scans.push_back(scan);
   }
-  const auto json = testing::JsonValue::Parse(ModelReportJson(report));
+  const auto json = testing::JsonValue::Parse(api::ProtoReportWriter().ModelJson(report));
   EXPECT_EQ(json["kind"].text(), "model");
   EXPECT_EQ(json["crop"]["kind"].text(), "bounds");
   EXPECT_EQ(json["alignment"]["aligned"].number(), 2);

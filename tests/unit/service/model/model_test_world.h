@@ -10,6 +10,7 @@
 
 #include <Eigen/Core>
 
+#include "api/reports/proto_report_writer.h"
 #include "jobs/job_runner.h"
 #include "service/campaign/campaign_plan.h"
 #include "service/job/job_events.h"
@@ -30,6 +31,8 @@ class StoredJob final : public JobRecorder {
                                        const std::string& bytes, const ScanArtifact* scan,
                                        const store::CloudRecord* cloud, const JobEventUpdate& update) override;
   Status End(const JobEventUpdate& update) override;
+  // Reports print as vscand prints them.
+  const ReportWriter& reports() const override { return reports_; }
 
   std::string job_id;
   std::vector<std::string> messages;
@@ -44,6 +47,7 @@ class StoredJob final : public JobRecorder {
   store::JobProgress Progress(const JobEventUpdate& update);
   ServiceWorld& world_;
   uint64_t sequence_ = 0;
+  api::ProtoReportWriter reports_;
 };
 
 class TestCampaignRecords final : public CampaignRecords {
