@@ -43,12 +43,7 @@ StatusOr<FillResult> FillBin(const BinSpec& bin, const std::vector<PartType>& pa
   RETURN_IF_ERROR(CheckFillInput(bin, parts, options));
   const auto start = std::chrono::steady_clock::now();
   const std::vector<PartGeometry> geometry = MakePartGeometries(parts, options.hull_tolerance_m);
-  for (size_t i = 0; i < parts.size(); ++i) {
-    if (!(geometry[i].mass_kg > 0)) {
-      return Status(StatusCode::kInvalidArgument, "parts[" + std::to_string(i) + "].mass_kg",
-                    "the mesh encloses no volume: give a mass");
-    }
-  }
+  RETURN_IF_ERROR(CheckPartMasses(geometry));
   const auto world = MakeBulletFillWorld(bin, geometry, options);
   const double setup_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   FillResult result = RunFill(bin, parts, geometry, options, *world, cancel);

@@ -136,4 +136,25 @@ Status CheckFillInput(const BinSpec& bin, const std::vector<PartType>& parts, co
   return CheckOptions(options);
 }
 
+StatusOr<TriangleMesh> ScalePart(TriangleMesh mesh, double scale, const std::string& field) {
+  for (Eigen::Vector3f& v : mesh.vertices) v *= static_cast<float>(scale);
+  Eigen::Vector3f lo, hi;
+  mesh.Bounds(lo, hi);
+  const double across = static_cast<double>((hi - lo).maxCoeff());
+  if (!(across >= 1e-3 && across <= 10)) {
+    return Bad(field + ".scale", "the part scaled by " + std::to_string(scale) + " is " + std::to_string(across) +
+                                     " m across; parts must be 1 mm to 10 m");
+  }
+  return mesh;
+}
+
+Status CheckPartMasses(const std::vector<PartGeometry>& geometry) {
+  for (size_t i = 0; i < geometry.size(); ++i) {
+    if (!(geometry[i].mass_kg > 0)) {
+      return Bad("parts[" + std::to_string(i) + "].mass_kg", "the mesh encloses no volume: give a mass");
+    }
+  }
+  return Status::Ok();
+}
+
 }  // namespace vscan::physics

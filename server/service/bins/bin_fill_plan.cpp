@@ -13,16 +13,7 @@ std::string PartField(size_t i, const char* member) { return "parts[" + std::to_
 // The stored mesh (metres) times the part's scale: the part's own frame for the physics.
 StatusOr<TriangleMesh> ScaledPart(scenes::SceneRegistry& registry, const BinPartRequest& part, size_t i) {
   ASSIGN_OR_RETURN(const auto loaded, registry.LoadMesh(part.mesh_id));
-  TriangleMesh mesh = *loaded;
-  for (Eigen::Vector3f& v : mesh.vertices) v *= static_cast<float>(part.scale);
-  Eigen::Vector3f lo, hi;
-  mesh.Bounds(lo, hi);
-  const double across = static_cast<double>((hi - lo).maxCoeff());
-  if (!(across >= 1e-3 && across <= 10)) {
-    return InvalidArgument(PartField(i, "scale"), "the part scaled by " + std::to_string(part.scale) + " is " +
-                                                      std::to_string(across) + " m across; parts must be 1 mm to 10 m");
-  }
-  return mesh;
+  return physics::ScalePart(*loaded, part.scale, "parts[" + std::to_string(i) + "]");
 }
 
 // The stored bin mesh (metres) times its scale: the bin frame for the physics.
@@ -111,11 +102,7 @@ StatusOr<BinFillPlan> PlanBinFill(scenes::SceneRegistry& registry, BinFillReques
   std::vector<physics::PartType> hulls = plan.parts;
   for (physics::PartType& part : hulls) part.collision = physics::PartCollision::kConvexHull;
   plan.geometry = physics::MakePartGeometries(hulls, request.options.hull_tolerance_m);
-  for (size_t i = 0; i < plan.parts.size(); ++i) {
-    if (!(plan.geometry[i].mass_kg > 0)) {
-      return InvalidArgument(PartField(i, "mass_kg"), "the mesh encloses no volume: give a mass");
-    }
-  }
+  RETURN_IF_ERROR(physics::CheckPartMasses(plan.geometry));
   plan.request = std::move(request);
   return plan;
 }

@@ -23,15 +23,7 @@ PartKey KeyOf(const DatasetPart& part) { return {part.mesh_file, part.mesh_id, p
 
 StatusOr<TriangleMesh> ScaledMesh(const DatasetPart& part, const DatasetMeshLoader& load, const std::string& field) {
   ASSIGN_OR_RETURN(TriangleMesh mesh, load(part, field));
-  for (Eigen::Vector3f& v : mesh.vertices) v *= static_cast<float>(part.scale);
-  Eigen::Vector3f lo, hi;
-  mesh.Bounds(lo, hi);
-  const double across = static_cast<double>((hi - lo).maxCoeff());
-  if (!(across >= 1e-3 && across <= 10)) {
-    return InvalidArgument(field + ".scale", "the part is " + std::to_string(across) +
-                                                 " m across once scaled; parts must be 1 mm to 10 m");
-  }
-  return mesh;
+  return physics::ScalePart(std::move(mesh), part.scale, field);
 }
 
 StatusOr<DatasetBinSetup> PrepareBin(const dataset::DatasetBinFill& fill, const std::string& field,
@@ -48,9 +40,10 @@ StatusOr<DatasetBinSetup> PrepareBin(const dataset::DatasetBinFill& fill, const 
     ASSIGN_OR_RETURN(part.mesh, ScaledMesh(asked, load, part_field));
     part.name = asked.name;
     part.count = asked.count;
-    if (!(physics::MakePartGeometry(part, bin.options.hull_tolerance_m).mass_kg > 0)) {
-      return InvalidArgument(part_field + ".mesh", "the mesh encloses no volume");
-    }
+    part.mass_kg = asked.mass_kg;
+    part.density_kg_per_m3 = asked.density_kg_per_m3;
+    part.collision = asked.collision == "convex_decomposition" ? physics::PartCollision::kConvexDecomposition
+                                                               : physics::PartCollision::kConvexHull;
     const auto [found, added] = obj_ids.emplace(KeyOf(asked), static_cast<uint32_t>(models.size() + 1));
     if (added) {
       dataset::PartModel model;
@@ -61,7 +54,14 @@ StatusOr<DatasetBinSetup> PrepareBin(const dataset::DatasetBinFill& fill, const 
     bin.obj_ids.push_back(found->second);
     bin.parts.push_back(std::move(part));
   }
-  const Status checked = physics::CheckFillInput(bin.spec, bin.parts, bin.options);
+  // The fill's own checks, in the words a bin fill's plan gets (parts[i].mass_kg and the rest); the
+  // masses from hulls, since a decomposition is the fill's to make.
+  Status checked = physics::CheckFillInput(bin.spec, bin.parts, bin.options);
+  if (checked.ok()) {
+    std::vector<physics::PartType> hulls = bin.parts;
+    for (physics::PartType& part : hulls) part.collision = physics::PartCollision::kConvexHull;
+    checked = physics::CheckPartMasses(physics::MakePartGeometries(hulls, bin.options.hull_tolerance_m));
+  }
   if (!checked.ok()) return checked.WithFieldPrefix(field);
   bin.bin_mesh =
       std::make_shared<const TriangleMesh>(geometry::OpenBinMesh(bin.spec.inner_size, bin.spec.wall_thickness));

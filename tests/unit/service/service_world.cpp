@@ -51,14 +51,17 @@ std::string ServiceWorld::EmptyScene(bool table) {
   return scene.scene_id;
 }
 
-std::string ServiceWorld::SceneWith(const TriangleMesh& mesh, const Pose3& world_from_object, bool table) {
+std::string ServiceWorld::AddMesh(const TriangleMesh& mesh, const std::string& name) {
   scenes::MeshUpload upload;
-  upload.name = "object";
+  upload.name = name;
   upload.format = geometry::MeshFileFormat::kObj;
-  const store::MeshRecord stored = Must(scenes_->AddMesh(ObjText(mesh), upload));
+  return Must(scenes_->AddMesh(ObjText(mesh), upload)).mesh_id;
+}
+
+std::string ServiceWorld::SceneWith(const TriangleMesh& mesh, const Pose3& world_from_object, bool table) {
   store::ObjectRecord object;
   object.scene_id = EmptyScene(table);
-  object.mesh_id = stored.mesh_id;
+  object.mesh_id = AddMesh(mesh, "object");
   object.label = "object";
   object.on_table = table;
   object.pose = world_from_object.matrix();

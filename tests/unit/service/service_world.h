@@ -32,6 +32,8 @@ class ServiceWorld {
   store::JobCatalogue& jobs() { return *jobs_; }
   const std::filesystem::path& data_dir() const { return dir_.path(); }
 
+  // mesh (metres) stored as a client's upload named name; its mesh id.
+  std::string AddMesh(const TriangleMesh& mesh, const std::string& name);
   // A scene with nothing in it; with a rotary table at the origin when table is set.
   std::string EmptyScene(bool table = false);
   // A scene holding mesh (metres) at world_from_object; with a rotary table at the origin when

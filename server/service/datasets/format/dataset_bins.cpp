@@ -43,6 +43,10 @@ Status CheckBinFill(const DatasetBinFill& fill, const std::string& field) {
     }
     if (!Within(part.scale, 1e-6, 1e6)) return InvalidArgument(path + ".scale", "must be positive");
     if (part.count == 0) return InvalidArgument(path + ".count", "must be at least 1");
+    if (part.collision != "convex_hull" && part.collision != "convex_decomposition") {
+      return InvalidArgument(path + ".collision",
+                             "unknown collision shape '" + part.collision + "' (convex_hull or convex_decomposition)");
+    }
     total += part.count;
   }
   if (total > kMaxPartsInBin) {

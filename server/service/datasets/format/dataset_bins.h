@@ -22,6 +22,11 @@ struct DatasetPart {
   double scale = 1.0;
   uint32_t count = 0;
   std::string name;  // default: the file's stem, or the mesh id
+  // As a bin plan's parts (docs/BINS.md): a mass, else the density times the enclosed volume; the
+  // collision shape "convex_hull" or "convex_decomposition".
+  std::optional<double> mass_kg;
+  double density_kg_per_m3 = 2700.0;
+  std::string collision = "convex_hull";
 };
 
 struct DatasetBinFill {
@@ -44,8 +49,10 @@ std::optional<double> MetresPerPlanUnit(const std::string& unit);
 inline constexpr uint32_t kMaxPartsInBin = 500;
 
 // Inner sizes within [1 mm, 100 m], walls within (0, 10 m], at least one part, each with a mesh
-// (a file or an id, not both), a known unit, a positive scale and count, at most kMaxPartsInBin
-// parts in all; InvalidArgument names the field below `field`, e.g. "bins[0].parts[1].count".
+// (a file or an id, not both), a known unit, a positive scale and count, a known collision shape, at
+// most kMaxPartsInBin parts in all; InvalidArgument names the field below `field`, e.g.
+// "bins[0].parts[1].count". Masses, densities and the scaled sizes are the fill's own checks
+// (physics/fill_checks.h), made once the meshes are read.
 Status CheckBinFill(const DatasetBinFill& fill, const std::string& field);
 // A preset name and both sizes or neither, each at most 8192.
 Status CheckSensor(const DatasetSensor& sensor, const std::string& field);

@@ -32,8 +32,10 @@ StatusOr<uint32_t> Whole(const YAML::Node& node, const std::string& source, cons
 }
 
 StatusOr<DatasetPart> ReadPart(const YAML::Node& node, const std::string& source, const std::string& key) {
-  RETURN_IF_ERROR(OnlyKeys(node, source, key, {"mesh", "mesh_id", "unit", "scale", "count", "name"},
-                           "mesh, mesh_id, unit, scale, count, name"));
+  RETURN_IF_ERROR(OnlyKeys(node, source, key,
+                           {"mesh", "mesh_id", "unit", "scale", "count", "name", "mass_kg", "density_kg_per_m3",
+                            "collision"},
+                           "mesh, mesh_id, unit, scale, count, name, mass_kg, density_kg_per_m3, collision"));
   DatasetPart part;
   if (node["mesh"]) {
     ASSIGN_OR_RETURN(part.mesh_file, Text(node["mesh"], source, key + ".mesh"));
@@ -46,6 +48,15 @@ StatusOr<DatasetPart> ReadPart(const YAML::Node& node, const std::string& source
   }
   if (node["scale"]) {
     ASSIGN_OR_RETURN(part.scale, Number(node["scale"], source, key + ".scale"));
+  }
+  if (node["mass_kg"]) {
+    ASSIGN_OR_RETURN(part.mass_kg, Number(node["mass_kg"], source, key + ".mass_kg"));
+  }
+  if (node["density_kg_per_m3"]) {
+    ASSIGN_OR_RETURN(part.density_kg_per_m3, Number(node["density_kg_per_m3"], source, key + ".density_kg_per_m3"));
+  }
+  if (node["collision"]) {
+    ASSIGN_OR_RETURN(part.collision, Text(node["collision"], source, key + ".collision"));
   }
   if (!node["count"]) return Refuse(source, key + ".count", "is missing");
   ASSIGN_OR_RETURN(part.count, Whole(node["count"], source, key + ".count"));

@@ -179,7 +179,8 @@ TEST(DatasetPlanYaml, NamesTheBinKeyItRefuses) {
   EXPECT_EQ(message("  - name: a\n" + box + "    parts: [{mesh: a.stl, count: 1}]\n  - b\n"),
             "p.yaml: bins[1]: describe every bin's fill or none");
   EXPECT_EQ(message("  - name: a\n" + box + "    parts: [{mesh: a.stl, count: 1, colour: red}]\n"),
-            "p.yaml: bins[0].parts[0].colour: is not a key (mesh, mesh_id, unit, scale, count, name)");
+            "p.yaml: bins[0].parts[0].colour: is not a key (mesh, mesh_id, unit, scale, count, name, mass_kg, "
+            "density_kg_per_m3, collision)");
 }
 
 
