@@ -2,7 +2,9 @@
 // Seeded draws from SplitMix64's mixer: the same seed gives the same bits on every machine and
 // thread, which scans, encoder noise, IK restarts and campaign steps all rely on.
 
+#include <cmath>
 #include <cstdint>
+#include <numbers>
 
 namespace vscan::random {
 
@@ -32,6 +34,31 @@ class KeyedDraws {
  private:
   uint64_t key_;
   uint64_t counter_ = 0;
+};
+
+// Standard normal deviates for one (seed, key), e.g. a point's or a pixel's: deviate k depends only
+// on (seed, key, k) (Box-Muller over KeyedDraws).
+class KeyedNormals {
+ public:
+  KeyedNormals(uint64_t seed, uint64_t key) : draws_(SplitMix64(SplitMix64(seed) ^ key)) {}
+
+  double Next() {
+    if (has_spare_) {
+      has_spare_ = false;
+      return radius_ * std::sin(angle_);  // the pair's second deviate, only paid for when asked for
+    }
+    // In (0, 1], so log() stays finite.
+    const double u1 = draws_.UniformAboveZero(), u2 = draws_.UniformAboveZero();
+    radius_ = std::sqrt(-2.0 * std::log(u1));
+    angle_ = 2.0 * std::numbers::pi * u2;
+    has_spare_ = true;
+    return radius_ * std::cos(angle_);
+  }
+
+ private:
+  KeyedDraws draws_;
+  double radius_ = 0, angle_ = 0;
+  bool has_spare_ = false;
 };
 
 // The sequential SplitMix64 generator, for one stream of draws from one seed.

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <string>
 #include <vector>
 
@@ -22,30 +21,6 @@ Status CheckNonNegative(double value, std::string_view field, std::string_view m
   return Status::Ok();
 }
 
-// Counter-based normal deviates for one point: draw k depends only on (seed, key, k).
-class PointNormals {
- public:
-  PointNormals(uint64_t seed, uint64_t key) : draws_(random::SplitMix64(random::SplitMix64(seed) ^ key)) {}
-
-  double Next() {
-    if (has_spare_) {
-      has_spare_ = false;
-      return radius_ * std::sin(angle_);  // the pair's second deviate, only paid for when asked for
-    }
-    // In (0, 1], so log() stays finite.
-    const double u1 = draws_.UniformAboveZero(), u2 = draws_.UniformAboveZero();
-    radius_ = std::sqrt(-2.0 * std::log(u1));
-    angle_ = 2.0 * std::numbers::pi * u2;
-    has_spare_ = true;
-    return radius_ * std::cos(angle_);
-  }
-
- private:
-  random::KeyedDraws draws_;
-  double radius_ = 0, angle_ = 0;
-  bool has_spare_ = false;
-};
-
 Eigen::Vector3d Distort(const Eigen::Vector3d& p, const LensDistortion& d) {
   if (!(p.z() > 0)) return p;
   const double x = p.x() / p.z(), y = p.y() / p.z();
@@ -56,7 +31,7 @@ Eigen::Vector3d Distort(const Eigen::Vector3d& p, const LensDistortion& d) {
   return {xd * p.z(), yd * p.z(), p.z()};
 }
 
-Eigen::Vector3d AddNoise(const Eigen::Vector3d& p, const DepthNoise& n, PointNormals& normals) {
+Eigen::Vector3d AddNoise(const Eigen::Vector3d& p, const DepthNoise& n, random::KeyedNormals& normals) {
   const double z = p.z();
   const double sigma = std::max(0.0, n.sigma_a + n.sigma_b * z + n.sigma_c * z * z);
   if (n.along_ray) {
@@ -117,7 +92,7 @@ bool MeasurePoint(Eigen::Vector3d& p, const LensDistortion& distortion, const De
                   uint64_t key) {
   if (distortion.any()) p = Distort(p, distortion);
   if (noise.sigma_a > 0 || noise.sigma_b > 0 || noise.sigma_c > 0) {
-    PointNormals normals(seed, key);
+    random::KeyedNormals normals(seed, key);
     p = AddNoise(p, noise, normals);
   }
   if (noise.depth_step > 0 && !Quantise(p, noise.depth_step)) return false;

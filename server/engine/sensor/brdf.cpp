@@ -1,0 +1,39 @@
+#include "sensor/brdf.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace vscan::sensor {
+
+double GgxDistribution(double cos_h, double alpha) {
+  if (cos_h <= 0) return 0;
+  const double a2 = alpha * alpha;
+  const double d = cos_h * cos_h * (a2 - 1) + 1;
+  return a2 / (std::numbers::pi * d * d);
+}
+
+double GgxMasking(double cos_v, double alpha) {
+  if (cos_v <= 0) return 0;
+  const double a2 = alpha * alpha;
+  return 2 * cos_v / (cos_v + std::sqrt(a2 + (1 - a2) * cos_v * cos_v));
+}
+
+double EvaluateBrdf(const Material& material, const Eigen::Vector3d& normal, const Eigen::Vector3d& to_light,
+                    const Eigen::Vector3d& to_viewer) {
+  const double cos_l = normal.dot(to_light), cos_v = normal.dot(to_viewer);
+  if (!(cos_l > 0) || !(cos_v > 0)) return 0;
+  const Eigen::Vector3d half = (to_light + to_viewer).normalized();
+  const double cos_h = normal.dot(half);
+  const double f0 = (1 - material.metallic) * material.specular_reflectance + material.metallic * material.albedo;
+  // h.v == h.l, so the Fresnel term, and with it the whole BRDF, is the same both ways round.
+  const double fresnel = f0 + (1 - f0) * std::pow(1 - std::clamp(half.dot(to_viewer), 0.0, 1.0), 5);
+  const double roughness = std::max(material.roughness, kMinRoughness);
+  const double alpha = roughness * roughness;
+  const double specular = GgxDistribution(cos_h, alpha) * GgxMasking(cos_l, alpha) * GgxMasking(cos_v, alpha) *
+                          fresnel / (4 * cos_l * cos_v);
+  const double diffuse = (1 - material.metallic) * (1 - fresnel) * material.albedo / std::numbers::pi;
+  return diffuse + specular;
+}
+
+}  // namespace vscan::sensor

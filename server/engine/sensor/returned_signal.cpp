@@ -1,0 +1,62 @@
+#include "sensor/returned_signal.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "random/seeded_draws.h"
+#include "sensor/brdf.h"
+
+namespace vscan::sensor {
+namespace {
+
+Status CheckMember(double value, bool positive, std::string_view field, std::string_view member) {
+  if (!std::isfinite(value)) return InvalidArgument(FieldPath(field, member), "NaN or infinite value");
+  if (positive && !(value > 0)) return InvalidArgument(FieldPath(field, member), "must be > 0");
+  if (value < 0) return InvalidArgument(FieldPath(field, member), "must be >= 0");
+  return Status::Ok();
+}
+
+double Snr(double signal_e, double read_noise_e) { return signal_e / std::sqrt(signal_e + read_noise_e * read_noise_e); }
+
+}  // namespace
+
+Status ValidatePixelResponse(const PixelResponse& response, std::string_view field) {
+  RETURN_IF_ERROR(CheckMember(response.gain_e, true, field, "gain_e"));
+  RETURN_IF_ERROR(CheckMember(response.full_well_e, true, field, "full_well_e"));
+  RETURN_IF_ERROR(CheckMember(response.read_noise_e, false, field, "read_noise_e"));
+  return CheckMember(response.min_snr, false, field, "min_snr");
+}
+
+double DirectRadiance(const Material& material, const Eigen::Vector3d& point, const Eigen::Vector3d& normal,
+                      const Emitter& emitter, const Eigen::Vector3d& camera) {
+  const Eigen::Vector3d to_emitter = emitter.position - point;
+  const double d2 = to_emitter.squaredNorm();
+  if (!(d2 > 0)) return 0;
+  const Eigen::Vector3d l = to_emitter / std::sqrt(d2);
+  const Eigen::Vector3d v = (camera - point).normalized();
+  const double cos_l = normal.dot(l);
+  if (!(cos_l > 0)) return 0;
+  return EvaluateBrdf(material, normal, l, v) * emitter.radiant_intensity_w_per_sr * cos_l / d2;
+}
+
+PixelSignal RespondToRadiance(double radiance, const PixelResponse& response, uint64_t seed, uint64_t key) {
+  PixelSignal out;
+  out.expected_e = std::max(0.0, response.gain_e * radiance);
+  out.noise_e = std::sqrt(out.expected_e + response.read_noise_e * response.read_noise_e);
+  random::KeyedNormals normals(seed, key);
+  out.measured_e = std::clamp(out.expected_e + out.noise_e * normals.Next(), 0.0, response.full_well_e);
+  if (out.expected_e >= response.full_well_e) {
+    out.verdict = SignalVerdict::kSaturated;
+  } else if (!(out.noise_e > 0) || out.expected_e / out.noise_e < response.min_snr) {
+    out.verdict = SignalVerdict::kDark;
+  }
+  return out;
+}
+
+double SignalDepthSigma(double sigma_reference_m, double reference_e, double signal_e, double read_noise_e) {
+  if (!(signal_e > 0)) return std::numeric_limits<double>::infinity();
+  return sigma_reference_m * Snr(reference_e, read_noise_e) / Snr(signal_e, read_noise_e);
+}
+
+}  // namespace vscan::sensor
