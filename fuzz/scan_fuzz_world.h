@@ -8,12 +8,12 @@
 #include <memory>
 #include <string>
 
-#include "service/context/raster_provider.h"
-#include "service/context/server_options.h"
-#include "service/context/service_context.h"
 #include "jobs/worker_pool.h"
 #include "robot_registry/robot_registry.h"
 #include "scenes/scene_registry.h"
+#include "service/context/raster_provider.h"
+#include "service/context/server_options.h"
+#include "service/context/service_context.h"
 #include "store/blob_store.h"
 #include "store/catalogue.h"
 #include "store/cloud_catalogue.h"

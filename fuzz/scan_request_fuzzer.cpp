@@ -15,10 +15,10 @@
 #include <google/protobuf/io/tokenizer.h>
 #include <google/protobuf/text_format.h>
 
-#include "service/scan/scan_backends.h"
 #include "api/scan/scan_request.h"
-#include "service/scan/scan_target.h"
 #include "scan_fuzz_world.h"
+#include "service/scan/scan_backends.h"
+#include "service/scan/scan_target.h"
 
 namespace {
 

@@ -8,12 +8,12 @@
 #include <grpcpp/create_channel.h>
 #include <grpcpp/security/credentials.h>
 
-#include "session/app_main.h"
 #include "campaign/campaign_setup.h"
 #include "load_address.h"
 #include "load_report.h"
 #include "memory_sampler.h"
 #include "process_memory.h"
+#include "session/app_main.h"
 
 namespace vscan::cli {
 namespace {

@@ -1,9 +1,9 @@
 #include "bins/bin_plan.h"
 
 
-#include "session/args.h"
 #include "campaign/campaign_yaml.h"
 #include "campaign/plan_values.h"
+#include "session/args.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::cli {

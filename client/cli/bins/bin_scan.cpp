@@ -9,11 +9,11 @@
 
 #include <google/protobuf/util/json_util.h>
 
+#include "scan/scan_to_file.h"
 #include "session/args.h"
 #include "session/commands.h"
-#include "scan/scan_to_file.h"
-#include "vscan/common/proto_convert.h"
 #include "session/text_format.h"
+#include "vscan/common/proto_convert.h"
 
 namespace vscan::cli {
 namespace {

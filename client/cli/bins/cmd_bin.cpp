@@ -9,11 +9,11 @@
 #include "bins/bin_scan.h"
 #include "bins/bin_setup.h"
 #include "campaign/campaign_report.h"
-#include "session/commands.h"
 #include "job/job_commands.h"
 #include "job/job_download.h"
 #include "job/job_watch.h"
 #include "model/model_report.h"
+#include "session/commands.h"
 
 namespace vscan::cli {
 namespace {
@@ -96,17 +96,11 @@ void AddBinGet(CLI::App& group, Context& ctx) {
   auto id = std::make_shared<std::string>();
   cmd->add_option("JOB", *id, "Job id")->required();
   OnRun(cmd, ctx, [&ctx, id]() -> int {
-    auto* client = ctx.GetClient();
-    if (!client) return ctx.last_exit();
-    const auto job = client->GetJob(*id);
-    if (!job.ok()) return ctx.ServerError(job.status());
-    if (ctx.json()) {
-      ctx.EmitJson(ToJson(*job));
-      return kExitOk;
-    }
-    ctx.Print("job " + DescribeJob(*job));
+    int rc = kExitOk;
+    const std::optional<v1::Job> job = ShowJob(ctx, *id, &rc);
+    if (!job) return rc;
     std::optional<v1::BinReport> report;
-    if (const int rc = FetchBinReport(ctx, *job, &report); rc != kExitOk) return rc;
+    if (rc = FetchBinReport(ctx, *job, &report); rc != kExitOk) return rc;
     if (report && !ctx.quiet()) std::cout << FormatBinReport(*report);
     return kExitOk;
   });

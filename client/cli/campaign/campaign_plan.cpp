@@ -3,9 +3,9 @@
 #include <functional>
 #include <tuple>
 
-#include "session/args.h"
 #include "campaign/campaign_yaml.h"
 #include "campaign/plan_values.h"
+#include "session/args.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::cli {

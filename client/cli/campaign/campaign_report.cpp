@@ -7,8 +7,8 @@
 #include <numbers>
 
 #include "session/context.h"
-#include "vscan/common/proto_convert.h"
 #include "session/text_format.h"
+#include "vscan/common/proto_convert.h"
 
 namespace vscan::cli {
 namespace {

@@ -4,8 +4,8 @@
 #include <map>
 #include <tuple>
 
-#include "session/describe.h"
 #include "robot/robot_format.h"
+#include "session/describe.h"
 #include "session/uploads.h"
 
 namespace vscan::cli {

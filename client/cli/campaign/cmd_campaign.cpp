@@ -8,13 +8,13 @@
 #include "campaign/campaign_plan.h"
 #include "campaign/campaign_report.h"
 #include "campaign/campaign_setup.h"
-#include "session/commands.h"
 #include "job/job_commands.h"
 #include "job/job_download.h"
 #include "job/job_watch.h"
-#include "session/text_format.h"
 #include "model/model_fetch.h"
 #include "model/model_report.h"
+#include "session/commands.h"
+#include "session/text_format.h"
 
 namespace vscan::cli {
 namespace {
@@ -154,15 +154,9 @@ void AddCampaignGet(CLI::App& group, Context& ctx) {
   auto id = std::make_shared<std::string>();
   cmd->add_option("JOB", *id, "Job id")->required();
   OnRun(cmd, ctx, [&ctx, id]() -> int {
-    auto* client = ctx.GetClient();
-    if (!client) return ctx.last_exit();
-    const auto job = client->GetJob(*id);
-    if (!job.ok()) return ctx.ServerError(job.status());
-    if (ctx.json()) {
-      ctx.EmitJson(ToJson(*job));
-      return kExitOk;
-    }
-    ctx.Print("job " + DescribeJob(*job));
+    int rc = kExitOk;
+    const std::optional<v1::Job> job = ShowJob(ctx, *id, &rc);
+    if (!job) return rc;
     const v1::CampaignSpec& spec = job->campaign();
     ctx.Print("scene " + spec.scene_id() + "  mount " + spec.mount_id() + "  " +
               std::to_string(spec.viewpoints_size()) + " viewpoints x " +

@@ -5,14 +5,14 @@
 #include <filesystem>
 #include <fstream>
 
+#include "scan/pose_options.h"
 #include "session/args.h"
 #include "session/commands.h"
 #include "session/describe.h"
-#include "scan/pose_options.h"
 #include "session/progress.h"
+#include "session/text_format.h"
 #include "vscan/common/cloud_io.h"
 #include "vscan/common/proto_convert.h"
-#include "session/text_format.h"
 
 namespace vscan::cli {
 namespace {

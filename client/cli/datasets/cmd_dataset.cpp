@@ -13,9 +13,9 @@
 #include <yaml-cpp/yaml.h>
 
 #include "campaign/campaign_report.h"
-#include "session/commands.h"
 #include "job/job_commands.h"
 #include "job/job_watch.h"
+#include "session/commands.h"
 #include "vscan/v1/job.grpc.pb.h"
 
 namespace vscan::cli {

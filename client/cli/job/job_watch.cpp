@@ -5,10 +5,10 @@
 #include <iostream>
 #include <optional>
 
-#include "session/app_main.h"
 #include "campaign/campaign_report.h"
 #include "job/job_download.h"
 #include "model/model_report.h"
+#include "session/app_main.h"
 #include "session/progress.h"
 
 namespace vscan::cli {
@@ -115,6 +115,26 @@ void AddJobWatch(CLI::App& group, Context& ctx, const std::string& help, JobFini
   cmd->add_option("JOB", *id, "Job id")->required();
   if (with_output) cmd->add_option("-o,--out", *out_dir, "Download the artifacts into this directory");
   OnRun(cmd, ctx, [&ctx, id, out_dir, finish] { return FollowJob(ctx, *id, *out_dir, JobClock::now(), finish); });
+}
+
+std::optional<v1::Job> ShowJob(Context& ctx, const std::string& job_id, int* rc) {
+  *rc = kExitOk;
+  auto* client = ctx.GetClient();
+  if (!client) {
+    *rc = ctx.last_exit();
+    return std::nullopt;
+  }
+  auto job = client->GetJob(job_id);
+  if (!job.ok()) {
+    *rc = ctx.ServerError(job.status());
+    return std::nullopt;
+  }
+  if (ctx.json()) {
+    ctx.EmitJson(ToJson(*job));
+    return std::nullopt;
+  }
+  ctx.Print("job " + DescribeJob(*job));
+  return std::move(job).value();
 }
 
 }  // namespace vscan::cli

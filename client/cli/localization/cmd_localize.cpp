@@ -7,13 +7,13 @@
 #include <map>
 #include <memory>
 
-#include "session/args.h"
-#include "session/commands.h"
 #include "localization/localization_calls.h"
 #include "localization/pose_files.h"
+#include "session/args.h"
+#include "session/commands.h"
+#include "session/text_format.h"
 #include "session/uploads.h"
 #include "vscan/common/proto_convert.h"
-#include "session/text_format.h"
 
 namespace vscan::cli {
 namespace {

@@ -8,14 +8,14 @@
 #include <memory>
 
 #include "campaign/campaign_report.h"
-#include "session/commands.h"
 #include "job/job_commands.h"
 #include "job/job_download.h"
 #include "job/job_watch.h"
-#include "session/text_format.h"
 #include "model/model_args.h"
 #include "model/model_fetch.h"
 #include "model/model_report.h"
+#include "session/commands.h"
+#include "session/text_format.h"
 
 namespace vscan::cli {
 namespace {

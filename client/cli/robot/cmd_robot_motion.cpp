@@ -1,10 +1,10 @@
 // `vscan robot fk|ik|mount|unmount|mounts`.
 
 #include "session/args.h"
-#include "session/commands.h"
 #include "robot/robot_args.h"
 #include "robot/robot_commands.h"
 #include "robot/robot_format.h"
+#include "session/commands.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::cli {

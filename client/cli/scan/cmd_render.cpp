@@ -7,11 +7,11 @@
 
 #include "session/args.h"
 #include "session/commands.h"
+#include "session/text_format.h"
 #include "vscan/render/cloud_colours.h"
 #include "vscan/render/png_io.h"
 #include "vscan/render/render_input.h"
 #include "vscan/render/renderer.h"
-#include "session/text_format.h"
 
 namespace vscan::cli {
 namespace {

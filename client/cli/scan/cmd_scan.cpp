@@ -3,15 +3,15 @@
 #include <filesystem>
 #include <optional>
 
+#include "scan/scan_to_file.h"
 #include "session/args.h"
 #include "session/commands.h"
 #include "session/progress.h"
-#include "scan/scan_to_file.h"
+#include "session/text_format.h"
 #include "vscan/common/chunk_limits.h"
 #include "vscan/common/cloud_file_writer.h"
 #include "vscan/common/point_chunks.h"
 #include "vscan/common/proto_convert.h"
-#include "session/text_format.h"
 
 namespace vscan::cli {
 namespace {

@@ -1,8 +1,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include "session/args.h"
 #include "robot/robot_args.h"
+#include "session/args.h"
 #include "vscan/common/chunk_limits.h"
 #include "vscan/common/proto_convert.h"
 

@@ -1,9 +1,9 @@
 #include <cmath>
 
+#include "scan/pose_options.h"
 #include "session/args.h"
 #include "session/commands.h"
 #include "session/describe.h"
-#include "scan/pose_options.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::cli {

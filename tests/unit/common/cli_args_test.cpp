@@ -7,9 +7,9 @@
 #include <functional>
 #include <numbers>
 
+#include "model/model_args.h"
 #include "vscan/common/chunk_limits.h"
 #include "vscan/common/proto_convert.h"
-#include "model/model_args.h"
 
 namespace vscan::cli {
 namespace {

@@ -8,8 +8,8 @@
 
 #include "vscan/common/cloud_io.h"
 #include "vscan_test/clouds.h"
-#include "vscan_test/temp_dir.h"
 #include "vscan_test/read_all.h"
+#include "vscan_test/temp_dir.h"
 
 namespace vscan {
 namespace {
