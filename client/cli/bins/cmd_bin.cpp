@@ -92,15 +92,10 @@ void AddFill(CLI::App& group, Context& ctx) {
 }
 
 void AddBinGet(CLI::App& group, Context& ctx) {
-  auto* cmd = group.add_subcommand("get", "Show a bin fill: state, message, the summary of its bin.json");
-  auto id = std::make_shared<std::string>();
-  cmd->add_option("JOB", *id, "Job id")->required();
-  OnRun(cmd, ctx, [&ctx, id]() -> int {
-    int rc = kExitOk;
-    const std::optional<v1::Job> job = ShowJob(ctx, *id, &rc);
-    if (!job) return rc;
+  const char* help = "Show a bin fill: state, message, the summary of its bin.json";
+  AddJobGet(group, ctx, help, [&ctx](const v1::Job& job) -> int {
     std::optional<v1::BinReport> report;
-    if (rc = FetchBinReport(ctx, *job, &report); rc != kExitOk) return rc;
+    if (const int rc = FetchBinReport(ctx, job, &report); rc != kExitOk) return rc;
     if (report && !ctx.quiet()) std::cout << FormatBinReport(*report);
     return kExitOk;
   });

@@ -150,18 +150,12 @@ void AddResume(CLI::App& group, Context& ctx) {
 }
 
 void AddCampaignGet(CLI::App& group, Context& ctx) {
-  auto* cmd = group.add_subcommand("get", "Show a campaign job: state, steps, artifacts");
-  auto id = std::make_shared<std::string>();
-  cmd->add_option("JOB", *id, "Job id")->required();
-  OnRun(cmd, ctx, [&ctx, id]() -> int {
-    int rc = kExitOk;
-    const std::optional<v1::Job> job = ShowJob(ctx, *id, &rc);
-    if (!job) return rc;
-    const v1::CampaignSpec& spec = job->campaign();
+  AddJobGet(group, ctx, "Show a campaign job: state, steps, artifacts", [&ctx](const v1::Job& job) -> int {
+    const v1::CampaignSpec& spec = job.campaign();
     ctx.Print("scene " + spec.scene_id() + "  mount " + spec.mount_id() + "  " +
               std::to_string(spec.viewpoints_size()) + " viewpoints x " +
               std::to_string(std::max<uint32_t>(spec.rotations(), 1)) + " table angles");
-    if (!ctx.quiet()) std::cout << CampaignTable(CampaignRows(*job, {}));
+    if (!ctx.quiet()) std::cout << CampaignTable(CampaignRows(job, {}));
     return kExitOk;
   });
 }

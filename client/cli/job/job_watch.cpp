@@ -3,6 +3,7 @@
 #include <unistd.h>
 
 #include <iostream>
+#include <memory>
 #include <optional>
 
 #include "campaign/campaign_report.h"
@@ -117,24 +118,22 @@ void AddJobWatch(CLI::App& group, Context& ctx, const std::string& help, JobFini
   OnRun(cmd, ctx, [&ctx, id, out_dir, finish] { return FollowJob(ctx, *id, *out_dir, JobClock::now(), finish); });
 }
 
-std::optional<v1::Job> ShowJob(Context& ctx, const std::string& job_id, int* rc) {
-  *rc = kExitOk;
-  auto* client = ctx.GetClient();
-  if (!client) {
-    *rc = ctx.last_exit();
-    return std::nullopt;
-  }
-  auto job = client->GetJob(job_id);
-  if (!job.ok()) {
-    *rc = ctx.ServerError(job.status());
-    return std::nullopt;
-  }
-  if (ctx.json()) {
-    ctx.EmitJson(ToJson(*job));
-    return std::nullopt;
-  }
-  ctx.Print("job " + DescribeJob(*job));
-  return std::move(job).value();
+void AddJobGet(CLI::App& group, Context& ctx, const std::string& help, std::function<int(const v1::Job&)> show) {
+  auto* cmd = group.add_subcommand("get", help);
+  auto id = std::make_shared<std::string>();
+  cmd->add_option("JOB", *id, "Job id")->required();
+  OnRun(cmd, ctx, [&ctx, id, show = std::move(show)]() -> int {
+    auto* client = ctx.GetClient();
+    if (!client) return ctx.last_exit();
+    const auto job = client->GetJob(*id);
+    if (!job.ok()) return ctx.ServerError(job.status());
+    if (ctx.json()) {
+      ctx.EmitJson(ToJson(*job));
+      return kExitOk;
+    }
+    ctx.Print("job " + DescribeJob(*job));
+    return show(*job);
+  });
 }
 
 }  // namespace vscan::cli

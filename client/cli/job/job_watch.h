@@ -7,7 +7,6 @@
 #include <cstdint>
 #include <functional>
 #include <map>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -48,10 +47,9 @@ std::string RunDirectory(const std::string& out_dir, bool no_download, const std
 // Follows job_id to its end, downloads its artifacts into out_dir unless it is empty, then finishes.
 int FollowJob(Context& ctx, const std::string& job_id, const std::string& out_dir, JobClock::time_point started,
               const JobFinish& finish);
-// The opening of `GROUP get JOB`: the job printed whole with --json, else its "job ..." line.
-// Returns the job when the command goes on to print its report, else nullopt with the exit code
-// in *rc (the job printed as JSON, or not read).
-std::optional<v1::Job> ShowJob(Context& ctx, const std::string& job_id, int* rc);
+// `GROUP get JOB`: the job printed whole with --json, else its "job ..." line and then what
+// show prints of its kind (its exit code is the command's).
+void AddJobGet(CLI::App& group, Context& ctx, const std::string& help, std::function<int(const v1::Job&)> show);
 // `GROUP watch JOB`, and with with_output `-o DIR` for its artifacts.
 void AddJobWatch(CLI::App& group, Context& ctx, const std::string& help, JobFinish finish, bool with_output);
 
