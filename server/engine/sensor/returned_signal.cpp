@@ -17,7 +17,9 @@ Status CheckMember(double value, bool positive, std::string_view field, std::str
   return Status::Ok();
 }
 
-double Snr(double signal_e, double read_noise_e) { return signal_e / std::sqrt(signal_e + read_noise_e * read_noise_e); }
+double Snr(double signal_e, double read_noise_e) {
+  return signal_e / std::sqrt(signal_e + read_noise_e * read_noise_e);
+}
 
 }  // namespace
 

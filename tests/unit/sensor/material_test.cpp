@@ -140,7 +140,8 @@ TEST(Material, AMirrorLikeSurfaceSaturatesOnlyNearItsSpecularDirection) {
   const Eigen::Vector3d point(0, 0, 0.5);
   const Material& grey = FindMaterialPreset("matte-grey")->material;
   PixelResponse response;
-  response.gain_e = 0.1 * response.full_well_e / DirectRadiance(grey, point, -Eigen::Vector3d::UnitZ(), projector, camera);
+  const double grey_facing = DirectRadiance(grey, point, -Eigen::Vector3d::UnitZ(), projector, camera);
+  response.gain_e = 0.1 * response.full_well_e / grey_facing;
   // The plane's normal bisects the directions to the camera and the projector at this turn.
   const double mirror_deg = 0.5 * std::atan2(0.1, 0.5) * 180 / kPi;
   const Material& steel = FindMaterialPreset("polished-steel")->material;

@@ -33,6 +33,12 @@ void Fills(JsonWriter& json, const DatasetPlan& plan) {
       json.Key("scale").Value(part.scale);
       json.Key("count").Value(uint64_t{part.count});
       json.Key("name").Value(part.name);
+      // Only where a plan sets them, so that a dataset written before parts had them keeps its identity.
+      if (part.mass_kg) json.Key("mass_kg").Value(*part.mass_kg);
+      if (part.density_kg_per_m3 != DatasetPart{}.density_kg_per_m3) {
+        json.Key("density_kg_per_m3").Value(part.density_kg_per_m3);
+      }
+      if (part.collision != DatasetPart{}.collision) json.Key("collision").Value(part.collision);
       json.Close('}');
     }
     json.Close(']').Close('}');

@@ -4,6 +4,7 @@
 
 #include <set>
 
+#include "service/datasets/format/dataset_manifest.h"
 #include "service/datasets/format/dataset_plan.h"
 #include "service/datasets/format/dataset_plan_yaml.h"
 
@@ -161,6 +162,28 @@ TEST(DatasetPlanYaml, ReadsBinFillsAndSensorSetups) {
   EXPECT_EQ(plan->sensor_setups[1].preset, "ideal-vga");
   EXPECT_EQ(plan->sensor_setups[1].width, 160u);
   EXPECT_EQ(plan->camera_height_m, 0.8);
+}
+
+// A part's mass, density and collision make a different dataset; a plan without them keeps the
+// manifest (the dataset's identity) that plans had before parts took them.
+TEST(DatasetPlanYaml, APartsPhysicsIsPartOfTheDatasetsIdentity) {
+  const auto manifest = [](const std::string& part) {
+    const auto plan = ParseDatasetPlanYaml("bins:\n  - name: b\n    box: {inner_size_m: [0.3, 0.2, 0.1]}\n"
+                                           "    parts: [{mesh: block.stl, count: 3" + part + "}]\n"
+                                           "seeds: [4]\nsensors: [ideal-vga]\ncamera_height_m: 0.8\n",
+                                           "plan.yaml");
+    EXPECT_TRUE(plan.ok()) << plan.status().ToString();
+    return plan.ok() ? DatasetManifestJson(*plan) : std::string();
+  };
+  const std::string plain = manifest("");
+  EXPECT_EQ(plain.find("collision"), std::string::npos);
+  EXPECT_EQ(plain.find("mass_kg"), std::string::npos);
+  EXPECT_EQ(plain.find("density_kg_per_m3"), std::string::npos);
+  EXPECT_EQ(manifest(", collision: convex_hull, density_kg_per_m3: 2700"), plain);
+  std::set<std::string> distinct = {plain};
+  for (const std::string part : {", collision: convex_decomposition", ", mass_kg: 0.2", ", density_kg_per_m3: 7800"}) {
+    EXPECT_TRUE(distinct.insert(manifest(part)).second) << part;
+  }
 }
 
 TEST(DatasetPlanYaml, NamesTheBinKeyItRefuses) {
