@@ -19,6 +19,11 @@ double GgxMasking(double cos_v, double alpha) {
   return 2 * cos_v / (cos_v + std::sqrt(a2 + (1 - a2) * cos_v * cos_v));
 }
 
+double SchlickFresnel(double f0, double cos_d) {
+  const double f90 = std::min(1.0, 50 * f0);
+  return f0 + (f90 - f0) * std::pow(1 - std::clamp(cos_d, 0.0, 1.0), 5);
+}
+
 double EvaluateBrdf(const Material& material, const Eigen::Vector3d& normal, const Eigen::Vector3d& to_light,
                     const Eigen::Vector3d& to_viewer) {
   const double cos_l = normal.dot(to_light), cos_v = normal.dot(to_viewer);
@@ -27,12 +32,15 @@ double EvaluateBrdf(const Material& material, const Eigen::Vector3d& normal, con
   const double cos_h = normal.dot(half);
   const double f0 = (1 - material.metallic) * material.specular_reflectance + material.metallic * material.albedo;
   // h.v == h.l, so the Fresnel term, and with it the whole BRDF, is the same both ways round.
-  const double fresnel = f0 + (1 - f0) * std::pow(1 - std::clamp(half.dot(to_viewer), 0.0, 1.0), 5);
+  const double fresnel = SchlickFresnel(f0, half.dot(to_viewer));
   const double roughness = std::max(material.roughness, kMinRoughness);
   const double alpha = roughness * roughness;
   const double specular = GgxDistribution(cos_h, alpha) * GgxMasking(cos_l, alpha) * GgxMasking(cos_v, alpha) *
                           fresnel / (4 * cos_l * cos_v);
-  const double diffuse = (1 - material.metallic) * (1 - fresnel) * material.albedo / std::numbers::pi;
+  // Light that enters the surface crosses its interface twice, in along l and out along v; weighting
+  // by h.v instead would return more than arrives at grazing views.
+  const double diffuse = (1 - material.metallic) * (1 - SchlickFresnel(f0, cos_l)) * (1 - SchlickFresnel(f0, cos_v)) *
+                         material.albedo / std::numbers::pi;
   return diffuse + specular;
 }
 

@@ -26,12 +26,12 @@ Eigen::Vector3d Direction(double theta, double phi) {
 // Directional-hemispherical reflectance: the integral of f cos over the light's hemisphere, for a
 // viewer at theta_v. Integrated over half vectors h (l = 2 (h.v) h - v, dw_l = 4 (h.v) dw_h), whose
 // lobe sits at the normal whatever v, on a grid dense near it (theta_h = pi/2 t^2), so that narrow
-// lobes are resolved.
+// lobes are resolved. v lies in the xz plane: the half of the azimuths with y >= 0, twice.
 double Reflectance(const Material& material, double theta_v) {
   const Eigen::Vector3d n = Eigen::Vector3d::UnitZ();
   const Eigen::Vector3d v = Direction(theta_v, 0);
-  const int steps_t = 600, steps_phi = 360;
-  const double d_t = 1.0 / steps_t, d_phi = 2 * kPi / steps_phi;
+  const int steps_t = 600, steps_phi = 180;
+  const double d_t = 1.0 / steps_t, d_phi = kPi / steps_phi;
   double sum = 0;
   for (int i = 0; i < steps_t; ++i) {
     const double t = (i + 0.5) * d_t;
@@ -44,7 +44,7 @@ double Reflectance(const Material& material, double theta_v) {
       sum += EvaluateBrdf(material, n, l, v) * std::max(0.0, l.z()) * 4 * h_v * std::sin(theta_h) * d_theta * d_phi;
     }
   }
-  return sum;
+  return 2 * sum;
 }
 
 TEST(Material, ALambertianPlanesRadianceIsAlbedoTimesCosOverRSquared) {
@@ -86,24 +86,47 @@ TEST(Material, TheBrdfIsReciprocalAndZeroBelowTheHorizon) {
 TEST(Material, NoMaterialReflectsMoreLightThanArrives) {
   std::vector<Material> materials;
   for (const MaterialPreset& preset : MaterialPresets()) materials.push_back(preset.material);
-  for (const double roughness : {0.1, 0.4, 1.0}) {
-    for (const double metallic : {0.0, 1.0}) materials.push_back({1.0, metallic, roughness, 1.0});
-  }
-  for (const Material& material : materials) {
-    for (const double theta_v : {0.0, 0.6, 1.2}) {
-      EXPECT_LE(Reflectance(material, theta_v), 1.0 + 1e-3)
-          << material.albedo << " " << material.metallic << " " << material.roughness << " at " << theta_v;
+  // The brightest of each kind: white, F0 of a dielectric or 1, over the blend and the roughness
+  // from below the floor to 1.
+  for (const double roughness : {0.0, 0.05, 0.1, 0.25, 0.5, 0.75, 1.0}) {
+    for (const double metallic : {0.0, 0.5, 1.0}) {
+      for (const double f0 : {0.04, 1.0}) materials.push_back({1.0, metallic, roughness, f0});
     }
   }
-  // A rough dielectric with no specular reflectance is nearly Lambertian: it returns its albedo
-  // less what Schlick's term sends into the specular lobe at grazing angles.
-  const Material matte{0.6, 0.0, 1.0, 0.0};
-  const double reflectance = Reflectance(matte, 0.0);
-  EXPECT_LE(reflectance, 0.6);
-  EXPECT_GE(reflectance, 0.55);
+  for (const Material& material : materials) {
+    for (const double theta_v : {0.0, 0.6, 1.2, 1.45}) {
+      EXPECT_LE(Reflectance(material, theta_v), 1.0 + 1e-3)
+          << material.albedo << " " << material.metallic << " " << material.roughness << " "
+          << material.specular_reflectance << " at " << theta_v;
+    }
+  }
+  // The quadrature resolves the narrowest lobe: a white mirror at the roughness floor returns all
+  // but the little its masking takes.
+  EXPECT_GE(Reflectance({1.0, 1.0, 0.0, 0.04}, 0.0), 0.99);
+  EXPECT_GE(Reflectance({1.0, 1.0, 0.0, 0.04}, 1.2), 0.97);
 }
 
-TEST(Material, TheSpecularLobeIsWaltersGgx) {
+TEST(Material, ADielectricWithoutSpecularReflectanceIsLambertian) {
+  // F0 = 0: no Fresnel term at any angle, so the reflectance is the albedo from every direction and
+  // the BRDF is albedo / pi for every pair of directions.
+  random::SplitMix64Stream draws(5);
+  const Eigen::Vector3d n = Eigen::Vector3d::UnitZ();
+  for (const double albedo : {0.2, 0.6, 1.0}) {
+    for (const double roughness : {0.0, 0.5, 1.0}) {
+      const Material lambertian{albedo, 0.0, roughness, 0.0};
+      for (const double theta_v : {0.0, 0.7, 1.4}) {
+        EXPECT_NEAR(Reflectance(lambertian, theta_v), albedo, 1e-4) << albedo << " " << roughness << " " << theta_v;
+      }
+      for (int k = 0; k < 100; ++k) {
+        const Eigen::Vector3d l = Direction(0.5 * kPi * draws.Uniform(), 2 * kPi * draws.Uniform());
+        const Eigen::Vector3d v = Direction(0.5 * kPi * draws.Uniform(), 2 * kPi * draws.Uniform());
+        EXPECT_NEAR(EvaluateBrdf(lambertian, n, l, v), albedo / kPi, 1e-15);
+      }
+    }
+  }
+}
+
+TEST(Material, TheBrdfIsWaltersGgxOverLambert) {
   // D and G1 as Walter et al. (2007) write them, in tangents (eqs. 33 and 34).
   const auto d_walter = [](double cos_h, double alpha) {
     const double tan2 = (1 - cos_h * cos_h) / (cos_h * cos_h);
@@ -114,21 +137,30 @@ TEST(Material, TheSpecularLobeIsWaltersGgx) {
     const double tan2 = (1 - cos_v * cos_v) / (cos_v * cos_v);
     return 2 / (1 + std::sqrt(1 + alpha * alpha * tan2));
   };
+  // Schlick (1994) with the grazing reflectance Schuler (2009) takes from F0.
+  const auto schlick = [](double f0, double cos_d) {
+    const double f90 = f0 >= 0.02 ? 1.0 : f0 / 0.02;
+    return f0 + (f90 - f0) * std::pow(1 - cos_d, 5);
+  };
   random::SplitMix64Stream draws(11);
   const Eigen::Vector3d n = Eigen::Vector3d::UnitZ();
-  for (int k = 0; k < 2000; ++k) {
+  for (int k = 0; k < 4000; ++k) {
     const double roughness = 0.05 + 0.95 * draws.Uniform();
-    const double f0 = draws.Uniform();
-    // A metal: no diffuse term, F0 = albedo.
-    const Material metal{f0, 1.0, roughness, 0.04};
+    // Every other material a metal (no diffuse term, F0 = albedo); the rest blended dielectrics,
+    // some with an F0 below the 0.02 where the grazing reflectance falls.
+    const double albedo = draws.Uniform(), metallic = k % 2 == 0 ? 1.0 : draws.Uniform();
+    const double f0_dielectric = k % 4 == 1 ? 0.02 * draws.Uniform() : draws.Uniform();
+    const Material material{albedo, metallic, roughness, f0_dielectric};
     const Eigen::Vector3d l = Direction(0.49 * kPi * draws.Uniform(), 2 * kPi * draws.Uniform());
     const Eigen::Vector3d v = Direction(0.49 * kPi * draws.Uniform(), 2 * kPi * draws.Uniform());
     const Eigen::Vector3d h = (l + v).normalized();
     const double alpha = roughness * roughness;
-    const double fresnel = f0 + (1 - f0) * std::pow(1 - h.dot(v), 5);
+    const double f0 = metallic * albedo + (1 - metallic) * f0_dielectric;
+    const double fresnel = schlick(f0, h.dot(v));
     const double expected =
-        d_walter(h.z(), alpha) * g1_walter(l.z(), alpha) * g1_walter(v.z(), alpha) * fresnel / (4 * l.z() * v.z());
-    EXPECT_NEAR(EvaluateBrdf(metal, n, l, v), expected, 1e-9 * std::max(1.0, expected));
+        d_walter(h.z(), alpha) * g1_walter(l.z(), alpha) * g1_walter(v.z(), alpha) * fresnel / (4 * l.z() * v.z()) +
+        (1 - metallic) * (1 - schlick(f0, l.z())) * (1 - schlick(f0, v.z())) * albedo / kPi;
+    EXPECT_NEAR(EvaluateBrdf(material, n, l, v), expected, 1e-9 * std::max(1.0, expected));
   }
 }
 
