@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "random/seeded_draws.h"
 #include "sensor/brdf.h"
@@ -23,6 +24,21 @@ double Snr(double signal_e, double read_noise_e) {
 
 }  // namespace
 
+Status ValidateEmitter(const Emitter& emitter, std::string_view field) {
+  if (!emitter.position.allFinite()) return InvalidArgument(FieldPath(field, "position"), "NaN or infinite value");
+  RETURN_IF_ERROR(CheckMember(emitter.radiant_intensity_w_per_sr, false, field, "radiant_intensity_w_per_sr"));
+  if (!emitter.axis.allFinite()) return InvalidArgument(FieldPath(field, "axis"), "NaN or infinite value");
+  if (!(emitter.axis.norm() > 0)) return InvalidArgument(FieldPath(field, "axis"), "must not be zero");
+  const double half_angle = emitter.cone_half_angle_rad;
+  if (!std::isfinite(half_angle)) {
+    return InvalidArgument(FieldPath(field, "cone_half_angle_rad"), "NaN or infinite value");
+  }
+  if (!(half_angle > 0) || half_angle > std::numbers::pi) {
+    return InvalidArgument(FieldPath(field, "cone_half_angle_rad"), "must be within (0, pi]");
+  }
+  return Status::Ok();
+}
+
 Status ValidatePixelResponse(const PixelResponse& response, std::string_view field) {
   RETURN_IF_ERROR(CheckMember(response.gain_e, true, field, "gain_e"));
   RETURN_IF_ERROR(CheckMember(response.full_well_e, true, field, "full_well_e"));
@@ -36,15 +52,27 @@ double DirectRadiance(const Material& material, const Eigen::Vector3d& point, co
   const double d2 = to_emitter.squaredNorm();
   if (!(d2 > 0)) return 0;
   const Eigen::Vector3d l = to_emitter / std::sqrt(d2);
+  if (emitter.cone_half_angle_rad < std::numbers::pi &&
+      -l.dot(emitter.axis.normalized()) < std::cos(emitter.cone_half_angle_rad)) {
+    return 0;
+  }
   const Eigen::Vector3d v = (camera - point).normalized();
   const double cos_l = normal.dot(l);
   if (!(cos_l > 0)) return 0;
   return EvaluateBrdf(material, normal, l, v) * emitter.radiant_intensity_w_per_sr * cos_l / d2;
 }
 
+double ExpectedElectrons(double radiance, double off_axis_falloff, const PixelResponse& response) {
+  return response.gain_e * radiance * off_axis_falloff;
+}
+
 PixelSignal RespondToRadiance(double radiance, const PixelResponse& response, uint64_t seed, uint64_t key) {
+  return RespondToElectrons(ExpectedElectrons(radiance, 1, response), response, seed, key);
+}
+
+PixelSignal RespondToElectrons(double expected_e, const PixelResponse& response, uint64_t seed, uint64_t key) {
   PixelSignal out;
-  out.expected_e = std::max(0.0, response.gain_e * radiance);
+  out.expected_e = std::max(0.0, expected_e);
   out.noise_e = std::sqrt(out.expected_e + response.read_noise_e * response.read_noise_e);
   random::KeyedNormals normals(seed, key);
   out.measured_e = std::clamp(out.expected_e + out.noise_e * normals.Next(), 0.0, response.full_well_e);

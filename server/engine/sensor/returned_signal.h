@@ -5,6 +5,7 @@
 // Direct light only: one bounce from the emitter to the surface to the camera.
 
 #include <cstdint>
+#include <numbers>
 #include <string_view>
 
 #include <Eigen/Core>
@@ -14,11 +15,19 @@
 
 namespace vscan::sensor {
 
-// A point source in the sensor frame, of the same radiant intensity in every direction it lights.
+// A point source in the sensor frame, of the same radiant intensity in every direction it lights:
+// those within cone_half_angle_rad of axis (a projector's or an illuminator's field; pi lights
+// every direction).
 struct Emitter {
   Eigen::Vector3d position = Eigen::Vector3d::Zero();
   double radiant_intensity_w_per_sr = 1.0;
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitZ();
+  double cone_half_angle_rad = std::numbers::pi;
 };
+
+// Position finite, intensity finite and non-negative, axis finite and non-zero, half angle within
+// (0, pi]; INVALID_ARGUMENT naming "<field>.<member>".
+Status ValidateEmitter(const Emitter& emitter, std::string_view field);
 
 // One pixel over one exposure. gain_e folds the quantum efficiency, the exposure time, the
 // aperture's area, the pixel's solid angle and the photon energy into electrons per unit of scene
@@ -37,7 +46,7 @@ Status ValidatePixelResponse(const PixelResponse& response, std::string_view fie
 // Radiance (W / (m^2 sr)) that `point` (normal `normal`) sends to the camera at `camera`, lit by
 // `emitter`: L = f_r(l, v) I cos(theta_l) / d^2, d the emitter's distance to the point, l and v the
 // unit directions to the emitter and the camera. Zero where the emitter or the camera is behind
-// the surface.
+// the surface, or the point lies outside the emitter's cone.
 double DirectRadiance(const Material& material, const Eigen::Vector3d& point, const Eigen::Vector3d& normal,
                       const Emitter& emitter, const Eigen::Vector3d& camera);
 
@@ -50,8 +59,16 @@ struct PixelSignal {
   SignalVerdict verdict = SignalVerdict::kMeasured;
 };
 
-// kSaturated when the mean reaches the full well, else kDark when expected_e / noise_e is below
-// min_snr. The draw depends only on (seed, key), e.g. the pixel's index.
+// The mean electrons of a pixel that sees `radiance` along a ray whose OffAxisFalloff is
+// `off_axis_falloff` (1 on the optical axis): gain_e x radiance x off_axis_falloff.
+double ExpectedElectrons(double radiance, double off_axis_falloff, const PixelResponse& response);
+
+// The pixel's response to a mean of expected_e electrons: kSaturated when the mean reaches the full
+// well, else kDark when expected_e / noise_e is below min_snr. The draw depends only on
+// (seed, key), e.g. the pixel's index.
+PixelSignal RespondToElectrons(double expected_e, const PixelResponse& response, uint64_t seed, uint64_t key);
+// RespondToElectrons(ExpectedElectrons(radiance, 1, response), ...): a pixel on the optical axis, or
+// a radiance the caller has already multiplied by the fall-off.
 PixelSignal RespondToRadiance(double radiance, const PixelResponse& response, uint64_t seed, uint64_t key);
 
 // Depth noise that follows from the signal: a sensor whose depth sigma is sigma_reference_m at a

@@ -12,6 +12,7 @@
 #include "random/seeded_draws.h"
 #include "sensor/brdf.h"
 #include "sensor/material.h"
+#include "sensor/pixel_radiometry.h"
 #include "sensor/returned_signal.h"
 
 namespace vscan::sensor {
@@ -166,14 +167,18 @@ TEST(Material, TheBrdfIsWaltersGgxOverLambert) {
 
 TEST(Material, AMirrorLikeSurfaceSaturatesOnlyNearItsSpecularDirection) {
   // A camera at the origin, a projector 10 cm to its right, a plane 0.5 m ahead turned about y.
-  // The response puts a matte grey plane facing the camera at a tenth of the full well.
+  // The pixel's gain is PinholePixel's default (3 um pixels, 8 mm f/2 lens, 10 ms, QE 0.3 at
+  // 850 nm), the projector sends 0.1 W/sr (50 mW over half a steradian): a matte grey plane
+  // facing the camera fills a tenth of the full well or so.
   const Eigen::Vector3d camera = Eigen::Vector3d::Zero();
-  const Emitter projector{Eigen::Vector3d(0.1, 0, 0), 1.0};
+  const Emitter projector{Eigen::Vector3d(0.1, 0, 0), 0.1};
   const Eigen::Vector3d point(0, 0, 0.5);
   const Material& grey = FindMaterialPreset("matte-grey")->material;
   PixelResponse response;
+  response.gain_e = PixelGain(PinholePixel{});
   const double grey_facing = DirectRadiance(grey, point, -Eigen::Vector3d::UnitZ(), projector, camera);
-  response.gain_e = 0.1 * response.full_well_e / grey_facing;
+  ASSERT_GT(response.gain_e * grey_facing, 0.05 * response.full_well_e);
+  ASSERT_LT(response.gain_e * grey_facing, 0.3 * response.full_well_e);
   // The plane's normal bisects the directions to the camera and the projector at this turn.
   const double mirror_deg = 0.5 * std::atan2(0.1, 0.5) * 180 / kPi;
   const Material& steel = FindMaterialPreset("polished-steel")->material;
