@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <vector>
 
 #include "sensor/material.h"
 #include "sensor/pixel_radiometry.h"
@@ -120,6 +121,45 @@ TEST(ReturnedSignal, AnEmitterLightsOnlyWithinItsCone) {
   const Eigen::Vector3d point = emitter.position + Eigen::Vector3d(0.1, 0, 1);
   EXPECT_EQ(DirectRadiance(grey, point, -Eigen::Vector3d::UnitZ(), emitter, Eigen::Vector3d::Zero()),
             DirectRadiance(grey, point, -Eigen::Vector3d::UnitZ(), everywhere, Eigen::Vector3d::Zero()));
+}
+
+// Pearson's chi-square of 20 000 draws of a pixel at `signal` electrons, standardised by
+// `assumed_sigma`, in 14 bins (12 of width 0.5 within 3 sigma and the two tails) against the
+// standard normal's probabilities.
+double NoiseChiSquare(double signal, double assumed_sigma, const PixelResponse& response) {
+  const int n = 20000, bins = 14;
+  std::vector<int> counts(bins, 0);
+  for (int k = 0; k < n; ++k) {
+    const double z = (RespondToRadiance(signal, response, 17, static_cast<uint64_t>(k)).measured_e - signal) /
+                     assumed_sigma;
+    ++counts[static_cast<size_t>(z < -3 ? 0 : z >= 3 ? bins - 1 : 1 + static_cast<int>((z + 3) / 0.5))];
+  }
+  const auto cdf = [](double z) { return 0.5 * std::erfc(-z / std::sqrt(2.0)); };
+  double chi2 = 0;
+  for (int bin = 0; bin < bins; ++bin) {
+    const double lo = bin == 0 ? -INFINITY : -3 + 0.5 * (bin - 1);
+    const double hi = bin == bins - 1 ? INFINITY : -3 + 0.5 * bin;
+    const double expected = n * (cdf(hi) - cdf(lo));
+    chi2 += std::pow(counts[static_cast<size_t>(bin)] - expected, 2) / expected;
+  }
+  return chi2;
+}
+
+TEST(ReturnedSignal, TheNoiseIsGaussianOfVarianceSignalPlusReadNoiseSquared) {
+  PixelResponse response;
+  response.gain_e = 1;
+  response.full_well_e = 1e9;
+  response.read_noise_e = 20;
+  // 13 degrees of freedom: the 99.9th percentile is 34.5.
+  for (const double signal : {400.0, 5000.0}) {
+    const double sigma = std::sqrt(signal + 400);
+    EXPECT_LT(NoiseChiSquare(signal, sigma, response), 34.5) << signal;
+    // The test tells a sigma 5% off.
+    EXPECT_GT(NoiseChiSquare(signal, 1.05 * sigma, response), 34.5) << signal;
+    EXPECT_GT(NoiseChiSquare(signal, sigma / 1.05, response), 34.5) << signal;
+  }
+  // Shot noise alone (the read noise forgotten) fails where the floor matters.
+  EXPECT_GT(NoiseChiSquare(400, std::sqrt(400.0), response), 34.5);
 }
 
 TEST(ReturnedSignal, TheChecksNameTheEmittersAndThePixelsField) {
