@@ -12,8 +12,8 @@
 
 namespace vscan::sensor {
 
-inline constexpr double kPlanckJs = 6.62607015e-34;      // h, exact in the SI
-inline constexpr double kSpeedOfLightMs = 299792458.0;   // c, exact in the SI
+inline constexpr double kPlanckJs = 6.62607015e-34;     // h, exact in the SI
+inline constexpr double kSpeedOfLightMs = 299792458.0;  // c, exact in the SI
 
 struct PinholePixel {
   double aperture_area_m2 = 1.2566e-5;   // the entrance pupil: pi (f / (2 N))^2, here f = 8 mm at f/2

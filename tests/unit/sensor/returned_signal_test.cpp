@@ -47,7 +47,8 @@ TEST(PixelRadiometry, OffAxisPixelsCollectCosToTheFourth) {
   const double f = 8e-3, half = 1.5e-6;
   const double on_axis = RectangleSolidAngle(-half, half, -half, half, f);
   EXPECT_NEAR(on_axis / std::pow(2 * half / f, 2), 1.0, 1e-6);
-  for (const auto& [x, y] : {std::pair{2e-3, 0.0}, std::pair{0.0, -5e-3}, std::pair{4e-3, 3e-3}, std::pair{-9e-3, 9e-3}}) {
+  for (const auto& [x, y] :
+       {std::pair{2e-3, 0.0}, std::pair{0.0, -5e-3}, std::pair{4e-3, 3e-3}, std::pair{-9e-3, 9e-3}}) {
     const double cos_axis = f / std::sqrt(x * x + y * y + f * f);
     const double collected = RectangleSolidAngle(x - half, x + half, y - half, y + half, f) * cos_axis;
     EXPECT_NEAR(OffAxisFalloff(Eigen::Vector3d(x, y, f)) / (collected / on_axis), 1.0, 1e-6) << x << " " << y;
