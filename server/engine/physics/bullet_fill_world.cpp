@@ -11,13 +11,14 @@
 namespace vscan::physics {
 namespace {
 
-// Bullet's separating-axis test for the pairs of hulls with few edge directions (the others take
-// FaceAxisContacts).
+// The separating-axis test for pairs of polyhedra, a compound's pieces each on their own: Bullet's
+// where both have few edge directions, FaceAxisContacts' (face normals only) where one has many.
+// Not for a mesh bin's triangles.
 void SeparatingAxisWhereCheap(btBroadphasePair& pair, btCollisionDispatcher& dispatcher, const btDispatcherInfo& info) {
   const auto* a = static_cast<btCollisionObject*>(pair.m_pProxy0->m_clientObject);
   const auto* b = static_cast<btCollisionObject*>(pair.m_pProxy1->m_clientObject);
   btDispatcherInfo chosen = info;
-  chosen.m_enableSatConvex = FewEdgeDirections(*a->getCollisionShape()) && FewEdgeDirections(*b->getCollisionShape());
+  chosen.m_enableSatConvex = Polyhedral(*a->getCollisionShape()) && Polyhedral(*b->getCollisionShape());
   btCollisionDispatcher::defaultNearCallback(pair, dispatcher, chosen);
 }
 

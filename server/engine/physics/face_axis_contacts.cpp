@@ -139,16 +139,15 @@ struct FaceAxisCreate final : btCollisionAlgorithmCreateFunc {
 
 }  // namespace
 
-bool FewEdgeDirections(const btCollisionShape& shape) {
+bool Polyhedral(const btCollisionShape& shape) {
   if (shape.isCompound()) {
     const auto& compound = static_cast<const btCompoundShape&>(shape);
     for (int i = 0; i < compound.getNumChildShapes(); ++i) {
-      if (!FewEdgeDirections(*compound.getChildShape(i))) return false;
+      if (!Polyhedral(*compound.getChildShape(i))) return false;
     }
     return compound.getNumChildShapes() > 0;
   }
-  const btConvexPolyhedron* hull = Polyhedron(shape);
-  return hull != nullptr && hull->m_uniqueEdges.size() <= kSeparatingAxisDirections;
+  return Polyhedron(shape) != nullptr;
 }
 
 FaceAxisContacts::FaceAxisContacts() = default;

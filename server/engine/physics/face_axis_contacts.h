@@ -32,7 +32,7 @@ class FaceAxisContacts {
   std::vector<std::unique_ptr<btCollisionAlgorithmCreateFunc>> created_;
 };
 
-// Whether Bullet's own separating-axis test is cheap for the shape (a compound when each piece is).
-bool FewEdgeDirections(const btCollisionShape& shape);
+// Whether the shape has polyhedral features (a compound when each piece has).
+bool Polyhedral(const btCollisionShape& shape);
 
 }  // namespace vscan::physics
