@@ -19,9 +19,9 @@ const btConvexPolyhedron* Polyhedron(const btCollisionShape& shape) {
 }
 
 // How far B's vertices stay outside each of A's face planes (negative: how deep the deepest lies
-// inside), the greatest over the faces, tried from face `first`; stops at a positive one (a plane
-// that separates the hulls). Keeps the greatest found above `best`, its face and its world normal
-// (outward of A). A face is skipped where even B's centre, inside B, lies no farther outside.
+// inside), over the faces from `first` on; stops at a positive one (a plane that separates the
+// hulls). Raises `best` to the greatest found and sets `best_face` to its face. A face is skipped
+// where even B's centre, inside B, lies no farther outside than `best`.
 void FaceQuery(const btConvexPolyhedron& a, const btConvexPolyhedron& b, const btTransform& world_from_a,
                const btTransform& world_from_b, int first, btScalar& best, int& best_face) {
   const btTransform a_from_b = world_from_a.inverse() * world_from_b;
