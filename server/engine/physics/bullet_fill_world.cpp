@@ -1,43 +1,24 @@
 #include "physics/bullet_fill_world.h"
 
-#include <BulletCollision/CollisionShapes/btConvexPolyhedron.h>
 #include <btBulletDynamicsCommon.h>
 
 #include <algorithm>
 #include <array>
 
 #include "physics/bullet_shared.h"
+#include "physics/face_axis_contacts.h"
 
 namespace vscan::physics {
 namespace {
 
-// Bullet's separating-axis test of two hulls projects every vertex of both on each face normal
-// and on the cross product of each pair of their edge directions: quadratic in the directions.
-// The fixture parts' hulls have 11-13 of them and a box 3; the machined riser's and 96-sided
-// prism's 55 and 82, where the test on every pair made a fill of 20 of them 4.2x the CPU.
-constexpr int kSeparatingAxisDirections = 32;
-
-// A compound when each of its pieces has few.
-bool FewEdgeDirections(const btCollisionShape& shape) {
-  if (shape.isCompound()) {
-    const auto& compound = static_cast<const btCompoundShape&>(shape);
-    for (int i = 0; i < compound.getNumChildShapes(); ++i) {
-      if (!FewEdgeDirections(*compound.getChildShape(i))) return false;
-    }
-    return compound.getNumChildShapes() > 0;
-  }
-  if (!shape.isPolyhedral()) return false;
-  const btConvexPolyhedron* hull = static_cast<const btPolyhedralConvexShape&>(shape).getConvexPolyhedron();
-  return hull != nullptr && hull->m_uniqueEdges.size() <= kSeparatingAxisDirections;
-}
-
-// The separating-axis test for the pairs of hulls with few edge directions; GJK's normal for the
-// others.
+// The separating-axis test for pairs of polyhedra, a compound's pieces each on their own: Bullet's
+// where both have few edge directions, FaceAxisContacts' (face normals only) where one has many.
+// Not for a mesh bin's triangles.
 void SeparatingAxisWhereCheap(btBroadphasePair& pair, btCollisionDispatcher& dispatcher, const btDispatcherInfo& info) {
   const auto* a = static_cast<btCollisionObject*>(pair.m_pProxy0->m_clientObject);
   const auto* b = static_cast<btCollisionObject*>(pair.m_pProxy1->m_clientObject);
   btDispatcherInfo chosen = info;
-  chosen.m_enableSatConvex = FewEdgeDirections(*a->getCollisionShape()) && FewEdgeDirections(*b->getCollisionShape());
+  chosen.m_enableSatConvex = Polyhedral(*a->getCollisionShape()) && Polyhedral(*b->getCollisionShape());
   btCollisionDispatcher::defaultNearCallback(pair, dispatcher, chosen);
 }
 
@@ -54,6 +35,7 @@ class BulletFillWorld final : public FillWorld {
       // pairs; without it Bullet takes it from GJK/EPA, which on a pin across a block's edge gave
       // normals along which the clipped contacts read 0.01 mm while the hulls overlapped by 5 mm.
       dispatcher_.setNearCallback(&SeparatingAxisWhereCheap);
+      face_axes_.Register(dispatcher_, configuration_);
       // The bin's boxes get faces too, so that a part against the floor or a wall is clipped
       // against them instead of one GJK point a step (parts ended 2.5 mm into walls without).
       for (auto& shape : bin_.shapes) {
@@ -151,6 +133,7 @@ class BulletFillWorld final : public FillWorld {
 
   const FillOptions options_;
   btDefaultCollisionConfiguration configuration_;
+  FaceAxisContacts face_axes_;  // before the dispatcher, which holds its create functions
   btCollisionDispatcher dispatcher_;
   btDbvtBroadphase broadphase_;
   btSequentialImpulseConstraintSolver solver_;

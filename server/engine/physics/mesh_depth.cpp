@@ -63,6 +63,22 @@ MeshDepth::MeshDepth(const TriangleMesh& mesh) : triangles_(mesh.triangles) {
       // of the triangles may lie under the hull's surface, and the hull encloses no more.
       convex_ = ConvexWithin(mesh, Eigen::Vector3d::Zero(), ExactHull(mesh, Eigen::Vector3d::Zero()),
                              1e-6 * bounds().sizes().maxCoeff());
+      // The hull's corners come back from Bullet's hull in single precision: its planes missed a
+      // 96-sided prism's faces by up to a micrometre, and a depth read from them understated the
+      // distance to the surface. A convex mesh's own triangles lie on its hull: their planes, once each.
+      // Kept to a few times the hull's faces (a finely cut tilted face gives each triangle its
+      // own rounding), else the search for known planes would grow with the triangles squared.
+      std::vector<Eigen::Vector4d> own_planes;
+      for (uint32_t t = 0; convex_ && t < triangles_.size() && own_planes.size() <= 4 * kMaxHullPlanes; ++t) {
+        const Eigen::Vector3d n = Normal(t);
+        if (!n.allFinite()) continue;
+        const double offset = n.dot(vertices_[triangles_[t][0]]);
+        const bool known = std::any_of(own_planes.begin(), own_planes.end(), [&](const Eigen::Vector4d& plane) {
+          return plane.head<3>().dot(n) > 1 - 1e-12 && std::abs(plane.w() - offset) < 1e-12;
+        });
+        if (!known) own_planes.emplace_back(n.x(), n.y(), n.z(), offset);
+      }
+      if (convex_ && own_planes.size() <= 4 * kMaxHullPlanes) hull_planes_ = std::move(own_planes);
     }
   }
 }

@@ -6,6 +6,7 @@
 
 #include <Eigen/Geometry>
 
+#include "machined_parts.h"
 #include "physics/mesh_depth.h"
 
 namespace vscan::physics {
@@ -38,6 +39,19 @@ TEST(MeshDepth, DepthInsideAndDistanceOutsideACube) {
   EXPECT_FALSE(cube.Inside({0.013, 0.005, 0.005}));
   EXPECT_TRUE(cube.Inside({0.0099, 0.0001, 0.005}));
   EXPECT_EQ(cube.edges().size(), 18u);  // 12 sides and 6 face diagonals
+}
+
+// Inside a convex mesh the depth is the nearest face's plane distance, which is the distance to the
+// nearest triangle only when the planes are the faces' own: planes from Bullet's single-precision
+// hull missed the 96-sided prism's faces by up to a micrometre.
+TEST(MeshDepth, InsideAManySidedPrismTheDepthIsTheDistanceToItsNearestTriangle) {
+  const MeshDepth prism(test::ManySidedPrism());  // radius 12 mm (11.994 mm to a side), 20 mm high
+  for (int k = 0; k < 60; ++k) {
+    const double angle = 0.1237 * k, radius = 0.0114 + 0.00001 * k;
+    const Eigen::Vector3d p(radius * std::cos(angle), radius * std::sin(angle), 0.0005 + 0.0003 * k);
+    ASSERT_TRUE(prism.Inside(p)) << k;
+    EXPECT_NEAR(prism.SignedDepth(p), prism.Distance(p), 1e-9) << k;
+  }
 }
 
 // Two 1 cm cubes in a box bin far above its floor, far from its walls.
