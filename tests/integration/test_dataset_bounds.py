@@ -21,12 +21,12 @@ def plan_text(seeds, width=128, height=106, name="bounded"):
     return f"""name: {name}
 bins:
   - name: blocks
-    box: {{inner_size_m: [0.20, 0.15, 0.10]}}
+    bin: {{inner_size: [0.20, 0.15, 0.10]}}
     parts:
       - {{mesh: {PARTS}/angle_block.STL, unit: in, count: 3}}
     max_simulated_s: 4
   - name: rods
-    box: {{inner_size_m: [0.25, 0.20, 0.10]}}
+    bin: {{inner_size: [0.25, 0.20, 0.10]}}
     parts:
       - {{mesh: {PARTS}/round.stl, unit: cm, scale: 0.25, count: 1}}
       - {{mesh: {PARTS}/angle_block.STL, unit: in, count: 2}}

@@ -27,12 +27,12 @@ def plan_text(seeds):
     return f"""name: job-bins
 bins:
   - name: blocks
-    box: {{inner_size_m: [0.20, 0.15, 0.10]}}
+    bin: {{inner_size: [0.20, 0.15, 0.10]}}
     parts:
       - {{mesh: {PARTS}/angle_block.STL, unit: in, count: 4}}
     max_simulated_s: 4
   - name: rods
-    box: {{inner_size_m: [0.25, 0.20, 0.10]}}
+    bin: {{inner_size: [0.25, 0.20, 0.10]}}
     parts:
       - {{mesh: {PARTS}/round.stl, unit: cm, scale: 0.25, count: 2}}
       - {{mesh: {PARTS}/angle_block.STL, unit: in, count: 1}}
@@ -258,7 +258,7 @@ class DatasetJobTest(unittest.TestCase):
             self.assertIn("bins[0].parts[0].count", refused.exception.message)
 
     def test_a_bin_too_small_for_its_parts_is_reported_or_fails_the_plan_that_asks(self):
-        small = plan_text(1).replace("inner_size_m: [0.20, 0.15, 0.10]", "inner_size_m: [0.07, 0.07, 0.03]")
+        small = plan_text(1).replace("inner_size: [0.20, 0.15, 0.10]", "inner_size: [0.07, 0.07, 0.03]")
         small = small.replace("unit: in, count: 4", "unit: in, count: 30")
         run = self.vscan("dataset", "run", self.write_plan("small.yaml", small), "--watch")
         self.assertEqual(run.returncode, 0, run.stderr + self.server.log())
@@ -270,18 +270,38 @@ class DatasetJobTest(unittest.TestCase):
         self.assertIn("scenes[0]: the bin took", strict.stdout + strict.stderr)
         self.assertIn("of 30 parts and the plan sets fail_on_underfilled_bin", strict.stdout + strict.stderr)
 
+    def test_the_server_reads_the_plan_and_names_its_mesh_files(self):
+        from vscan import Client, VscanError
+        from vscan.v1 import common_pb2
+
+        with Client(self.server.address) as client:
+            files = client.plan_mesh_files(plan_text(1))
+            self.assertEqual([(f.path, f.unit) for f in files],
+                             [(PARTS + "/angle_block.STL", common_pb2.LENGTH_UNIT_INCH),
+                              (PARTS + "/round.stl", common_pb2.LENGTH_UNIT_CENTIMETRE)])
+            with self.assertRaises(VscanError) as refused:
+                client.plan_mesh_files(plan_text(1).replace("unit: cm", "unit: furlong"))
+            self.assertEqual(refused.exception.code, grpc.StatusCode.INVALID_ARGUMENT)
+            self.assertIn("spec.plan_yaml: bins[1].parts[0].unit: unknown unit 'furlong' (m, cm, mm, in, ft) (line 11)",
+                          refused.exception.message)
+            self.assertEqual(list(client.list_jobs()), [])  # listing starts nothing
+
     def test_bad_plans_are_refused_naming_the_key(self):
         good = plan_text(2)
         cases = [
             (good.replace("unit: in, count: 4", "unit: in, count: 0"), "spec.plan_yaml: bins[0].parts[0].count"),
             (good.replace("preset: kinect-v2-class", "preset: no-such-camera"), "spec.plan_yaml.sensors[0].preset"),
             (good.replace("seeds:", "colour: red\nseeds:"), "spec.plan_yaml: colour"),
-            (good.replace("inner_size_m: [0.20, 0.15, 0.10]", "inner_size_m: [0.20, 0.15, -1]"),
-             "spec.plan_yaml: bins[0].box.inner_size_m"),
+            (good.replace("inner_size: [0.20, 0.15, 0.10]", "inner_size: [0.20, 0.15, -1]"),
+             "spec.plan_yaml: bins[0].bin.inner_size"),
             (good + "views: {count: 0}\n", "spec.plan_yaml: views.count: must be within [1, 1000]"),
             (good + "views: {count: 4, distance_m: [0.3, 0.7]}\n",
              "views.distance_m: [0.3, 0.7] m to the bin's floor leaves the working range [0.5, 4.5] m of sensors[0]"),
             (good + "camera_height_m: 5\n", "camera_height_m: [5, 5] m to the bin's floor leaves the working range"),
+            (good.replace("angle_block.STL, unit: in, count: 1", "angle_block.STL, unit: mm, count: 1"),
+             "spec.plan_yaml: bins[1].parts[1].unit: " + PARTS + "/angle_block.STL is in in at bins[0].parts[0]"),
+            (good.replace("bin: {inner_size: [0.20, 0.15, 0.10]}", "box: {inner_size_m: [0.2, 0.15, 0.1]}"),
+             "spec.plan_yaml: bins[0].box: is now written as bin plans write it"),
         ]
         for text, key in cases:
             refused = self.vscan("dataset", "run", self.write_plan("bad.yaml", text))

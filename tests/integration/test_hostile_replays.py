@@ -117,7 +117,7 @@ class HostileReplays(unittest.TestCase):
                 name: huge
                 bins:
                   - name: blocks
-                    box: {{inner_size_m: [0.3, 0.2, 0.12], wall_m: 0.01}}
+                    bin: {{inner_size: [0.3, 0.2, 0.12], wall_thickness: 0.01}}
                     parts:
                       - {{mesh: {os.path.join(DATA, "parts", "angle_block.STL")}, unit: in, count: 2}}
                 seeds: {{first: 1, count: 500000}}

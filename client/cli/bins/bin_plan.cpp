@@ -1,15 +1,13 @@
 #include "bins/bin_plan.h"
 
-
-#include "campaign/campaign_yaml.h"
 #include "campaign/plan_values.h"
+#include "campaign/yaml_messages.h"
 #include "session/args.h"
 #include "vscan/common/proto_convert.h"
+#include "vscan/plan/bin_fill_plan.h"
 
 namespace vscan::cli {
 namespace {
-
-constexpr uint64_t kMaxCount = 100000;
 
 class BinPlanParser {
  public:
@@ -27,14 +25,13 @@ class BinPlanParser {
     }
     plan.spec.set_name(plan.name);
     RETURN_IF_ERROR(ParseScene(top, &plan));
-    RETURN_IF_ERROR(ParseBin(YamlReader::Child(top, "bin"), &plan));
-    RETURN_IF_ERROR(ParseParts(YamlReader::Child(top, "parts"), &plan));
+    RETURN_IF_ERROR(ParseFill(top, &plan));
     if (const YamlAt seed = YamlReader::Child(top, "seed"); YamlReader::Has(seed)) {
       ASSIGN_OR_RETURN(const uint64_t value, yaml_.Integer(seed, 0, UINT64_MAX));
       plan.spec.set_seed(value);
     }
     if (const YamlAt physics = YamlReader::Child(top, "physics"); YamlReader::Has(physics)) {
-      RETURN_IF_ERROR(yaml_.FillMessage(physics, plan.spec.mutable_physics()));
+      RETURN_IF_ERROR(FillMessage(yaml_, physics, plan.spec.mutable_physics()));
     }
     return plan;
   }
@@ -54,109 +51,53 @@ class BinPlanParser {
     return Status::Ok();
   }
 
-  // A mesh file in its unit, or an uploaded mesh (metres), at item's keys mesh, unit and mesh_id.
-  Status ParseMeshSource(const YamlAt& item, BinPlanPart* part) const {
-    const YamlAt mesh = YamlReader::Child(item, "mesh");
-    const YamlAt mesh_id = YamlReader::Child(item, "mesh_id");
-    const YamlAt unit = YamlReader::Child(item, "unit");
-    if (YamlReader::Has(mesh) == YamlReader::Has(mesh_id)) {
-      return yaml_.Error(item, "give either mesh (a file) or mesh_id (an uploaded mesh)");
+  // The plan's mesh source with its file found from the plan's directory and its unit as the wire's.
+  StatusOr<BinPlanPart> Resolve(const plan::MeshSource& source) const {
+    BinPlanPart part;
+    if (source.file.empty()) {
+      part.mesh_id = source.mesh_id;
+      return part;
     }
-    if (YamlReader::Has(mesh)) {
-      ASSIGN_OR_RETURN(part->mesh, ReadPlanPath(yaml_, mesh, base_dir_));
-      if (!YamlReader::Has(unit)) return yaml_.Error(unit, "required: the unit the mesh is written in (m, cm, mm, in, ft)");
-      ASSIGN_OR_RETURN(const std::string text, yaml_.String(unit));
-      const auto parsed = ParseUnit(text);
-      if (!parsed.ok()) return yaml_.Error(unit, std::string(parsed.status().text()));
-      part->unit = *parsed;
+    part.mesh = (base_dir_ / source.file).lexically_normal();
+    std::error_code ec;
+    if (!std::filesystem::exists(part.mesh, ec)) {
+      return yaml_.Error(source.mark, source.key, "no such file or directory: " + part.mesh.string());
+    }
+    ASSIGN_OR_RETURN(part.unit, ParseUnit(source.unit));
+    return part;
+  }
+
+  Status ParseFill(const YamlAt& top, BinPlan* plan) const {
+    const YamlAt bin_at = YamlReader::Child(top, "bin");
+    ASSIGN_OR_RETURN(const plan::BinFillPlan fill, plan::ReadBinFill(yaml_, bin_at, YamlReader::Child(top, "parts")));
+    if (fill.box) {
+      v1::BinBox* bin = plan->spec.mutable_bin();
+      *bin->mutable_inner_size() = ToProto(fill.box->inner_size);
+      if (fill.box->wall_thickness) bin->set_wall_thickness(*fill.box->wall_thickness);
     } else {
-      if (YamlReader::Has(unit)) return yaml_.Error(unit, "an uploaded mesh is in metres already; use scale");
-      ASSIGN_OR_RETURN(part->mesh_id, yaml_.String(mesh_id));
+      v1::BinMesh* bin = plan->spec.mutable_bin_mesh();
+      if (fill.mesh_bin->scale) bin->set_scale(*fill.mesh_bin->scale);
+      ASSIGN_OR_RETURN(plan->bin_mesh, Resolve(fill.mesh_bin->mesh));
     }
-    return Status::Ok();
-  }
-
-  Status ParseBin(const YamlAt& at, BinPlan* plan) const {
-    if (!YamlReader::Has(at)) {
-      return yaml_.Error(at, "required: {inner_size: [x, y, z], wall_thickness, pose} or {mesh, unit, scale, pose}");
+    if (const YamlAt pose_at = YamlReader::Child(bin_at, "pose"); YamlReader::Has(pose_at)) {
+      ASSIGN_OR_RETURN(const v1::Pose pose, ReadPlanPose(yaml_, pose_at));
+      *(fill.box ? plan->spec.mutable_bin()->mutable_pose() : plan->spec.mutable_bin_mesh()->mutable_pose()) = pose;
     }
-    if (at.node.IsMap() && (at.node["mesh"] || at.node["mesh_id"])) return ParseBinMesh(at, plan);
-    v1::BinBox* bin = plan->spec.mutable_bin();
-    RETURN_IF_ERROR(yaml_.ExpectMap(at, {"inner_size", "wall_thickness", "pose"}));
-    const YamlAt size = YamlReader::Child(at, "inner_size");
-    if (!YamlReader::Has(size)) return yaml_.Error(size, "required: [length, width, depth] in metres");
-    ASSIGN_OR_RETURN(const Eigen::Vector3d inner, yaml_.Vector3(size));
-    *bin->mutable_inner_size() = ToProto(inner);
-    if (const YamlAt wall = YamlReader::Child(at, "wall_thickness"); YamlReader::Has(wall)) {
-      ASSIGN_OR_RETURN(const double value, yaml_.Number(wall));
-      if (!(value > 0)) return yaml_.Error(wall, "must be positive (metres)");
-      bin->set_wall_thickness(value);
-    }
-    if (const YamlAt pose = YamlReader::Child(at, "pose"); YamlReader::Has(pose)) {
-      ASSIGN_OR_RETURN(*bin->mutable_pose(), ReadPlanPose(yaml_, pose));
-    }
-    return Status::Ok();
-  }
-
-  Status ParseBinMesh(const YamlAt& at, BinPlan* plan) const {
-    RETURN_IF_ERROR(yaml_.ExpectMap(at, {"mesh", "mesh_id", "unit", "scale", "pose"}));
-    BinPlanPart source;
-    RETURN_IF_ERROR(ParseMeshSource(at, &source));
-    v1::BinMesh* bin = plan->spec.mutable_bin_mesh();
-    if (const YamlAt scale = YamlReader::Child(at, "scale"); YamlReader::Has(scale)) {
-      ASSIGN_OR_RETURN(const double value, yaml_.Number(scale));
-      if (!(value > 0)) return yaml_.Error(scale, "must be positive");
-      bin->set_scale(value);
-    }
-    if (const YamlAt pose = YamlReader::Child(at, "pose"); YamlReader::Has(pose)) {
-      ASSIGN_OR_RETURN(*bin->mutable_pose(), ReadPlanPose(yaml_, pose));
-    }
-    plan->bin_mesh = std::move(source);
-    return Status::Ok();
-  }
-
-  Status ParseParts(const YamlAt& at, BinPlan* plan) const {
-    if (!YamlReader::Has(at)) return yaml_.Error(at, "required: a list of {mesh, unit, count, ...}");
-    RETURN_IF_ERROR(yaml_.ExpectSequence(at, 1));
-    for (size_t i = 0; i < at.node.size(); ++i) {
-      const YamlAt item = YamlReader::Item(at, i);
-      RETURN_IF_ERROR(yaml_.ExpectMap(item, {"mesh", "mesh_id", "unit", "count", "scale", "name", "mass_kg",
-                                             "density_kg_per_m3", "collision"}));
-      BinPlanPart part;
+    for (const plan::PartPlan& part : fill.parts) {
       v1::BinPart* spec = plan->spec.add_parts();
-      RETURN_IF_ERROR(ParseMeshSource(item, &part));
-      if (!part.mesh.empty()) spec->set_name(part.mesh.stem().string());
-      const YamlAt count = YamlReader::Child(item, "count");
-      if (!YamlReader::Has(count)) return yaml_.Error(count, "required: how many of this part");
-      ASSIGN_OR_RETURN(const uint64_t n, yaml_.Integer(count, 1, kMaxCount));
-      spec->set_count(static_cast<uint32_t>(n));
-      if (const YamlAt scale = YamlReader::Child(item, "scale"); YamlReader::Has(scale)) {
-        ASSIGN_OR_RETURN(const double value, yaml_.Number(scale));
-        if (!(value > 0)) return yaml_.Error(scale, "must be positive");
-        spec->set_scale(value);
+      ASSIGN_OR_RETURN(BinPlanPart source, Resolve(part.mesh));
+      spec->set_count(part.count);
+      if (part.scale) spec->set_scale(*part.scale);
+      if (!part.name.empty()) {
+        spec->set_name(part.name);
+      } else if (!source.mesh.empty()) {
+        spec->set_name(source.mesh.stem().string());
       }
-      if (const YamlAt name = YamlReader::Child(item, "name"); YamlReader::Has(name)) {
-        ASSIGN_OR_RETURN(*spec->mutable_name(), yaml_.String(name));
-      }
-      for (const char* key : {"mass_kg", "density_kg_per_m3"}) {
-        if (const YamlAt value_at = YamlReader::Child(item, key); YamlReader::Has(value_at)) {
-          ASSIGN_OR_RETURN(const double value, yaml_.Number(value_at));
-          if (!(value > 0)) return yaml_.Error(value_at, "must be positive");
-          std::string(key) == "mass_kg" ? spec->set_mass_kg(value) : spec->set_density_kg_per_m3(value);
-        }
-      }
-      if (const YamlAt collision = YamlReader::Child(item, "collision"); YamlReader::Has(collision)) {
-        ASSIGN_OR_RETURN(const std::string text, yaml_.String(collision));
-        if (text == "convex_hull") {
-          spec->set_collision(v1::PART_COLLISION_CONVEX_HULL);
-        } else if (text == "convex_decomposition") {
-          spec->set_collision(v1::PART_COLLISION_CONVEX_DECOMPOSITION);
-        } else {
-          return yaml_.Error(collision,
-                             "unknown collision shape '" + text + "' (convex_hull or convex_decomposition)");
-        }
-      }
-      plan->parts.push_back(std::move(part));
+      if (part.mass_kg) spec->set_mass_kg(*part.mass_kg);
+      if (part.density_kg_per_m3) spec->set_density_kg_per_m3(*part.density_kg_per_m3);
+      if (part.collision == "convex_hull") spec->set_collision(v1::PART_COLLISION_CONVEX_HULL);
+      if (part.collision == "convex_decomposition") spec->set_collision(v1::PART_COLLISION_CONVEX_DECOMPOSITION);
+      plan->parts.push_back(std::move(source));
     }
     return Status::Ok();
   }

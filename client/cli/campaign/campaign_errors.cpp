@@ -2,7 +2,7 @@
 
 #include <string_view>
 
-#include "campaign/campaign_yaml.h"
+#include "campaign/yaml_messages.h"
 
 namespace vscan::cli {
 namespace {

@@ -3,7 +3,7 @@
 #include <functional>
 #include <tuple>
 
-#include "campaign/campaign_yaml.h"
+#include "campaign/yaml_messages.h"
 #include "campaign/plan_values.h"
 #include "session/args.h"
 #include "vscan/common/proto_convert.h"
@@ -202,12 +202,12 @@ class PlanParser {
     if (!YamlReader::Has(sensor)) {
       return yaml_.Error(sensor, "required: {preset: NAME} or {pinhole: {width, height, horizontal_fov_deg, ...}}");
     }
-    RETURN_IF_ERROR(yaml_.FillMessage(sensor, spec->mutable_sensor()));
+    RETURN_IF_ERROR(FillMessage(yaml_, sensor, spec->mutable_sensor()));
     if (spec->sensor().kind_case() == v1::SensorSpec::KIND_NOT_SET) {
       return yaml_.Error(sensor, "give preset, pinhole or structured_light");
     }
     if (const YamlAt noise = YamlReader::Child(top, "noise"); YamlReader::Has(noise)) {
-      RETURN_IF_ERROR(yaml_.FillMessage(noise, spec->mutable_noise()));
+      RETURN_IF_ERROR(FillMessage(yaml_, noise, spec->mutable_noise()));
     }
     if (const YamlAt backend = YamlReader::Child(top, "backend"); YamlReader::Has(backend)) {
       ASSIGN_OR_RETURN(const std::string text, yaml_.String(backend));
@@ -308,7 +308,7 @@ class PlanParser {
         return yaml_.Error(KeyMark(top, key), key,
                            std::string("tunes a part that does not run: set ") + needs + ": true");
       }
-      RETURN_IF_ERROR(yaml_.FillMessage(at, message()));
+      RETURN_IF_ERROR(FillMessage(yaml_, at, message()));
     }
     return Status::Ok();
   }

@@ -3,7 +3,7 @@
 
 #include <filesystem>
 
-#include "campaign/campaign_yaml.h"
+#include "campaign/yaml_messages.h"
 #include "vscan/v1/common.pb.h"
 
 namespace vscan::cli {

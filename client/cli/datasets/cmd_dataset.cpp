@@ -6,11 +6,9 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <map>
 #include <memory>
 #include <sstream>
 
-#include <yaml-cpp/yaml.h>
 
 #include "campaign/campaign_report.h"
 #include "job/job_commands.h"
@@ -29,58 +27,6 @@ struct DatasetRunArgs {
   bool validate = false;
 };
 
-v1::LengthUnit UnitOf(const std::string& unit) {
-  static const std::map<std::string, v1::LengthUnit> kUnits = {
-      {"m", v1::LENGTH_UNIT_METRE},     {"cm", v1::LENGTH_UNIT_CENTIMETRE}, {"mm", v1::LENGTH_UNIT_MILLIMETRE},
-      {"in", v1::LENGTH_UNIT_INCH},     {"ft", v1::LENGTH_UNIT_FOOT}};
-  const auto found = kUnits.find(unit);
-  return found == kUnits.end() ? v1::LENGTH_UNIT_UNSPECIFIED : found->second;
-}
-
-// The mesh files the plan's parts name (path as written -> unit); the server checks the rest.
-StatusOr<std::map<std::string, std::string>> MeshFiles(const std::string& text, const std::string& source) {
-  std::map<std::string, std::string> files;
-  try {
-    const YAML::Node bins = YAML::Load(text)["bins"];
-    if (!bins || !bins.IsSequence()) return files;
-    for (const YAML::Node& bin : bins) {
-      if (!bin.IsMap() || !bin["parts"] || !bin["parts"].IsSequence()) continue;
-      for (const YAML::Node& part : bin["parts"]) {
-        if (!part.IsMap() || !part["mesh"]) continue;
-        const std::string unit = part["unit"] ? part["unit"].Scalar() : "m";
-        const auto [at, added] = files.emplace(part["mesh"].Scalar(), unit);
-        if (!added && at->second != unit) {
-          return InvalidArgument(source + ": " + at->first + " is given in two units; copy the file for the other");
-        }
-      }
-    }
-  } catch (const YAML::Exception& e) {
-    return InvalidArgument(source + ": not YAML: " + e.what());
-  }
-  return files;
-}
-
-// Uploads each mesh file (relative paths from the plan's directory) and maps its path to the mesh.
-int UploadMeshes(Context& ctx, client::Client& client, const DatasetRunArgs& args, const std::string& text,
-                 v1::DatasetSpec* spec) {
-  const auto files = MeshFiles(text, args.plan_file);
-  if (!files.ok()) return ctx.UsageError(files.status().message());
-  const std::filesystem::path plan_dir = std::filesystem::path(args.plan_file).parent_path();
-  for (const auto& [path, unit] : *files) {
-    client::MeshUploadOptions options;
-    options.unit = UnitOf(unit);
-    if (options.unit == v1::LENGTH_UNIT_UNSPECIFIED) {
-      return ctx.UsageError(args.plan_file + ": " + path + ": unit '" + unit + "' is not m, cm, mm, in or ft");
-    }
-    const std::filesystem::path file = plan_dir / path;  // an absolute path replaces plan_dir
-    const auto mesh = client.UploadMeshFile(file.string(), options);
-    if (!mesh.ok()) return ctx.ServerError(mesh.status());
-    (*spec->mutable_mesh_ids())[path] = mesh->mesh_id();
-    ctx.Say("uploaded " + file.string() + " as mesh " + mesh->mesh_id());
-  }
-  return kExitOk;
-}
-
 StatusOr<v1::StartDatasetResponse> StartDataset(client::Client& client, const v1::StartDatasetRequest& request) {
   auto stub = v1::JobService::NewStub(client.channel());
   grpc::ClientContext context;
@@ -90,6 +36,28 @@ StatusOr<v1::StartDatasetResponse> StartDataset(client::Client& client, const v1
   if (!status.ok()) return Status(static_cast<StatusCode>(status.error_code()), status.error_message());
   return response;
 }
+
+// Uploads each mesh file the server reads in the plan (relative paths from the plan's directory)
+// and maps its path to the mesh: the plan is read by the server alone.
+int UploadMeshes(Context& ctx, client::Client& client, const DatasetRunArgs& args, v1::DatasetSpec* spec) {
+  v1::StartDatasetRequest listing;
+  listing.set_list_mesh_files(true);
+  listing.mutable_spec()->set_plan_yaml(spec->plan_yaml());
+  const auto files = StartDataset(client, listing);
+  if (!files.ok()) return ctx.ServerError(files.status());
+  const std::filesystem::path plan_dir = std::filesystem::path(args.plan_file).parent_path();
+  for (const v1::PlanMeshFile& named : files->mesh_files()) {
+    client::MeshUploadOptions options;
+    options.unit = named.unit();
+    const std::filesystem::path file = plan_dir / named.path();  // an absolute path replaces plan_dir
+    const auto mesh = client.UploadMeshFile(file.string(), options);
+    if (!mesh.ok()) return ctx.ServerError(mesh.status());
+    (*spec->mutable_mesh_ids())[named.path()] = mesh->mesh_id();
+    ctx.Say("uploaded " + file.string() + " as mesh " + mesh->mesh_id());
+  }
+  return kExitOk;
+}
+
 
 // Writes the files of a ustar archive under dir (regular files only, the layout's relative paths).
 Status ExtractTar(std::string_view tar, const std::filesystem::path& dir) {
@@ -165,7 +133,7 @@ int Run(Context& ctx, const DatasetRunArgs& args) {
   request.mutable_spec()->set_plan_yaml(text.str());
   request.mutable_spec()->set_resume_job_id(args.resume_job_id);
   request.set_validate_only(args.validate);
-  if (const int rc = UploadMeshes(ctx, *client, args, text.str(), request.mutable_spec()); rc != kExitOk) return rc;
+  if (const int rc = UploadMeshes(ctx, *client, args, request.mutable_spec()); rc != kExitOk) return rc;
   const auto started = StartDataset(*client, request);
   if (!started.ok()) return ctx.ServerError(started.status());
   if (args.validate) {

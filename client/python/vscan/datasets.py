@@ -15,22 +15,6 @@ from vscan.v1 import job_pb2  # noqa: E402
 DATASET_TAR = "dataset.tar"
 
 
-def plan_mesh_files(plan_text):
-    """{mesh path as the plan writes it: unit} for every part that names a mesh file (needs PyYAML)."""
-    import yaml
-
-    files = {}
-    for bin_entry in (yaml.safe_load(plan_text) or {}).get("bins") or []:
-        if not isinstance(bin_entry, dict):
-            continue
-        for part in bin_entry.get("parts") or []:
-            if isinstance(part, dict) and "mesh" in part:
-                unit = part.get("unit", "m")
-                if files.setdefault(part["mesh"], unit) != unit:
-                    raise ValueError(f"{part['mesh']} is given in two units")
-    return files
-
-
 class DatasetCalls:
     """Mixed into Client; uses its job and mesh calls."""
 
@@ -39,9 +23,15 @@ class DatasetCalls:
             text = f.read()
         spec = job_pb2.DatasetSpec(plan_yaml=text, resume_job_id=resume_job_id or "")
         plan_dir = os.path.dirname(os.path.abspath(plan_path))
-        for path, unit in plan_mesh_files(text).items():
-            spec.mesh_ids[path] = self.upload_mesh(os.path.join(plan_dir, path), unit).mesh_id
+        for named in self.plan_mesh_files(text):
+            spec.mesh_ids[named.path] = self.upload_mesh(os.path.join(plan_dir, named.path), named.unit).mesh_id
         return spec
+
+    def plan_mesh_files(self, plan_text):
+        """The mesh files a dataset plan's parts name (PlanMeshFile: path as the plan writes it, unit),
+        each once, as the server reads the plan: the client parses no YAML of its own."""
+        request = job_pb2.StartDatasetRequest(spec=job_pb2.DatasetSpec(plan_yaml=plan_text), list_mesh_files=True)
+        return list(self._call(self._jobs.StartDataset, request).mesh_files)
 
     def start_dataset(self, plan_path, resume_job_id=None):
         """Uploads the plan's mesh files and starts a dataset job; returns its Job (QUEUED, kind

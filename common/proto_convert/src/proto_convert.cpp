@@ -111,4 +111,13 @@ double MetresPerUnit(v1::LengthUnit unit) {
   }
 }
 
+v1::LengthUnit LengthUnitNamed(std::string_view name) {
+  if (name == "m") return v1::LENGTH_UNIT_METRE;
+  if (name == "cm") return v1::LENGTH_UNIT_CENTIMETRE;
+  if (name == "mm") return v1::LENGTH_UNIT_MILLIMETRE;
+  if (name == "in") return v1::LENGTH_UNIT_INCH;
+  if (name == "ft") return v1::LENGTH_UNIT_FOOT;
+  return v1::LENGTH_UNIT_UNSPECIFIED;
+}
+
 }  // namespace vscan

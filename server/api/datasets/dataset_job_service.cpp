@@ -15,6 +15,12 @@ grpc::ServerUnaryReactor* JobService::StartDataset(grpc::CallbackServerContext* 
                                                    v1::StartDatasetResponse* response) {
   return RunBlockingUnary(ctx, context_.options.token, "StartDataset", context_.call_workers, [=, this]() -> Status {
     if (!request->has_spec()) return InvalidArgument("spec: required");
+    if (request->list_mesh_files()) {
+      if (request->validate_only()) return InvalidArgument("list_mesh_files", "cannot be combined with validate_only");
+      ASSIGN_OR_RETURN(const std::vector<v1::PlanMeshFile> files, PlanMeshFiles(request->spec()));
+      for (const v1::PlanMeshFile& file : files) *response->add_mesh_files() = file;
+      return Status::Ok();
+    }
     ASSIGN_OR_RETURN(ValidatedDataset validated, ValidateDataset(request->spec(), context_, tracker_.catalogue()));
     if (request->validate_only()) return Status::Ok();
     const service::dataset::DatasetPlan& plan = validated.setup->plan;

@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 
 #include "api/transport/validate.h"
+#include "vscan/common/proto_convert.h"
 #include "service/datasets/format/dataset_plan_yaml.h"
 #include "service/datasets/dataset_bounds.h"
 #include "service/datasets/dataset_directories.h"
@@ -40,6 +41,16 @@ service::DatasetMeshLoader StoredMeshes(const v1::DatasetSpec& spec, service::Se
   };
 }
 
+// "plan: bins[0].name: ..." and "plan:7: bins[0].parts[1].count: ..." read as fields of plan_yaml:
+// "bins[0].parts[1].count: ... (line 7)".
+std::string AsPlanField(const std::string& text) {
+  if (!text.starts_with("plan:")) return text;
+  const size_t digits = text.find_first_not_of("0123456789", 5);
+  if (digits == 5 && text.compare(5, 1, " ") == 0) return text.substr(6);
+  if (digits == std::string::npos || digits == 5 || text.compare(digits, 2, ": ") != 0) return text;
+  return text.substr(digits + 2) + " (line " + text.substr(5, digits - 5) + ")";
+}
+
 // The job whose directory a resumed job writes (the first of a chain of resumptions).
 StatusOr<std::string> ResumedDirectory(const std::string& job_id, store::JobCatalogue& jobs) {
   RETURN_IF_ERROR(RequireId(job_id, "spec.resume_job_id"));
@@ -59,18 +70,36 @@ StatusOr<std::string> ResumedDirectory(const std::string& job_id, store::JobCata
   return earlier.resume_job_id().empty() ? job_id : earlier.resume_job_id();
 }
 
-}  // namespace
 
-StatusOr<ValidatedDataset> ValidateDataset(const v1::DatasetSpec& spec, service::ServiceContext& context,
-                                           store::JobCatalogue& jobs) {
+StatusOr<service::dataset::DatasetPlan> ParsePlan(const v1::DatasetSpec& spec) {
   if (spec.plan_yaml().empty()) return InvalidArgument("spec.plan_yaml", "required: the plan file's text");
   if (spec.plan_yaml().size() > kMaxPlanBytes) return InvalidArgument("spec.plan_yaml", "longer than 1 MiB");
   StatusOr<service::dataset::DatasetPlan> plan = service::dataset::ParseDatasetPlanYaml(spec.plan_yaml(), "plan");
-  if (!plan.ok()) {
-    // "plan: bins[0].box: ..." reads as a field of plan_yaml.
-    const std::string text = plan.status().message();
-    return InvalidArgument("spec.plan_yaml", text.rfind("plan: ", 0) == 0 ? text.substr(6) : text);
+  if (!plan.ok()) return InvalidArgument("spec.plan_yaml", AsPlanField(plan.status().message()));
+  return plan;
+}
+
+}  // namespace
+
+StatusOr<std::vector<v1::PlanMeshFile>> PlanMeshFiles(const v1::DatasetSpec& spec) {
+  ASSIGN_OR_RETURN(const service::dataset::DatasetPlan plan, ParsePlan(spec));
+  std::vector<v1::PlanMeshFile> files;
+  std::set<std::string> listed;
+  for (const service::dataset::DatasetBinFill& fill : plan.bin_fills) {
+    for (const service::dataset::DatasetPart& part : fill.parts) {
+      if (part.mesh_file.empty() || !listed.insert(part.mesh_file).second) continue;
+      v1::PlanMeshFile& file = files.emplace_back();
+      file.set_path(part.mesh_file);
+      file.set_unit(LengthUnitNamed(part.unit));
+    }
   }
+  return files;
+}
+
+StatusOr<ValidatedDataset> ValidateDataset(const v1::DatasetSpec& spec, service::ServiceContext& context,
+                                           store::JobCatalogue& jobs) {
+  StatusOr<service::dataset::DatasetPlan> plan = ParsePlan(spec);
+  RETURN_IF_ERROR(plan.status());
   // Before any mesh is loaded: the count needs the plan alone.
   RETURN_IF_ERROR(service::CheckDatasetScenes(*plan, context.options.limits.max_dataset_scenes)
                       .WithFieldPrefix("spec.plan_yaml"));

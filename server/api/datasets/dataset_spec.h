@@ -6,6 +6,7 @@
 
 #include <set>
 #include <string>
+#include <vector>
 
 #include "service/datasets/dataset_job_run.h"
 #include "service/context/service_context.h"
@@ -22,6 +23,10 @@ struct ValidatedDataset {
 
 StatusOr<ValidatedDataset> ValidateDataset(const v1::DatasetSpec& spec, service::ServiceContext& context,
                                            store::JobCatalogue& jobs);
+
+// The mesh files spec.plan_yaml names (each once, in the plan's order, with its unit), for a client
+// to upload before it starts the job; the plan is parsed, nothing else is checked.
+StatusOr<std::vector<v1::PlanMeshFile>> PlanMeshFiles(const v1::DatasetSpec& spec);
 
 // The id naming the directory a job with this (validated) spec writes: its own, or the resumed job's.
 std::string DatasetDirectoryId(const v1::DatasetSpec& spec, const std::string& job_id);

@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include "vscan/plan/bin_fill_plan.h"
+
 namespace vscan::service::dataset {
 namespace {
 
@@ -9,23 +11,16 @@ bool Within(double value, double lo, double hi) { return std::isfinite(value) &&
 
 }  // namespace
 
-std::optional<double> MetresPerPlanUnit(const std::string& unit) {
-  if (unit == "m") return 1.0;
-  if (unit == "cm") return 0.01;
-  if (unit == "mm") return 0.001;
-  if (unit == "in") return 0.0254;
-  if (unit == "ft") return 0.3048;
-  return std::nullopt;
-}
+std::optional<double> MetresPerPlanUnit(const std::string& unit) { return plan::MetresPerUnit(unit); }
 
 Status CheckBinFill(const DatasetBinFill& fill, const std::string& field) {
   for (int axis = 0; axis < 3; ++axis) {
     if (!Within(fill.inner_size_m[axis], 1e-3, 100.0)) {
-      return InvalidArgument(field + ".box.inner_size_m", "each size must be within [0.001, 100] m");
+      return InvalidArgument(field + ".bin.inner_size", "each size must be within [0.001, 100] m");
     }
   }
   if (!Within(fill.wall_thickness_m, 1e-4, 10.0)) {
-    return InvalidArgument(field + ".box.wall_m", "must be within [0.0001, 10] m");
+    return InvalidArgument(field + ".bin.wall_thickness", "must be within [0.0001, 10] m");
   }
   if (!Within(fill.max_simulated_s, 0.1, 600.0)) {
     return InvalidArgument(field + ".max_simulated_s", "must be within [0.1, 600] s");

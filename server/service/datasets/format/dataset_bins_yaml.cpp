@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <set>
 #include "service/datasets/format/yaml_fields.h"
+#include "vscan/plan/bin_fill_plan.h"
 
 namespace vscan::service::dataset {
 namespace {
@@ -31,79 +32,51 @@ StatusOr<uint32_t> Whole(const YAML::Node& node, const std::string& source, cons
   return value;
 }
 
-StatusOr<DatasetPart> ReadPart(const YAML::Node& node, const std::string& source, const std::string& key) {
-  RETURN_IF_ERROR(OnlyKeys(node, source, key,
-                           {"mesh", "mesh_id", "unit", "scale", "count", "name", "mass_kg", "density_kg_per_m3",
-                            "collision"},
-                           "mesh, mesh_id, unit, scale, count, name, mass_kg, density_kg_per_m3, collision"));
-  DatasetPart part;
-  if (node["mesh"]) {
-    ASSIGN_OR_RETURN(part.mesh_file, Text(node["mesh"], source, key + ".mesh"));
-  }
-  if (node["mesh_id"]) {
-    ASSIGN_OR_RETURN(part.mesh_id, Text(node["mesh_id"], source, key + ".mesh_id"));
-  }
-  if (node["unit"]) {
-    ASSIGN_OR_RETURN(part.unit, Text(node["unit"], source, key + ".unit"));
-  }
-  if (node["scale"]) {
-    ASSIGN_OR_RETURN(part.scale, Number(node["scale"], source, key + ".scale"));
-  }
-  if (node["mass_kg"]) {
-    ASSIGN_OR_RETURN(part.mass_kg, Number(node["mass_kg"], source, key + ".mass_kg"));
-  }
-  if (node["density_kg_per_m3"]) {
-    ASSIGN_OR_RETURN(part.density_kg_per_m3, Number(node["density_kg_per_m3"], source, key + ".density_kg_per_m3"));
-  }
-  if (node["collision"]) {
-    ASSIGN_OR_RETURN(part.collision, Text(node["collision"], source, key + ".collision"));
-  }
-  if (!node["count"]) return Refuse(source, key + ".count", "is missing");
-  ASSIGN_OR_RETURN(part.count, Whole(node["count"], source, key + ".count"));
-  if (node["name"]) {
-    ASSIGN_OR_RETURN(part.name, Text(node["name"], source, key + ".name"));
-  } else {
-    part.name = part.mesh_file.empty() ? part.mesh_id : std::filesystem::path(part.mesh_file).stem().string();
-  }
-  return part;
-}
-
-Status ReadBox(const YAML::Node& node, const std::string& source, const std::string& key, DatasetBinFill& fill) {
-  RETURN_IF_ERROR(OnlyKeys(node, source, key, {"inner_size_m", "wall_m"}, "inner_size_m, wall_m"));
-  const YAML::Node size = node["inner_size_m"];
-  if (!size || !size.IsSequence() || size.size() != 3) {
-    return Refuse(source, key + ".inner_size_m", "must be [length, width, depth] in metres");
-  }
-  for (size_t axis = 0; axis < 3; ++axis) {
-    ASSIGN_OR_RETURN(fill.inner_size_m[static_cast<Eigen::Index>(axis)],
-                     Number(size[axis], source, key + ".inner_size_m[" + std::to_string(axis) + "]"));
-  }
-  if (node["wall_m"]) {
-    ASSIGN_OR_RETURN(fill.wall_thickness_m, Number(node["wall_m"], source, key + ".wall_m"));
-  }
-  return Status::Ok();
+DatasetPart ToDatasetPart(const plan::PartPlan& part) {
+  DatasetPart out;
+  out.mesh_file = part.mesh.file;
+  out.mesh_id = part.mesh.mesh_id;
+  if (!part.mesh.unit.empty()) out.unit = part.mesh.unit;
+  out.scale = part.scale.value_or(1.0);
+  out.count = part.count;
+  out.name = !part.name.empty()          ? part.name
+             : part.mesh.file.empty() ? part.mesh.mesh_id
+                                       : std::filesystem::path(part.mesh.file).stem().string();
+  out.mass_kg = part.mass_kg;
+  if (part.density_kg_per_m3) out.density_kg_per_m3 = *part.density_kg_per_m3;
+  if (!part.collision.empty()) out.collision = part.collision;
+  return out;
 }
 
 }  // namespace
 
 StatusOr<BinEntry> ReadBinEntry(const YAML::Node& node, const std::string& source, const std::string& key) {
   if (node.IsScalar()) return BinEntry{node.Scalar(), std::nullopt};
-  RETURN_IF_ERROR(OnlyKeys(node, source, key, {"name", "box", "parts", "max_simulated_s"},
-                           "name, box, parts, max_simulated_s"));
-  for (const char* required : {"name", "box", "parts"}) {
-    if (!node[required]) return Refuse(source, key + "." + required, "is missing");
+  if (node.IsMap() && node["box"]) {
+    return Refuse(source, key + ".box",
+                  "is now written as bin plans write it: bin: {inner_size: [x, y, z], wall_thickness: w} "
+                  "(docs/DATASETS.md)");
   }
+  const plan::YamlReader yaml(source);
+  const plan::YamlAt entry_at{node, key, node.Mark()};
+  RETURN_IF_ERROR(yaml.ExpectMap(entry_at, {"name", "bin", "parts", "max_simulated_s"}));
+  const plan::YamlAt name_at = plan::YamlReader::Child(entry_at, "name");
+  if (!plan::YamlReader::Has(name_at)) return yaml.Error(name_at, "required: the bin's name");
   BinEntry entry;
-  ASSIGN_OR_RETURN(entry.name, Text(node["name"], source, key + ".name"));
-  DatasetBinFill fill;
-  RETURN_IF_ERROR(ReadBox(node["box"], source, key + ".box", fill));
-  if (!node["parts"].IsSequence()) return Refuse(source, key + ".parts", "must be a list of parts");
-  for (size_t i = 0; i < node["parts"].size(); ++i) {
-    ASSIGN_OR_RETURN(DatasetPart part, ReadPart(node["parts"][i], source, key + ".parts[" + std::to_string(i) + "]"));
-    fill.parts.push_back(std::move(part));
+  ASSIGN_OR_RETURN(entry.name, yaml.String(name_at));
+  const plan::YamlAt bin_at = plan::YamlReader::Child(entry_at, "bin");
+  ASSIGN_OR_RETURN(const plan::BinFillPlan plan,
+                   plan::ReadBinFill(yaml, bin_at, plan::YamlReader::Child(entry_at, "parts")));
+  if (plan.mesh_bin) return yaml.Error(bin_at, "a dataset's bins are boxes (inner_size, wall_thickness)");
+  if (const plan::YamlAt pose = plan::YamlReader::Child(bin_at, "pose"); plan::YamlReader::Has(pose)) {
+    return yaml.Error(pose, "a dataset's bin stands at the origin");
   }
-  if (node["max_simulated_s"]) {
-    ASSIGN_OR_RETURN(fill.max_simulated_s, Number(node["max_simulated_s"], source, key + ".max_simulated_s"));
+  DatasetBinFill fill;
+  fill.inner_size_m = plan.box->inner_size;
+  if (plan.box->wall_thickness) fill.wall_thickness_m = *plan.box->wall_thickness;
+  for (const plan::PartPlan& part : plan.parts) fill.parts.push_back(ToDatasetPart(part));
+  if (const plan::YamlAt limit = plan::YamlReader::Child(entry_at, "max_simulated_s"); plan::YamlReader::Has(limit)) {
+    ASSIGN_OR_RETURN(fill.max_simulated_s, yaml.Number(limit));
   }
   entry.fill = std::move(fill);
   return entry;

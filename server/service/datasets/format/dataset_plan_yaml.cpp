@@ -1,6 +1,8 @@
 #include "service/datasets/format/dataset_plan_yaml.h"
 
+#include <map>
 #include <set>
+#include <utility>
 
 #include <yaml-cpp/yaml.h>
 
@@ -9,6 +11,25 @@
 
 namespace vscan::service::dataset {
 namespace {
+
+// A mesh file is one uploaded mesh (spec.mesh_ids is keyed by its path): one unit wherever it is named.
+Status OneUnitAFile(const DatasetPlan& plan, const std::string& source) {
+  std::map<std::string, std::pair<std::string, std::string>> first;  // file -> unit, key
+  for (size_t b = 0; b < plan.bin_fills.size(); ++b) {
+    for (size_t p = 0; p < plan.bin_fills[b].parts.size(); ++p) {
+      const DatasetPart& part = plan.bin_fills[b].parts[p];
+      if (part.mesh_file.empty()) continue;
+      const std::string key = "bins[" + std::to_string(b) + "].parts[" + std::to_string(p) + "]";
+      const auto [at, added] = first.emplace(part.mesh_file, std::make_pair(part.unit, key));
+      if (!added && at->second.first != part.unit) {
+        return Refuse(source, key + ".unit",
+                      part.mesh_file + " is in " + at->second.first + " at " + at->second.second +
+                          "; one file is one mesh, so copy it for another unit");
+      }
+    }
+  }
+  return Status::Ok();
+}
 
 // Bare names, or mappings that describe each bin's fill: every bin one way.
 Status ReadBins(const YAML::Node& node, const std::string& source, DatasetPlan& plan) {
@@ -22,7 +43,7 @@ Status ReadBins(const YAML::Node& node, const std::string& source, DatasetPlan& 
     plan.bins.push_back(std::move(entry.name));
     if (entry.fill) plan.bin_fills.push_back(std::move(*entry.fill));
   }
-  return Status::Ok();
+  return OneUnitAFile(plan, source);
 }
 
 // Preset names, or mappings with a name, a preset and a resolution; a bare name is a preset.

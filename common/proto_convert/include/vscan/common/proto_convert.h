@@ -27,5 +27,7 @@ void FieldsToProto(uint32_t fields, google::protobuf::RepeatedField<int>* out);
 
 // Length unit -> metres per unit; 0 for unspecified or unknown.
 double MetresPerUnit(v1::LengthUnit unit);
+// The unit of a short name (m, cm, mm, in, ft); LENGTH_UNIT_UNSPECIFIED for any other.
+v1::LengthUnit LengthUnitNamed(std::string_view name);
 
 }  // namespace vscan

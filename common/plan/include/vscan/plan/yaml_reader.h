@@ -1,8 +1,6 @@
 #pragma once
 // Typed reads from a YAML document whose errors carry "source:line: key.path: what".
 
-#include <google/protobuf/descriptor.h>
-#include <google/protobuf/message.h>
 #include <yaml-cpp/yaml.h>
 
 #include <Eigen/Core>
@@ -14,7 +12,7 @@
 
 #include "vscan/common/status.h"
 
-namespace vscan::cli {
+namespace vscan::plan {
 
 // A node and the key path that leads to it ("viewpoints[2].target").
 struct YamlAt {
@@ -55,19 +53,10 @@ class YamlReader {
   StatusOr<std::vector<double>> NumberOrList(const YamlAt& at) const;
   // A string or a list of strings, joined with commas.
   StatusOr<std::string> StringOrList(const YamlAt& at) const;
-
-  // Fills message from a map whose keys are its field names (scalars, enums by their value names
-  // without the enum's prefix, nested messages; a vscan.v1.Vector3 may also be written [x, y, z]);
-  // at most one field of each oneof.
-  Status FillMessage(const YamlAt& at, google::protobuf::Message* message) const;
+  // "'text'", "a list", "a mapping" or "nothing", for messages.
+  static std::string Describe(const YAML::Node& node);
 
  private:
-  // The number of the enum value the scalar at names, written without the enum's prefix in any
-  // case ("features" for INITIAL_POSE_FEATURES); the zero value (unspecified) is not accepted.
-  StatusOr<int> EnumValue(const YamlAt& at, const google::protobuf::EnumDescriptor& type) const;
-  Status FillField(const YamlAt& at, const google::protobuf::FieldDescriptor* field,
-                   google::protobuf::Message* message) const;
-
   std::string source_;
 };
 
@@ -101,4 +90,4 @@ StatusOr<Plan> ParsePlanDocument(const std::string& yaml, const std::string& sou
   }
 }
 
-}  // namespace vscan::cli
+}  // namespace vscan::plan
