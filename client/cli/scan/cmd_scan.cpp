@@ -47,6 +47,8 @@ void PrintSummary(Context& ctx, const client::ScanResult& result, uint64_t point
   add(s.rejected_shadowed(), "shadowed");
   add(s.rejected_grazing(), "grazing");
   add(s.rejected_dim(), "dim");
+  add(s.rejected_dark(), "dark");
+  add(s.rejected_saturated(), "saturated");
   if (!artefacts.empty()) ctx.Say("measurement: " + artefacts + " (" + Fixed(s.measurement_ms(), 1) + " ms)");
   ctx.Say("time: server scan " + Fixed(s.scan_ms(), 1) + " ms, server total " + Fixed(s.total_ms(), 1) +
           " ms, client total " + Fixed(times.total_ms, 1) + " ms" +

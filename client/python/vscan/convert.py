@@ -46,6 +46,8 @@ STATUSES = {
     "grazing": scan_pb2.POINT_STATUS_REJECTED_GRAZING,
     "dim": scan_pb2.POINT_STATUS_REJECTED_DIM,
     "unlit": scan_pb2.POINT_STATUS_REJECTED_UNLIT,
+    "dark": scan_pb2.POINT_STATUS_REJECTED_DARK,
+    "saturated": scan_pb2.POINT_STATUS_REJECTED_SATURATED,
 }
 
 FRAMES = {"world": scan_pb2.FRAME_WORLD, "sensor": scan_pb2.FRAME_SENSOR}

@@ -49,6 +49,8 @@ Eigen::Vector3f StatusColour(uint8_t status) {
     case PointStatus::kRejectedGrazing: return {0.95f, 0.85f, 0.1f};
     case PointStatus::kRejectedDim: return {0.3f, 0.3f, 0.3f};
     case PointStatus::kRejectedUnlit: return {0.1f, 0.8f, 0.85f};
+    case PointStatus::kRejectedDark: return {0.25f, 0.2f, 0.45f};
+    case PointStatus::kRejectedSaturated: return {1.0f, 1.0f, 0.6f};
     case PointStatus::kUnspecified: break;
   }
   return Eigen::Vector3f::Zero();

@@ -7,6 +7,8 @@ namespace vscan {
 static_assert(static_cast<int>(PointStatus::kMeasured) == v1::POINT_STATUS_MEASURED);
 static_assert(static_cast<int>(PointStatus::kFlyingPixel) == v1::POINT_STATUS_FLYING_PIXEL);
 static_assert(static_cast<int>(PointStatus::kRejectedUnlit) == v1::POINT_STATUS_REJECTED_UNLIT);
+static_assert(static_cast<int>(PointStatus::kRejectedDark) == v1::POINT_STATUS_REJECTED_DARK);
+static_assert(static_cast<int>(PointStatus::kRejectedSaturated) == v1::POINT_STATUS_REJECTED_SATURATED);
 
 Eigen::Vector3d FromProto(const v1::Vector3& v) { return {v.x(), v.y(), v.z()}; }
 

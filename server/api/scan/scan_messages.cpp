@@ -67,6 +67,8 @@ void FillScanStatistics(const raycast::ScanStats& stats, const capture::MeasureS
   s->set_rejected_grazing(m.rejected_grazing);
   s->set_rejected_dim(m.rejected_dim);
   s->set_rejected_unlit(m.rejected_unlit);
+  s->set_rejected_dark(m.rejected_dark);
+  s->set_rejected_saturated(m.rejected_saturated);
   s->set_measurement_ms(m.elapsed_ms);
 }
 

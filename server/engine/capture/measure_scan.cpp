@@ -23,7 +23,7 @@ namespace {
 constexpr double kExtendedNear = 1e-4;
 constexpr double kExtendedFarFactor = 4.0;
 constexpr size_t kBlock = 16384;
-using StatusCounts = std::array<uint64_t, static_cast<size_t>(PointStatus::kRejectedUnlit) + 1>;
+using StatusCounts = std::array<uint64_t, static_cast<size_t>(PointStatus::kRejectedSaturated) + 1>;
 
 bool Returned(uint8_t status) {
   const auto s = static_cast<PointStatus>(status);
@@ -44,8 +44,9 @@ Status CheckClean(const PointCloud& c, uint32_t needed) {
 }
 
 // Distortion, noise and quantisation of every returned point; a point quantised away is dropped.
-uint64_t ApplyNoise(const PointCloud& clean, const MeasurementSpec& spec, std::vector<uint8_t>& status,
-                    std::vector<Eigen::Vector3f>& measured) {
+// sigma_factor (empty: 1 everywhere) widens each point's depth noise for its signal.
+uint64_t ApplyNoise(const PointCloud& clean, const MeasurementSpec& spec, const std::vector<double>& sigma_factor,
+                    std::vector<uint8_t>& status, std::vector<Eigen::Vector3f>& measured) {
   sensor::DepthNoise noise = spec.noise;
   noise.min_intensity = 0;  // dim points were already rejected with a reason
   if (!spec.distortion.any() && !noise.any()) return 0;
@@ -55,7 +56,13 @@ uint64_t ApplyNoise(const PointCloud& clean, const MeasurementSpec& spec, std::v
     for (size_t i = r.begin(); i != r.end(); ++i) {
       if (!Returned(status[i])) continue;
       Eigen::Vector3d p = measured[i].cast<double>();
-      if (sensor::MeasurePoint(p, spec.distortion, noise, spec.seed, clean.pixels[i])) {
+      sensor::DepthNoise own = noise;
+      if (!sigma_factor.empty()) {
+        own.sigma_a *= sigma_factor[i];
+        own.sigma_b *= sigma_factor[i];
+        own.sigma_c *= sigma_factor[i];
+      }
+      if (sensor::MeasurePoint(p, spec.distortion, own, spec.seed, clean.pixels[i])) {
         measured[i] = p.cast<float>();
       } else {
         status[i] = static_cast<uint8_t>(PointStatus::kUnspecified);
@@ -79,6 +86,27 @@ void RejectUnlit(const raycast::RaycastScene& scene, const Pose3& world_from_sen
       status[i] = static_cast<uint8_t>(PointStatus::kRejectedShadowed);
     }
   }
+}
+
+// The returned light's verdicts on the rays no earlier rule rejected, its measured electrons as the
+// intensity, and each ray's factor on the depth noise (docs/SENSORS.md, "The returned signal").
+std::vector<double> JudgeSignals(const ReturnedLightSpec& light, uint64_t seed, PointCloud& clean,
+                                 std::vector<uint8_t>& status) {
+  const std::vector<sensor::PixelSignal> signals = ReturnedSignals(clean, light, seed);
+  std::vector<double> sigma_factor(signals.size(), 1.0);
+  const bool intensities = clean.Has(kFieldIntensity);
+  for (size_t i = 0; i < signals.size(); ++i) {
+    if (intensities) clean.intensities[i] = static_cast<float>(signals[i].measured_e);
+    if (status[i] != static_cast<uint8_t>(PointStatus::kMeasured)) continue;
+    if (signals[i].verdict == sensor::SignalVerdict::kDark) {
+      status[i] = static_cast<uint8_t>(PointStatus::kRejectedDark);
+    } else if (signals[i].verdict == sensor::SignalVerdict::kSaturated) {
+      status[i] = static_cast<uint8_t>(PointStatus::kRejectedSaturated);
+    } else {
+      sigma_factor[i] = SignalSigmaFactor(light, signals[i]);
+    }
+  }
+  return sigma_factor;
 }
 
 // Disparity quantisation of the returned points; a point left with no depth is dropped.
@@ -122,6 +150,8 @@ void Count(const StatusCounts& n, MeasureStats& stats) {
   stats.rejected_grazing = at(PointStatus::kRejectedGrazing);
   stats.rejected_dim = at(PointStatus::kRejectedDim);
   stats.rejected_unlit = at(PointStatus::kRejectedUnlit);
+  stats.rejected_dark = at(PointStatus::kRejectedDark);
+  stats.rejected_saturated = at(PointStatus::kRejectedSaturated);
 }
 
 // Normals of the returned points, in clean-cloud order; 0,0,0 for the others and where too few
@@ -185,6 +215,7 @@ uint32_t CleanFieldsFor(const MeasurementSpec& spec) {
   }
   if (spec.noise.min_intensity > 0 || (spec.fields & kFieldIntensity)) fields |= kFieldIntensity;
   if (spec.fields & kFieldInstanceId) fields |= kFieldInstanceId;
+  if (spec.returned_light) fields |= kFieldNormal | kFieldInstanceId;
   return fields;
 }
 
@@ -209,13 +240,15 @@ StatusOr<PointCloud> MeasureScan(const raycast::RaycastScene& scene, const senso
   std::vector<float> incidence;
   JudgeRays(clean, camera, spec, status, incidence);
   if (spec.structured_light) RejectUnlit(scene, world_from_sensor, *spec.structured_light, clean, status);
+  std::vector<double> sigma_factor;
+  if (spec.returned_light) sigma_factor = JudgeSignals(*spec.returned_light, spec.seed, clean, status);
   std::vector<Eigen::Vector3f> measured = clean.positions;
   if (spec.outliers.any()) {
     const float max_distance = static_cast<float>(ExtendedRangeCamera(camera).far * 2.0);
     s.dropped += CastOutliers(scene, camera, world_from_sensor, clean, spec, max_distance, status, measured).missed;
   }
   if (spec.flying_pixels.enabled) MixDepthEdges(clean, camera, spec, status, measured);
-  s.dropped += ApplyNoise(clean, spec, status, measured);
+  s.dropped += ApplyNoise(clean, spec, sigma_factor, status, measured);
   if (spec.structured_light) s.dropped += QuantiseDisparities(*spec.structured_light, status, measured);
 
   std::vector<Eigen::Vector3f> estimated;

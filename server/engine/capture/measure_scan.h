@@ -1,5 +1,6 @@
 #pragma once
-// Turns a clean sensor-frame scan into a measured one: rejection (out of range, grazing, dim),
+// Turns a clean sensor-frame scan into a measured one: rejection (out of range, grazing, dim, and
+// with the returned light dark or saturated),
 // outliers, flying pixels, distortion / noise / quantisation, ground truth and estimated normals.
 // The order and the rules are documented in docs/SENSORS.md, "Measurement model".
 
@@ -25,13 +26,16 @@ struct MeasureStats {
   uint64_t rejected_grazing = 0;
   uint64_t rejected_dim = 0;
   uint64_t rejected_unlit = 0;
+  uint64_t rejected_dark = 0;
+  uint64_t rejected_saturated = 0;
   // Outlier rays that hit nothing and points quantised to a non-positive depth; never returned.
   uint64_t dropped = 0;
   double min_range = 0, max_range = 0;  // over the returned measurements
   double elapsed_ms = 0;
 
   uint64_t rejected() const {
-    return rejected_out_of_range + rejected_shadowed + rejected_grazing + rejected_dim + rejected_unlit;
+    return rejected_out_of_range + rejected_shadowed + rejected_grazing + rejected_dim + rejected_unlit +
+           rejected_dark + rejected_saturated;
   }
 };
 

@@ -6,6 +6,7 @@
 #include <optional>
 #include <string_view>
 
+#include "capture/returned_light.h"
 #include "sensor/measurement.h"
 #include "sensor/structured_light.h"
 #include "vscan/common/point_cloud.h"
@@ -46,6 +47,10 @@ struct MeasurementSpec {
   // A structured-light scanner's projector: rays it does not light become REJECTED_UNLIT or
   // REJECTED_SHADOWED, and returned depths are quantised in disparity. Unset: no projector.
   std::optional<sensor::StructuredLight> structured_light;
+  // The emitter's light off each object's material: rays too dark or saturated are rejected with that
+  // reason, intensity becomes the measured electrons, and the depth noise follows the signal. Unset:
+  // intensity is the camera's Lighting and only min_intensity rejects.
+  std::optional<ReturnedLightSpec> returned_light;
   bool include_rejected = false;
   // Fields of the returned cloud (kFieldsGroundTruth and kFieldEstimatedNormal included).
   uint32_t fields = kFieldsDefault;
@@ -54,7 +59,7 @@ struct MeasurementSpec {
   // Whether anything here changes the clean scan (false: the clean fast path serves it).
   bool any() const {
     return distortion.any() || noise.any() || outliers.any() || flying_pixels.enabled || grazing_limit_deg > 0 ||
-           structured_light.has_value() || include_rejected || (fields & (kFieldsGroundTruth | kFieldEstimatedNormal)) != 0;
+           structured_light.has_value() || returned_light.has_value() || include_rejected || (fields & (kFieldsGroundTruth | kFieldEstimatedNormal)) != 0;
   }
 };
 

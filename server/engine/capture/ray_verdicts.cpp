@@ -14,7 +14,8 @@ void JudgeRays(const PointCloud& clean, const sensor::PinholeCamera& camera, con
   status.assign(n, static_cast<uint8_t>(PointStatus::kMeasured));
   incidence.assign(n, 0.0f);
   const double grazing = spec.grazing_limit_deg * std::numbers::pi / 180.0;
-  const double min_intensity = spec.noise.min_intensity;
+  // With the returned light, its dark verdict takes the place of the intensity threshold.
+  const double min_intensity = spec.returned_light ? 0.0 : spec.noise.min_intensity;
   // The arc cosine is only paid for when grazing drop-out or the incidence field needs it.
   const bool has_normals = clean.Has(kFieldNormal) && (grazing > 0 || (spec.fields & kFieldIncidence) != 0);
   const bool has_intensity = clean.Has(kFieldIntensity);

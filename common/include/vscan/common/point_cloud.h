@@ -37,6 +37,9 @@ enum class PointStatus : uint8_t {
   kRejectedGrazing = 6,
   kRejectedDim = 7,
   kRejectedUnlit = 8,
+  // The returned signal (docs/SENSORS.md): too weak to decode above its noise, or past the full well.
+  kRejectedDark = 9,
+  kRejectedSaturated = 10,
 };
 
 // Positions are always present; other arrays are empty or have size() elements.

@@ -33,7 +33,7 @@ Status BinFillVerdict(testing::ServiceWorld& world, const TriangleMesh& mesh, do
 // field loses its "bins[0]." prefix so that both name the part alike.
 Status DatasetVerdict(const TriangleMesh& mesh, double scale, const char* mass_kg) {
   std::string yaml = "name: checks\nbins:\n  - name: box\n    bin: {inner_size: [0.30, 0.20, 0.15]}\n"
-                     "    parts:\n      - {mesh: part.obj, count: 2, scale: " + std::to_string(scale);
+                     "    parts:\n      - {mesh: part.obj, unit: m, count: 2, scale: " + std::to_string(scale);
   if (mass_kg) yaml += std::string(", mass_kg: ") + mass_kg;
   yaml += "}\nseeds: [1]\nsensors: [ideal-vga]\ncamera_height_m: 0.6\n";
   auto plan = dataset::ParseDatasetPlanYaml(yaml, "checks.yaml");
@@ -94,7 +94,7 @@ TEST(PartChecks, APartBothAcceptIsAcceptedByBoth) {
 TEST(PartChecks, ADatasetPartTakesABinPlansMassDensityAndCollision) {
   const std::string yaml =
       "name: checks\nbins:\n  - name: box\n    bin: {inner_size: [0.30, 0.20, 0.15]}\n    parts:\n"
-      "      - {mesh: part.obj, count: 2, density_kg_per_m3: 1200, collision: convex_decomposition}\n"
+      "      - {mesh: part.obj, unit: m, count: 2, density_kg_per_m3: 1200, collision: convex_decomposition}\n"
       "seeds: [1]\nsensors: [ideal-vga]\ncamera_height_m: 0.6\n";
   auto plan = dataset::ParseDatasetPlanYaml(yaml, "checks.yaml");
   ASSERT_TRUE(plan.ok()) << plan.status().ToString();

@@ -1,0 +1,62 @@
+#include "capture/returned_light.h"
+
+#include <cmath>
+#include <string>
+
+#include <tbb/parallel_for.h>
+
+namespace vscan::capture {
+namespace {
+
+// The signal's draws must not repeat the depth noise's, which come from (seed, pixel) too.
+constexpr uint64_t kSignalStream = 0x5349474e414c5f45ull;
+
+}  // namespace
+
+Status ValidateReturnedLight(const ReturnedLightSpec& spec, std::string_view field) {
+  const std::string at(field);
+  RETURN_IF_ERROR(sensor::ValidateEmitter(spec.emitter, at + ".emitter"));
+  RETURN_IF_ERROR(sensor::ValidatePixelResponse(spec.pixel, at + ".pixel"));
+  RETURN_IF_ERROR(sensor::ValidateMaterial(spec.default_material, at + ".default_material"));
+  for (size_t i = 0; i < spec.materials.size(); ++i) {
+    RETURN_IF_ERROR(sensor::ValidateMaterial(spec.materials[i], at + ".materials[" + std::to_string(i) + "]"));
+  }
+  if (!std::isfinite(spec.reference_e) || spec.reference_e < 0) {
+    return InvalidArgument(at + ".reference_e", "must be finite and not negative (electrons)");
+  }
+  return Status::Ok();
+}
+
+double CameraPixelGain(const sensor::PinholeCamera& camera, sensor::PinholePixel pixel) {
+  pixel.pixel_solid_angle_sr = 1.0 / (camera.fx * camera.fy);
+  return sensor::PixelGain(pixel);
+}
+
+std::vector<sensor::PixelSignal> ReturnedSignals(const PointCloud& clean, const ReturnedLightSpec& spec,
+                                                 uint64_t seed) {
+  std::vector<sensor::PixelSignal> signals(clean.size());
+  const bool has_ids = clean.Has(kFieldInstanceId);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, clean.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      const uint32_t id = has_ids ? clean.instance_ids[i] : 0;
+      const sensor::Material& material =
+          id != 0 && id < spec.materials.size() ? spec.materials[id] : spec.default_material;
+      const Eigen::Vector3d point = clean.positions[i].cast<double>();
+      // The side the camera sees: a mesh's winding need not point its normals outwards.
+      Eigen::Vector3d normal = clean.normals[i].cast<double>();
+      if (normal.dot(point) > 0) normal = -normal;
+      const double radiance =
+          sensor::DirectRadiance(material, point, normal, spec.emitter, Eigen::Vector3d::Zero());
+      const double expected = sensor::ExpectedElectrons(radiance, sensor::OffAxisFalloff(point), spec.pixel);
+      signals[i] = sensor::RespondToElectrons(expected, spec.pixel, seed ^ kSignalStream, clean.pixels[i]);
+    }
+  });
+  return signals;
+}
+
+double SignalSigmaFactor(const ReturnedLightSpec& spec, const sensor::PixelSignal& signal) {
+  if (!(spec.reference_e > 0)) return 1.0;
+  return sensor::SignalDepthSigma(1.0, spec.reference_e, signal.expected_e, spec.pixel.read_noise_e);
+}
+
+}  // namespace vscan::capture

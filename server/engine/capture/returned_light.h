@@ -1,0 +1,51 @@
+#pragma once
+// The signal each pixel of a clean scan receives from the sensor's own emitter, off each object's
+// material: the direct term of docs/SENSORS.md, "The returned signal", applied to a whole scan.
+
+#include <cstdint>
+#include <vector>
+
+#include "sensor/camera.h"
+#include "sensor/material.h"
+#include "sensor/pixel_radiometry.h"
+#include "sensor/returned_signal.h"
+#include "vscan/common/point_cloud.h"
+#include "vscan/common/status.h"
+
+namespace vscan::capture {
+
+struct ReturnedLightSpec {
+  // In the sensor frame: at the camera for a time-of-flight or depth camera, at the projector for
+  // structured light.
+  sensor::Emitter emitter;
+  // Electrons per unit radiance on the optical axis (PixelGain) and the pixel's limits.
+  sensor::PixelResponse pixel;
+  // materials[id] is the material of the object with instance id `id`; ids past the end (and 0,
+  // no object) take default_material.
+  std::vector<sensor::Material> materials;
+  sensor::Material default_material;
+  // The depth noise's sigma holds at this many electrons and grows as the signal falls
+  // (SignalDepthSigma); 0: the depth noise does not follow the signal.
+  double reference_e = 0;
+};
+
+// Emitter and pixel checked (ValidateEmitter, ValidatePixelResponse), every material
+// (ValidateMaterial), reference_e finite and non-negative; INVALID_ARGUMENT naming
+// "<field>.<member>".
+Status ValidateReturnedLight(const ReturnedLightSpec& spec, std::string_view field);
+
+// The gain of a camera pixel: the pixel's solid angle is the camera's (1 / (fx fy) on the axis),
+// the rest from `pixel` (aperture, exposure, quantum efficiency, wavelength).
+double CameraPixelGain(const sensor::PinholeCamera& camera, sensor::PinholePixel pixel);
+
+// One PixelSignal per point of clean (sensor frame, with normals, instance ids and pixels): the
+// material's direct radiance towards the camera at the origin, the cos^4 fall-off of the pixel's
+// ray, then the pixel's response with its noise drawn from (seed, pixel index).
+std::vector<sensor::PixelSignal> ReturnedSignals(const PointCloud& clean, const ReturnedLightSpec& spec,
+                                                 uint64_t seed);
+
+// The factor on the depth noise's sigma at this signal: SignalDepthSigma(1, reference_e, expected_e,
+// read_noise_e), 1 when reference_e is 0.
+double SignalSigmaFactor(const ReturnedLightSpec& spec, const sensor::PixelSignal& signal);
+
+}  // namespace vscan::capture
