@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "api/scenes/material_convert.h"
 #include "api/scenes/scene_convert.h"
 #include "api/transport/unary.h"
 #include "api/transport/validate.h"
@@ -122,6 +123,7 @@ grpc::ServerUnaryReactor* SceneService::AddObject(grpc::CallbackServerContext* c
     }
     object.pose = pose.matrix();
     ASSIGN_OR_RETURN(object.scale, ScaleOrDefault(request->scale(), "scale"));
+    ASSIGN_OR_RETURN(object.material, OptionalMaterialFromProto(request->has_material(), request->material(), "material"));
     ASSIGN_OR_RETURN(auto added, context_.registry.catalogue().AddObject(object));
     ToProto(added.first, response->mutable_object());
     response->set_revision(added.second);
@@ -144,6 +146,22 @@ grpc::ServerUnaryReactor* SceneService::MoveObject(grpc::CallbackServerContext* 
                                                                           pose.matrix(), scale));
     ToProto(moved.first, response->mutable_object());
     response->set_revision(moved.second);
+    return Status::Ok();
+  });
+}
+
+grpc::ServerUnaryReactor* SceneService::SetObjectMaterial(grpc::CallbackServerContext* ctx,
+                                                          const v1::SetObjectMaterialRequest* request,
+                                                          v1::SetObjectMaterialResponse* response) {
+  return RunBlockingUnary(ctx, context_.options.token, "SetObjectMaterial", context_.call_workers, [=, this]() -> Status {
+    RETURN_IF_ERROR(RequireId(request->scene_id(), "scene_id"));
+    RETURN_IF_ERROR(RequireId(request->object_id(), "object_id"));
+    ASSIGN_OR_RETURN(const auto material,
+                     OptionalMaterialFromProto(request->has_material(), request->material(), "material"));
+    ASSIGN_OR_RETURN(auto set, context_.registry.catalogue().SetObjectMaterial(request->scene_id(),
+                                                                               request->object_id(), material));
+    ToProto(set.first, response->mutable_object());
+    response->set_revision(set.second);
     return Status::Ok();
   });
 }

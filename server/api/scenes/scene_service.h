@@ -30,6 +30,9 @@ class SceneService final : public v1::SceneService::CallbackService {
                                       v1::AddObjectResponse* response) override;
   grpc::ServerUnaryReactor* MoveObject(grpc::CallbackServerContext* ctx, const v1::MoveObjectRequest* request,
                                        v1::MoveObjectResponse* response) override;
+  grpc::ServerUnaryReactor* SetObjectMaterial(grpc::CallbackServerContext* ctx,
+                                              const v1::SetObjectMaterialRequest* request,
+                                              v1::SetObjectMaterialResponse* response) override;
   grpc::ServerUnaryReactor* RemoveObject(grpc::CallbackServerContext* ctx, const v1::RemoveObjectRequest* request,
                                          v1::RemoveObjectResponse* response) override;
   grpc::ServerUnaryReactor* SetRotaryTable(grpc::CallbackServerContext* ctx,
