@@ -6,6 +6,7 @@
 #include "api/scenes/scene_convert.h"
 #include "api/transport/unary.h"
 #include "api/transport/validate.h"
+#include "sensor/material.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::api {
@@ -189,6 +190,24 @@ grpc::ServerUnaryReactor* SceneService::SetRotaryTable(grpc::CallbackServerConte
     ASSIGN_OR_RETURN(uint64_t revision, context_.registry.catalogue().SetTable(request->scene_id(), table));
     ToProto(table, response->mutable_table());
     response->set_revision(revision);
+    return Status::Ok();
+  });
+}
+
+grpc::ServerUnaryReactor* SceneService::ListMaterialPresets(grpc::CallbackServerContext* ctx,
+                                                            const v1::ListMaterialPresetsRequest*,
+                                                            v1::ListMaterialPresetsResponse* response) {
+  return RunUnary(ctx, context_.options.token, "ListMaterialPresets", [&]() -> Status {
+    for (const sensor::MaterialPreset& preset : sensor::MaterialPresets()) {
+      v1::MaterialPreset* out = response->add_presets();
+      out->set_name(preset.name);
+      out->set_description(preset.description);
+      v1::MaterialValues* values = out->mutable_values();
+      values->set_diffuse_albedo(preset.material.albedo);
+      values->set_metallic(preset.material.metallic);
+      values->set_roughness(preset.material.roughness);
+      values->set_specular_reflectance(preset.material.specular_reflectance);
+    }
     return Status::Ok();
   });
 }

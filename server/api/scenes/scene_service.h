@@ -38,6 +38,9 @@ class SceneService final : public v1::SceneService::CallbackService {
   grpc::ServerUnaryReactor* SetRotaryTable(grpc::CallbackServerContext* ctx,
                                            const v1::SetRotaryTableRequest* request,
                                            v1::SetRotaryTableResponse* response) override;
+  grpc::ServerUnaryReactor* ListMaterialPresets(grpc::CallbackServerContext* ctx,
+                                                const v1::ListMaterialPresetsRequest* request,
+                                                v1::ListMaterialPresetsResponse* response) override;
 
  private:
   service::ServiceContext& context_;
