@@ -30,7 +30,9 @@ StatusOr<std::optional<MaterialRecord>> ReadMaterial(const sqlite::Statement& s,
   MaterialRecord material;
   if (has_preset) {
     material.preset = s.Text(first);
-    if (material.preset.empty()) return DataLoss("catalogue: the material of " + std::string(what) + " has an empty preset");
+    if (material.preset.empty()) {
+      return DataLoss("catalogue: the material of " + std::string(what) + " has an empty preset");
+    }
     return std::optional<MaterialRecord>(std::move(material));
   }
   material.albedo = s.Double(first + 1);

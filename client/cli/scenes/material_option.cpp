@@ -25,7 +25,9 @@ StatusOr<double> ParseMaterialNumber(const std::string& key, const std::string& 
 
 StatusOr<v1::Material> ParseMaterialOption(const std::string& text) {
   v1::Material material;
-  if (text.empty()) return InvalidArgument("--material: empty; give a preset (vscan materials) or " + std::string(kValuesForm));
+  if (text.empty()) {
+    return InvalidArgument("--material: empty; give a preset (vscan materials) or " + std::string(kValuesForm));
+  }
   if (text.find('=') == std::string::npos) {
     material.set_preset(text);
     return material;
@@ -76,8 +78,8 @@ void AddMaterialsCommand(CLI::App& app, Context& ctx) {
       }
       const v1::MaterialValues& v = p.values();
       char line[256];
-      std::snprintf(line, sizeof line, "%-26s albedo %.3g  metallic %.3g  roughness %.3g  specular %.3g", p.name().c_str(),
-                    v.diffuse_albedo(), v.metallic(), v.roughness(), v.specular_reflectance());
+      std::snprintf(line, sizeof line, "%-26s albedo %.3g  metallic %.3g  roughness %.3g  specular %.3g",
+                    p.name().c_str(), v.diffuse_albedo(), v.metallic(), v.roughness(), v.specular_reflectance());
       ctx.Print(line);
       if (*verbose) ctx.Print("    " + p.description());
     }

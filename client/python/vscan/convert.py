@@ -87,7 +87,9 @@ def material(value):
     if hasattr(value, "keys"):
         keys = set(value.keys())
         if keys != set(_MATERIAL_VALUES):
-            raise ValueError("material: give all of %s (got %s)" % (", ".join(_MATERIAL_VALUES), ", ".join(sorted(keys))))
+            raise ValueError(
+                "material: give all of %s (got %s)" % (", ".join(_MATERIAL_VALUES), ", ".join(sorted(keys)))
+            )
         values = scene_pb2.MaterialValues(**{k: float(value[k]) for k in _MATERIAL_VALUES})
         return scene_pb2.Material(values=values)
     raise TypeError("material: a preset name, a mapping of values or a Material, not %s" % type(value).__name__)

@@ -40,7 +40,8 @@ StatusOr<store::MaterialRecord> MaterialFromProto(const v1::Material& material, 
       for (char& c : shown) {
         if (static_cast<unsigned char>(c) < 0x20 || static_cast<unsigned char>(c) >= 0x7f) c = '?';
       }
-      return InvalidArgument(FieldPath(field, "preset") + ": unknown preset '" + shown + "' (known: " + KnownMaterialPresets() + ")");
+      return InvalidArgument(FieldPath(field, "preset") + ": unknown preset '" + shown +
+                             "' (known: " + KnownMaterialPresets() + ")");
     }
     record.preset = material.preset();
     return record;

@@ -55,7 +55,8 @@ class UploadMeshReactor final : public UploadReactor<v1::UploadMeshRequest> {
       }
       if (MetresPerUnit(header_.unit()) == 0 || !kLengthUnits.Backward(header_.unit())) return InvalidArgument("header.unit: unknown unit");
       ASSIGN_OR_RETURN(scale_, ScaleOrDefault(header_.scale(), "header.scale"));
-      ASSIGN_OR_RETURN(material_, OptionalMaterialFromProto(header_.has_material(), header_.material(), "header.material"));
+      ASSIGN_OR_RETURN(material_,
+                       OptionalMaterialFromProto(header_.has_material(), header_.material(), "header.material"));
       if (header_.size_bytes() > context_.options.limits.max_upload_bytes) {
         return ResourceExhausted("header.size_bytes: " + std::to_string(header_.size_bytes()) +
                                  " bytes exceeds the upload limit of " +

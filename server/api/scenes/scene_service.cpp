@@ -124,7 +124,8 @@ grpc::ServerUnaryReactor* SceneService::AddObject(grpc::CallbackServerContext* c
     }
     object.pose = pose.matrix();
     ASSIGN_OR_RETURN(object.scale, ScaleOrDefault(request->scale(), "scale"));
-    ASSIGN_OR_RETURN(object.material, OptionalMaterialFromProto(request->has_material(), request->material(), "material"));
+    ASSIGN_OR_RETURN(object.material,
+                     OptionalMaterialFromProto(request->has_material(), request->material(), "material"));
     ASSIGN_OR_RETURN(auto added, context_.registry.catalogue().AddObject(object));
     ToProto(added.first, response->mutable_object());
     response->set_revision(added.second);
