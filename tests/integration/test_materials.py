@@ -1,5 +1,5 @@
 """Materials end to end: a mesh's default and an object's override set through the CLI, the Python
-client and raw stubs, read back, refused when wrong (with nothing stored), and kept over a restart."""
+client and raw stubs, read back, refused when wrong (with nothing stored), and kept over kill -9."""
 
 import json
 import math
@@ -42,7 +42,7 @@ class MaterialsTest(unittest.TestCase):
     def scene_json(self, scene):
         return json.loads(self.ok("--json", "scene", "get", scene))
 
-    def test_cli_sets_reads_refuses_and_keeps_materials_over_a_restart(self):
+    def test_cli_sets_reads_refuses_and_keeps_materials_over_kill9(self):
         listed = json.loads(self.ok("--json", "materials"))["presets"]
         self.assertEqual(listed[0]["name"], "matte-grey")
         by_name = {p["name"]: p for p in listed}
@@ -104,7 +104,8 @@ class MaterialsTest(unittest.TestCase):
         self.assertIn("material machined-aluminium (the mesh's)",
                       next(l for l in self.ok("scene", "get", scene).splitlines() if black in l))
 
-        self.server.stop()
+        # Acknowledged is durable: kill -9, not a clean stop.
+        self.server.kill9()
         self.server.start()
         self.assertEqual(self.scene_json(scene), after)
         self.assertEqual(json.loads(self.ok("--json", "mesh", "get", mesh))["material"],
