@@ -7,6 +7,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "scenes/object_material.h"
 #include "store/blob_gc.h"
 
 namespace vscan::scenes {
@@ -59,6 +60,7 @@ StatusOr<store::MeshRecord> SceneRegistry::AddMesh(std::string_view file_bytes, 
   store::MeshRecord record = MeshRecordOf(mesh, upload.name, sha);
   record.source_unit = upload.unit;
   record.source_scale = upload.scale;
+  record.material = upload.material;
   auto inserted = catalogue_.InsertMesh(record);
   if (!inserted.ok()) return storing(inserted.status());
   store::MeshRecord stored = std::move(inserted).value();
@@ -93,6 +95,10 @@ Status SceneRegistry::DeleteMesh(const std::string& mesh_id) {
 
 StatusOr<std::shared_ptr<const TriangleMesh>> SceneRegistry::LoadMesh(const std::string& mesh_id) {
   ASSIGN_OR_RETURN(store::MeshRecord record, catalogue_.GetMesh(mesh_id));
+  return LoadGeometry(record);
+}
+
+StatusOr<std::shared_ptr<const TriangleMesh>> SceneRegistry::LoadGeometry(const store::MeshRecord& record) {
   {
     std::lock_guard lock(mutex_);
     if (auto it = meshes_.find(record.sha256); it != meshes_.end()) return it->second;
@@ -171,8 +177,11 @@ StatusOr<SceneRegistry::Built> SceneRegistry::Build(const store::SceneRecord& sc
   auto instances = std::make_shared<std::vector<raycast::SceneInstance>>();
   instances->reserve(scene.objects.size());
   for (const auto& object : scene.objects) {
-    ASSIGN_OR_RETURN(auto mesh, LoadMesh(object.mesh_id));
-    instances->push_back({mesh, WorldFromObject(scene, object, table_angle), object.scale, object.instance_id});
+    ASSIGN_OR_RETURN(const store::MeshRecord record, catalogue_.GetMesh(object.mesh_id));
+    ASSIGN_OR_RETURN(auto mesh, LoadGeometry(record));
+    ASSIGN_OR_RETURN(const sensor::Material material, EffectiveMaterial(object, record));
+    instances->push_back(
+        {mesh, WorldFromObject(scene, object, table_angle), object.scale, object.instance_id, material});
   }
   ASSIGN_OR_RETURN(auto raycast, raycast::RaycastScene::Build(*instances));
   spdlog::debug("scene {} revision {}: built ray-casting structure over {} triangles", scene.scene_id,

@@ -40,6 +40,7 @@ struct MeshUpload {
   store::LengthUnit unit = store::LengthUnit::kUnspecified;  // recorded for the user
   double metres_per_unit = 1.0;
   double scale = 1.0;
+  std::optional<store::MaterialRecord> material;  // the mesh's default material; checked by the caller
 };
 
 class SceneRegistry {
@@ -84,6 +85,8 @@ class SceneRegistry {
     std::shared_ptr<const std::vector<raycast::SceneInstance>> instances;
   };
   StatusOr<Built> Build(const store::SceneRecord& scene, double table_angle);
+  // The decoded geometry of a mesh row, from the cache or its blob.
+  StatusOr<std::shared_ptr<const TriangleMesh>> LoadGeometry(const store::MeshRecord& record);
 
   store::Catalogue& catalogue_;
   store::BlobStore& blobs_;

@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "store/list_page.h"
+#include "store/material_columns.h"
 #include "store/sqlite_statement.h"
 #include "vscan/common/physical_limits.h"
 
@@ -18,12 +19,14 @@ using sqlite::Statement;
 
 constexpr std::string_view kMeshColumns =
     "mesh_id, name, sha256, vertex_count, triangle_count, min_x, min_y, min_z, max_x, max_y, max_z, "
-    "source_unit, source_scale, create_time_ms";
+    "source_unit, source_scale, create_time_ms, material_preset, material_albedo, material_metallic, "
+    "material_roughness, material_specular";
 constexpr std::string_view kSceneColumns =
     "scene_id, name, revision, table_enabled, table_centre_x, table_centre_y, table_centre_z, "
     "table_axis_x, table_axis_y, table_axis_z, table_angle_deg, create_time_ms, update_time_ms";
 constexpr std::string_view kObjectColumns =
-    "object_id, scene_id, mesh_id, label, pose, scale, on_table, instance_id";
+    "object_id, scene_id, mesh_id, label, pose, scale, on_table, instance_id, material_preset, material_albedo, "
+    "material_metallic, material_roughness, material_specular";
 
 // Joins fixed SQL fragments; values always travel as bound parameters.
 std::string Sql(std::string_view a, std::string_view b, std::string_view c) {
@@ -65,6 +68,7 @@ StatusOr<MeshRecord> ReadMesh(const Statement& s) {
   ASSIGN_OR_RETURN(m.source_unit, FromStoredCode(kLengthUnitCodes, s.Int(11), "meshes.source_unit of '" + m.mesh_id + "'"));
   m.source_scale = s.Double(12);
   m.create_time_ms = s.Int(13);
+  ASSIGN_OR_RETURN(m.material, ReadMaterial(s, 14, "mesh '" + m.mesh_id + "'"));
   return m;
 }
 
@@ -92,6 +96,7 @@ StatusOr<ObjectRecord> ReadObject(const Statement& s) {
   o.scale = s.Double(5);
   o.on_table = s.Int(6) != 0;
   o.instance_id = static_cast<uint32_t>(s.Int(7));
+  ASSIGN_OR_RETURN(o.material, ReadMaterial(s, 8, "object '" + o.object_id + "'"));
   return o;
 }
 
@@ -152,22 +157,25 @@ Status ObjectNotFound(const std::string& scene_id, const std::string& object_id)
 Status InsertMeshRow(sqlite3* db, const MeshRecord& mesh) {
   ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db, Sql("INSERT INTO meshes (", kMeshColumns,
                                                            ") VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, "
-                                                           "?10, ?11, ?12, ?13, ?14)")));
+                                                           "?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18, ?19)")));
   s.Bind(1, mesh.mesh_id).Bind(2, mesh.name).Bind(3, mesh.sha256);
   s.Bind(4, static_cast<int64_t>(mesh.vertex_count)).Bind(5, static_cast<int64_t>(mesh.triangle_count));
   for (int i = 0; i < 3; ++i) {
     s.Bind(6 + i, mesh.bounds_min[i]).Bind(9 + i, mesh.bounds_max[i]);
   }
   s.Bind(12, StoredCode(kLengthUnitCodes, mesh.source_unit)).Bind(13, mesh.source_scale).Bind(14, mesh.create_time_ms);
+  BindMaterial(s, 15, mesh.material);
   return s.Run();
 }
 
 Status InsertObjectRow(sqlite3* db, const ObjectRecord& object) {
   ASSIGN_OR_RETURN(Statement insert, Statement::Prepare(db, Sql("INSERT INTO objects (", kObjectColumns,
-                                                                ") VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8)")));
+                                                                ") VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, "
+                                                                "?10, ?11, ?12, ?13)")));
   insert.Bind(1, object.object_id).Bind(2, object.scene_id).Bind(3, object.mesh_id).Bind(4, object.label);
   insert.BindBlob(5, EncodePose(object.pose)).Bind(6, object.scale).Bind(7, int64_t{object.on_table});
   insert.Bind(8, int64_t{object.instance_id});
+  BindMaterial(insert, 9, object.material);
   return insert.Run();
 }
 
@@ -427,6 +435,24 @@ StatusOr<std::pair<ObjectRecord, uint64_t>> Catalogue::MoveObject(const std::str
     RETURN_IF_ERROR(CheckPlacement(db_, object.mesh_id, object.pose, object.scale));
     ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_, "UPDATE objects SET pose = ?1, scale = ?2 WHERE object_id = ?3"));
     s.BindBlob(1, EncodePose(object.pose)).Bind(2, object.scale).Bind(3, object_id);
+    return s.Run();
+  }));
+  return std::make_pair(std::move(object), revision);
+}
+
+StatusOr<std::pair<ObjectRecord, uint64_t>> Catalogue::SetObjectMaterial(
+    const std::string& scene_id, const std::string& object_id, const std::optional<MaterialRecord>& material) {
+  std::lock_guard lock(mutex_);
+  ObjectRecord object;
+  uint64_t revision = 0;
+  RETURN_IF_ERROR(sqlite::InTransaction(db_, true, [&]() -> Status {
+    ASSIGN_OR_RETURN(revision, BumpRevision(db_, scene_id));
+    ASSIGN_OR_RETURN(object, LoadObject(db_, scene_id, object_id));
+    object.material = material;
+    ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_, Sql("UPDATE objects SET (", kMaterialColumns,
+                                                              ") = (?1, ?2, ?3, ?4, ?5) WHERE object_id = ?6")));
+    BindMaterial(s, 1, object.material);
+    s.Bind(6, object_id);
     return s.Run();
   }));
   return std::make_pair(std::move(object), revision);

@@ -21,6 +21,17 @@ struct sqlite3;
 
 namespace vscan::store {
 
+// A material as stored: a preset's name, or (preset empty) explicit values. The service checks it
+// before it is stored; the catalogue keeps what it is given.
+struct MaterialRecord {
+  std::string preset;
+  double albedo = 0.0;
+  double metallic = 0.0;
+  double roughness = 0.0;
+  double specular_reflectance = 0.0;
+  bool operator==(const MaterialRecord&) const = default;
+};
+
 struct MeshRecord {
   std::string mesh_id;
   std::string name;
@@ -32,6 +43,7 @@ struct MeshRecord {
   LengthUnit source_unit = LengthUnit::kUnspecified;
   double source_scale = 1.0;
   int64_t create_time_ms = 0;
+  std::optional<MaterialRecord> material;  // the default of its objects; none: the engine's default
 };
 
 struct ObjectRecord {
@@ -43,6 +55,7 @@ struct ObjectRecord {
   double scale = 1.0;
   bool on_table = false;
   uint32_t instance_id = 0;
+  std::optional<MaterialRecord> material;  // overrides the mesh's; none: the mesh's
 };
 
 struct TableRecord {
@@ -102,6 +115,10 @@ class Catalogue {
   // Replaces pose and, when scale is set, the scale. Returns the object and new revision.
   StatusOr<std::pair<ObjectRecord, uint64_t>> MoveObject(const std::string& scene_id, const std::string& object_id,
                                                          const Eigen::Matrix4d& pose, std::optional<double> scale);
+  // Sets the object's material override (nullopt clears it). Returns the object and new revision.
+  StatusOr<std::pair<ObjectRecord, uint64_t>> SetObjectMaterial(const std::string& scene_id,
+                                                                const std::string& object_id,
+                                                                const std::optional<MaterialRecord>& material);
   StatusOr<uint64_t> RemoveObject(const std::string& scene_id, const std::string& object_id);
   StatusOr<uint64_t> SetTable(const std::string& scene_id, const TableRecord& table);
 

@@ -144,6 +144,20 @@ CREATE INDEX clouds_by_job ON clouds(job_id);
     // The frame a cloud's points are in (1 world, 2 sensor): a sensor pose alone does not say
     // whether it still has to be applied.
     {5, "ALTER TABLE clouds ADD COLUMN frame INTEGER NOT NULL DEFAULT 1;"},
+    // Materials: a mesh's default and an object's override, each a preset's name or four values
+    // (store/material_columns.h); rows from before stay NULL, which reads as no material set.
+    {6, R"sql(
+ALTER TABLE meshes ADD COLUMN material_preset TEXT;
+ALTER TABLE meshes ADD COLUMN material_albedo REAL;
+ALTER TABLE meshes ADD COLUMN material_metallic REAL;
+ALTER TABLE meshes ADD COLUMN material_roughness REAL;
+ALTER TABLE meshes ADD COLUMN material_specular REAL;
+ALTER TABLE objects ADD COLUMN material_preset TEXT;
+ALTER TABLE objects ADD COLUMN material_albedo REAL;
+ALTER TABLE objects ADD COLUMN material_metallic REAL;
+ALTER TABLE objects ADD COLUMN material_roughness REAL;
+ALTER TABLE objects ADD COLUMN material_specular REAL;
+)sql"},
 };
 
 constexpr int kSchemaVersion = static_cast<int>(std::size(kMigrations));

@@ -1,5 +1,6 @@
 #include <cmath>
 
+#include "scenes/material_option.h"
 #include "session/args.h"
 #include "session/commands.h"
 #include "session/describe.h"
@@ -14,6 +15,7 @@ struct MeshUploadArgs {
   double scale = 1.0;
   std::string name;
   std::string format;
+  std::string material;
 };
 
 int RunMeshUpload(Context& ctx, const MeshUploadArgs& args) {
@@ -34,6 +36,11 @@ int RunMeshUpload(Context& ctx, const MeshUploadArgs& args) {
       return ctx.UsageError(args.file + ": cannot tell the format from the extension; pass --format ply|obj|stl");
     }
   }
+  if (!args.material.empty()) {
+    const auto material = ParseMaterialOption(args.material);
+    if (!material.ok()) return ctx.UsageError(material.status().message());
+    options.material = *material;
+  }
   v1::Mesh mesh;
   if (const int rc = UploadMesh(ctx, args.file, options, &mesh); rc != kExitOk) return rc;
   if (ctx.json()) ctx.EmitJson(ToJson(mesh));
@@ -49,6 +56,9 @@ void AddMeshUpload(CLI::App& group, Context& ctx) {
   cmd->add_option("--scale", args->scale, "Extra uniform scale after the unit conversion")->capture_default_str();
   cmd->add_option("--name", args->name, "Mesh name (default: the file name)");
   cmd->add_option("--format", args->format, "ply, obj or stl (default: from the extension)");
+  cmd->add_option("--material", args->material,
+                  "Default material of its objects: a preset (vscan materials) or "
+                  "albedo=A,metallic=M,roughness=R,specular=S (default matte-grey)");
   OnRun(cmd, ctx, [&ctx, args] { return RunMeshUpload(ctx, *args); });
 }
 
@@ -114,6 +124,8 @@ void AddMeshCommands(CLI::App& app, Context& ctx) {
   AddMeshList(*group, ctx);
   AddMeshGet(*group, ctx);
   AddMeshDelete(*group, ctx);
+  // Materials are set on meshes (and their objects), so the list of presets comes with them.
+  AddMaterialsCommand(app, ctx);
 }
 
 }  // namespace vscan::cli

@@ -1,6 +1,7 @@
 #include <cmath>
 
 #include "scan/pose_options.h"
+#include "scenes/material_option.h"
 #include "session/args.h"
 #include "session/commands.h"
 #include "session/describe.h"
@@ -16,6 +17,8 @@ struct ObjectArgs {
   double scale = 0.0;
   std::string label;
   bool on_table = false;
+  std::string material;
+  bool clear_material = false;
 };
 
 int PrintPlaced(Context& ctx, const std::string& verb, const v1::SceneObject& object, uint64_t revision,
@@ -34,6 +37,11 @@ int RunAdd(Context& ctx, const ObjectArgs& args) {
   placement.scale = args.scale;
   placement.label = args.label;
   placement.on_table = args.on_table;
+  if (!args.material.empty()) {
+    const auto material = ParseMaterialOption(args.material);
+    if (!material.ok()) return ctx.UsageError(material.status().message());
+    placement.material = *material;
+  }
 
   auto* client = ctx.GetClient();
   if (!client) return ctx.last_exit();
@@ -76,6 +84,21 @@ int RunMove(Context& ctx, const ObjectArgs& args) {
   return PrintPlaced(ctx, "moved", response->object(), response->revision(), *response);
 }
 
+int RunSetMaterial(Context& ctx, const ObjectArgs& args) {
+  if (args.material.empty() == !args.clear_material) return ctx.UsageError("give --material or --clear, not both");
+  std::optional<v1::Material> material;
+  if (!args.clear_material) {
+    const auto parsed = ParseMaterialOption(args.material);
+    if (!parsed.ok()) return ctx.UsageError(parsed.status().message());
+    material = *parsed;
+  }
+  auto* client = ctx.GetClient();
+  if (!client) return ctx.last_exit();
+  const auto response = client->SetObjectMaterial(args.scene_id, args.id, material);
+  if (!response.ok()) return ctx.ServerError(response.status());
+  return PrintPlaced(ctx, "updated", response->object(), response->revision(), *response);
+}
+
 int RunRemove(Context& ctx, const ObjectArgs& args) {
   auto* client = ctx.GetClient();
   if (!client) return ctx.last_exit();
@@ -93,7 +116,7 @@ int RunRemove(Context& ctx, const ObjectArgs& args) {
 }  // namespace
 
 void AddObjectCommands(CLI::App& app, Context& ctx) {
-  auto* group = app.add_subcommand("object", "Place, move and remove mesh instances in a scene");
+  auto* group = app.add_subcommand("object", "Place, move, set the material of and remove mesh instances in a scene");
   group->require_subcommand(1);
 
   auto add_args = std::make_shared<ObjectArgs>();
@@ -104,6 +127,9 @@ void AddObjectCommands(CLI::App& app, Context& ctx) {
   add->add_option("--scale", add_args->scale, "Uniform scale (default 1)");
   add->add_option("--label", add_args->label, "Free-form label");
   add->add_flag("--on-table", add_args->on_table, "Place the object on the rotary table (turns with it)");
+  add->add_option("--material", add_args->material,
+                  "Override the mesh's material: a preset (vscan materials) or "
+                  "albedo=A,metallic=M,roughness=R,specular=S");
   OnRun(add, ctx, [&ctx, add_args] { return RunAdd(ctx, *add_args); });
 
   auto move_args = std::make_shared<ObjectArgs>();
@@ -113,6 +139,15 @@ void AddObjectCommands(CLI::App& app, Context& ctx) {
   AddPoseOptions(move, move_args->pose);
   move->add_option("--scale", move_args->scale, "New uniform scale");
   OnRun(move, ctx, [&ctx, move_args] { return RunMove(ctx, *move_args); });
+
+  auto material_args = std::make_shared<ObjectArgs>();
+  auto* set_material = group->add_subcommand("set-material", "Set or clear an object's material override");
+  set_material->add_option("SCENE", material_args->scene_id, "Scene id")->required();
+  set_material->add_option("OBJECT", material_args->id, "Object id")->required();
+  set_material->add_option("--material", material_args->material,
+                           "A preset (vscan materials) or albedo=A,metallic=M,roughness=R,specular=S");
+  set_material->add_flag("--clear", material_args->clear_material, "Drop the override: the object takes its mesh's");
+  OnRun(set_material, ctx, [&ctx, material_args] { return RunSetMaterial(ctx, *material_args); });
 
   auto remove_args = std::make_shared<ObjectArgs>();
   auto* remove = group->add_subcommand("remove", "Remove an object from a scene");

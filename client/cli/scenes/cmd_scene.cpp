@@ -1,3 +1,5 @@
+#include <map>
+
 #include "session/commands.h"
 #include "session/describe.h"
 
@@ -56,7 +58,22 @@ void AddSceneGet(CLI::App& group, Context& ctx) {
     }
     ctx.Print("scene " + scene->scene_id() + " '" + scene->name() + "' revision " + std::to_string(scene->revision()));
     ctx.Print("table: " + Describe(scene->table()));
-    for (const auto& object : scene->objects()) ctx.Print("object " + Describe(object));
+    std::map<std::string, std::string> mesh_materials;  // by mesh id, for objects with no override
+    for (const auto& object : scene->objects()) {
+      std::string line = "object " + Describe(object);
+      if (!object.has_material()) {
+        auto known = mesh_materials.find(object.mesh_id());
+        if (known == mesh_materials.end()) {
+          const auto mesh = client->GetMesh(object.mesh_id());
+          const std::string from = !mesh.ok()            ? "?"
+                                   : mesh->has_material() ? Describe(mesh->material()) + " (the mesh's)"
+                                                          : "matte-grey (default)";
+          known = mesh_materials.emplace(object.mesh_id(), from).first;
+        }
+        line += "  material " + known->second;
+      }
+      ctx.Print(line);
+    }
     return kExitOk;
   });
 }

@@ -53,12 +53,20 @@ std::string Describe(const v1::RotaryTable& table) {
          Describe(table.axis()) + ", angle " + Num(table.angle_deg()) + " deg";
 }
 
+std::string Describe(const v1::Material& material) {
+  if (!material.preset().empty()) return material.preset();
+  const v1::MaterialValues& v = material.values();
+  return "albedo " + Num(v.diffuse_albedo()) + " metallic " + Num(v.metallic()) + " roughness " + Num(v.roughness()) +
+         " specular " + Num(v.specular_reflectance());
+}
+
 std::string Describe(const v1::SceneObject& object) {
   std::string out = object.object_id() + "  mesh " + object.mesh_id() + "  instance " +
                     std::to_string(object.instance_id()) + "  scale " + Num(object.scale()) + "  " +
                     Describe(object.pose());
   if (object.on_table()) out += "  on table";
   if (!object.label().empty()) out += "  label '" + object.label() + "'";
+  if (object.has_material()) out += "  material " + Describe(object.material());
   return out;
 }
 
@@ -66,7 +74,7 @@ std::string Describe(const v1::Mesh& mesh) {
   return mesh.mesh_id() + "  " + mesh.name() + "  " + std::to_string(mesh.vertex_count()) + " vertices, " +
          std::to_string(mesh.triangle_count()) + " triangles, bounds " + Describe(mesh.bounds().min()) + " .. " +
          Describe(mesh.bounds().max()) + " m (source " + UnitName(mesh.source_unit()) + " x" +
-         Num(mesh.source_scale()) + ")";
+         Num(mesh.source_scale()) + ")" + (mesh.has_material() ? "  material " + Describe(mesh.material()) : "");
 }
 
 std::string Describe(const v1::Cloud& cloud) {

@@ -12,6 +12,8 @@ namespace vscan::cli {
 std::string Describe(const v1::Vector3& v);
 std::string Describe(const v1::Pose& pose);
 std::string Describe(const v1::RotaryTable& table);
+// A preset's name, or its four values.
+std::string Describe(const v1::Material& material);
 std::string Describe(const v1::SceneObject& object);
 std::string Describe(const v1::Mesh& mesh);
 std::string Describe(const v1::Cloud& cloud);

@@ -31,6 +31,7 @@ StatusOr<v1::Mesh> Client::Upload(const MeshUploadOptions& options, uint64_t siz
   header->set_unit(options.unit);
   header->set_scale(options.scale);
   header->set_size_bytes(size);
+  if (options.material) *header->mutable_material() = *options.material;
   RETURN_IF_ERROR(SendChunks(context, *writer, message, size, options.chunk_bytes, read, progress, "mesh"));
   return std::move(*response.mutable_mesh());
 }

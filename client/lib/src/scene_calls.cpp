@@ -44,6 +44,7 @@ StatusOr<v1::AddObjectResponse> Client::AddObject(const std::string& scene_id, c
   request.set_scale(placement.scale);
   request.set_label(placement.label);
   request.set_on_table(placement.on_table);
+  if (placement.material) *request.mutable_material() = *placement.material;
   return UnaryCall(*this, *scenes_, &SceneStub::AddObject, request);
 }
 
@@ -65,6 +66,22 @@ StatusOr<v1::MoveObjectResponse> Client::MoveObject(const std::string& scene_id,
     *request.mutable_pose() = found->pose();
   }
   return UnaryCall(*this, *scenes_, &SceneStub::MoveObject, request);
+}
+
+StatusOr<v1::SetObjectMaterialResponse> Client::SetObjectMaterial(const std::string& scene_id,
+                                                                  const std::string& object_id,
+                                                                  const std::optional<v1::Material>& material) {
+  v1::SetObjectMaterialRequest request;
+  request.set_scene_id(scene_id);
+  request.set_object_id(object_id);
+  if (material) *request.mutable_material() = *material;
+  return UnaryCall(*this, *scenes_, &SceneStub::SetObjectMaterial, request);
+}
+
+StatusOr<std::vector<v1::MaterialPreset>> Client::ListMaterialPresets() {
+  ASSIGN_OR_RETURN(auto response,
+                   UnaryCall(*this, *scenes_, &SceneStub::ListMaterialPresets, v1::ListMaterialPresetsRequest{}));
+  return std::vector<v1::MaterialPreset>(response.presets().begin(), response.presets().end());
 }
 
 StatusOr<uint64_t> Client::RemoveObject(const std::string& scene_id, const std::string& object_id) {

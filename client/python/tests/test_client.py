@@ -71,6 +71,27 @@ class ClientTest(unittest.TestCase):
         with self.assertRaises(ValueError):
             self.client.add_object("scene-1", "mesh-1", matrix=np.eye(3))
 
+    def test_materials_travel_on_upload_and_placement(self):
+        with tempfile.NamedTemporaryFile(suffix=".stl") as f:
+            f.write(b"solid x\nendsolid x\n")
+            f.flush()
+            self.client.upload_mesh(f.name, unit="m", material="machined-aluminium")
+            self.assertEqual(self.scenes.header.material.preset, "machined-aluminium")
+            self.client.upload_mesh(f.name, unit="m")
+            self.assertFalse(self.scenes.header.HasField("material"))
+        values = dict(diffuse_albedo=0.25, metallic=1, roughness=0.5, specular_reflectance=0.04)
+        self.client.add_object("scene-1", "mesh-1", material=values)
+        sent = self.scenes.last_add.material
+        self.assertEqual(sent.preset, "")
+        self.assertEqual((sent.values.diffuse_albedo, sent.values.metallic, sent.values.roughness),
+                         (0.25, 1.0, 0.5))
+        self.client.add_object("scene-1", "mesh-1")
+        self.assertFalse(self.scenes.last_add.HasField("material"))
+        with self.assertRaises(ValueError):
+            self.client.add_object("scene-1", "mesh-1", material={"diffuse_albedo": 0.5})
+        with self.assertRaises(TypeError):
+            self.client.add_object("scene-1", "mesh-1", material=0.5)
+
     def test_set_table(self):
         table = self.client.set_table("scene-1", 30, axis=(0, 0, 1))
         self.assertTrue(table.enabled)

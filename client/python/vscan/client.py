@@ -136,8 +136,12 @@ class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls, BinCalls, Localizatio
 
     # -- meshes ---------------------------------------------------------------------------------
 
-    def upload_mesh(self, path, unit, scale=1.0, name=None, format=None, chunk_bytes=_CHUNK_BYTES):
-        """Uploads a PLY/OBJ/STL file written in `unit` ("m", "cm", "mm", "in", "ft"); returns the Mesh."""
+    def upload_mesh(self, path, unit, scale=1.0, name=None, format=None, chunk_bytes=_CHUNK_BYTES, material=None):
+        """Uploads a PLY/OBJ/STL file written in `unit` ("m", "cm", "mm", "in", "ft"); returns the Mesh.
+
+        material is the default of the mesh's objects: a preset name such as "machined-aluminium"
+        (list_material_presets), a dict of diffuse_albedo, metallic, roughness and
+        specular_reflectance, or None for the server's default (matte-grey)."""
         size = os.path.getsize(path)
         header = scene_pb2.MeshHeader(
             name=name or os.path.basename(path),
@@ -145,6 +149,7 @@ class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls, BinCalls, Localizatio
             unit=convert.unit(unit),
             scale=float(scale),
             size_bytes=size,
+            material=convert.material(material),
         )
 
         def requests():
@@ -174,8 +179,11 @@ class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls, BinCalls, Localizatio
     # -- objects and table ----------------------------------------------------------------------
 
     def add_object(self, scene_id, mesh_id, position=(0.0, 0.0, 0.0), quat=None, matrix=None, scale=1.0,
-                   label="", on_table=False):
-        """Places a mesh instance; quat is (w, x, y, z), matrix a rigid 4x4. Returns the SceneObject."""
+                   label="", on_table=False, material=None):
+        """Places a mesh instance; quat is (w, x, y, z), matrix a rigid 4x4. Returns the SceneObject.
+
+        material overrides the mesh's for this object (a preset name, a dict of values as in
+        upload_mesh, or None to use the mesh's)."""
         request = scene_pb2.AddObjectRequest(
             scene_id=scene_id,
             mesh_id=mesh_id,
@@ -183,6 +191,7 @@ class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls, BinCalls, Localizatio
             scale=float(scale),
             label=label,
             on_table=on_table,
+            material=convert.material(material),
         )
         return self._call(self._scenes.AddObject, request).object
 
@@ -192,6 +201,19 @@ class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls, BinCalls, Localizatio
             scene_id=scene_id, object_id=object_id, pose=convert.pose(position, quat, matrix), scale=float(scale)
         )
         return self._call(self._scenes.MoveObject, request).object
+
+    def set_object_material(self, scene_id, object_id, material=None):
+        """Sets an object's material override (a preset name or a dict of values as in
+        upload_mesh); None clears it, so that the object takes its mesh's again. Returns the
+        SceneObject."""
+        request = scene_pb2.SetObjectMaterialRequest(
+            scene_id=scene_id, object_id=object_id, material=convert.material(material)
+        )
+        return self._call(self._scenes.SetObjectMaterial, request).object
+
+    def list_material_presets(self):
+        """The named materials the server knows (name, values, description); the first is the default."""
+        return list(self._call(self._scenes.ListMaterialPresets, scene_pb2.ListMaterialPresetsRequest()).presets)
 
     def remove_object(self, scene_id, object_id):
         """Returns the scene's new revision."""

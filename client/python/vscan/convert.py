@@ -75,6 +75,28 @@ def _lookup(table, value, what):
         raise ValueError(f"{what}: unknown value {value!r} (one of {', '.join(sorted(table))})") from None
 
 
+_MATERIAL_VALUES = ("diffuse_albedo", "metallic", "roughness", "specular_reflectance")
+
+
+def material(value):
+    """A Material message from a preset name (str), a mapping with all four of diffuse_albedo,
+    metallic, roughness and specular_reflectance, or a Material message; None stays None.
+    The server checks names and ranges (roughness in (0, 1], the others in [0, 1])."""
+    if value is None or isinstance(value, scene_pb2.Material):
+        return value
+    if isinstance(value, str):
+        return scene_pb2.Material(preset=value)
+    if hasattr(value, "keys"):
+        keys = set(value.keys())
+        if keys != set(_MATERIAL_VALUES):
+            raise ValueError(
+                "material: give all of %s (got %s)" % (", ".join(_MATERIAL_VALUES), ", ".join(sorted(keys)))
+            )
+        values = scene_pb2.MaterialValues(**{k: float(value[k]) for k in _MATERIAL_VALUES})
+        return scene_pb2.Material(values=values)
+    raise TypeError("material: a preset name, a mapping of values or a Material, not %s" % type(value).__name__)
+
+
 def unit(value):
     return _lookup(UNITS, value, "unit")
 

@@ -6,6 +6,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "api/scenes/material_convert.h"
 #include "api/scenes/scene_convert.h"
 #include "api/scenes/scene_service.h"
 #include "api/transport/stored_enum_convert.h"
@@ -54,6 +55,8 @@ class UploadMeshReactor final : public UploadReactor<v1::UploadMeshRequest> {
       }
       if (MetresPerUnit(header_.unit()) == 0 || !kLengthUnits.Backward(header_.unit())) return InvalidArgument("header.unit: unknown unit");
       ASSIGN_OR_RETURN(scale_, ScaleOrDefault(header_.scale(), "header.scale"));
+      ASSIGN_OR_RETURN(material_,
+                       OptionalMaterialFromProto(header_.has_material(), header_.material(), "header.material"));
       if (header_.size_bytes() > context_.options.limits.max_upload_bytes) {
         return ResourceExhausted("header.size_bytes: " + std::to_string(header_.size_bytes()) +
                                  " bytes exceeds the upload limit of " +
@@ -78,6 +81,7 @@ class UploadMeshReactor final : public UploadReactor<v1::UploadMeshRequest> {
     upload.unit = *kLengthUnits.Backward(header_.unit());
     upload.metres_per_unit = MetresPerUnit(header_.unit());
     upload.scale = scale_;
+    upload.material = material_;
     ASSIGN_OR_RETURN(store::MeshRecord mesh, context_.registry.AddMesh(bytes_, upload));
     ToProto(mesh, response_->mutable_mesh());
     return Status::Ok();
@@ -87,6 +91,7 @@ class UploadMeshReactor final : public UploadReactor<v1::UploadMeshRequest> {
   v1::MeshHeader header_;
   bool has_header_ = false;
   double scale_ = 1.0;
+  std::optional<store::MaterialRecord> material_;
   std::string bytes_;
 };
 

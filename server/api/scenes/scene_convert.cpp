@@ -1,6 +1,7 @@
 #include "api/scenes/scene_convert.h"
 
 #include "api/job/job_convert.h"
+#include "api/scenes/material_convert.h"
 #include "api/transport/stored_enum_convert.h"
 #include "vscan/common/proto_convert.h"
 
@@ -21,6 +22,7 @@ void ToProto(const store::ObjectRecord& object, v1::SceneObject* out) {
   out->set_scale(object.scale);
   out->set_on_table(object.on_table);
   out->set_instance_id(object.instance_id);
+  if (object.material) ToProto(*object.material, out->mutable_material());
 }
 
 void ToProto(const store::SceneRecord& scene, v1::Scene* out) {
@@ -44,6 +46,7 @@ void ToProto(const store::MeshRecord& mesh, v1::Mesh* out) {
   out->set_source_unit(*kLengthUnits.Forward(mesh.source_unit));
   out->set_source_scale(mesh.source_scale);
   SetTime(mesh.create_time_ms, out->mutable_create_time());
+  if (mesh.material) ToProto(*mesh.material, out->mutable_material());
 }
 
 }  // namespace vscan::api

@@ -2,9 +2,11 @@
 
 #include <cmath>
 
+#include "api/scenes/material_convert.h"
 #include "api/scenes/scene_convert.h"
 #include "api/transport/unary.h"
 #include "api/transport/validate.h"
+#include "sensor/material.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::api {
@@ -122,6 +124,8 @@ grpc::ServerUnaryReactor* SceneService::AddObject(grpc::CallbackServerContext* c
     }
     object.pose = pose.matrix();
     ASSIGN_OR_RETURN(object.scale, ScaleOrDefault(request->scale(), "scale"));
+    ASSIGN_OR_RETURN(object.material,
+                     OptionalMaterialFromProto(request->has_material(), request->material(), "material"));
     ASSIGN_OR_RETURN(auto added, context_.registry.catalogue().AddObject(object));
     ToProto(added.first, response->mutable_object());
     response->set_revision(added.second);
@@ -144,6 +148,22 @@ grpc::ServerUnaryReactor* SceneService::MoveObject(grpc::CallbackServerContext* 
                                                                           pose.matrix(), scale));
     ToProto(moved.first, response->mutable_object());
     response->set_revision(moved.second);
+    return Status::Ok();
+  });
+}
+
+grpc::ServerUnaryReactor* SceneService::SetObjectMaterial(grpc::CallbackServerContext* ctx,
+                                                          const v1::SetObjectMaterialRequest* request,
+                                                          v1::SetObjectMaterialResponse* response) {
+  return RunBlockingUnary(ctx, context_.options.token, "SetObjectMaterial", context_.call_workers, [=, this]() -> Status {
+    RETURN_IF_ERROR(RequireId(request->scene_id(), "scene_id"));
+    RETURN_IF_ERROR(RequireId(request->object_id(), "object_id"));
+    ASSIGN_OR_RETURN(const auto material,
+                     OptionalMaterialFromProto(request->has_material(), request->material(), "material"));
+    ASSIGN_OR_RETURN(auto set, context_.registry.catalogue().SetObjectMaterial(request->scene_id(),
+                                                                               request->object_id(), material));
+    ToProto(set.first, response->mutable_object());
+    response->set_revision(set.second);
     return Status::Ok();
   });
 }
@@ -171,6 +191,24 @@ grpc::ServerUnaryReactor* SceneService::SetRotaryTable(grpc::CallbackServerConte
     ASSIGN_OR_RETURN(uint64_t revision, context_.registry.catalogue().SetTable(request->scene_id(), table));
     ToProto(table, response->mutable_table());
     response->set_revision(revision);
+    return Status::Ok();
+  });
+}
+
+grpc::ServerUnaryReactor* SceneService::ListMaterialPresets(grpc::CallbackServerContext* ctx,
+                                                            const v1::ListMaterialPresetsRequest*,
+                                                            v1::ListMaterialPresetsResponse* response) {
+  return RunUnary(ctx, context_.options.token, "ListMaterialPresets", [&]() -> Status {
+    for (const sensor::MaterialPreset& preset : sensor::MaterialPresets()) {
+      v1::MaterialPreset* out = response->add_presets();
+      out->set_name(preset.name);
+      out->set_description(preset.description);
+      v1::MaterialValues* values = out->mutable_values();
+      values->set_diffuse_albedo(preset.material.albedo);
+      values->set_metallic(preset.material.metallic);
+      values->set_roughness(preset.material.roughness);
+      values->set_specular_reflectance(preset.material.specular_reflectance);
+    }
     return Status::Ok();
   });
 }

@@ -30,11 +30,17 @@ class SceneService final : public v1::SceneService::CallbackService {
                                       v1::AddObjectResponse* response) override;
   grpc::ServerUnaryReactor* MoveObject(grpc::CallbackServerContext* ctx, const v1::MoveObjectRequest* request,
                                        v1::MoveObjectResponse* response) override;
+  grpc::ServerUnaryReactor* SetObjectMaterial(grpc::CallbackServerContext* ctx,
+                                              const v1::SetObjectMaterialRequest* request,
+                                              v1::SetObjectMaterialResponse* response) override;
   grpc::ServerUnaryReactor* RemoveObject(grpc::CallbackServerContext* ctx, const v1::RemoveObjectRequest* request,
                                          v1::RemoveObjectResponse* response) override;
   grpc::ServerUnaryReactor* SetRotaryTable(grpc::CallbackServerContext* ctx,
                                            const v1::SetRotaryTableRequest* request,
                                            v1::SetRotaryTableResponse* response) override;
+  grpc::ServerUnaryReactor* ListMaterialPresets(grpc::CallbackServerContext* ctx,
+                                                const v1::ListMaterialPresetsRequest* request,
+                                                v1::ListMaterialPresetsResponse* response) override;
 
  private:
   service::ServiceContext& context_;

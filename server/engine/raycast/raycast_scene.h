@@ -6,6 +6,7 @@
 #include <memory>
 #include <span>
 
+#include "sensor/material.h"
 #include "vscan/common/mesh.h"
 #include "vscan/common/pose.h"
 #include "vscan/common/status.h"
@@ -18,6 +19,8 @@ struct SceneInstance {
   Pose3 world_from_object = Pose3::Identity();
   double scale = 1.0;
   uint32_t instance_id = 0;
+  // What its surface is made of (scenes/object_material.h resolves it); scans do not read it yet.
+  sensor::Material material = sensor::DefaultMaterial();
 };
 
 class RaycastScene {

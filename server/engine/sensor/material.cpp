@@ -43,4 +43,6 @@ const MaterialPreset* FindMaterialPreset(std::string_view name) {
   return nullptr;
 }
 
+const Material& DefaultMaterial() { return MaterialPresets().front().material; }
+
 }  // namespace vscan::sensor

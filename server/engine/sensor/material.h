@@ -36,5 +36,7 @@ struct MaterialPreset {
 const std::vector<MaterialPreset>& MaterialPresets();
 // nullptr for an unknown name.
 const MaterialPreset* FindMaterialPreset(std::string_view name);
+// What a surface with no material set is made of: the first preset (matte-grey).
+const Material& DefaultMaterial();
 
 }  // namespace vscan::sensor

@@ -69,6 +69,9 @@ TEST_F(SchemaMigrationTest, AVersionOneDatabaseUpgradesWithEveryRow) {
     EXPECT_EQ(scene->objects[0].scale, 1.5);
     EXPECT_TRUE(scene->objects[0].on_table);
     EXPECT_EQ(scene->objects[0].instance_id, 1u);
+    // Rows from before materials read as "no material set".
+    EXPECT_FALSE(mesh->material.has_value());
+    EXPECT_FALSE(scene->objects[0].material.has_value());
 
     auto robot = robots.GetRobot("rbt_00000000000000d1");
     ASSERT_TRUE(robot.ok()) << robot.status().ToString();
@@ -109,6 +112,52 @@ TEST_F(SchemaMigrationTest, AVersionOneDatabaseUpgradesWithEveryRow) {
     const std::string count = std::string("SELECT count(*) FROM ") + table;
     EXPECT_GE(QueryInt(path(), count.c_str()), 1) << table;
   }
+}
+
+// The catalogue as the release before materials leaves it (version 5): the released steps after
+// version 1, run as that release ran them.
+TEST_F(SchemaMigrationTest, AVersionFiveDatabaseGainsMaterialsAndKeepsItsRows) {
+  {
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open(path().c_str(), &db), SQLITE_OK);
+    for (const Migration& step : kMigrations) {
+      if (step.version < 2 || step.version > 5) continue;
+      char* error = nullptr;
+      const std::string sql(step.sql);
+      ASSERT_EQ(sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &error), SQLITE_OK) << (error ? error : "");
+    }
+    ASSERT_EQ(sqlite3_exec(db, "PRAGMA user_version = 5", nullptr, nullptr, nullptr), SQLITE_OK);
+    sqlite3_close(db);
+  }
+  ASSERT_EQ(QueryInt(path(), "SELECT count(*) FROM pragma_table_info('meshes') WHERE name LIKE 'material%'"), 0);
+  {
+    auto database = Database::Open(path());
+    ASSERT_TRUE(database.ok()) << database.status().ToString();
+    Catalogue catalogue(*database);
+    auto mesh = catalogue.GetMesh("msh_00000000000000a1");
+    ASSERT_TRUE(mesh.ok()) << mesh.status().ToString();
+    EXPECT_EQ(mesh->name, "bunny");
+    EXPECT_EQ(mesh->triangle_count, 16301u);
+    EXPECT_FALSE(mesh->material.has_value());
+    auto scene = catalogue.GetScene("scn_00000000000000b1");
+    ASSERT_TRUE(scene.ok()) << scene.status().ToString();
+    EXPECT_EQ(scene->revision, 4u);
+    ASSERT_EQ(scene->objects.size(), 1u);
+    EXPECT_EQ(scene->objects[0].scale, 1.5);
+    EXPECT_FALSE(scene->objects[0].material.has_value());
+
+    // The new columns take a material on the old rows too.
+    MaterialRecord steel;
+    steel.preset = "polished-steel";
+    auto set = catalogue.SetObjectMaterial("scn_00000000000000b1", "obj_00000000000000c1", steel);
+    ASSERT_TRUE(set.ok()) << set.status().ToString();
+    EXPECT_EQ(set->second, 5u);
+  }
+  EXPECT_EQ(QueryInt(path(), "PRAGMA user_version"), kSchemaVersion);
+  EXPECT_EQ(QueryInt(path(), "SELECT count(*) FROM pragma_table_info('meshes') WHERE name LIKE 'material%'"), 5);
+  EXPECT_EQ(QueryInt(path(), "SELECT count(*) FROM pragma_table_info('objects') WHERE name LIKE 'material%'"), 5);
+  EXPECT_EQ(QueryInt(path(), "SELECT count(*) FROM objects WHERE material_preset = 'polished-steel'"), 1);
+  EXPECT_EQ(QueryInt(path(), "SELECT count(*) FROM jobs"), 2);
 }
 
 TEST_F(SchemaMigrationTest, OpeningAnUpToDateDatabaseAgainChangesNothing) {

@@ -66,6 +66,11 @@ class Client {
   // pose unset keeps the current pose; scale 0 keeps the current scale.
   StatusOr<v1::MoveObjectResponse> MoveObject(const std::string& scene_id, const std::string& object_id,
                                               const std::optional<v1::Pose>& pose, double scale = 0.0);
+  // Sets an object's material override; nullopt clears it (the object takes its mesh's again).
+  StatusOr<v1::SetObjectMaterialResponse> SetObjectMaterial(const std::string& scene_id, const std::string& object_id,
+                                                            const std::optional<v1::Material>& material);
+  // The named materials the server knows, with their values.
+  StatusOr<std::vector<v1::MaterialPreset>> ListMaterialPresets();
   // Returns the scene's new revision.
   StatusOr<uint64_t> RemoveObject(const std::string& scene_id, const std::string& object_id);
   StatusOr<v1::SetRotaryTableResponse> SetRotaryTable(const std::string& scene_id, const v1::RotaryTable& table);

@@ -53,6 +53,8 @@ struct MeshUploadOptions {
   // Required by the server.
   v1::LengthUnit unit = v1::LENGTH_UNIT_UNSPECIFIED;
   double scale = 1.0;
+  // The mesh's default material; unset leaves it to the server's default (matte-grey).
+  std::optional<v1::Material> material;
   // Bytes per chunk message after the header.
   size_t chunk_bytes = 1 << 20;
 };
@@ -85,6 +87,8 @@ struct ObjectPlacement {
   double scale = 0.0;
   std::string label;
   bool on_table = false;
+  // Overrides the mesh's material for this object; unset uses the mesh's.
+  std::optional<v1::Material> material;
 };
 
 struct ScanCallbacks {
