@@ -85,6 +85,20 @@ int Main(const char* only) {
   projector.projector_offset = Eigen::Vector3d(0.2, 0, 0);
   structured.structured_light = projector;
 
+  // The same noise with the returned light (docs/SENSORS.md): a ToF-like emitter at the camera,
+  // the copies alternately machined aluminium and black ABS, and the noise following the signal.
+  capture::MeasurementSpec lit = noise;
+  capture::ReturnedLightSpec light;
+  light.emitter.radiant_intensity_w_per_sr = 0.05;
+  light.pixel.gain_e = capture::CameraPixelGain(grid.camera, sensor::PinholePixel{});
+  light.reference_e = 5000;
+  for (const raycast::SceneInstance& instance : grid.instances) {
+    if (light.materials.size() <= instance.instance_id) light.materials.resize(instance.instance_id + 1);
+    light.materials[instance.instance_id] =
+        sensor::FindMaterialPreset(instance.instance_id % 2 ? "machined-aluminium" : "black-abs")->material;
+  }
+  lit.returned_light = light;
+
   // The same noise on a cloud of positions only: the clean scan under it needs fewer fields.
   capture::MeasurementSpec positions_only = noise;
   positions_only.fields = kFieldPosition;
@@ -103,6 +117,7 @@ int Main(const char* only) {
       {"+ ground-truth fields", measured(ground_truth)},
       {"+ estimated normals (k=16)", measured(estimated)},
       {"noise + structured-light projector", measured(structured)},
+      {"noise + returned light", measured(lit)},
   };
   std::printf("measurement model, bunny grid (%d copies, %llu triangles), %ux%u, median of %d runs\n", kCopies,
               static_cast<unsigned long long>(scene.triangle_count()), kWidth, kHeight, kRuns);

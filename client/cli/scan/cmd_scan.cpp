@@ -87,6 +87,10 @@ void AddMeasurementOptions(CLI::App* cmd, ScanArgs& s) {
   cmd->add_option("--outlier-origin", s.outlier_origin_m, "Outlier ray origins move by up to this, metres");
   cmd->add_option("--grazing-limit", s.grazing_limit_deg, "Reject points seen at incidence above this, degrees");
   cmd->add_flag("--flying-pixels", s.flying_pixels, "Mixed points at depth edges");
+  cmd->add_option("--returned-light", s.returned_light,
+                  "Light the scene with the sensor's emitter and each object's material: 'on', or "
+                  "key=value,... of ReturnedLight (emitter_w_per_sr, exposure_s, aperture_diameter_m, full_well_e, "
+                  "read_noise_e, min_snr, reference_e, ...); dark and saturated rays are rejected");
   cmd->add_option("--flying-pixel-edge", s.flying_pixel_edge_m, "Depth jump that makes an edge, metres (0.02)");
   cmd->add_flag("--include-rejected", s.include_rejected,
                 "Also return rejected rays at their clean positions (see the status field)");

@@ -98,6 +98,27 @@ Status FillNoise(const ScanArgs& a, v1::NoiseSpec* noise) {
   return Status::Ok();
 }
 
+// "on", or key=value pairs naming ReturnedLight's fields; the server checks the values' ranges.
+Status FillReturnedLight(const std::string& text, v1::ReturnedLight* light) {
+  if (text == "on") return Status::Ok();
+  const auto* descriptor = light->GetDescriptor();
+  size_t at = 0;
+  while (at <= text.size()) {
+    const size_t end = std::min(text.find(',', at), text.size());
+    const std::string item = text.substr(at, end - at);
+    const size_t equals = item.find('=');
+    const auto* field = equals == std::string::npos ? nullptr : descriptor->FindFieldByName(item.substr(0, equals));
+    if (field == nullptr || field->cpp_type() != google::protobuf::FieldDescriptor::CPPTYPE_DOUBLE) {
+      return InvalidArgument("--returned-light", "'" + item + "' is not key=value with a key of vscan.v1.ReturnedLight (" +
+                                                     "emitter_w_per_sr, exposure_s, full_well_e, ...), nor 'on'");
+    }
+    ASSIGN_OR_RETURN(const auto value, ParseNumbers(item.substr(equals + 1), 1, "--returned-light " + field->name()));
+    light->GetReflection()->SetDouble(light, field, value[0]);
+    at = end + 1;
+  }
+  return Status::Ok();
+}
+
 void AddEstimatedNormals(const ScanArgs& a, v1::ScanRequest* request) {
   if (request->fields().empty()) {
     for (const auto f : {v1::POINT_FIELD_POSITION, v1::POINT_FIELD_NORMAL, v1::POINT_FIELD_RANGE,
@@ -161,6 +182,7 @@ StatusOr<v1::ScanRequest> BuildScanRequest(const ScanArgs& args) {
   }
   if (AnyNoise(args)) RETURN_IF_ERROR(FillNoise(args, request.mutable_noise()));
   request.set_include_rejected(args.include_rejected);
+  if (args.returned_light) RETURN_IF_ERROR(FillReturnedLight(*args.returned_light, request.mutable_returned_light()));
   if (args.normal_max_distance && !args.estimate_normals_k) {
     return InvalidArgument("--normal-max-distance: needs --estimate-normals");
   }

@@ -93,6 +93,8 @@ struct ScanArgs {
   bool flying_pixels = false;
   std::optional<double> flying_pixel_edge_m;
   bool include_rejected = false;
+  // "on" (the defaults) or key=value,... with ReturnedLight's field names (emitter_w_per_sr=2,...).
+  std::optional<std::string> returned_light;
   // Set when --estimate-normals was given; 0 is the server's default k.
   std::optional<uint32_t> estimate_normals_k;
   std::optional<double> normal_max_distance;

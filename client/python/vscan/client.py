@@ -240,7 +240,8 @@ class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls, BinCalls, Localizatio
              near=0.05, far=10.0, fields=None, frame="world", intrinsics=None, pose_matrix=None,
              backend="raycast", seed=0, table_angle_deg=None, chunk_bytes=None, lighting=None, noise=None,
              preset=None, progress=None, mount_id=None, joints=None, encoder_noise=False,
-             include_rejected=False, normal_estimation=None, sensor=None, ground_truth=False):
+             include_rejected=False, normal_estimation=None, sensor=None, ground_truth=False,
+             returned_light=None):
         """Scans a scene and returns a ScanResult with numpy arrays.
 
         Place the camera with eye/target/up, a 4x4 world_from_sensor pose_matrix, or on a robot:
@@ -255,6 +256,10 @@ class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls, BinCalls, Localizatio
         camera arguments. progress(points, total) is called after each chunk (total 0: not known
         until the scan ends, as for streamed ray-cast scans). ground_truth fills result.objects:
         each scene object in view with its true poses and visible fraction (ObjectTruth messages).
+        returned_light lights the scene with the sensor's own emitter and each object's material: True
+        for the defaults, or a dict of sensor_pb2.ReturnedLight's fields ({"emitter_w_per_sr": 0.01,
+        "exposure_s": 0.02, ...}); rays too dark or saturated get status "dark" or "saturated", and
+        intensity is the measured electrons.
         """
         request = scan_pb2.ScanRequest(scene_id=scene_id, seed=int(seed), frame=convert.frame(frame),
                                        backend=convert.backend(backend))
@@ -297,6 +302,11 @@ class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls, BinCalls, Localizatio
             request.noise.CopyFrom(noise)
         request.include_rejected = bool(include_rejected)
         request.ground_truth = bool(ground_truth)
+        if returned_light is not None and returned_light is not False:
+            request.returned_light.SetInParent()
+            if returned_light is not True:
+                for key, value in dict(returned_light).items():
+                    setattr(request.returned_light, key, float(value))
         if normal_estimation is not None:
             k, max_distance = normal_estimation
             request.normal_estimation.k = int(k)

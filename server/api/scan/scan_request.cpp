@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "api/scan/measurement_request.h"
+#include "api/scan/returned_light_request.h"
 #include "api/scan/sensor_request.h"
 #include "api/transport/validate.h"
 #include "service/robot/robot_placement.h"
@@ -79,6 +80,10 @@ StatusOr<ScanPlan> ParseScanRequest(const v1::ScanRequest& request, const servic
   if (sensing.preset_noise && !request.has_noise()) plan.measurement.noise = *sensing.preset_noise;
   plan.measurement.distortion = sensing.distortion;
   plan.measurement.structured_light = sensing.structured_light;
+  if (request.has_returned_light()) {
+    ASSIGN_OR_RETURN(plan.measurement.returned_light,
+                     ReturnedLightFromProto(request.returned_light(), plan.camera, sensing.structured_light));
+  }
   plan.measurement.seed = request.seed();
 
   ASSIGN_OR_RETURN(plan.frame, FrameFromProto(request.frame()));

@@ -1,6 +1,7 @@
 #include "service/scan/scan_backends.h"
 
 #include <chrono>
+#include <vector>
 
 #include "raster/raster_scanner.h"
 #include "service/scan/scan_metrics.h"
@@ -55,10 +56,27 @@ StatusOr<PointCloud> RunMeasuredRaster(const ScanPlan& plan, const capture::Meas
   return cloud;
 }
 
+// Instance ids are small integers the scene hands out; past this a ray takes the default material.
+constexpr uint32_t kMaxMaterialIds = 1u << 20;
+
+// The returned light sees each object's material (scenes resolve it into the instances).
+capture::MeasurementSpec WithObjectMaterials(capture::MeasurementSpec spec, const scenes::ScanTarget& target) {
+  if (!spec.returned_light || !target.instances) return spec;
+  std::vector<sensor::Material>& materials = spec.returned_light->materials;
+  for (const raycast::SceneInstance& instance : *target.instances) {
+    if (instance.instance_id == 0 || instance.instance_id >= kMaxMaterialIds) continue;
+    if (materials.size() <= instance.instance_id) {
+      materials.resize(instance.instance_id + 1, spec.returned_light->default_material);
+    }
+    materials[instance.instance_id] = instance.material;
+  }
+  return spec;
+}
+
 StatusOr<PointCloud> RunBackend(const ScanPlan& plan, const scenes::ScanTarget& target, RasterProvider& raster,
                                 const std::atomic<bool>* cancel, raycast::ScanStats* stats,
                                 capture::MeasureStats* measure_stats) {
-  const capture::MeasurementSpec& spec = plan.measurement;
+  const capture::MeasurementSpec spec = WithObjectMaterials(plan.measurement, target);
   if (measure_stats) *measure_stats = capture::MeasureStats{};
   if (!spec.any()) return RunClean(plan, target, raster, cancel, stats);
   capture::MeasureStats local;

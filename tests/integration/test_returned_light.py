@@ -1,0 +1,126 @@
+"""The returned light through a real vscand, the CLI and the Python client: two squares side by side
+with materials of known albedo, lit by the camera's own emitter; the dark one is rejected as dark
+where the numbers say so, the white one saturates when the emitter is strong, the electrons follow
+the albedos, and bad values are refused naming their field."""
+
+import math
+import os
+import subprocess
+import tempfile
+import unittest
+
+import grpc
+import numpy as np
+
+from harness import VSCAN, Server
+from vscan import Client, VscanError
+from vscan.v1 import scan_pb2
+
+C = grpc.StatusCode
+
+# Lambertian (no specular lobe: F0 = 0) so the signal is albedo / pi x I cos / r^2.
+WHITE = {"diffuse_albedo": 0.9, "metallic": 0.0, "roughness": 1.0, "specular_reflectance": 0.0}
+BLACK = {"diffuse_albedo": 0.03, "metallic": 0.0, "roughness": 1.0, "specular_reflectance": 0.0}
+EYE, TARGET = (0.0, -0.6, 0.8), (0.0, 0.0, 0.0)  # 1 m away, 37 degrees off the squares' normal
+
+
+def square_ply(path, x0, x1):
+    """A 0.2 m square on z = 0 from x0 to x1, y in [-0.1, 0.1], facing +z."""
+    with open(path, "w") as f:
+        f.write("ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+                "property float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n")
+        for x, y in ((x0, -0.1), (x1, -0.1), (x1, 0.1), (x0, 0.1)):
+            f.write(f"{x} {y} 0\n")
+        f.write("3 0 1 2\n3 0 2 3\n")
+
+
+class ReturnedLightTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory()
+        cls.server = Server().start()
+        cls.client = Client(cls.server.address)
+        left, right = os.path.join(cls.tmp.name, "left.ply"), os.path.join(cls.tmp.name, "right.ply")
+        square_ply(left, -0.2, 0.0)
+        square_ply(right, 0.0, 0.2)
+        cls.scene = cls.client.create_scene("returned-light").scene_id
+        white = cls.client.add_object(cls.scene, cls.client.upload_mesh(right, "m", material=WHITE).mesh_id)
+        black = cls.client.add_object(cls.scene, cls.client.upload_mesh(left, "m").mesh_id, material=BLACK)
+        cls.white_id, cls.black_id = white.instance_id, black.instance_id
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.client.close()
+        cls.server.cleanup()
+        cls.tmp.cleanup()
+
+    def scan(self, **light):
+        return self.client.scan(self.scene, width=160, height=120, hfov_deg=40, eye=EYE, target=TARGET,
+                                fields=["position", "intensity", "instance", "status"], include_rejected=True,
+                                returned_light=light or True, seed=3)
+
+    def by_object(self, result, status):
+        statuses = np.asarray(result.statuses)
+        instances = np.asarray(result.instance_ids)
+        return {name: np.mean(statuses[instances == oid] == status)
+                for name, oid in (("white", self.white_id), ("black", self.black_id))}
+
+    def test_a_dark_material_is_rejected_as_dark_and_a_white_one_measured(self):
+        # White: 0.9 / pi x 0.002 W/sr x cos 37 / 1 m^2 x about 8e6 e per unit radiance: about 3700 e;
+        # black 30 times less, about 120 e at an SNR near 10. A tenth of the power puts black under 5.
+        result = self.scan(emitter_w_per_sr=0.0002)
+        dark = self.by_object(result, scan_pb2.POINT_STATUS_REJECTED_DARK)
+        measured = self.by_object(result, scan_pb2.POINT_STATUS_MEASURED)
+        self.assertGreater(dark["black"], 0.95, dark)
+        self.assertEqual(measured["white"], 1.0, measured)
+        self.assertEqual(result.stats.rejected_dark, int(np.sum(np.asarray(result.statuses) ==
+                                                                 scan_pb2.POINT_STATUS_REJECTED_DARK)))
+
+    def test_the_electrons_follow_the_albedos_and_a_strong_emitter_saturates_the_white(self):
+        result = self.scan(emitter_w_per_sr=0.002)
+        intensity, instances = np.asarray(result.intensities), np.asarray(result.instance_ids)
+        measured = np.asarray(result.statuses) == scan_pb2.POINT_STATUS_MEASURED
+        white = intensity[(instances == self.white_id) & measured]
+        black = intensity[(instances == self.black_id) & measured]
+        self.assertGreater(len(white), 1000)
+        self.assertGreater(len(black), 1000)
+        # The two squares sit symmetrically about the view's vertical plane: their mean signals
+        # stand in the albedos' ratio, 30.
+        self.assertAlmostEqual(np.mean(white) / np.mean(black), 30.0, delta=1.5)
+        strong = self.by_object(self.scan(emitter_w_per_sr=0.05), scan_pb2.POINT_STATUS_REJECTED_SATURATED)
+        self.assertEqual(strong["white"], 1.0, strong)
+        self.assertEqual(strong["black"], 0.0, strong)
+
+    def test_the_cli_scans_with_the_returned_light_and_refuses_bad_values(self):
+        out_file = os.path.join(self.tmp.name, "scan.ply")
+        args = [VSCAN, "--server", self.server.address, "scan", self.scene, "-o", out_file, "--width", "160",
+                "--height", "120", "--hfov", "40", "--eye", ",".join(map(str, EYE)),
+                "--target", ",".join(map(str, TARGET))]
+        ran = subprocess.run(args + ["--returned-light", "emitter_w_per_sr=0.0002"], capture_output=True, text=True)
+        self.assertEqual(ran.returncode, 0, ran.stderr)
+        self.assertRegex(ran.stdout + ran.stderr, r"\d+ dark")
+        for value, field in (("emitter_w_per_sr=2e6", "returned_light.emitter_w_per_sr"),
+                             ("exposure_s=1e19", "returned_light.exposure_s"),
+                             ("full_well_e=-1", "returned_light.full_well_e"),
+                             ("emitter_half_angle_deg=1e-20,aperture_diameter_m=5", "returned_light.aperture_diameter_m")):
+            refused = subprocess.run(args + ["--returned-light", value], capture_output=True, text=True)
+            self.assertEqual(refused.returncode, 3, refused.stdout + refused.stderr)
+            self.assertIn("INVALID_ARGUMENT", refused.stderr)
+            self.assertIn(field, refused.stderr)
+        for value in ("colour=red", "emitter_w_per_sr=nan", "exposure_s", "aperture_diameter_m=1e-400"):  # the CLI's own checks
+            usage = subprocess.run(args + ["--returned-light", value], capture_output=True, text=True)
+            self.assertEqual(usage.returncode, 2, usage.stderr)
+            self.assertIn("--returned-light", usage.stderr)
+
+    def test_python_refusals_name_the_field(self):
+        for light, field in (({"min_snr": math.inf}, "returned_light.min_snr"),
+                             ({"emitter_half_angle_deg": 270}, "returned_light.emitter_half_angle_deg"),
+                             ({"wavelength_m": 1e-12}, "returned_light.wavelength_m")):
+            with self.assertRaises(VscanError) as caught:
+                self.scan(**light)
+            self.assertEqual(caught.exception.code, C.INVALID_ARGUMENT)
+            self.assertIn(field, caught.exception.message)
+
+
+if __name__ == "__main__":
+    unittest.main()
