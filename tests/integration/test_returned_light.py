@@ -54,10 +54,10 @@ class ReturnedLightTest(unittest.TestCase):
         cls.server.cleanup()
         cls.tmp.cleanup()
 
-    def scan(self, **light):
+    def scan(self, backend="raycast", **light):
         return self.client.scan(self.scene, width=160, height=120, hfov_deg=40, eye=EYE, target=TARGET,
                                 fields=["position", "intensity", "instance", "status"], include_rejected=True,
-                                returned_light=light or True, seed=3)
+                                returned_light=light or True, seed=3, backend=backend)
 
     def by_object(self, result, status):
         statuses = np.asarray(result.statuses)
@@ -90,6 +90,13 @@ class ReturnedLightTest(unittest.TestCase):
         strong = self.by_object(self.scan(emitter_w_per_sr=0.05), scan_pb2.POINT_STATUS_REJECTED_SATURATED)
         self.assertEqual(strong["white"], 1.0, strong)
         self.assertEqual(strong["black"], 0.0, strong)
+
+    def test_the_raster_backends_judge_the_same_light(self):
+        for backend in ("depth", "colour"):
+            drawn = self.scan(backend=backend, emitter_w_per_sr=0.0002)
+            dark = self.by_object(drawn, scan_pb2.POINT_STATUS_REJECTED_DARK)
+            self.assertGreater(dark["black"], 0.95, (backend, dark))
+            self.assertEqual(self.by_object(drawn, scan_pb2.POINT_STATUS_MEASURED)["white"], 1.0, backend)
 
     def test_the_cli_scans_with_the_returned_light_and_refuses_bad_values(self):
         out_file = os.path.join(self.tmp.name, "scan.ply")
