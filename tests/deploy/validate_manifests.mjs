@@ -62,7 +62,7 @@ function checkDataset(manifests) {
     const parsed = parse(planText);
     for (const key of ["bins", "seeds", "sensors"]) assert.ok(parsed[key], `the plan has no ${key}`);
     for (const bin of parsed.bins) {
-      assert.ok(bin.box && bin.parts, `bin ${bin.name ?? bin}: the pods fill bins, so each needs its box and parts`);
+      assert.ok(bin.bin && bin.parts, `bin ${bin.name ?? bin}: the pods fill bins, so each needs its bin and parts`);
       for (const part of bin.parts) {
         assert.ok(part.mesh?.startsWith("/"), `bin ${bin.name}: ${part.mesh} must be an absolute path in the image`);
       }
