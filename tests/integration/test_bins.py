@@ -241,6 +241,33 @@ class BinCliTest(unittest.TestCase):
             self.assertIn("this one has 22500", caught.exception.details())
         self.assertEqual(len(self.client.list_jobs()), jobs_before)
 
+    def test_part_materials_become_the_placed_objects_materials(self):
+        text = PLAN.format(parts=os.path.join(DATA, "parts"), blocks=2, pins=2, seconds=10)
+        text = text.replace("    count: 2\n", "    count: 2\n    material: black-anodised-aluminium\n", 1)
+        text = text.replace("    scale: 0.05\n", "    scale: 0.05\n    material: {diffuse_albedo: 0.3, metallic: 0, "
+                            "roughness: 0.6, specular_reflectance: 0.05}\n")
+        path = os.path.join(self.tmp.name, "materials.yaml")
+        with open(path, "w") as f:
+            f.write(text.replace("scene: bins-test", "scene: bins-materials"))
+        fill = vscan(self.server, "--json", "bin", "fill", path, "-o", os.path.join(self.tmp.name, "materials"))
+        self.assertEqual(fill.returncode, 0, fill.stderr)
+        scene = self.client.get_scene(cli_result(fill.stdout)["sceneId"])
+        parts = [o for o in scene.objects if "#" in o.label]
+        self.assertEqual(len(parts), 4)
+        for placed in parts:
+            if placed.label.startswith("angle_block#"):
+                self.assertEqual(placed.material.preset, "black-anodised-aluminium")
+            else:
+                self.assertEqual(placed.material.values.roughness, 0.6, placed.label)
+        self.assertFalse(next(o for o in scene.objects if "#" not in o.label).HasField("material"))  # the bin
+        bad = os.path.join(self.tmp.name, "bad_material.yaml")
+        with open(bad, "w") as f:
+            f.write(text.replace("black-anodised-aluminium", "unobtainium"))
+        out = vscan(self.server, "bin", "fill", bad)
+        self.assertNotEqual(out.returncode, 0, out.stdout)
+        self.assertIn("bad_material.yaml:10: parts[0].material.preset", out.stderr)
+        self.assertIn("unknown preset 'unobtainium'", out.stderr)
+
     def test_plan_errors_name_the_plan_line(self):
         too_many = write_plan(self.tmp.name, "too_many.yaml", blocks=300, pins=300)
         out = vscan(self.server, "bin", "fill", too_many)

@@ -97,6 +97,15 @@ class BinPlanParser {
       if (part.density_kg_per_m3) spec->set_density_kg_per_m3(*part.density_kg_per_m3);
       if (part.collision == "convex_hull") spec->set_collision(v1::PART_COLLISION_CONVEX_HULL);
       if (part.collision == "convex_decomposition") spec->set_collision(v1::PART_COLLISION_CONVEX_DECOMPOSITION);
+      if (part.material && !part.material->preset.empty()) {
+        spec->mutable_material()->set_preset(part.material->preset);
+      } else if (part.material) {
+        v1::MaterialValues* values = spec->mutable_material()->mutable_values();
+        values->set_diffuse_albedo(part.material->diffuse_albedo);
+        values->set_metallic(part.material->metallic);
+        values->set_roughness(part.material->roughness);
+        values->set_specular_reflectance(part.material->specular_reflectance);
+      }
       plan->parts.push_back(std::move(source));
     }
     return Status::Ok();

@@ -15,15 +15,20 @@ _COLLISIONS = {"convex_hull": job_pb2.PART_COLLISION_CONVEX_HULL,
                "convex_decomposition": job_pb2.PART_COLLISION_CONVEX_DECOMPOSITION}
 
 
-def bin_part(mesh_id, count, scale=1.0, name="", mass_kg=0.0, density_kg_per_m3=0.0, collision="convex_hull"):
+def bin_part(mesh_id, count, scale=1.0, name="", mass_kg=0.0, density_kg_per_m3=0.0, collision="convex_hull",
+             material=None):
     """One part type: an uploaded mesh (in metres, converted from the unit declared at upload),
     count of them, an extra uniform scale, a name for the labels "<name>#<k>" (default: the mesh's),
-    and how it collides: "convex_hull" or "convex_decomposition"."""
+    how it collides: "convex_hull" or "convex_decomposition", and what the placed parts are made
+    of (a preset name or a dict of the four values, as upload_mesh takes; None: the mesh's)."""
     if collision not in _COLLISIONS:
         raise ValueError(f"collision: {collision!r} is not one of {sorted(_COLLISIONS)}")
-    return job_pb2.BinPart(mesh_id=mesh_id, count=int(count), scale=float(scale), name=name, mass_kg=float(mass_kg),
+    part = job_pb2.BinPart(mesh_id=mesh_id, count=int(count), scale=float(scale), name=name, mass_kg=float(mass_kg),
                            density_kg_per_m3=float(density_kg_per_m3),
                            collision=_COLLISIONS[collision])
+    if material is not None:
+        part.material.CopyFrom(convert.material(material))
+    return part
 
 
 def bin_fill_spec(scene_id, inner_size, parts, wall_thickness=0.0, bin_position=(0.0, 0.0, 0.0), bin_quat=None,

@@ -76,9 +76,29 @@ StatusOr<MeshBinPlan> ReadMeshBin(const YamlReader& yaml, const YamlAt& at) {
   return bin;
 }
 
+// material: NAME, or {diffuse_albedo, metallic, roughness, specular_reflectance}, all four.
+StatusOr<MaterialPlan> ReadMaterial(const YamlReader& yaml, const YamlAt& at) {
+  MaterialPlan material;
+  if (at.node.IsScalar()) {
+    ASSIGN_OR_RETURN(material.preset, yaml.String(at));
+    return material;
+  }
+  RETURN_IF_ERROR(yaml.ExpectMap(at, {"diffuse_albedo", "metallic", "roughness", "specular_reflectance"}));
+  for (const auto& [key, value] : {std::pair<const char*, double*>{"diffuse_albedo", &material.diffuse_albedo},
+                                   {"metallic", &material.metallic},
+                                   {"roughness", &material.roughness},
+                                   {"specular_reflectance", &material.specular_reflectance}}) {
+    const YamlAt child = YamlReader::Child(at, key);
+    if (!YamlReader::Has(child)) return yaml.Error(child, "required: a preset's name, or all four values");
+    ASSIGN_OR_RETURN(*value, yaml.Number(child));
+  }
+  return material;
+}
+
 StatusOr<PartPlan> ReadPart(const YamlReader& yaml, const YamlAt& item) {
   RETURN_IF_ERROR(yaml.ExpectMap(
-      item, {"mesh", "mesh_id", "unit", "count", "scale", "name", "mass_kg", "density_kg_per_m3", "collision"}));
+      item,
+      {"mesh", "mesh_id", "unit", "count", "scale", "name", "mass_kg", "density_kg_per_m3", "collision", "material"}));
   PartPlan part;
   ASSIGN_OR_RETURN(part.mesh, ReadMeshSource(yaml, item));
   const YamlAt count = YamlReader::Child(item, "count");
@@ -103,6 +123,9 @@ StatusOr<PartPlan> ReadPart(const YamlReader& yaml, const YamlAt& item) {
       return yaml.Error(collision,
                         "unknown collision shape '" + part.collision + "' (convex_hull or convex_decomposition)");
     }
+  }
+  if (const YamlAt material = YamlReader::Child(item, "material"); YamlReader::Has(material)) {
+    ASSIGN_OR_RETURN(part.material, ReadMaterial(yaml, material));
   }
   return part;
 }

@@ -4,6 +4,7 @@
 #include <string>
 
 #include "api/campaign/campaign_spec.h"
+#include "api/scenes/material_convert.h"
 #include "api/transport/validate.h"
 #include "vscan/common/proto_convert.h"
 
@@ -105,6 +106,7 @@ Status ReadParts(const v1::BinFillSpec& spec, bool validate_only, std::vector<se
     }
     ASSIGN_OR_RETURN(part.density_kg_per_m3,
                      OrDefault(in.density_kg_per_m3(), 2700, 1, 1e5, field + ".density_kg_per_m3", "kg/m^3"));
+    ASSIGN_OR_RETURN(part.material, OptionalMaterialFromProto(in.has_material(), in.material(), field + ".material"));
     parts.push_back(std::move(part));
   }
   return Status::Ok();

@@ -21,7 +21,8 @@ double GgxMasking(double cos_v, double alpha) {
 
 double SchlickFresnel(double f0, double cos_d) {
   const double f90 = std::min(1.0, 50 * f0);
-  return f0 + (f90 - f0) * std::pow(1 - std::clamp(cos_d, 0.0, 1.0), 5);
+  const double x = 1 - std::clamp(cos_d, 0.0, 1.0), x2 = x * x;  // (1 - c)^5 without pow, per ray
+  return f0 + (f90 - f0) * x2 * x2 * x;
 }
 
 double EvaluateBrdf(const Material& material, const Eigen::Vector3d& normal, const Eigen::Vector3d& to_light,

@@ -23,6 +23,8 @@ struct BinPartRequest {
   std::optional<double> mass_kg;
   double density_kg_per_m3 = 2700.0;
   physics::PartCollision collision = physics::PartCollision::kConvexHull;
+  // Each placed part's material override (unset: the mesh's).
+  std::optional<store::MaterialRecord> material;
 };
 
 // What a request asks, its values already checked (api/bin_fill_spec.cpp).

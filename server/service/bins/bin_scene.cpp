@@ -36,6 +36,7 @@ StatusOr<BinPlacement> PlaceBinInScene(scenes::SceneRegistry& registry, const Bi
     part.label = PartLabel(plan.parts[placed.type].name, placed.instance);
     part.pose = placed.world_from_part.matrix();
     part.scale = plan.request.parts[placed.type].scale;
+    part.material = plan.request.parts[placed.type].material;
     objects.push_back(std::move(part));
   }
   auto stored = plan.request.mesh_bin

@@ -74,7 +74,14 @@ StatusOr<BinEntry> ReadBinEntry(const YAML::Node& node, const std::string& sourc
   DatasetBinFill fill;
   fill.inner_size_m = plan.box->inner_size;
   if (plan.box->wall_thickness) fill.wall_thickness_m = *plan.box->wall_thickness;
-  for (const plan::PartPlan& part : plan.parts) fill.parts.push_back(ToDatasetPart(part));
+  for (size_t i = 0; i < plan.parts.size(); ++i) {
+    if (plan.parts[i].material) {
+      const plan::YamlAt item = plan::YamlReader::Item(plan::YamlReader::Child(entry_at, "parts"), i);
+      return yaml.Error(plan::YamlReader::Child(item, "material"),
+                        "a dataset's scans do not see materials yet (docs/DATASETS.md); leave it out");
+    }
+    fill.parts.push_back(ToDatasetPart(plan.parts[i]));
+  }
   if (const plan::YamlAt limit = plan::YamlReader::Child(entry_at, "max_simulated_s"); plan::YamlReader::Has(limit)) {
     ASSIGN_OR_RETURN(fill.max_simulated_s, yaml.Number(limit));
   }

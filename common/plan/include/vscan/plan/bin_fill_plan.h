@@ -26,6 +26,13 @@ struct MeshSource {
   YAML::Mark mark;
 };
 
+// A preset's name, or the four values (checked by the server: docs/SENSORS.md, "Where materials
+// are set").
+struct MaterialPlan {
+  std::string preset;
+  double diffuse_albedo = 0, metallic = 0, roughness = 0, specular_reflectance = 0;
+};
+
 struct PartPlan {
   MeshSource mesh;
   uint32_t count = 0;
@@ -34,6 +41,7 @@ struct PartPlan {
   std::optional<double> mass_kg;
   std::optional<double> density_kg_per_m3;
   std::string collision;  // "", "convex_hull" or "convex_decomposition"
+  std::optional<MaterialPlan> material;
 };
 
 struct BoxBinPlan {
@@ -60,7 +68,7 @@ std::optional<std::string> ShortUnitName(std::string_view unit);
 std::optional<double> MetresPerUnit(std::string_view unit);
 
 // bin: {inner_size, wall_thickness, pose} or {mesh | mesh_id, unit, scale, pose}; parts: a list of
-// {mesh | mesh_id, unit, count, scale, name, mass_kg, density_kg_per_m3, collision}. Errors name
+// {mesh | mesh_id, unit, count, scale, name, mass_kg, density_kg_per_m3, collision, material}. Errors name
 // the key path and line; sizes and totals are the fill's own checks. The bin's pose is allowed but
 // not read: plans read poses with their own rules (bin.pose).
 StatusOr<BinFillPlan> ReadBinFill(const YamlReader& yaml, const YamlAt& bin, const YamlAt& parts);
