@@ -209,7 +209,7 @@ TEST(DatasetPlanYaml, NamesTheBinKeyItRefuses) {
             "p.yaml: bins[1]: describe every bin's fill or none");
   EXPECT_EQ(message("  - name: a\n" + box + "    parts: [{mesh: a.stl, unit: m, count: 1, colour: red}]\n"),
             "p.yaml:4: bins[0].parts[0].colour: unknown key (expected one of mesh, mesh_id, unit, count, scale, "
-            "name, mass_kg, density_kg_per_m3, collision)");
+            "name, mass_kg, density_kg_per_m3, collision, material)");
   EXPECT_EQ(message("  - name: a\n    bin: {mesh: tote.stl, unit: mm}\n    parts: [{mesh: a.stl, unit: m, count: 1}]\n"),
             "p.yaml:3: bins[0].bin: a dataset's bins are boxes (inner_size, wall_thickness)");
   EXPECT_EQ(message("  - name: a\n    bin: {inner_size: [0.3, 0.2, 0.1], pose: {xyz: [1, 0, 0]}}\n"
