@@ -260,6 +260,15 @@ class BinCliTest(unittest.TestCase):
             else:
                 self.assertEqual(placed.material.values.roughness, 0.6, placed.label)
         self.assertFalse(next(o for o in scene.objects if "#" not in o.label).HasField("material"))  # the bin
+        # A scan of the bin with the returned light sees them: the black anodised blocks go dark first.
+        cloud = os.path.join(self.tmp.name, "materials.ply")
+        lit = vscan(self.server, "--json", "bin", "scan", cli_result(fill.stdout)["job"]["jobId"], "-o", cloud,
+                    "--returned-light", "emitter_w_per_sr=0.002")
+        self.assertEqual(lit.returncode, 0, lit.stderr)
+        self.assertGreater(int(cli_result(lit.stdout)["statistics"].get("rejectedDark", 0)), 0, lit.stdout)
+        usage = vscan(self.server, "bin", "scan", cli_result(fill.stdout)["job"]["jobId"], "-o", cloud,
+                      "--returned-light", "colour=red")
+        self.assertEqual(usage.returncode, 2, usage.stderr)
         bad = os.path.join(self.tmp.name, "bad_material.yaml")
         with open(bad, "w") as f:
             f.write(text.replace("black-anodised-aluminium", "unobtainium"))

@@ -27,6 +27,7 @@ struct BinScanArgs {
   std::string fields = "all";
   std::string backend = "raycast";
   uint64_t seed = 0;
+  std::optional<std::string> returned_light;
 };
 
 // The preset's camera (a structured-light preset's camera) as field-of-view tangents and depth range.
@@ -169,6 +170,11 @@ int RunBinScan(Context& ctx, const BinScanArgs& args) {
   request.set_backend(*backend);
   request.set_seed(args.seed);
   request.set_ground_truth(true);
+  if (args.returned_light) {
+    if (const Status filled = FillReturnedLight(*args.returned_light, request.mutable_returned_light()); !filled.ok()) {
+      return ctx.UsageError(filled.message());
+    }
+  }
 
   ScannedFile scanned;
   if (const int rc = ScanToFile(ctx, request, args.output, &scanned, args.organized); rc != kExitOk) return rc;
@@ -211,6 +217,8 @@ void AddBinScan(CLI::App& group, Context& ctx) {
   cmd->add_option("--fields", args->fields, "Point fields, as for `vscan scan`")->capture_default_str();
   cmd->add_option("--backend", args->backend, "raycast, depth or colour")->capture_default_str();
   cmd->add_option("--seed", args->seed, "Seed for the preset's noise")->capture_default_str();
+  cmd->add_option("--returned-light", args->returned_light,
+                  "Light the bin with the sensor's emitter and each part's material, as for `vscan scan`");
   OnRun(cmd, ctx, [&ctx, args] { return RunBinScan(ctx, *args); });
 }
 

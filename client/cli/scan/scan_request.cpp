@@ -98,6 +98,24 @@ Status FillNoise(const ScanArgs& a, v1::NoiseSpec* noise) {
   return Status::Ok();
 }
 
+
+void AddEstimatedNormals(const ScanArgs& a, v1::ScanRequest* request) {
+  if (request->fields().empty()) {
+    for (const auto f : {v1::POINT_FIELD_POSITION, v1::POINT_FIELD_NORMAL, v1::POINT_FIELD_RANGE,
+                         v1::POINT_FIELD_INTENSITY, v1::POINT_FIELD_INSTANCE_ID}) {
+      request->add_fields(f);
+    }
+  }
+  const auto& fields = request->fields();
+  if (std::find(fields.begin(), fields.end(), v1::POINT_FIELD_ESTIMATED_NORMAL) == fields.end()) {
+    request->add_fields(v1::POINT_FIELD_ESTIMATED_NORMAL);
+  }
+  request->mutable_normal_estimation()->set_k(a.estimate_normals_k.value_or(0));
+  request->mutable_normal_estimation()->set_max_distance(a.normal_max_distance.value_or(0));
+}
+
+}  // namespace
+
 // "on", or key=value pairs naming ReturnedLight's fields; the server checks the values' ranges.
 Status FillReturnedLight(const std::string& text, v1::ReturnedLight* light) {
   if (text == "on") return Status::Ok();
@@ -118,23 +136,6 @@ Status FillReturnedLight(const std::string& text, v1::ReturnedLight* light) {
   }
   return Status::Ok();
 }
-
-void AddEstimatedNormals(const ScanArgs& a, v1::ScanRequest* request) {
-  if (request->fields().empty()) {
-    for (const auto f : {v1::POINT_FIELD_POSITION, v1::POINT_FIELD_NORMAL, v1::POINT_FIELD_RANGE,
-                         v1::POINT_FIELD_INTENSITY, v1::POINT_FIELD_INSTANCE_ID}) {
-      request->add_fields(f);
-    }
-  }
-  const auto& fields = request->fields();
-  if (std::find(fields.begin(), fields.end(), v1::POINT_FIELD_ESTIMATED_NORMAL) == fields.end()) {
-    request->add_fields(v1::POINT_FIELD_ESTIMATED_NORMAL);
-  }
-  request->mutable_normal_estimation()->set_k(a.estimate_normals_k.value_or(0));
-  request->mutable_normal_estimation()->set_max_distance(a.normal_max_distance.value_or(0));
-}
-
-}  // namespace
 
 StatusOr<v1::ScanRequest> BuildScanRequest(const ScanArgs& args) {
   v1::ScanRequest request;

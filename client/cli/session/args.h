@@ -102,4 +102,7 @@ struct ScanArgs {
 
 StatusOr<v1::ScanRequest> BuildScanRequest(const ScanArgs& args);
 
+// --returned-light: "on" (the defaults) or key=value,... naming vscan.v1.ReturnedLight's fields.
+Status FillReturnedLight(const std::string& text, v1::ReturnedLight* light);
+
 }  // namespace vscan::cli
