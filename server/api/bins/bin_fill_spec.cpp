@@ -23,16 +23,6 @@ std::string Num(double x) {
   return buffer;
 }
 
-// 0 takes the default; otherwise finite and within [lo, hi].
-StatusOr<double> OrDefault(double value, double fallback, double lo, double hi, const std::string& field,
-                           const char* unit) {
-  if (value == 0) return fallback;
-  if (!std::isfinite(value) || value < lo || value > hi) {
-    return InvalidArgument(field, "must be finite and within [" + Num(lo) + ", " + Num(hi) + "] " + unit + " (0: " +
-                                      Num(fallback) + "), got " + Num(value));
-  }
-  return value;
-}
 
 Status ReadBinMesh(const v1::BinMesh& in, bool validate_only, service::BinFillRequest& request) {
   if (!validate_only || !in.mesh_id().empty()) RETURN_IF_ERROR(RequireId(in.mesh_id(), "bin_mesh.mesh_id"));
@@ -58,7 +48,7 @@ Status ReadBin(const v1::BinFillSpec& spec, physics::BinSpec& bin) {
   }
   bin.inner_size = size;
   ASSIGN_OR_RETURN(bin.wall_thickness,
-                   OrDefault(spec.bin().wall_thickness(), 0.01, 1e-4, kMaxWallM, "bin.wall_thickness", "m"));
+                   NumberOrDefault(spec.bin().wall_thickness(), 0.01, 1e-4, kMaxWallM, "bin.wall_thickness", "m"));
   if (spec.bin().has_pose()) {
     ASSIGN_OR_RETURN(bin.world_from_bin, PoseFromProto(spec.bin().pose(), "bin.pose"));
   }
@@ -101,11 +91,11 @@ Status ReadParts(const v1::BinFillSpec& spec, bool validate_only, std::vector<se
     RETURN_IF_ERROR(CheckText(in.name(), field + ".name"));
     part.name = in.name();
     if (in.mass_kg() != 0) {
-      ASSIGN_OR_RETURN(const double mass, OrDefault(in.mass_kg(), 0, 1e-6, 1e4, field + ".mass_kg", "kg"));
+      ASSIGN_OR_RETURN(const double mass, NumberOrDefault(in.mass_kg(), 0, 1e-6, 1e4, field + ".mass_kg", "kg"));
       part.mass_kg = mass;
     }
     ASSIGN_OR_RETURN(part.density_kg_per_m3,
-                     OrDefault(in.density_kg_per_m3(), 2700, 1, 1e5, field + ".density_kg_per_m3", "kg/m^3"));
+                     NumberOrDefault(in.density_kg_per_m3(), 2700, 1, 1e5, field + ".density_kg_per_m3", "kg/m^3"));
     ASSIGN_OR_RETURN(part.material, OptionalMaterialFromProto(in.has_material(), in.material(), field + ".material"));
     parts.push_back(std::move(part));
   }
@@ -114,19 +104,19 @@ Status ReadParts(const v1::BinFillSpec& spec, bool validate_only, std::vector<se
 
 Status ReadPhysics(const v1::BinPhysics& in, physics::FillOptions& options) {
   ASSIGN_OR_RETURN(options.max_simulated_s,
-                   OrDefault(in.max_simulated_s(), options.max_simulated_s, 0.01, kMaxSimulatedS,
+                   NumberOrDefault(in.max_simulated_s(), options.max_simulated_s, 0.01, kMaxSimulatedS,
                              "physics.max_simulated_s", "s"));
   ASSIGN_OR_RETURN(options.settle_move_m,
-                   OrDefault(in.settle_move_m(), options.settle_move_m, 1e-7, 1, "physics.settle_move_m", "m"));
+                   NumberOrDefault(in.settle_move_m(), options.settle_move_m, 1e-7, 1, "physics.settle_move_m", "m"));
   ASSIGN_OR_RETURN(options.settle_turn_rad,
-                   OrDefault(in.settle_turn_rad(), options.settle_turn_rad, 1e-7, 3.14159, "physics.settle_turn_rad",
+                   NumberOrDefault(in.settle_turn_rad(), options.settle_turn_rad, 1e-7, 3.14159, "physics.settle_turn_rad",
                              "rad"));
   if (in.settle_steps() > 100000) {
     return InvalidArgument("physics.settle_steps", "at most 100000, got " + std::to_string(in.settle_steps()));
   }
   if (in.settle_steps() != 0) options.settle_steps = static_cast<int>(in.settle_steps());
   ASSIGN_OR_RETURN(options.time_step_s,
-                   OrDefault(in.time_step_s(), options.time_step_s, 1e-4, 0.05, "physics.time_step_s", "s"));
+                   NumberOrDefault(in.time_step_s(), options.time_step_s, 1e-4, 0.05, "physics.time_step_s", "s"));
   return Status::Ok();
 }
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 
 namespace vscan::api {
 namespace {
@@ -58,6 +59,21 @@ StatusOr<double> ScaleOrDefault(double scale, std::string_view field) {
     return InvalidArgument(std::string(field), "must be a finite number in (0, 1e6]");
   }
   return scale;
+}
+
+StatusOr<double> NumberOrDefault(double value, double fallback, double lo, double hi, const std::string& field,
+                                 const char* unit) {
+  if (value == 0) return fallback;
+  if (!std::isfinite(value) || value < lo || value > hi) {
+    const auto number = [](double x) {
+      char buffer[32];
+      std::snprintf(buffer, sizeof(buffer), "%g", x);
+      return std::string(buffer);
+    };
+    return InvalidArgument(field, "must be finite and within [" + number(lo) + ", " + number(hi) + "] " + unit +
+                                      " (0: " + number(fallback) + "), got " + number(value));
+  }
+  return value;
 }
 
 StatusOr<int> PageSize(int32_t page_size, uint32_t max_page_size) {

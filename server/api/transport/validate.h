@@ -17,6 +17,9 @@ Status CheckText(const std::string& text, std::string_view field, size_t max_len
 Status CheckPageToken(const std::string& token, std::string_view id_prefix);
 // 0 means 1; otherwise finite, positive and at most 1e6.
 StatusOr<double> ScaleOrDefault(double scale, std::string_view field);
+// 0 takes fallback; otherwise finite and within [lo, hi] in `unit` (INVALID_ARGUMENT naming field).
+StatusOr<double> NumberOrDefault(double value, double fallback, double lo, double hi, const std::string& field,
+                                 const char* unit);
 // page_size 0 means default; negative is INVALID_ARGUMENT; large is clamped.
 StatusOr<int> PageSize(int32_t page_size, uint32_t max_page_size);
 

@@ -95,17 +95,19 @@ std::vector<double> JudgeSignals(const ReturnedLightSpec& light, uint64_t seed, 
   const std::vector<sensor::PixelSignal> signals = ReturnedSignals(clean, light, seed);
   std::vector<double> sigma_factor(signals.size(), 1.0);
   const bool intensities = clean.Has(kFieldIntensity);
-  for (size_t i = 0; i < signals.size(); ++i) {
-    if (intensities) clean.intensities[i] = static_cast<float>(signals[i].measured_e);
-    if (status[i] != static_cast<uint8_t>(PointStatus::kMeasured)) continue;
-    if (signals[i].verdict == sensor::SignalVerdict::kDark) {
-      status[i] = static_cast<uint8_t>(PointStatus::kRejectedDark);
-    } else if (signals[i].verdict == sensor::SignalVerdict::kSaturated) {
-      status[i] = static_cast<uint8_t>(PointStatus::kRejectedSaturated);
-    } else {
-      sigma_factor[i] = SignalSigmaFactor(light, signals[i]);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, signals.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
+    for (size_t i = r.begin(); i != r.end(); ++i) {
+      if (intensities) clean.intensities[i] = static_cast<float>(signals[i].measured_e);
+      if (status[i] != static_cast<uint8_t>(PointStatus::kMeasured)) continue;
+      if (signals[i].verdict == sensor::SignalVerdict::kDark) {
+        status[i] = static_cast<uint8_t>(PointStatus::kRejectedDark);
+      } else if (signals[i].verdict == sensor::SignalVerdict::kSaturated) {
+        status[i] = static_cast<uint8_t>(PointStatus::kRejectedSaturated);
+      } else {
+        sigma_factor[i] = SignalSigmaFactor(light, signals[i]);
+      }
     }
-  }
+  });
   return sigma_factor;
 }
 

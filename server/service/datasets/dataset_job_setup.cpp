@@ -10,6 +10,7 @@
 #include "physics/fill_checks.h"
 #include "physics/part_geometry.h"
 #include "sensor/presets.h"
+#include "vscan/plan/bin_fill_plan.h"
 
 namespace vscan::service {
 namespace {
@@ -122,7 +123,7 @@ DatasetMeshLoader MeshFilesFrom(std::filesystem::path plan_dir) {
     std::ostringstream bytes;
     bytes << in.rdbuf();
     const StatusOr<TriangleMesh> mesh =
-        geometry::ImportMesh(bytes.str(), geometry::MeshFileFormat::kAuto, *dataset::MetresPerPlanUnit(part.unit));
+        geometry::ImportMesh(bytes.str(), geometry::MeshFileFormat::kAuto, *plan::MetresPerUnit(part.unit));
     if (!mesh.ok()) return InvalidArgument(field + ".mesh", path.string() + ": " + mesh.status().message());
     return mesh;
   };

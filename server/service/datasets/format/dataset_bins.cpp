@@ -11,7 +11,6 @@ bool Within(double value, double lo, double hi) { return std::isfinite(value) &&
 
 }  // namespace
 
-std::optional<double> MetresPerPlanUnit(const std::string& unit) { return plan::MetresPerUnit(unit); }
 
 Status CheckBinFill(const DatasetBinFill& fill, const std::string& field) {
   for (int axis = 0; axis < 3; ++axis) {
@@ -33,7 +32,7 @@ Status CheckBinFill(const DatasetBinFill& fill, const std::string& field) {
     if (part.mesh_file.empty() == part.mesh_id.empty()) {
       return InvalidArgument(path, "needs mesh (a file) or mesh_id (a stored mesh), one of them");
     }
-    if (!MetresPerPlanUnit(part.unit)) {
+    if (!plan::MetresPerUnit(part.unit)) {
       return InvalidArgument(path + ".unit", "'" + part.unit + "' is not m, cm, mm, in or ft");
     }
     if (!Within(part.scale, 1e-6, 1e6)) return InvalidArgument(path + ".scale", "must be positive");

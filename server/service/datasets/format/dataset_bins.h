@@ -43,8 +43,6 @@ struct DatasetSensor {
   uint32_t height = 0;
 };
 
-// Metres per unit of a plan's unit name; nullopt for an unknown name.
-std::optional<double> MetresPerPlanUnit(const std::string& unit);
 
 inline constexpr uint32_t kMaxPartsInBin = 500;
 
