@@ -9,6 +9,7 @@
 
 #include <google/protobuf/util/json_util.h>
 
+#include "scan/pixel_image_files.h"
 #include "scan/scan_to_file.h"
 #include "session/args.h"
 #include "session/commands.h"
@@ -28,6 +29,7 @@ struct BinScanArgs {
   std::string backend = "raycast";
   uint64_t seed = 0;
   std::optional<std::string> returned_light;
+  std::string images_dir;
 };
 
 // The preset's camera (a structured-light preset's camera) as field-of-view tangents and depth range.
@@ -176,8 +178,16 @@ int RunBinScan(Context& ctx, const BinScanArgs& args) {
     }
   }
 
+  if (!args.images_dir.empty()) {
+    if (const int rc = PrepareImagesDir(ctx, args.images_dir); rc != kExitOk) return rc;
+    request.set_pixel_images(true);
+  }
+
   ScannedFile scanned;
   if (const int rc = ScanToFile(ctx, request, args.output, &scanned, args.organized); rc != kExitOk) return rc;
+  if (scanned.result.images) {
+    if (const int rc = WritePixelImages(ctx, *scanned.result.images, args.images_dir); rc != kExitOk) return rc;
+  }
   const std::string truth_path = std::filesystem::path(args.output).replace_extension(".gt.json").string();
   if (const Status written = WriteGroundTruth(truth_path, args, *job, scanned.result, scanned.points); !written.ok()) {
     return ctx.LocalError(written);
@@ -219,6 +229,8 @@ void AddBinScan(CLI::App& group, Context& ctx) {
   cmd->add_option("--seed", args->seed, "Seed for the preset's noise")->capture_default_str();
   cmd->add_option("--returned-light", args->returned_light,
                   "Light the bin with the sensor's emitter and each part's material, as for `vscan scan`");
+  cmd->add_option("--images", args->images_dir,
+                  "Also write DIR/reasons.png and DIR/gray.png, the per-pixel images, as for `vscan scan`");
   OnRun(cmd, ctx, [&ctx, args] { return RunBinScan(ctx, *args); });
 }
 

@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <optional>
 
+#include "scan/pixel_image_files.h"
 #include "scan/scan_to_file.h"
 #include "session/args.h"
 #include "session/commands.h"
@@ -20,6 +21,7 @@ struct ScanCommandArgs {
   ScanArgs scan;
   std::string output;
   bool organized = false;
+  std::string images_dir;
 };
 
 // Client times from the call: to the first chunk (negative: none came) and to the last.
@@ -57,12 +59,19 @@ void PrintSummary(Context& ctx, const client::ScanResult& result, uint64_t point
 }
 
 int RunScan(Context& ctx, const ScanCommandArgs& args) {
-  const auto request = BuildScanRequest(args.scan);
+  auto request = BuildScanRequest(args.scan);
   if (!request.ok()) return ctx.UsageError(request.status().message());
   if (const int rc = CheckOutput(ctx, args.output, args.organized); rc != kExitOk) return rc;
+  if (!args.images_dir.empty()) {
+    if (const int rc = PrepareImagesDir(ctx, args.images_dir); rc != kExitOk) return rc;
+    request->set_pixel_images(true);
+  }
 
   ScannedFile scanned;
   if (const int rc = ScanToFile(ctx, *request, args.output, &scanned, args.organized); rc != kExitOk) return rc;
+  if (scanned.result.images) {
+    if (const int rc = WritePixelImages(ctx, *scanned.result.images, args.images_dir); rc != kExitOk) return rc;
+  }
   const client::ScanResult* result = &scanned.result;
   ClientTimes times{scanned.first_chunk_ms, scanned.total_ms};
   const uint64_t points = scanned.points;
@@ -113,6 +122,9 @@ void AddScanCommand(CLI::App& app, Context& ctx) {
   cmd->add_flag("--organized", args->organized,
                 "Write the range image: an organised PCD of width x height points, NaN where no point came "
                 "back, the sensor pose as VIEWPOINT (adds the pixel field)");
+  cmd->add_option("--images", args->images_dir,
+                  "Also write DIR/reasons.png (8-bit: each pixel's point status, 0 where nothing was hit) and "
+                  "DIR/gray.png (16-bit grey image of the returned signal)");
 
   cmd->add_option("--preset", s.preset, "Sensor preset name instead of the camera options below");
   cmd->add_option("--width", s.width, "Image width in pixels")->capture_default_str();

@@ -1,4 +1,5 @@
 #include <algorithm>
+#include <cstring>
 
 #include "huge_pages.h"
 #include "vscan/client/client.h"
@@ -47,6 +48,7 @@ class ScanAssembler {
         result_.stats = message.statistics();
         have_stats_ = true;
         return Status::Ok();
+      case v1::ScanResponse::kPixelRows: return OnPixelRows(message.pixel_rows());
       case v1::ScanResponse::PART_NOT_SET: break;
     }
     return Status::Ok();
@@ -60,6 +62,10 @@ class ScanAssembler {
     if (received_ != expected) {
       return DataLoss("scan stream: received " + std::to_string(received_) + " of " +
                       std::to_string(expected) + " points");
+    }
+    if (result_.images && rows_received_ != result_.images->height) {
+      return DataLoss("scan stream: received " + std::to_string(rows_received_) + " of " +
+                      std::to_string(result_.images->height) + " rows of pixel images");
     }
     return std::move(result_);
   }
@@ -75,6 +81,17 @@ class ScanAssembler {
     const uint64_t room = header.points() != 0 ? header.points() : header.rays();
     if (!callbacks_.on_chunk) Reserve(&result_.cloud, static_cast<size_t>(std::min(room, kMaxReservedPoints)));
     have_header_ = true;
+    if (header.pixel_images()) {
+      if (uint64_t{header.width()} * header.height() > kMaxReservedPoints) {
+        return DataLoss("scan stream: pixel images of " + std::to_string(header.width()) + " x " +
+                        std::to_string(header.height()) + " pixels");
+      }
+      PixelImages& images = result_.images.emplace();
+      images.width = header.width();
+      images.height = header.height();
+      images.reasons.assign(size_t{images.width} * images.height, 0);
+      images.gray.assign(images.reasons.size(), 0);
+    }
     if (callbacks_.on_header) callbacks_.on_header(result_.header);
     return Status::Ok();
   }
@@ -96,8 +113,33 @@ class ScanAssembler {
     return Status::Ok();
   }
 
+  // Bands arrive in order after the last chunk and before the statistics.
+  Status OnPixelRows(const v1::PixelRows& rows) {
+    if (!result_.images) return DataLoss("scan stream: pixel rows the header did not announce");
+    if (have_stats_) return DataLoss("scan stream: pixel rows after the statistics");
+    PixelImages& images = *result_.images;
+    if (rows.first_row() != rows_received_ || rows.row_count() == 0 ||
+        rows.row_count() > images.height - rows_received_) {
+      return DataLoss("scan stream: pixel rows " + std::to_string(rows.first_row()) + " + " +
+                      std::to_string(rows.row_count()) + " after " + std::to_string(rows_received_) + " of " +
+                      std::to_string(images.height));
+    }
+    const size_t begin = size_t{rows.first_row()} * images.width, count = size_t{rows.row_count()} * images.width;
+    if (rows.reasons().size() != count || rows.gray().size() != count * sizeof(uint16_t)) {
+      return DataLoss("scan stream: pixel rows of the wrong size");
+    }
+    std::memcpy(images.reasons.data() + begin, rows.reasons().data(), count);
+    const auto* gray = reinterpret_cast<const unsigned char*>(rows.gray().data());
+    for (size_t i = 0; i < count; ++i) {
+      images.gray[begin + i] = static_cast<uint16_t>(gray[2 * i] | (gray[2 * i + 1] << 8));
+    }
+    rows_received_ += rows.row_count();
+    return Status::Ok();
+  }
+
   const ScanCallbacks& callbacks_;
   ScanResult result_;
+  uint32_t rows_received_ = 0;
   uint64_t received_ = 0;
   bool have_header_ = false;
   bool have_stats_ = false;

@@ -241,7 +241,7 @@ class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls, BinCalls, Localizatio
              backend="raycast", seed=0, table_angle_deg=None, chunk_bytes=None, lighting=None, noise=None,
              preset=None, progress=None, mount_id=None, joints=None, encoder_noise=False,
              include_rejected=False, normal_estimation=None, sensor=None, ground_truth=False,
-             returned_light=None):
+             returned_light=None, pixel_images=False):
         """Scans a scene and returns a ScanResult with numpy arrays.
 
         Place the camera with eye/target/up, a 4x4 world_from_sensor pose_matrix, or on a robot:
@@ -259,7 +259,9 @@ class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls, BinCalls, Localizatio
         returned_light lights the scene with the sensor's own emitter and each object's material: True
         for the defaults, or a dict of sensor_pb2.ReturnedLight's fields ({"emitter_w_per_sr": 0.01,
         "exposure_s": 0.02, ...}); rays too dark or saturated get status "dark" or "saturated", and
-        intensity is the measured electrons.
+        intensity is the measured electrons. pixel_images fills result.reasons and result.gray,
+        (height, width) arrays: each pixel's PointStatus (0 where the ray met no surface) and the grey
+        image of the returned signal (uint16, 65535 at full scale).
         """
         request = scan_pb2.ScanRequest(scene_id=scene_id, seed=int(seed), frame=convert.frame(frame),
                                        backend=convert.backend(backend))
@@ -302,6 +304,7 @@ class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls, BinCalls, Localizatio
             request.noise.CopyFrom(noise)
         request.include_rejected = bool(include_rejected)
         request.ground_truth = bool(ground_truth)
+        request.pixel_images = bool(pixel_images)
         if returned_light is not None and returned_light is not False:
             request.returned_light.SetInParent()
             if returned_light is not True:

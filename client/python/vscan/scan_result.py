@@ -1,4 +1,4 @@
-"""Assembling a Scan stream (header, chunks, statistics) into numpy arrays."""
+"""Assembling a Scan stream (header, chunks, pixel rows, statistics) into numpy arrays."""
 
 from dataclasses import dataclass
 from typing import Optional
@@ -10,6 +10,7 @@ from ._stubs import scan_pb2
 _F32 = np.dtype("<f4")
 _U32 = np.dtype("<u4")
 _U8 = np.dtype("u1")
+_U16 = np.dtype("<u2")
 
 
 @dataclass
@@ -28,6 +29,10 @@ class ScanResult:
     incidence_angles: Optional[np.ndarray] = None  # (N,) float32, radians
     statuses: Optional[np.ndarray] = None  # (N,) uint8, scan_pb2.PointStatus values
     estimated_normals: Optional[np.ndarray] = None  # (N, 3) float32
+    # With pixel_images, (height, width) images: each pixel's PointStatus (0 where the ray met no
+    # surface) and the grey image (65535 at full scale).
+    reasons: Optional[np.ndarray] = None  # uint8
+    gray: Optional[np.ndarray] = None  # uint16
 
     def __len__(self):
         return int(self.positions.shape[0])
@@ -80,6 +85,9 @@ class ScanAssembler:
         self._arrays = {}
         self._points = 0
         self._on_progress = on_progress
+        self._reasons = None
+        self._gray = None
+        self._rows = 0
 
     def add(self, message):
         part = message.WhichOneof("part")
@@ -92,6 +100,14 @@ class ScanAssembler:
             room = min(self._header.points or self._header.rays, _MAX_RESERVED_POINTS)
             self._arrays = {name: np.empty(room * width, dtype=dtype)
                             for name, field, dtype, width in _LAYOUT if field in present}
+            if self._header.pixel_images:
+                shape = (self._header.height, self._header.width)
+                if shape[0] * shape[1] > _MAX_RESERVED_POINTS:
+                    raise ValueError(f"scan stream: pixel images of {shape[1]} x {shape[0]} pixels")
+                self._reasons = np.zeros(shape, dtype=_U8)
+                self._gray = np.zeros(shape, dtype=_U16)
+        elif part == "pixel_rows":
+            self._add_rows(message.pixel_rows)
         elif part == "chunk":
             if self._header is None:
                 raise ValueError("scan stream: chunk before the header")
@@ -129,12 +145,30 @@ class ScanAssembler:
         expected = self._header.points or self._stats.streamed_points
         if self._points != expected:
             raise ValueError(f"scan stream: received {self._points} of {expected} points")
+        if self._reasons is not None and self._rows != self._reasons.shape[0]:
+            raise ValueError(f"scan stream: received {self._rows} of {self._reasons.shape[0]} rows of pixel images")
         arrays = {}
         for name, _, _, width in _LAYOUT:
             if name in self._arrays:
                 array = self._arrays[name][:self._points * width]
                 arrays[name] = array.reshape(-1, 3) if width == 3 else array
-        return ScanResult(header=self._header, stats=self._stats, **arrays)
+        return ScanResult(header=self._header, stats=self._stats, reasons=self._reasons, gray=self._gray, **arrays)
+
+    def _add_rows(self, rows):
+        if self._reasons is None:
+            raise ValueError("scan stream: pixel rows the header did not announce")
+        if self._stats is not None:
+            raise ValueError("scan stream: pixel rows after the statistics")
+        height, width = self._reasons.shape
+        if rows.first_row != self._rows or rows.row_count == 0 or rows.row_count > height - self._rows:
+            raise ValueError(f"scan stream: pixel rows {rows.first_row} + {rows.row_count} after {self._rows} of {height}")
+        count = rows.row_count * width
+        if len(rows.reasons) != count or len(rows.gray) != 2 * count:
+            raise ValueError("scan stream: pixel rows of the wrong size")
+        end = self._rows + rows.row_count
+        self._reasons[self._rows:end] = np.frombuffer(rows.reasons, dtype=_U8).reshape(-1, width)
+        self._gray[self._rows:end] = np.frombuffer(rows.gray, dtype=_U16).reshape(-1, width)
+        self._rows = end
 
 
 def _grown(array, needed):

@@ -38,6 +38,7 @@ void FillScanHeader(const ScanPlan& plan, uint64_t scene_revision, v1::ScanHeade
   header->set_frame(plan.frame == raycast::ScanFrame::kSensor ? v1::FRAME_SENSOR : v1::FRAME_WORLD);
   header->set_backend(BackendToProto(plan.backend));
   header->set_rays(plan.camera.pixel_count());
+  header->set_pixel_images(plan.pixel_images);
 }
 
 void ObjectTruthToProto(const service::ObjectTruth& object, v1::ObjectTruth* out) {

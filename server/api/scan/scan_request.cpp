@@ -88,6 +88,7 @@ StatusOr<ScanPlan> ParseScanRequest(const v1::ScanRequest& request, const servic
 
   ASSIGN_OR_RETURN(plan.frame, FrameFromProto(request.frame()));
   plan.ground_truth = request.ground_truth();
+  plan.pixel_images = request.pixel_images();
 
   if (request.chunk_bytes() != 0) {
     if (request.chunk_bytes() < kMinChunkBytes || request.chunk_bytes() > kMaxChunkBytes) {

@@ -113,6 +113,13 @@ class ScanReactor final : public grpc::ServerWriteReactor<v1::ScanResponse> {
       Fail(status);
       return;
     }
+    if (outcome.images) {
+      const Status sent = writer.Images(*outcome.images);
+      if (!sent.ok()) {
+        Fail(sent);
+        return;
+      }
+    }
     writer.Finish(outcome, MillisSince(start_));
     spdlog::info("scan of {}: {} rays, {} points in {:.1f} ms", plan_.scene_id, outcome.stats.rays,
                  outcome.stats.points, outcome.stats.elapsed_ms);

@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "api/scan/scan_messages.h"
+#include "geometry/little_endian.h"
 #include "observability/server_metrics.h"
 #include "vscan/common/point_chunks.h"
 
@@ -39,6 +40,27 @@ Status ScanWriter::Cloud(const PointCloud& cloud) {
   }
   cloud_points_ = cloud.size();
   cloud_chunks_ = chunks;
+  return Status::Ok();
+}
+
+Status ScanWriter::Images(const capture::PixelImages& images) {
+  const size_t row_bytes = size_t{images.width} * (sizeof(uint8_t) + sizeof(uint16_t));
+  const uint32_t band = static_cast<uint32_t>(std::max<size_t>(1, plan_.chunk_bytes / std::max<size_t>(1, row_bytes)));
+  for (uint32_t first = 0; first < images.height; first += band) {
+    if (!outbox_.HasRoom()) outbox_.WaitForRoom();
+    if (cancel_.load()) return Cancelled("scan cancelled");
+    const uint32_t rows = std::min(band, images.height - first);
+    const size_t begin = size_t{first} * images.width, count = size_t{rows} * images.width;
+    auto message = std::make_unique<v1::ScanResponse>();
+    v1::PixelRows* out = message->mutable_pixel_rows();
+    out->set_first_row(first);
+    out->set_row_count(rows);
+    out->set_reasons(images.reasons.data() + begin, count);
+    std::string* gray = out->mutable_gray();
+    gray->reserve(count * sizeof(uint16_t));
+    for (size_t i = 0; i < count; ++i) geometry::PutLe(*gray, images.gray[begin + i], sizeof(uint16_t));
+    outbox_.Push(std::move(message));
+  }
   return Status::Ok();
 }
 

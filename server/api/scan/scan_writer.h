@@ -22,6 +22,9 @@ class ScanWriter final : public service::ScanConsumer {
   void WaitForRoom() override { outbox_.WaitForRoom(); }
   Status Cloud(const PointCloud& cloud) override;
 
+  // The per-pixel images in bands of rows of about a chunk's size, after the cloud.
+  Status Images(const capture::PixelImages& images);
+
   // The last message: the scan's figures, what was sent and the server's time for the call.
   void Finish(const service::ScanOutcome& outcome, double total_ms);
 

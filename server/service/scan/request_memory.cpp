@@ -41,11 +41,14 @@ uint64_t ScanMemoryBytes(const ScanPlan& plan, bool streamed) {
   uint32_t fields = plan.fields | plan.measurement.fields;
   if (plan.measurement.any()) fields |= kFieldsGroundTruth | kFieldNormal | kFieldRange;
   if (plan.ground_truth) fields |= FieldsForGroundTruth(plan.fields, plan.measurement.include_rejected);
+  if (plan.pixel_images) fields |= kFieldsForPixelImages;
   uint64_t per_ray = 2 * BytesPerPoint(fields) + kScratchBytesPerRay;
   if (plan.backend != ScanBackend::kRaycast) per_ray += kRasterBytesPerPixel;
   if (fields & kFieldEstimatedNormal) per_ray += kNormalSearchBytesPerPoint;
   // Structured light casts from the projector too and keeps its visibility per ray.
   if (plan.measurement.structured_light) per_ray += kScratchBytesPerRay;
+  // The reason and grey images, and their copy in messages.
+  if (plan.pixel_images) per_ray += 2 * (sizeof(uint8_t) + sizeof(uint16_t));
   return rays * per_ray;
 }
 

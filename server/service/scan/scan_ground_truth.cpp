@@ -169,6 +169,8 @@ StatusOr<std::vector<ObjectTruth>> ObjectGroundTruth(const scenes::ScanTarget& t
 void KeepFields(PointCloud& cloud, uint32_t fields) {
   if (!(fields & kFieldInstanceId)) cloud.instance_ids.clear();
   if (!(fields & kFieldStatus)) cloud.statuses.clear();
+  if (!(fields & kFieldPixel)) cloud.pixels.clear();
+  if (!(fields & kFieldIntensity)) cloud.intensities.clear();
   cloud.fields &= fields | kFieldPosition;
 }
 

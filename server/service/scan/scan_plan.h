@@ -35,6 +35,9 @@ struct ScanPlan {
   std::optional<RobotPlacement> robot;
   // Each scene object in view with its true pose and visible fraction (the whole-cloud path).
   bool ground_truth = false;
+  // The camera's per-pixel images (ScanOutcome.images): every ray is measured with its status, and
+  // the rejected ones are dropped afterwards unless measurement.include_rejected.
+  bool pixel_images = false;
 };
 
 }  // namespace vscan::service

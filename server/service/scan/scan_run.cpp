@@ -8,10 +8,19 @@
 #include "service/scan/scan_target.h"
 
 namespace vscan::service {
+namespace {
+
+// The signal shown as white in the grey image: the full well under the returned light, else the
+// fixed lighting's intensity 1.
+double GreyFullScale(const capture::MeasurementSpec& spec) {
+  return spec.returned_light ? spec.returned_light->pixel.full_well_e : 1.0;
+}
+
+}  // namespace
 
 bool StreamsRows(const ScanPlan& plan, const ServerOptions& options) {
   return plan.backend == ScanBackend::kRaycast && !plan.measurement.any() && !plan.ground_truth &&
-         !options.whole_cloud_scans;
+         !plan.pixel_images && !options.whole_cloud_scans;
 }
 
 Status RunScan(ServiceContext& context, const ScanPlan& plan, const std::atomic<bool>* cancel, ScanConsumer& out,
@@ -34,19 +43,32 @@ Status RunScan(ServiceContext& context, const ScanPlan& plan, const std::atomic<
                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count());
     return status;
   }
-  if (!plan.ground_truth) {
+  if (!plan.ground_truth && !plan.pixel_images) {
     ASSIGN_OR_RETURN(const PointCloud cloud,
                      RunScanBackend(plan, target, context.raster, cancel, &outcome->stats, &outcome->measure));
     out.Begin(target.scene.revision, cloud.size());
     return out.Cloud(cloud);
   }
+  // Ground truth counts instances and per-pixel images need every ray's status: measure more than
+  // was asked, then hand on only that.
   ScanPlan counted = plan;
-  counted.fields = FieldsForGroundTruth(plan.fields, plan.measurement.include_rejected);
+  if (plan.ground_truth) counted.fields = FieldsForGroundTruth(plan.fields, plan.measurement.include_rejected);
+  if (plan.pixel_images) {
+    counted.fields |= kFieldsForPixelImages;
+    counted.measurement.include_rejected = true;
+  }
   counted.measurement.fields = counted.fields;
   ASSIGN_OR_RETURN(PointCloud cloud,
                    RunScanBackend(counted, target, context.raster, cancel, &outcome->stats, &outcome->measure));
-  ASSIGN_OR_RETURN(outcome->objects,
-                   ObjectGroundTruth(target, plan.camera, plan.world_from_sensor, cloud, cancel));
+  if (plan.pixel_images) {
+    outcome->images =
+        capture::MakePixelImages(cloud, plan.camera.width, plan.camera.height, GreyFullScale(plan.measurement));
+    if (!plan.measurement.include_rejected) capture::DropRejected(cloud);
+  }
+  if (plan.ground_truth) {
+    ASSIGN_OR_RETURN(outcome->objects,
+                     ObjectGroundTruth(target, plan.camera, plan.world_from_sensor, cloud, cancel));
+  }
   KeepFields(cloud, plan.fields);
   out.Begin(target.scene.revision, cloud.size());
   return out.Cloud(cloud);

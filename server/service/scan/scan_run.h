@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "capture/measure_scan.h"
+#include "capture/pixel_images.h"
 #include "raycast/row_sink.h"
 #include "raycast/scanner.h"
 #include "service/scan/scan_ground_truth.h"
@@ -32,6 +33,8 @@ struct ScanOutcome {
   bool streamed = false;
   // With plan.ground_truth: the scene objects in view.
   std::vector<ObjectTruth> objects;
+  // With plan.pixel_images: why each pixel has or lacks a point, and the grey image.
+  std::optional<capture::PixelImages> images;
 };
 
 // Whether plan's points can leave row by row as they are cast (the clean ray caster).

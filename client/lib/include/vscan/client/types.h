@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "vscan/common/point_cloud.h"
 #include "vscan/common/status.h"
@@ -102,11 +103,21 @@ struct ScanCallbacks {
   std::function<Status(const v1::PointChunk&)> on_chunk;
 };
 
+// A scan's per-pixel images (ScanRequest.pixel_images), row-major, header.width x header.height.
+struct PixelImages {
+  uint32_t width = 0;
+  uint32_t height = 0;
+  std::vector<uint8_t> reasons;  // PointStatus values; 0 where the ray met no surface
+  std::vector<uint16_t> gray;    // 65535 at full scale
+};
+
 struct ScanResult {
   v1::ScanHeader header;
   // In the frame the header names; fields as the header lists them.
   PointCloud cloud;
   v1::ScanStatistics stats;
+  // Present when the header says pixel_images.
+  std::optional<PixelImages> images;
 };
 
 // MESH_FORMAT_* from a file name's extension (.ply, .obj, .stl, any case); UNSPECIFIED otherwise.
