@@ -37,6 +37,11 @@ Status ValidateOptions(const NextBestViewOptions& o) {
   }
   if (o.max_rays_per_view < 1) return InvalidArgument("next_best_views.max_rays_per_view", "must be at least 1");
   if (o.min_gain_samples < 1) return InvalidArgument("next_best_views.min_gain_samples", "must be at least 1");
+  if (o.light) {
+    RETURN_IF_ERROR(sensor::ValidateEmitter(o.light->emitter, "next_best_views.light.emitter"));
+    RETURN_IF_ERROR(sensor::ValidatePixelResponse(o.light->pixel, "next_best_views.light.pixel"));
+    RETURN_IF_ERROR(sensor::ValidateMaterial(o.light->material, "next_best_views.light.material"));
+  }
   return Status::Ok();
 }
 
@@ -120,7 +125,8 @@ StatusOr<std::vector<ViewPick>> PickNextBestViews(const TriangleMesh& mesh, std:
     if (IsCancelled(cancel)) return;
     const Pose3& pose = candidates[c].frame_from_sensor;
     const sensor::PinholeCamera thin = ThinCamera(camera, ViewStride(camera, pose, missed, options));
-    StatusOr<ViewHits> view = CastView(*scene, thin, pose, options.max_incidence_deg, cancel);
+    StatusOr<ViewHits> view =
+        CastView(*scene, thin, pose, options.max_incidence_deg, cancel, options.light ? &*options.light : nullptr);
     if (!view.ok()) {
       failures[c] = view.status();
       return;

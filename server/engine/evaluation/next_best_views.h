@@ -7,11 +7,13 @@
 #include <atomic>
 #include <cstddef>
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "evaluation/view_hits.h"
 #include "sensor/camera.h"
 #include "vscan/common/mesh.h"
 #include "vscan/common/pose.h"
@@ -36,6 +38,9 @@ struct NextBestViewOptions {
   size_t max_rays_per_view = 200'000;
   // Stop when the best candidate adds fewer samples than this.
   size_t min_gain_samples = 1;
+  // Set: a candidate sees only the surface its own light would measure on the mesh's material
+  // (neither dark nor saturated), as a scan with the returned light would.
+  std::optional<MeasurableLight> light;
 };
 
 struct ViewPick {

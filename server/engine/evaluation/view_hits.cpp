@@ -27,11 +27,19 @@ bool Window(double centre, double reach, uint32_t pixels, int& first, int& last)
   return first <= last;
 }
 
+// Whether the pixel's mean signal from a hit (sensor frame, normal facing the sensor) decodes.
+bool Measurable(const MeasurableLight& light, const Eigen::Vector3d& point, const Eigen::Vector3d& normal) {
+  const double radiance = sensor::DirectRadiance(light.material, point, normal, light.emitter, Eigen::Vector3d::Zero());
+  const double expected = sensor::ExpectedElectrons(radiance, sensor::OffAxisFalloff(point), light.pixel);
+  // The verdict reads the mean only, so the draw's seed does not matter.
+  return sensor::RespondToElectrons(expected, light.pixel, 0, 0).verdict == sensor::SignalVerdict::kMeasured;
+}
+
 }  // namespace
 
 StatusOr<ViewHits> CastView(const raycast::RaycastScene& scene, const sensor::PinholeCamera& camera,
                             const Pose3& frame_from_sensor, double max_incidence_deg,
-                            const std::atomic<bool>* cancel) {
+                            const std::atomic<bool>* cancel, const MeasurableLight* light) {
   raycast::ScanOptions scan;
   scan.fields = kFieldPosition | kFieldNormal | kFieldPixel;
   scan.frame = raycast::ScanFrame::kWorld;
@@ -46,9 +54,14 @@ StatusOr<ViewHits> CastView(const raycast::RaycastScene& scene, const sensor::Pi
   const auto min_cos = static_cast<float>(std::cos(max_incidence_deg * std::numbers::pi / 180));
   // Normals face the sensor, so the cosine is never negative: 90 degrees keeps every hit.
   const bool keep_all = max_incidence_deg >= 90;
+  const Eigen::Isometry3d sensor_from_frame = frame_from_sensor.inverse();
   for (size_t i = 0; i < cloud.size(); ++i) {
     const Eigen::Vector3f to_sensor = (origin - cloud.positions[i]).normalized();
     if (!keep_all && cloud.normals[i].dot(to_sensor) < min_cos) continue;
+    if (light && !Measurable(*light, sensor_from_frame * cloud.positions[i].cast<double>(),
+                             sensor_from_frame.linear() * cloud.normals[i].cast<double>())) {
+      continue;
+    }
     view.hit_of_pixel[cloud.pixels[i]] = static_cast<int32_t>(view.hits.size());
     view.hits.push_back(cloud.positions[i]);
   }

@@ -281,3 +281,38 @@ TEST(NextBestViews, StopsWhenCancelled) {
 
 }  // namespace
 }  // namespace vscan::evaluation
+
+namespace vscan::evaluation {
+namespace {
+
+TEST(NextBestViews, UnderTheSensorsOwnLightABlackPartGivesNoPicksAndAWhiteOneTheSame) {
+  const BoxCase box = ScannedFromTheSides();
+  const std::vector<CandidateView> views = AxisViews();
+  const auto unlit = Pick(box, views);
+  ASSERT_TRUE(unlit.ok());
+  ASSERT_FALSE(unlit->empty());
+  NextBestViewOptions options = Options();
+  options.light.emplace();
+  options.light->emitter.radiant_intensity_w_per_sr = 0.001;
+  options.light->pixel.gain_e = 1e7;
+  // White at 1 m: about 2900 e; black 300 times less, an SNR under 2.
+  options.light->material = {0.9, 0.0, 1.0, 0.0};
+  const auto white = Pick(box, views, options);
+  ASSERT_TRUE(white.ok());
+  ASSERT_EQ(white->size(), unlit->size());
+  for (size_t i = 0; i < unlit->size(); ++i) {
+    EXPECT_EQ((*white)[i].candidate, (*unlit)[i].candidate);
+    EXPECT_EQ((*white)[i].gained_samples, (*unlit)[i].gained_samples);
+  }
+  options.light->material = {0.003, 0.0, 1.0, 0.0};
+  const auto black = Pick(box, views, options);
+  ASSERT_TRUE(black.ok());
+  EXPECT_TRUE(black->empty());
+  options.light->material.roughness = 2;
+  const auto refused = Pick(box, views, options);
+  ASSERT_FALSE(refused.ok());
+  EXPECT_EQ(refused.status().field(), "next_best_views.light.material.roughness");
+}
+
+}  // namespace
+}  // namespace vscan::evaluation

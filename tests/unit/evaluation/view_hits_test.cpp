@@ -113,3 +113,59 @@ TEST(ViewHits, NothingIsNearAViewThatHitsNothing) {
 
 }  // namespace
 }  // namespace vscan::evaluation
+
+namespace vscan::evaluation {
+namespace {
+
+// A 1 m x 1 m plane facing the sensor 1 m away, lit by an emitter at the camera.
+struct LitPlane {
+  std::shared_ptr<const raycast::RaycastScene> scene =
+      Build(test::MakeBox(Eigen::Vector3d(-0.5, -0.5, -0.01), Eigen::Vector3d(0.5, 0.5, 0)));
+  sensor::PinholeCamera camera = sensor::CameraFromFov(64, 48, 40, 0.05, 5);
+  Pose3 pose = *PoseFromLookAt({0, 0, 1}, Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitY(), "eye");
+
+  MeasurableLight Light(const sensor::Material& material) const {
+    MeasurableLight light;
+    light.emitter.radiant_intensity_w_per_sr = 0.001;
+    light.pixel.gain_e = 1e7;
+    light.material = material;
+    return light;
+  }
+};
+
+sensor::Material Lambertian(double albedo) { return {albedo, 0.0, 1.0, 0.0}; }
+
+TEST(ViewHits, UnderItsOwnLightOnlyTheSurfaceThatWouldDecodeIsSeen) {
+  const LitPlane plane;
+  const auto unlit = CastView(*plane.scene, plane.camera, plane.pose, 90, nullptr);
+  ASSERT_TRUE(unlit.ok());
+  ASSERT_EQ(unlit->hits.size(), plane.camera.pixel_count());
+  // White: 0.9 / pi x 1e-3 / 1 m^2 x 1e7 = about 2900 e on the axis, an SNR above 50.
+  const MeasurableLight white = plane.Light(Lambertian(0.9));
+  const auto lit_white = CastView(*plane.scene, plane.camera, plane.pose, 90, nullptr, &white);
+  ASSERT_TRUE(lit_white.ok());
+  EXPECT_EQ(lit_white->hits.size(), unlit->hits.size());
+  // Black at 0.003: about 9.5 e, an SNR near 1.7, under the bar of 5 everywhere.
+  const MeasurableLight black = plane.Light(Lambertian(0.003));
+  const auto lit_black = CastView(*plane.scene, plane.camera, plane.pose, 90, nullptr, &black);
+  ASSERT_TRUE(lit_black.ok());
+  EXPECT_TRUE(lit_black->hits.empty());
+}
+
+TEST(ViewHits, APolishedPlaneLosesOnlyTheSaturatedDiscAboutItsHighlight) {
+  const LitPlane plane;
+  MeasurableLight mirror = plane.Light({0.9, 1.0, 0.1, 0.04});
+  mirror.pixel.full_well_e = 20000;
+  const auto view = CastView(*plane.scene, plane.camera, plane.pose, 90, nullptr, &mirror);
+  ASSERT_TRUE(view.ok());
+  const uint32_t w = plane.camera.width, h = plane.camera.height;
+  // The highlight sits on the axis (emitter and camera together): the centre is saturated, the
+  // corners, far off the specular direction, are dark; the pixels in between decode.
+  EXPECT_EQ(view->hit_of_pixel[(h / 2) * w + w / 2], -1);
+  EXPECT_EQ(view->hit_of_pixel[0], -1);
+  EXPECT_GT(view->hits.size(), 0u);
+  EXPECT_LT(view->hits.size(), plane.camera.pixel_count());
+}
+
+}  // namespace
+}  // namespace vscan::evaluation
