@@ -1,0 +1,184 @@
+"""Materials and the returned light in the plans that scan, through a real vscand and the CLI: a
+campaign whose bunny is black anodised aluminium under a weak emitter loses rays as too dark where a
+white one keeps them, and a dataset whose part chooses among three materials per scene records each
+scene's choice in scene_materials.json, as an independent reimplementation of the choice predicts."""
+
+import json
+import os
+import subprocess
+import tempfile
+import unittest
+
+from harness import BUNNY, DATA, VSCAN, Server, cli_result
+from vscan import Client
+
+PARTS = os.path.join(DATA, "parts")
+PANDA = os.path.join(DATA, "robots", "panda")
+MASK = (1 << 64) - 1
+
+
+def campaign_plan(material, light="returned_light: {emitter_w_per_sr: 0.002}"):
+    return f"""name: lit-bunny
+scene:
+  objects:
+    - mesh: {BUNNY}
+      unit: m
+      on_table: true
+      pose: {{xyz: [0.017, 0, -0.033], rpy_deg: [90, 0, 0]}}
+      material: {material}
+  table: {{centre: [0, 0, 0], axis: [0, 0, 1]}}
+robot:
+  bundle: {PANDA}
+  urdf: panda.urdf
+  base_link: panda_link0
+  tip_link: panda_hand_tcp
+  base_pose: {{xyz: [0.6, 0, 0], rpy_deg: [0, 0, 180]}}
+sensor:
+  pinhole: {{width: 160, height: 120, horizontal_fov_deg: 60, near: 0.05, far: 2}}
+{light}
+seed: 1
+viewpoints:
+  - {{position: [0.30, 0.10, 0.20], target: [0, 0, 0.07]}}
+"""
+
+
+def mix(x, more):
+    """splitmix64's step, as the dataset job's material choice takes it."""
+    x = (x + 0x9E3779B97F4A7C15 + more) & MASK
+    x = ((x ^ (x >> 30)) * 0xBF58476D1CE4E5B9) & MASK
+    x = ((x ^ (x >> 27)) * 0x94D049BB133111EB) & MASK
+    return x ^ (x >> 31)
+
+
+def chosen(seed, bin_index, part_index, count):
+    return mix(mix(mix(seed, 0x6D6174657269616C), bin_index), part_index) % count
+
+
+CHOICES = ["machined-aluminium", "black-anodised-aluminium", "white-abs"]
+
+
+def dataset_plan(seeds, choices=", ".join(CHOICES)):
+    return f"""name: lit-bins
+bins:
+  - name: blocks
+    bin: {{inner_size: [0.20, 0.15, 0.10]}}
+    parts:
+      - {{mesh: {PARTS}/angle_block.STL, unit: in, count: 3, material: {{choose: [{choices}]}}}}
+      - {{mesh: {PARTS}/round.stl, unit: cm, scale: 0.25, count: 1}}
+    max_simulated_s: 4
+seeds: {{first: 1, count: {seeds}}}
+sensors:
+  - {{name: tof, preset: kinect-v2-class, width: 128, height: 106}}
+returned_light: {{}}
+"""
+
+
+class PlanMaterialsTest(unittest.TestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory(prefix="vscan-planmat-")
+        cls.server = Server(data_dir=cls.tmp.name).start()
+
+    @classmethod
+    def tearDownClass(cls):
+        cls.server.stop()
+        cls.tmp.cleanup()
+
+    def vscan(self, *args, timeout=300):
+        return subprocess.run([VSCAN, "--server", self.server.address, *args], capture_output=True, text=True,
+                              timeout=timeout)
+
+    def write(self, name, text):
+        path = os.path.join(self.tmp.name, name)
+        with open(path, "w") as f:
+            f.write(text)
+        return path
+
+    def run_campaign(self, name, material):
+        out = os.path.join(self.tmp.name, name)
+        run = self.vscan("--json", "campaign", "run", self.write(name + ".yaml", campaign_plan(material)), "-o", out)
+        self.assertEqual(run.returncode, 0, run.stderr + self.server.log())
+        result = cli_result(run.stdout)
+        with open(os.path.join(out, "campaign.json")) as f:
+            report = json.load(f)
+        return result, report["steps"][0]
+
+    def test_a_black_anodised_bunny_goes_dark_under_a_weak_emitter_and_a_white_one_does_not(self):
+        black, black_step = self.run_campaign("black", "black-anodised-aluminium")
+        white, white_step = self.run_campaign("white", "white-abs")
+        self.assertEqual(black_step["outcome"], "captured")
+        self.assertGreater(int(black_step.get("rejected_dark", 0)), 0, black_step)
+        self.assertEqual(int(white_step.get("rejected_dark", 0)), 0, white_step)
+        # The rays the black bunny loses are the points it lacks.
+        self.assertLess(black_step["points"], white_step["points"])
+        with Client(self.server.address) as client:
+            job = client.get_job(black["job"]["jobId"])
+            self.assertEqual(job.campaign.returned_light.emitter_w_per_sr, 0.002)
+            scene = client.get_scene(job.campaign.scene_id)
+            self.assertEqual(scene.objects[0].material.preset, "black-anodised-aluminium")
+
+    def test_campaign_plans_with_bad_materials_or_light_are_refused_at_their_line(self):
+        with Client(self.server.address) as client:
+            scenes_before = len(client.list_scenes())
+        unknown = self.vscan("campaign", "run", self.write("unknown.yaml", campaign_plan("unobtainium")))
+        self.assertEqual(unknown.returncode, 2, unknown.stderr)
+        self.assertIn("unknown.yaml:9: scene.objects[0].material: unknown preset 'unobtainium' (matte-grey",
+                      unknown.stderr)
+        bright = self.vscan("campaign", "run", self.write("bright.yaml", campaign_plan(
+            "white-abs", "returned_light: {emitter_w_per_sr: 0.5,\n  exposure_s: 20}")))
+        self.assertEqual(bright.returncode, 2, bright.stderr)
+        self.assertIn("bright.yaml:22: returned_light.exposure_s:", bright.stderr)
+        nan = self.vscan("campaign", "run", self.write("nan.yaml", campaign_plan(
+            "{diffuse_albedo: .nan, metallic: 0, roughness: 0.5, specular_reflectance: 0.04}")))
+        self.assertEqual(nan.returncode, 2, nan.stderr)
+        self.assertIn("nan.yaml:9: scene.objects[0].material.diffuse_albedo: '.nan' is not finite", nan.stderr)
+        with Client(self.server.address) as client:
+            self.assertEqual(len(client.list_scenes()), scenes_before)  # nothing was created
+
+    def test_a_datasets_part_takes_one_of_its_materials_per_scene_as_the_seed_says(self):
+        seeds = 6
+        run = self.vscan("dataset", "run", self.write("lit.yaml", dataset_plan(seeds)), "--watch")
+        self.assertEqual(run.returncode, 0, run.stderr + self.server.log())
+        job_id = (run.stdout + run.stderr).split("started dataset job ")[1].split()[0]
+        root = os.path.join(self.tmp.name, "store", "datasets", job_id)
+        with open(os.path.join(root, "scenes.json")) as f:
+            scenes = json.load(f)["scenes"]
+        self.assertEqual(len(scenes), seeds)
+        taken = set()
+        for entry in scenes:
+            scene = os.path.join(root, "train_pbr", "%06d" % entry["scene_id"])
+            with open(os.path.join(scene, "scene_materials.json")) as f:
+                instances = json.load(f)["instances"]
+            with open(os.path.join(scene, "scene_gt.json")) as f:
+                gt = json.load(f)["0"]
+            # One entry per placed part, as scene_gt.json lists them.
+            self.assertEqual(sorted(i["obj_id"] for i in instances), sorted(p["obj_id"] for p in gt))
+            blocks = [i for i in instances if i["obj_id"] == 1]
+            rods = [i for i in instances if i["obj_id"] == 2]
+            self.assertGreater(len(blocks), 0, instances)
+            expected = CHOICES[chosen(entry["seed"], 0, 0, len(CHOICES))]
+            for block in blocks:
+                self.assertEqual(block["material"], {"preset": expected}, entry)
+            for rod in rods:
+                self.assertEqual(rod["material"], {"preset": "matte-grey"})  # no material: the default
+            taken.add(expected)
+        self.assertGreater(len(taken), 1, "six seeds should not all choose the same material")
+
+    def test_dataset_plans_with_bad_materials_are_refused_naming_the_key_and_line(self):
+        cases = [
+            (dataset_plan(1, "white-abs, unobtainium"),
+             "spec.plan_yaml: bins[0].parts[0].material.choose[1]: unknown preset 'unobtainium'"),
+            (dataset_plan(1, ""), "spec.plan_yaml: bins[0].parts[0].material.choose: expected at least 1 items (line 6)"),
+            (dataset_plan(1, ", ".join(["white-abs"] * 65)),
+             "spec.plan_yaml: bins[0].parts[0].material.choose: at most 64 materials, got 65 (line 6)"),
+            (dataset_plan(1).replace("returned_light: {}", "returned_light: {exposure_s: 20}"),
+             "spec.plan_yaml.returned_light.exposure_s"),
+        ]
+        for text, key in cases:
+            refused = self.vscan("dataset", "run", self.write("bad.yaml", text))
+            self.assertNotEqual(refused.returncode, 0, refused.stderr)
+            self.assertIn(key, refused.stderr)
+
+
+if __name__ == "__main__":
+    unittest.main()
