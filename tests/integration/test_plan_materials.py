@@ -17,7 +17,7 @@ PANDA = os.path.join(DATA, "robots", "panda")
 MASK = (1 << 64) - 1
 
 
-def campaign_plan(material, light="returned_light: {emitter_w_per_sr: 0.002}"):
+def campaign_plan(material, light="returned_light: {emitter_w_per_sr: 0.00003}"):
     return f"""name: lit-bunny
 scene:
   objects:
@@ -107,13 +107,17 @@ class PlanMaterialsTest(unittest.TestCase):
         black, black_step = self.run_campaign("black", "black-anodised-aluminium")
         white, white_step = self.run_campaign("white", "white-abs")
         self.assertEqual(black_step["outcome"], "captured")
-        self.assertGreater(int(black_step.get("rejected_dark", 0)), 0, black_step)
-        self.assertEqual(int(white_step.get("rejected_dark", 0)), 0, white_step)
-        # The rays the black bunny loses are the points it lacks.
-        self.assertLess(black_step["points"], white_step["points"])
+        black_dark, white_dark = int(black_step.get("rejected_dark", 0)), int(white_step.get("rejected_dark", 0))
+        # The same rays meet the same bunny: every one is a point or a rejected ray in both scans.
+        self.assertEqual(black_step["points"] + black_dark, white_step["points"] + white_dark)
+        self.assertNotIn("rejected_saturated", black_step)
+        self.assertNotIn("rejected_saturated", white_step)
+        # albedo 0.85 against about 0.03: most of the black bunny is too dark, little of the white one.
+        self.assertGreater(black_dark, black_step["points"], black_step)
+        self.assertLess(white_dark * 10, black_dark, white_step)
         with Client(self.server.address) as client:
             job = client.get_job(black["job"]["jobId"])
-            self.assertEqual(job.campaign.returned_light.emitter_w_per_sr, 0.002)
+            self.assertEqual(job.campaign.returned_light.emitter_w_per_sr, 0.00003)
             scene = client.get_scene(job.campaign.scene_id)
             self.assertEqual(scene.objects[0].material.preset, "black-anodised-aluminium")
 
@@ -122,16 +126,16 @@ class PlanMaterialsTest(unittest.TestCase):
             scenes_before = len(client.list_scenes())
         unknown = self.vscan("campaign", "run", self.write("unknown.yaml", campaign_plan("unobtainium")))
         self.assertEqual(unknown.returncode, 2, unknown.stderr)
-        self.assertIn("unknown.yaml:9: scene.objects[0].material: unknown preset 'unobtainium' (matte-grey",
+        self.assertIn("unknown.yaml:8: scene.objects[0].material: unknown preset 'unobtainium' (matte-grey",
                       unknown.stderr)
         bright = self.vscan("campaign", "run", self.write("bright.yaml", campaign_plan(
             "white-abs", "returned_light: {emitter_w_per_sr: 0.5,\n  exposure_s: 20}")))
         self.assertEqual(bright.returncode, 2, bright.stderr)
-        self.assertIn("bright.yaml:22: returned_light.exposure_s:", bright.stderr)
+        self.assertIn("bright.yaml:19: returned_light.exposure_s:", bright.stderr)
         nan = self.vscan("campaign", "run", self.write("nan.yaml", campaign_plan(
             "{diffuse_albedo: .nan, metallic: 0, roughness: 0.5, specular_reflectance: 0.04}")))
         self.assertEqual(nan.returncode, 2, nan.stderr)
-        self.assertIn("nan.yaml:9: scene.objects[0].material.diffuse_albedo: '.nan' is not finite", nan.stderr)
+        self.assertIn("nan.yaml:8: scene.objects[0].material.diffuse_albedo: '.nan' is not finite", nan.stderr)
         with Client(self.server.address) as client:
             self.assertEqual(len(client.list_scenes()), scenes_before)  # nothing was created
 
@@ -163,6 +167,27 @@ class PlanMaterialsTest(unittest.TestCase):
                 self.assertEqual(rod["material"], {"preset": "matte-grey"})  # no material: the default
             taken.add(expected)
         self.assertGreater(len(taken), 1, "six seeds should not all choose the same material")
+
+    def run_dataset(self, name, text):
+        run = self.vscan("dataset", "run", self.write(name, text), "--watch")
+        self.assertEqual(run.returncode, 0, run.stderr + self.server.log())
+        job_id = (run.stdout + run.stderr).split("started dataset job ")[1].split()[0]
+        return os.path.join(self.tmp.name, "store", "datasets", job_id, "train_pbr", "000000")
+
+    def test_a_datasets_weak_emitter_leaves_its_black_parts_unmeasured(self):
+        black = dataset_plan(1, "black-anodised-aluminium")
+        visible = {}
+        for name, text in (("unlit.yaml", black.replace("returned_light: {}\n", "")),
+                           ("lit.yaml", black.replace("returned_light: {}", "returned_light: {emitter_w_per_sr: 1e-5}"))):
+            scene = self.run_dataset(name, text)
+            with open(os.path.join(scene, "scene_gt_info.json")) as f:
+                info = json.load(f)["0"]
+            with open(os.path.join(scene, "scene_gt.json")) as f:
+                gt = json.load(f)["0"]
+            visible[name] = sum(i["px_count_visib"] for i, p in zip(info, gt) if p["obj_id"] == 1)
+        # The same seed fills the same bin: the blocks the unlit scan sees, the lit one mostly loses.
+        self.assertGreater(visible["unlit.yaml"], 20, visible)
+        self.assertLess(visible["lit.yaml"], visible["unlit.yaml"] / 2, visible)
 
     def test_dataset_plans_with_bad_materials_are_refused_naming_the_key_and_line(self):
         cases = [
