@@ -10,7 +10,8 @@ import tempfile
 import unittest
 
 from harness import BUNNY, DATA, VSCAN, Server, cli_result
-from vscan import Client
+from vscan import Client, VscanError
+from vscan.jobs import campaign_spec
 
 PARTS = os.path.join(DATA, "parts")
 PANDA = os.path.join(DATA, "robots", "panda")
@@ -120,6 +121,20 @@ class PlanMaterialsTest(unittest.TestCase):
             self.assertEqual(job.campaign.returned_light.emitter_w_per_sr, 0.00003)
             scene = client.get_scene(job.campaign.scene_id)
             self.assertEqual(scene.objects[0].material.preset, "black-anodised-aluminium")
+            # The Python client's campaign with the same light scans the same rays dark.
+            again = client.start_campaign(job.campaign.scene_id, job.campaign.mount_id,
+                                          [((0.30, 0.10, 0.20), (0, 0, 0.07))], width=160, height=120, hfov_deg=60,
+                                          near=0.05, far=2, seed=1, returned_light={"emitter_w_per_sr": 0.00003})
+            done = client.wait_job(again.job_id, timeout=120)
+            self.assertEqual(done.campaign.returned_light.emitter_w_per_sr, 0.00003)
+            scans = [a for a in done.artifacts if a.name.endswith(".ply")]
+            self.assertEqual([a.scan.points for a in scans], [black_step["points"]])
+            with self.assertRaises(VscanError) as refused:
+                client.validate_campaign(viewpoints=[((0.3, 0.1, 0.2), (0, 0, 0.07))],
+                                         returned_light={"exposure_s": 20})
+            self.assertIn("spec.returned_light.exposure_s", refused.exception.message)
+            with self.assertRaises(ValueError):
+                campaign_spec("s", "m", [], returned_light={"exposure": 1})
 
     def test_campaign_plans_with_bad_materials_or_light_are_refused_at_their_line(self):
         with Client(self.server.address) as client:
