@@ -108,7 +108,7 @@ class PlanMaterialsTest(unittest.TestCase):
         black, black_step = self.run_campaign("black", "black-anodised-aluminium")
         white, white_step = self.run_campaign("white", "white-abs")
         self.assertEqual(black_step["outcome"], "captured")
-        black_dark, white_dark = int(black_step.get("rejected_dark", 0)), int(white_step.get("rejected_dark", 0))
+        black_dark, white_dark = black_step.get("rejected_dark", 0), white_step.get("rejected_dark", 0)
         # The same rays meet the same bunny: every one is a point or a rejected ray in both scans.
         self.assertEqual(black_step["points"] + black_dark, white_step["points"] + white_dark)
         self.assertNotIn("rejected_saturated", black_step)
