@@ -24,6 +24,19 @@ size_t PartMaterialIndex(uint64_t seed, size_t bin_index, size_t part_index, siz
   return static_cast<size_t>(draw % count);
 }
 
+void WriteMaterial(JsonWriter& json, const plan::MaterialPlan& material) {
+  json.Open('{');
+  if (!material.preset.empty()) {
+    json.Key("preset").Value(material.preset);
+  } else {
+    json.Key("diffuse_albedo").Value(material.diffuse_albedo);
+    json.Key("metallic").Value(material.metallic);
+    json.Key("roughness").Value(material.roughness);
+    json.Key("specular_reflectance").Value(material.specular_reflectance);
+  }
+  json.Close('}');
+}
+
 std::string SceneMaterialsJson(const std::vector<InstanceMaterial>& instances) {
   JsonWriter json;
   json.Open('{');
@@ -33,16 +46,8 @@ std::string SceneMaterialsJson(const std::vector<InstanceMaterial>& instances) {
     json.Key("instance_id").Value(uint64_t{instance.instance_id});
     json.Key("obj_id").Value(uint64_t{instance.obj_id});
     json.Key("part").Value(instance.part);
-    json.Key("material").Open('{');
-    if (!instance.material.preset.empty()) {
-      json.Key("preset").Value(instance.material.preset);
-    } else {
-      json.Key("diffuse_albedo").Value(instance.material.diffuse_albedo);
-      json.Key("metallic").Value(instance.material.metallic);
-      json.Key("roughness").Value(instance.material.roughness);
-      json.Key("specular_reflectance").Value(instance.material.specular_reflectance);
-    }
-    json.Close('}');
+    json.Key("material");
+    WriteMaterial(json, instance.material);
     json.Close('}');
   }
   json.Close(']');

@@ -10,6 +10,10 @@
 
 #include "vscan/plan/material_plan.h"
 
+namespace vscan::service {
+class JsonWriter;
+}
+
 namespace vscan::service::dataset {
 
 // The index among `count` materials part type `part_index` of bin `bin_index` takes under the
@@ -22,6 +26,9 @@ struct InstanceMaterial {
   std::string part;  // the part type's name
   plan::MaterialPlan material;
 };
+
+// {"preset": NAME} or {diffuse_albedo, metallic, roughness, specular_reflectance}, as a value.
+void WriteMaterial(JsonWriter& json, const plan::MaterialPlan& material);
 
 // {"instances": [{"instance_id", "obj_id", "part", "material": {"preset"} or {the four values}}]}.
 std::string SceneMaterialsJson(const std::vector<InstanceMaterial>& instances);

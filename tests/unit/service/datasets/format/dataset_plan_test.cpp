@@ -181,9 +181,30 @@ TEST(DatasetPlanYaml, APartsPhysicsIsPartOfTheDatasetsIdentity) {
   EXPECT_EQ(plain.find("density_kg_per_m3"), std::string::npos);
   EXPECT_EQ(manifest(", collision: convex_hull, density_kg_per_m3: 2700"), plain);
   std::set<std::string> distinct = {plain};
-  for (const std::string part : {", collision: convex_decomposition", ", mass_kg: 0.2", ", density_kg_per_m3: 7800"}) {
+  for (const std::string part : {", collision: convex_decomposition", ", mass_kg: 0.2", ", density_kg_per_m3: 7800",
+                                 ", material: white-abs", ", material: {choose: [white-abs, black-abs]}",
+                                 ", material: {choose: [black-abs, white-abs]}"}) {
     EXPECT_TRUE(distinct.insert(manifest(part)).second) << part;
   }
+  EXPECT_EQ(plain.find("material"), std::string::npos);
+  EXPECT_EQ(plain.find("returned_light"), std::string::npos);
+}
+
+// A lit plan and an unlit one, or two lights, are two datasets.
+TEST(DatasetPlanYaml, TheReturnedLightIsPartOfTheDatasetsIdentity) {
+  const auto manifest = [](const std::string& light) {
+    const auto plan = ParseDatasetPlanYaml("bins:\n  - name: b\n    bin: {inner_size: [0.3, 0.2, 0.1]}\n"
+                                           "    parts: [{mesh: block.stl, unit: m, count: 3}]\n"
+                                           "seeds: [4]\nsensors: [ideal-vga]\n" + light,
+                                           "plan.yaml");
+    EXPECT_TRUE(plan.ok()) << plan.status().ToString();
+    return plan.ok() ? DatasetManifestJson(*plan) : std::string();
+  };
+  const std::set<std::string> distinct = {manifest(""), manifest("returned_light: {}\n"),
+                                          manifest("returned_light: {emitter_w_per_sr: 0.5}\n"),
+                                          manifest("returned_light: {min_snr: 3}\n")};
+  EXPECT_EQ(distinct.size(), 4u);
+  EXPECT_NE(manifest("returned_light: {min_snr: 3}\n").find("\"min_snr\":3"), std::string::npos);
 }
 
 // A dataset's bins are read by the bin plans' reader (vscan/plan/bin_fill_plan.h): its messages,
