@@ -9,7 +9,8 @@ import subprocess
 import tempfile
 import unittest
 
-from harness import BUNNY, DATA, VSCAN, Server, cli_result
+from harness import BUNNY, DATA, VSCAN, VSCAND, Server, cli_result
+from test_dataset_job import tree
 from vscan import Client, VscanError
 from vscan.jobs import campaign_spec
 
@@ -182,6 +183,15 @@ class PlanMaterialsTest(unittest.TestCase):
                 self.assertEqual(rod["material"], {"preset": "matte-grey"})  # no material: the default
             taken.add(expected)
         self.assertGreater(len(taken), 1, "six seeds should not all choose the same material")
+        # The one-shot shards light and choose the same: the same bytes.
+        one_shot = os.path.join(self.tmp.name, "one-shot")
+        plan = os.path.join(self.tmp.name, "lit.yaml")
+        for args in (["--dataset-shard", plan, "--shard-index", "0", "--shard-count", "2"],
+                     ["--dataset-shard", plan, "--shard-index", "1", "--shard-count", "2"], ["--dataset-merge", plan]):
+            done = subprocess.run([VSCAND, "--log-level", "warn", *args, "--out", one_shot], capture_output=True,
+                                  text=True, timeout=300)
+            self.assertEqual(done.returncode, 0, done.stderr)
+        self.assertEqual(tree(root), tree(one_shot))
 
     def run_dataset(self, name, text):
         run = self.vscan("dataset", "run", self.write(name, text), "--watch")
