@@ -4,10 +4,14 @@ white one keeps them, and a dataset whose part chooses among three materials per
 scene's choice in scene_materials.json, as an independent reimplementation of the choice predicts."""
 
 import json
+import math
 import os
 import subprocess
 import tempfile
+import time
 import unittest
+
+import grpc
 
 from harness import BUNNY, DATA, VSCAN, VSCAND, Server, cli_result
 from test_dataset_job import tree
@@ -213,6 +217,22 @@ class PlanMaterialsTest(unittest.TestCase):
         # The same seed fills the same bin: the blocks the unlit scan sees, the lit one mostly loses.
         self.assertGreater(visible["unlit.yaml"], 20, visible)
         self.assertLess(visible["lit.yaml"], visible["unlit.yaml"] / 2, visible)
+
+    def test_hostile_plans_are_refused_at_once(self):
+        # Within the 1 MiB a plan may take, about 90000 choices: refused by their count.
+        huge = dataset_plan(1, ", ".join(["white-abs"] * 90000))
+        started = time.monotonic()
+        with Client(self.server.address) as client:
+            with self.assertRaises(VscanError) as refused:
+                client.validate_dataset(self.write("huge.yaml", huge))
+            self.assertEqual(refused.exception.code, grpc.StatusCode.INVALID_ARGUMENT)
+            self.assertIn("material.choose: at most 64 materials, got 90000", refused.exception.message)
+            with self.assertRaises(VscanError) as refused:
+                client.validate_campaign(viewpoints=[((0.3, 0.1, 0.2), (0, 0, 0.07))],
+                                         returned_light={"min_snr": math.nan})
+            self.assertEqual(refused.exception.code, grpc.StatusCode.INVALID_ARGUMENT)
+            self.assertIn("spec.returned_light.min_snr", refused.exception.message)
+        self.assertLess(time.monotonic() - started, 30)
 
     def test_dataset_plans_with_bad_materials_are_refused_naming_the_key_and_line(self):
         cases = [
