@@ -116,9 +116,10 @@ StatusOr<FilledBin> FillAndBuild(const DatasetBinSetup& bin, uint64_t seed, size
                           materials.empty() ? sensor::DefaultMaterial() : materials[chosen[placed.type]]});
     if (filled.materials) {
       const auto& named = bin.material_plans[placed.type];
-      filled.materials->push_back({instance_id, bin.obj_ids[placed.type], bin.parts[placed.type].name,
-                                   named.empty() ? plan::MaterialPlan{sensor::MaterialPresets().front().name, 0, 0, 0, 0}
-                                                 : named[chosen[placed.type]]});
+      const plan::MaterialPlan material =
+          named.empty() ? plan::MaterialPlan{sensor::MaterialPresets().front().name, 0, 0, 0, 0}
+                        : named[chosen[placed.type]];
+      filled.materials->push_back({instance_id, bin.obj_ids[placed.type], bin.parts[placed.type].name, material});
     }
     store::ObjectRecord object;
     object.object_id = std::to_string(instance_id);

@@ -71,7 +71,8 @@ StatusOr<DatasetBinSetup> PrepareBin(const dataset::DatasetBinFill& fill, const 
     std::vector<sensor::Material> materials;
     for (size_t k = 0; k < asked.materials.size(); ++k) {
       const std::string choice = asked.materials.size() > 1 ? ".choose[" + std::to_string(k) + "]" : "";
-      ASSIGN_OR_RETURN(sensor::Material material, ResolveMaterial(asked.materials[k], part_field + ".material" + choice));
+      ASSIGN_OR_RETURN(sensor::Material material,
+                       ResolveMaterial(asked.materials[k], part_field + ".material" + choice));
       materials.push_back(material);
     }
     bin.material_plans.push_back(asked.materials);

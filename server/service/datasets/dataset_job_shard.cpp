@@ -25,7 +25,8 @@ StatusOr<dataset::DatasetProgress> RunDatasetShardFromFile(
   RETURN_IF_ERROR(dataset::CheckShard(shard_index, shard_count));
   ASSIGN_OR_RETURN(const dataset::DatasetPlan plan, ReadDatasetPlanFile(plan_file));
   ASSIGN_OR_RETURN(DatasetSetup setup,
-                   PrepareDataset(plan, MeshFilesFrom(plan_file.parent_path()), Limits{}.max_rays_per_scan, resolve_light));
+                   PrepareDataset(plan, MeshFilesFrom(plan_file.parent_path()), Limits{}.max_rays_per_scan,
+                                  resolve_light));
   auto shared = std::make_shared<const DatasetSetup>(std::move(setup));
   dataset::ShardRun run;
   run.shard_index = shard_index;

@@ -165,7 +165,8 @@ StatusOr<DatasetPlan> PlanFromNode(const YAML::Node& root, const std::string& so
   if (root["returned_light"]) {
     const plan::YamlReader yaml(source);
     const plan::YamlAt top{root, "", root.Mark()};
-    ASSIGN_OR_RETURN(plan.returned_light, plan::ReadReturnedLight(yaml, plan::YamlReader::Child(top, "returned_light")));
+    ASSIGN_OR_RETURN(plan.returned_light,
+                     plan::ReadReturnedLight(yaml, plan::YamlReader::Child(top, "returned_light")));
   }
   const Status checked = CheckPlan(plan);
   if (!checked.ok()) return Refuse(source, checked.field(), std::string(checked.text()));

@@ -67,7 +67,8 @@ std::optional<std::string> ShortUnitName(std::string_view unit);
 std::optional<double> MetresPerUnit(std::string_view unit);
 
 // material: NAME, or {diffuse_albedo, metallic, roughness, specular_reflectance}, all four, each
-// within [0, 1] (roughness (0, 1]), as the server checks them. Names are not looked up here (the plan's reader or the server knows the presets).
+// within [0, 1] (roughness (0, 1]), as the server checks them. Names are not looked up here: the
+// plan's reader or the server knows the presets.
 StatusOr<MaterialPlan> ReadMaterial(const YamlReader& yaml, const YamlAt& at);
 // A material as ReadMaterial reads it, or {choose: [material, ...]} with 1 to kMaxMaterialChoices
 // materials; one material is a list of one.
