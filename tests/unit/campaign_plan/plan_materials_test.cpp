@@ -10,6 +10,7 @@
 
 #include "plan_text.h"
 #include "service/datasets/format/dataset_materials.h"
+#include "service/datasets/dataset_job_shard.h"
 #include "service/datasets/format/dataset_plan_yaml.h"
 #include "vscan/plan/bin_fill_plan.h"
 #include "vscan/plan/returned_light_plan.h"
@@ -167,6 +168,14 @@ TEST(DatasetPlanMaterials, RefusalsNameTheKeyAndLine) {
   ASSERT_FALSE(light.ok());
   EXPECT_TRUE(light.status().message().starts_with("plan:11: returned_light.exposure_s: must not be negative"))
       << light.status().message();
+}
+
+TEST(DatasetPlanMaterials, TheExamplePlanReads) {
+  const auto plan = service::ReadDatasetPlanFile(std::string(VSCAN_SOURCE_DIR) + "/examples/datasets/lit_parts.yaml");
+  ASSERT_TRUE(plan.ok()) << plan.status().message();
+  EXPECT_EQ(plan->bin_fills[0].parts[0].materials.size(), 3u);
+  EXPECT_EQ(plan->bin_fills[0].parts[1].materials.at(0).preset, "polished-steel");
+  ASSERT_TRUE(plan->returned_light.has_value());
 }
 
 // A million choices are refused by their count, before any is read.
