@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "api/datasets/dataset_spec.h"
 #include "service/datasets/dataset_job_shard.h"
 
 namespace vscan {
@@ -44,7 +45,7 @@ std::optional<int> RunDatasetOneShot(const DatasetOneShot& one_shot) {
                  one_shot.shard_count, p.done, p.total, p.skipped, p.written);
   };
   return ExitStatus(service::RunDatasetShardFromFile(one_shot.shard_plan, one_shot.out, one_shot.shard_index,
-                                                     one_shot.shard_count, progress)
+                                                     one_shot.shard_count, progress, api::DatasetReturnedLight)
                         .status());
 }
 

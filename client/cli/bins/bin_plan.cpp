@@ -83,7 +83,12 @@ class BinPlanParser {
       ASSIGN_OR_RETURN(const v1::Pose pose, ReadPlanPose(yaml_, pose_at));
       *(fill.box ? plan->spec.mutable_bin()->mutable_pose() : plan->spec.mutable_bin_mesh()->mutable_pose()) = pose;
     }
-    for (const plan::PartPlan& part : fill.parts) {
+    for (size_t i = 0; i < fill.parts.size(); ++i) {
+      const plan::PartPlan& part = fill.parts[i];
+      if (!part.material_choices.empty()) {
+        return yaml_.Error(part.material_mark, "parts[" + std::to_string(i) + "].material",
+                           "a bin fill takes one material; choose is for dataset plans");
+      }
       v1::BinPart* spec = plan->spec.add_parts();
       ASSIGN_OR_RETURN(BinPlanPart source, Resolve(part.mesh));
       spec->set_count(part.count);
@@ -97,15 +102,7 @@ class BinPlanParser {
       if (part.density_kg_per_m3) spec->set_density_kg_per_m3(*part.density_kg_per_m3);
       if (part.collision == "convex_hull") spec->set_collision(v1::PART_COLLISION_CONVEX_HULL);
       if (part.collision == "convex_decomposition") spec->set_collision(v1::PART_COLLISION_CONVEX_DECOMPOSITION);
-      if (part.material && !part.material->preset.empty()) {
-        spec->mutable_material()->set_preset(part.material->preset);
-      } else if (part.material) {
-        v1::MaterialValues* values = spec->mutable_material()->mutable_values();
-        values->set_diffuse_albedo(part.material->diffuse_albedo);
-        values->set_metallic(part.material->metallic);
-        values->set_roughness(part.material->roughness);
-        values->set_specular_reflectance(part.material->specular_reflectance);
-      }
+      if (part.material) *spec->mutable_material() = MaterialMessage(*part.material);
       plan->parts.push_back(std::move(source));
     }
     return Status::Ok();

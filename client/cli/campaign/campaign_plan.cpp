@@ -29,7 +29,7 @@ class PlanParser {
                                           "backend", "fields", "frame", "viewpoints", "rotations", "rotation_step_deg",
                                           "start_angle_deg", "seed", "apply_encoder_noise", "reject_collisions",
                                           "align", "reconstruct", "evaluate", "alignment", "reconstruction",
-                                          "evaluation"}));
+                                          "evaluation", "returned_light"}));
     CampaignPlan plan;
     plan.name = default_name_;
     if (const YamlAt at = YamlReader::Child(top, "name"); YamlReader::Has(at)) {
@@ -91,7 +91,7 @@ class PlanParser {
   }
 
   StatusOr<PlanObject> ParseObject(const YamlAt& at) const {
-    RETURN_IF_ERROR(yaml_.ExpectMap(at, {"mesh", "unit", "scale", "label", "pose", "on_table"}));
+    RETURN_IF_ERROR(yaml_.ExpectMap(at, {"mesh", "unit", "scale", "label", "pose", "on_table", "material"}));
     PlanObject object;
     ASSIGN_OR_RETURN(object.mesh, ExistingPath(YamlReader::Child(at, "mesh")));
     const YamlAt unit_at = YamlReader::Child(at, "unit");
@@ -113,6 +113,13 @@ class PlanParser {
     }
     if (const YamlAt on_table = YamlReader::Child(at, "on_table"); YamlReader::Has(on_table)) {
       ASSIGN_OR_RETURN(object.on_table, yaml_.Bool(on_table));
+    }
+    if (const YamlAt material = YamlReader::Child(at, "material"); YamlReader::Has(material)) {
+      if (plan::IsMaterialChoice(material)) {
+        return yaml_.Error(material, "a campaign's object has one material; choose is for dataset plans");
+      }
+      ASSIGN_OR_RETURN(const plan::MaterialPlan read, plan::ReadMaterial(yaml_, material));
+      object.material = MaterialMessage(read);
     }
     return object;
   }
@@ -229,6 +236,9 @@ class PlanParser {
       const auto parsed = ParseFrame(text);
       if (!parsed.ok()) return yaml_.Error(frame, Reason(parsed.status()));
       spec->set_frame(*parsed);
+    }
+    if (const YamlAt light = YamlReader::Child(top, "returned_light"); YamlReader::Has(light)) {
+      RETURN_IF_ERROR(FillMessage(yaml_, light, spec->mutable_returned_light()));
     }
     return Status::Ok();
   }

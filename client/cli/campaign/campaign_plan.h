@@ -27,6 +27,8 @@ struct PlanObject {
   // parent_from_object; unset means identity.
   std::optional<v1::Pose> pose;
   bool on_table = false;
+  // Overrides the mesh's material (plan::ReadMaterial); unset: matte-grey.
+  std::optional<v1::Material> material;
 };
 
 struct PlanScene {

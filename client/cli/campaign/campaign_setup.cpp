@@ -4,6 +4,7 @@
 #include <map>
 #include <tuple>
 
+#include "campaign/yaml_messages.h"
 #include "robot/robot_format.h"
 #include "session/describe.h"
 #include "session/uploads.h"
@@ -42,6 +43,7 @@ int BuildScene(Context& ctx, const CampaignPlan& campaign, CampaignSetup* setup)
     if (object.pose) placement.pose = *object.pose;
     placement.label = object.label;
     placement.on_table = object.on_table;
+    placement.material = object.material;
     const auto added =
         client->AddObject(scene->scene_id(), meshes.at({object.mesh.string(), object.unit, object.scale}), placement);
     if (!added.ok()) return ReportCallError(ctx, campaign, PlanCall::kAddObject, added.status(), i);
@@ -88,6 +90,34 @@ void Remove(const std::string& what, const std::string& id, const Status& status
   }
 }
 
+// Every preset the plan's objects name is one the server knows, before anything is uploaded.
+int CheckMaterialPresets(Context& ctx, const CampaignPlan& plan) {
+  if (!plan.scene) return kExitOk;
+  std::vector<size_t> named;
+  for (size_t i = 0; i < plan.scene->objects.size(); ++i) {
+    const auto& material = plan.scene->objects[i].material;
+    if (material && !material->preset().empty()) named.push_back(i);
+  }
+  if (named.empty()) return kExitOk;
+  const auto presets = ctx.GetClient()->ListMaterialPresets();
+  if (!presets.ok()) return ctx.ServerError(presets.status());
+  std::string known;
+  for (const v1::MaterialPreset& preset : *presets) known += (known.empty() ? "" : ", ") + preset.name();
+  for (const size_t i : named) {
+    const std::string& name = plan.scene->objects[i].material->preset();
+    bool found = false;
+    for (const v1::MaterialPreset& preset : *presets) found = found || preset.name() == name;
+    if (found) continue;
+    const std::string key = "scene.objects[" + std::to_string(i) + "].material";
+    const auto mark = plan.key_marks.find(key);
+    return ctx.UsageError(YamlReader(plan.source)
+                              .Error(mark == plan.key_marks.end() ? YAML::Mark() : mark->second, key,
+                                     "unknown preset '" + name + "' (" + known + ")")
+                              .message());
+  }
+  return kExitOk;
+}
+
 }  // namespace
 
 int ReportCallError(Context& ctx, const CampaignPlan& plan, PlanCall call, const Status& status, size_t object) {
@@ -98,6 +128,7 @@ int ReportCallError(Context& ctx, const CampaignPlan& plan, PlanCall call, const
 int CheckPlanOnServer(Context& ctx, const CampaignPlan& plan) {
   auto* client = ctx.GetClient();
   if (!client) return ctx.last_exit();
+  if (const int rc = CheckMaterialPresets(ctx, plan); rc != kExitOk) return rc;
   v1::CampaignSpec spec = plan.spec;
   spec.set_scene_id(plan.scene_id);
   spec.set_mount_id(plan.mount_id);

@@ -21,8 +21,8 @@ struct CampaignSetup {
   std::string created_mount;
 };
 
-// Asks the server to check the plan's campaign (StartCampaign with validate_only) before anything is
-// uploaded. Returns an exit code: 2 with the plan's file and line when the plan is at fault.
+// Asks the server to check the plan's campaign (StartCampaign with validate_only) and the material
+// presets its objects name (ListMaterialPresets) before anything is uploaded. Returns an exit code: 2 with the plan's file and line when the plan is at fault.
 int CheckPlanOnServer(Context& ctx, const CampaignPlan& plan);
 
 // Uploads and places everything the plan names (or takes its existing ids); prints each step

@@ -71,6 +71,20 @@ StatusOr<v1::Pose> ReadPlanPose(const YamlReader& yaml, const YamlAt& at) {
   return Checked(yaml, at, PoseToProto(pose));
 }
 
+v1::Material MaterialMessage(const plan::MaterialPlan& material) {
+  v1::Material out;
+  if (!material.preset.empty()) {
+    out.set_preset(material.preset);
+    return out;
+  }
+  v1::MaterialValues* values = out.mutable_values();
+  values->set_diffuse_albedo(material.diffuse_albedo);
+  values->set_metallic(material.metallic);
+  values->set_roughness(material.roughness);
+  values->set_specular_reflectance(material.specular_reflectance);
+  return out;
+}
+
 StatusOr<std::filesystem::path> ReadPlanPath(const YamlReader& yaml, const YamlAt& at,
                                              const std::filesystem::path& base_dir) {
   if (!YamlReader::Has(at)) return yaml.Error(at, "required: a path relative to the plan file");

@@ -305,11 +305,7 @@ class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls, BinCalls, Localizatio
         request.include_rejected = bool(include_rejected)
         request.ground_truth = bool(ground_truth)
         request.pixel_images = bool(pixel_images)
-        if returned_light is not None and returned_light is not False:
-            request.returned_light.SetInParent()
-            if returned_light is not True:
-                for key, value in dict(returned_light).items():
-                    setattr(request.returned_light, key, float(value))
+        convert.returned_light(returned_light, request.returned_light)
         if normal_estimation is not None:
             k, max_distance = normal_estimation
             request.normal_estimation.k = int(k)

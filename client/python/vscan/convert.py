@@ -97,6 +97,22 @@ def material(value):
     raise TypeError("material: a preset name, a mapping of values or a Material, not %s" % type(value).__name__)
 
 
+def returned_light(value, message):
+    """Sets message (a ReturnedLight) from True (every default) or a mapping of its fields
+    (emitter_w_per_sr, exposure_s, ...; 0 or absent takes the default); None and False leave it
+    unset. Returns whether it was set. The server checks the ranges."""
+    if value is None or value is False:
+        return False
+    message.SetInParent()
+    if value is not True:
+        fields = message.DESCRIPTOR.fields_by_name
+        for key, number in dict(value).items():
+            if key not in fields:
+                raise ValueError(f"returned_light: unknown key {key!r} (one of {', '.join(fields)})")
+            setattr(message, key, float(number))
+    return True
+
+
 def unit(value):
     return _lookup(UNITS, value, "unit")
 

@@ -19,13 +19,15 @@ def campaign_spec(scene_id, mount_id, viewpoints, rotations=1, rotation_step_deg
                   width=640, height=480, hfov_deg=60.0, near=0.05, far=10.0, preset=None, noise=None, seed=0,
                   backend="raycast", fields=None, frame="world", encoder_noise=False, reject_collisions=False,
                   name="", align=False, reconstruct=False, evaluate=False, alignment=None, reconstruction=None,
-                  evaluation=None):
+                  evaluation=None, returned_light=None):
     """A CampaignSpec: viewpoints is a list of (position, target) pairs in world metres.
 
     align, reconstruct and evaluate run those parts on the scans as they come (the last two imply the
     first) and leave model.json; alignment, reconstruction and evaluation are their options, as a dict
     of the keyword arguments of alignment_options(), reconstruction_options() and
-    evaluation_options(), or as the messages."""
+    evaluation_options(), or as the messages. returned_light lights every scan with the sensor's
+    emitter and the objects' materials, as scan()'s does: True for every default, or a dict of
+    ReturnedLight's fields."""
     spec = job_pb2.CampaignSpec(scene_id=scene_id, mount_id=mount_id, rotations=int(rotations),
                                 rotation_step_deg=float(rotation_step_deg), start_angle_deg=float(start_angle_deg),
                                 seed=int(seed), backend=convert.backend(backend), frame=convert.frame(frame),
@@ -50,6 +52,7 @@ def campaign_spec(scene_id, mount_id, viewpoints, rotations=1, rotation_step_deg
         spec.noise.CopyFrom(noise)
     if fields:
         spec.fields.extend(convert.fields(fields))
+    convert.returned_light(returned_light, spec.returned_light)
     return spec
 
 

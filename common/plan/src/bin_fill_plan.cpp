@@ -76,25 +76,6 @@ StatusOr<MeshBinPlan> ReadMeshBin(const YamlReader& yaml, const YamlAt& at) {
   return bin;
 }
 
-// material: NAME, or {diffuse_albedo, metallic, roughness, specular_reflectance}, all four.
-StatusOr<MaterialPlan> ReadMaterial(const YamlReader& yaml, const YamlAt& at) {
-  MaterialPlan material;
-  if (at.node.IsScalar()) {
-    ASSIGN_OR_RETURN(material.preset, yaml.String(at));
-    return material;
-  }
-  RETURN_IF_ERROR(yaml.ExpectMap(at, {"diffuse_albedo", "metallic", "roughness", "specular_reflectance"}));
-  for (const auto& [key, value] : {std::pair<const char*, double*>{"diffuse_albedo", &material.diffuse_albedo},
-                                   {"metallic", &material.metallic},
-                                   {"roughness", &material.roughness},
-                                   {"specular_reflectance", &material.specular_reflectance}}) {
-    const YamlAt child = YamlReader::Child(at, key);
-    if (!YamlReader::Has(child)) return yaml.Error(child, "required: a preset's name, or all four values");
-    ASSIGN_OR_RETURN(*value, yaml.Number(child));
-  }
-  return material;
-}
-
 StatusOr<PartPlan> ReadPart(const YamlReader& yaml, const YamlAt& item) {
   RETURN_IF_ERROR(yaml.ExpectMap(
       item,
@@ -125,12 +106,64 @@ StatusOr<PartPlan> ReadPart(const YamlReader& yaml, const YamlAt& item) {
     }
   }
   if (const YamlAt material = YamlReader::Child(item, "material"); YamlReader::Has(material)) {
-    ASSIGN_OR_RETURN(part.material, ReadMaterial(yaml, material));
+    part.material_mark = material.node.Mark();
+    if (IsMaterialChoice(material)) {
+      ASSIGN_OR_RETURN(part.material_choices, ReadMaterialChoice(yaml, material));
+    } else {
+      ASSIGN_OR_RETURN(part.material, ReadMaterial(yaml, material));
+    }
   }
   return part;
 }
 
 }  // namespace
+
+StatusOr<MaterialPlan> ReadMaterial(const YamlReader& yaml, const YamlAt& at) {
+  MaterialPlan material;
+  if (at.node.IsScalar()) {
+    ASSIGN_OR_RETURN(material.preset, yaml.String(at));
+    return material;
+  }
+  RETURN_IF_ERROR(yaml.ExpectMap(at, {"diffuse_albedo", "metallic", "roughness", "specular_reflectance"}));
+  for (const auto& [key, value] : {std::pair<const char*, double*>{"diffuse_albedo", &material.diffuse_albedo},
+                                   {"metallic", &material.metallic},
+                                   {"roughness", &material.roughness},
+                                   {"specular_reflectance", &material.specular_reflectance}}) {
+    const YamlAt child = YamlReader::Child(at, key);
+    if (!YamlReader::Has(child)) return yaml.Error(child, "required: a preset's name, or all four values");
+    ASSIGN_OR_RETURN(*value, yaml.Number(child));
+    // As the server checks them: a roughness of 0 is a mirror no pixel resolves.
+    const bool roughness = value == &material.roughness;
+    if (roughness ? !(*value > 0 && *value <= 1) : !(*value >= 0 && *value <= 1)) {
+      return yaml.Error(child, roughness ? "must be within (0, 1]" : "must be within [0, 1]");
+    }
+  }
+  return material;
+}
+
+bool IsMaterialChoice(const YamlAt& at) { return YamlReader::Has(at) && at.node.IsMap() && at.node["choose"]; }
+
+StatusOr<std::vector<MaterialPlan>> ReadMaterialChoice(const YamlReader& yaml, const YamlAt& at) {
+  if (!IsMaterialChoice(at)) {
+    ASSIGN_OR_RETURN(MaterialPlan one, ReadMaterial(yaml, at));
+    return std::vector<MaterialPlan>{std::move(one)};
+  }
+  RETURN_IF_ERROR(yaml.ExpectMap(at, {"choose"}));
+  const YamlAt list = YamlReader::Child(at, "choose");
+  if (!YamlReader::Has(list)) return yaml.Error(list, "required: a list of materials to choose from");
+  RETURN_IF_ERROR(yaml.ExpectSequence(list, 1));
+  // Checked before any item is read, so that a huge list costs nothing more.
+  if (list.node.size() > kMaxMaterialChoices) {
+    return yaml.Error(list, "at most " + std::to_string(kMaxMaterialChoices) + " materials, got " +
+                                std::to_string(list.node.size()));
+  }
+  std::vector<MaterialPlan> choices;
+  for (size_t i = 0; i < list.node.size(); ++i) {
+    ASSIGN_OR_RETURN(MaterialPlan material, ReadMaterial(yaml, YamlReader::Item(list, i)));
+    choices.push_back(std::move(material));
+  }
+  return choices;
+}
 
 std::optional<std::string> ShortUnitName(std::string_view unit) {
   std::string lowered(unit);

@@ -83,7 +83,7 @@ Status CheckIds(const v1::CampaignSpec& spec, bool dry_run) {
   return RequireId(spec.mount_id(), "mount_id");
 }
 
-// The sensor, noise, backend, fields and frame every step scans with, checked by the parser of
+// The sensor, noise, backend, fields, frame and returned light every step scans with, checked by the parser of
 // ScanRequests (the spec names them as a ScanRequest does). The sensor pose is a stand-in: each
 // step puts the sensor where the arm holds it.
 StatusOr<service::ScanPlan> StepScanSettings(const v1::CampaignSpec& spec, const service::Limits& limits,
@@ -96,6 +96,7 @@ StatusOr<service::ScanPlan> StepScanSettings(const v1::CampaignSpec& spec, const
   request.set_backend(spec.backend());
   *request.mutable_fields() = spec.fields();
   request.set_frame(spec.frame());
+  if (spec.has_returned_light()) *request.mutable_returned_light() = spec.returned_light();
   request.mutable_pose()->mutable_look_at()->mutable_target()->set_x(1.0);
   return ParseScanRequest(request, limits, robots);
 }

@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "api/scan/returned_light_request.h"
 #include "api/transport/validate.h"
 #include "vscan/common/proto_convert.h"
 #include "service/datasets/format/dataset_plan_yaml.h"
@@ -81,6 +82,22 @@ StatusOr<service::dataset::DatasetPlan> ParsePlan(const v1::DatasetSpec& spec) {
 
 }  // namespace
 
+StatusOr<capture::ReturnedLightSpec> DatasetReturnedLight(const plan::ReturnedLightPlan& plan,
+                                                  const service::DatasetSensorSetup& sensor) {
+  v1::ReturnedLight light;
+  light.set_emitter_w_per_sr(plan.emitter_w_per_sr);
+  light.set_emitter_half_angle_deg(plan.emitter_half_angle_deg);
+  light.set_exposure_s(plan.exposure_s);
+  light.set_aperture_diameter_m(plan.aperture_diameter_m);
+  light.set_quantum_efficiency(plan.quantum_efficiency);
+  light.set_wavelength_m(plan.wavelength_m);
+  light.set_full_well_e(plan.full_well_e);
+  light.set_read_noise_e(plan.read_noise_e);
+  light.set_min_snr(plan.min_snr);
+  light.set_reference_e(plan.reference_e);
+  return ReturnedLightFromProto(light, sensor.camera, sensor.measurement.structured_light);
+}
+
 StatusOr<std::vector<v1::PlanMeshFile>> PlanMeshFiles(const v1::DatasetSpec& spec) {
   ASSIGN_OR_RETURN(const service::dataset::DatasetPlan plan, ParsePlan(spec));
   std::vector<v1::PlanMeshFile> files;
@@ -104,7 +121,8 @@ StatusOr<ValidatedDataset> ValidateDataset(const v1::DatasetSpec& spec, service:
   RETURN_IF_ERROR(service::CheckDatasetScenes(*plan, context.options.limits.max_dataset_scenes)
                       .WithFieldPrefix("spec.plan_yaml"));
   StatusOr<service::DatasetSetup> setup =
-      service::PrepareDataset(*plan, StoredMeshes(spec, context), context.options.limits.max_rays_per_scan);
+      service::PrepareDataset(*plan, StoredMeshes(spec, context), context.options.limits.max_rays_per_scan,
+                              DatasetReturnedLight);
   if (!setup.ok()) {
     const Status& error = setup.status();
     return error.field().rfind("spec.", 0) == 0 ? error : error.WithFieldPrefix("spec.plan_yaml");

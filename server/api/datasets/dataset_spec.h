@@ -21,6 +21,11 @@ struct ValidatedDataset {
   v1::DatasetSpec spec;
 };
 
+// A dataset plan's returned_light for one sensor (service::DatasetLightResolver) as a ScanRequest's
+// returned_light: the same defaults and checks.
+StatusOr<capture::ReturnedLightSpec> DatasetReturnedLight(const plan::ReturnedLightPlan& light,
+                                                          const service::DatasetSensorSetup& sensor);
+
 StatusOr<ValidatedDataset> ValidateDataset(const v1::DatasetSpec& spec, service::ServiceContext& context,
                                            store::JobCatalogue& jobs);
 

@@ -23,6 +23,8 @@ void Step(const service::CampaignStepRecord& s, v1::CampaignReportStep* out) {
     out->set_file(s.file);
     out->set_artifact_id(s.artifact_id);
     out->set_points(static_cast<uint32_t>(s.points));
+    if (s.rejected_dark > 0) out->set_rejected_dark(static_cast<uint32_t>(s.rejected_dark));
+    if (s.rejected_saturated > 0) out->set_rejected_saturated(static_cast<uint32_t>(s.rejected_saturated));
   }
 }
 

@@ -160,6 +160,8 @@ class CampaignRun {
     record.has_arm = true;
     record.arm = result.arm;
     record.points = result.cloud.size();
+    record.rejected_dark = result.rejected_dark;
+    record.rejected_saturated = result.rejected_saturated;
     record.file = ScanArtifactName(r, v);
     ASSIGN_OR_RETURN(const std::string ply, EncodePly(result.cloud));
     const store::CloudRecord cloud = ScanCloud(record, result.cloud.fields);

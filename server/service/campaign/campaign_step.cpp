@@ -56,7 +56,10 @@ StatusOr<StepResult> RunStep(ServiceContext& context, const CampaignPlan& plan, 
     }
   }
   ASSIGN_OR_RETURN(const scenes::ScanTarget target, PrepareScanTarget(context, scan));
-  ASSIGN_OR_RETURN(result.cloud, RunScanBackend(scan, target, context.raster, cancel, &result.stats));
+  capture::MeasureStats measured;
+  ASSIGN_OR_RETURN(result.cloud, RunScanBackend(scan, target, context.raster, cancel, &result.stats, &measured));
+  result.rejected_dark = measured.rejected_dark;
+  result.rejected_saturated = measured.rejected_saturated;
   result.outcome = StepResult::Outcome::kCaptured;
   return result;
 }

@@ -32,6 +32,9 @@ struct StepResult {
   uint64_t seed = 0;
   PointCloud cloud;
   raycast::ScanStats stats;
+  // Rays the returned light judged too dark or saturated (0 without the returned light).
+  uint64_t rejected_dark = 0;
+  uint64_t rejected_saturated = 0;
 };
 
 // A distinct, reproducible seed per step (encoder noise and measurement noise).

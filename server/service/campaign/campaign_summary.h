@@ -27,6 +27,8 @@ struct CampaignStepRecord {
   std::string file;  // scan artifact name when captured
   std::string artifact_id;
   uint64_t points = 0;
+  uint64_t rejected_dark = 0;
+  uint64_t rejected_saturated = 0;
 };
 
 // The step's scan as the job records it with its artifact.

@@ -69,9 +69,21 @@ struct FilledBin {
   std::vector<uint32_t> obj_ids;  // per part instance, from kFirstPartInstance on
   uint64_t parts_planned = 0;
   physics::MeshOverlaps mesh_overlap;
+  // Set when the plan gives any part a material.
+  std::optional<std::vector<dataset::InstanceMaterial>> materials;
 };
 
-StatusOr<FilledBin> FillAndBuild(const DatasetBinSetup& bin, uint64_t seed, const std::atomic<bool>* cancel) {
+// The index into each part type's materials this (seed, bin) takes (0 for a type with none).
+std::vector<size_t> ChosenMaterials(const DatasetBinSetup& bin, uint64_t seed, size_t bin_index) {
+  std::vector<size_t> chosen(bin.parts.size(), 0);
+  for (size_t i = 0; i < bin.parts.size(); ++i) {
+    chosen[i] = dataset::PartMaterialIndex(seed, bin_index, i, bin.materials[i].size());
+  }
+  return chosen;
+}
+
+StatusOr<FilledBin> FillAndBuild(const DatasetBinSetup& bin, uint64_t seed, size_t bin_index,
+                                 const std::atomic<bool>* cancel) {
   physics::FillOptions options = bin.options;
   options.seed = seed;
   ASSIGN_OR_RETURN(const physics::FillResult result, physics::FillBin(bin.spec, bin.parts, options, cancel));
@@ -92,10 +104,23 @@ StatusOr<FilledBin> FillAndBuild(const DatasetBinSetup& bin, uint64_t seed, cons
   filled.parts_planned = asked;
   filled.mesh_overlap = result.mesh_overlap;
   filled.target.scene.revision = 1;
+  const std::vector<size_t> chosen = ChosenMaterials(bin, seed, bin_index);
+  const bool any_material = std::any_of(bin.materials.begin(), bin.materials.end(),
+                                        [](const auto& materials) { return !materials.empty(); });
+  if (any_material) filled.materials.emplace();
   for (size_t k = 0; k < result.parts.size(); ++k) {
     const physics::PlacedPart& placed = result.parts[k];
     const auto instance_id = static_cast<uint32_t>(kFirstPartInstance + k);
-    instances->push_back({meshes[placed.type], placed.world_from_part, 1.0, instance_id});
+    const std::vector<sensor::Material>& materials = bin.materials[placed.type];
+    instances->push_back({meshes[placed.type], placed.world_from_part, 1.0, instance_id,
+                          materials.empty() ? sensor::DefaultMaterial() : materials[chosen[placed.type]]});
+    if (filled.materials) {
+      const auto& named = bin.material_plans[placed.type];
+      const plan::MaterialPlan material =
+          named.empty() ? plan::MaterialPlan{sensor::MaterialPresets().front().name, 0, 0, 0, 0}
+                        : named[chosen[placed.type]];
+      filled.materials->push_back({instance_id, bin.obj_ids[placed.type], bin.parts[placed.type].name, material});
+    }
     store::ObjectRecord object;
     object.object_id = std::to_string(instance_id);
     object.label = bin.parts[placed.type].name + "#" + std::to_string(placed.instance + 1);
@@ -152,6 +177,7 @@ StatusOr<dataset::DatasetFrame> ScanFilledBin(const FilledBin& filled, const Dat
   frame.parts_placed = filled.obj_ids.size();
   frame.deepest_part_overlap_m = filled.mesh_overlap.max_part_part_m;
   frame.deepest_bin_overlap_m = filled.mesh_overlap.max_part_bin_m;
+  frame.materials = filled.materials;
   FillImages(cloud, world_from_camera, frame);
   for (const ObjectTruth& truth : truths) {
     dataset::GroundTruthObject object;
@@ -204,7 +230,7 @@ dataset::FrameSource BinFrameSource(std::shared_ptr<const DatasetSetup> setup, c
       fill = found->second;
     }
     if (to_fill) {
-      StatusOr<FilledBin> filled = FillAndBuild(bin, key.seed, cancel);
+      StatusOr<FilledBin> filled = FillAndBuild(bin, key.seed, key.bin_index, cancel);
       to_fill->set_value(filled.ok() ? Fill(std::make_shared<const FilledBin>(std::move(*filled)))
                                      : Fill(filled.status()));
     }

@@ -27,6 +27,20 @@ StatusOr<TriangleMesh> ScaledMesh(const DatasetPart& part, const DatasetMeshLoad
   return physics::ScalePart(std::move(mesh), part.scale, field);
 }
 
+// A preset by name or the four values, each within [0, 1] and roughness above 0, as the server
+// checks an object's (the plan's reader checked both; a plan built in code has not).
+StatusOr<sensor::Material> ResolveMaterial(const plan::MaterialPlan& asked, const std::string& field) {
+  if (!asked.preset.empty()) {
+    const sensor::MaterialPreset* preset = sensor::FindMaterialPreset(asked.preset);
+    if (!preset) return InvalidArgument(field, "unknown preset '" + asked.preset + "' (vscan materials lists them)");
+    return preset->material;
+  }
+  const sensor::Material material{asked.diffuse_albedo, asked.metallic, asked.roughness, asked.specular_reflectance};
+  RETURN_IF_ERROR(sensor::ValidateMaterial(material, field));
+  if (!(material.roughness > 0)) return InvalidArgument(field + ".roughness", "must be within (0, 1]");
+  return material;
+}
+
 StatusOr<DatasetBinSetup> PrepareBin(const dataset::DatasetBinFill& fill, const std::string& field,
                                      const DatasetMeshLoader& load, std::map<PartKey, uint32_t>& obj_ids,
                                      std::vector<dataset::PartModel>& models) {
@@ -54,6 +68,15 @@ StatusOr<DatasetBinSetup> PrepareBin(const dataset::DatasetBinFill& fill, const 
     }
     bin.obj_ids.push_back(found->second);
     bin.parts.push_back(std::move(part));
+    std::vector<sensor::Material> materials;
+    for (size_t k = 0; k < asked.materials.size(); ++k) {
+      const std::string choice = asked.materials.size() > 1 ? ".choose[" + std::to_string(k) + "]" : "";
+      ASSIGN_OR_RETURN(sensor::Material material,
+                       ResolveMaterial(asked.materials[k], part_field + ".material" + choice));
+      materials.push_back(material);
+    }
+    bin.material_plans.push_back(asked.materials);
+    bin.materials.push_back(std::move(materials));
   }
   // The fill's own checks, in the words a bin fill's plan gets (parts[i].mass_kg and the rest); the
   // masses from hulls, since a decomposition is the fill's to make.
@@ -130,7 +153,7 @@ DatasetMeshLoader MeshFilesFrom(std::filesystem::path plan_dir) {
 }
 
 StatusOr<DatasetSetup> PrepareDataset(const dataset::DatasetPlan& plan, const DatasetMeshLoader& load,
-                                      uint64_t max_rays_per_scan) {
+                                      uint64_t max_rays_per_scan, const DatasetLightResolver& resolve_light) {
   RETURN_IF_ERROR(dataset::CheckPlan(plan));
   if (plan.bin_fills.empty()) return InvalidArgument("bins", "each bin needs its box and parts (name, box, parts)");
   DatasetSetup setup;
@@ -146,6 +169,12 @@ StatusOr<DatasetSetup> PrepareDataset(const dataset::DatasetPlan& plan, const Da
         plan.sensor_setups.empty() ? dataset::DatasetSensor{plan.sensors[s], 0, 0} : plan.sensor_setups[s];
     ASSIGN_OR_RETURN(DatasetSensorSetup sensor,
                      PrepareSensor(asked, "sensors[" + std::to_string(s) + "]", max_rays_per_scan));
+    if (plan.returned_light) {
+      if (!resolve_light) {
+        return FailedPrecondition("returned_light", "lighting a dataset needs the server's dataset job");
+      }
+      ASSIGN_OR_RETURN(sensor.measurement.returned_light, resolve_light(*plan.returned_light, sensor));
+    }
     setup.sensors.push_back(std::move(sensor));
     RETURN_IF_ERROR(CheckWorkingRange(plan, setup.sensors.back().camera, s));
   }

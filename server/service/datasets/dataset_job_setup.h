@@ -12,7 +12,9 @@
 
 #include "capture/measurement_spec.h"
 #include "physics/bin_fill.h"
+#include "capture/returned_light.h"
 #include "sensor/camera.h"
+#include "sensor/material.h"
 #include "service/datasets/format/dataset_frame.h"
 #include "service/datasets/format/dataset_plan.h"
 #include "vscan/common/status.h"
@@ -23,6 +25,10 @@ struct DatasetBinSetup {
   physics::BinSpec spec;
   std::vector<physics::PartType> parts;  // scaled, in metres
   std::vector<uint32_t> obj_ids;         // obj_ids[i]: the plan-wide part type of parts[i]
+  // materials[i]: what parts[i] may be made of, as the plan names them and in engine terms (empty:
+  // the default); a scene takes one of them (dataset::PartMaterialIndex).
+  std::vector<std::vector<plan::MaterialPlan>> material_plans;
+  std::vector<std::vector<sensor::Material>> materials;
   physics::FillOptions options;          // seed set per scene
   std::shared_ptr<const TriangleMesh> bin_mesh;
 };
@@ -47,9 +53,15 @@ using DatasetMeshLoader =
 // Parts' mesh files read from disk, relative paths from plan_dir; stored mesh ids are refused.
 DatasetMeshLoader MeshFilesFrom(std::filesystem::path plan_dir);
 
+// The plan's returned_light for one sensor in engine terms, checked as a scan's returned_light is
+// (the server's ReturnedLight rules); INVALID_ARGUMENT naming "returned_light.<key>".
+using DatasetLightResolver = std::function<StatusOr<capture::ReturnedLightSpec>(
+    const plan::ReturnedLightPlan& light, const DatasetSensorSetup& sensor)>;
+
 // InvalidArgument (naming the field) when the plan does not describe its bins, names an unknown
-// preset, or a part is too small or large once scaled; errors of load pass through.
+// preset, or a part is too small or large once scaled; errors of load pass through. A plan with
+// returned_light needs resolve_light (FAILED_PRECONDITION without).
 StatusOr<DatasetSetup> PrepareDataset(const dataset::DatasetPlan& plan, const DatasetMeshLoader& load,
-                                      uint64_t max_rays_per_scan);
+                                      uint64_t max_rays_per_scan, const DatasetLightResolver& resolve_light = {});
 
 }  // namespace vscan::service

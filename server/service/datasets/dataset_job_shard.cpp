@@ -20,11 +20,13 @@ StatusOr<dataset::DatasetPlan> ReadDatasetPlanFile(const std::filesystem::path& 
 
 StatusOr<dataset::DatasetProgress> RunDatasetShardFromFile(
     const std::filesystem::path& plan_file, const std::filesystem::path& root, uint32_t shard_index,
-    uint32_t shard_count, const std::function<void(const dataset::DatasetProgress&)>& on_progress) {
+    uint32_t shard_count, const std::function<void(const dataset::DatasetProgress&)>& on_progress,
+    const DatasetLightResolver& resolve_light) {
   RETURN_IF_ERROR(dataset::CheckShard(shard_index, shard_count));
   ASSIGN_OR_RETURN(const dataset::DatasetPlan plan, ReadDatasetPlanFile(plan_file));
   ASSIGN_OR_RETURN(DatasetSetup setup,
-                   PrepareDataset(plan, MeshFilesFrom(plan_file.parent_path()), Limits{}.max_rays_per_scan));
+                   PrepareDataset(plan, MeshFilesFrom(plan_file.parent_path()), Limits{}.max_rays_per_scan,
+                                  resolve_light));
   auto shared = std::make_shared<const DatasetSetup>(std::move(setup));
   dataset::ShardRun run;
   run.shard_index = shard_index;

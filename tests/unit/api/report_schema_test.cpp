@@ -166,6 +166,8 @@ std::vector<service::CampaignStepRecord> CampaignSteps() {
   captured.file = "scan-r00-v00.ply";
   captured.artifact_id = "art_1";
   captured.points = 5000;
+  captured.rejected_dark = 120;
+  captured.rejected_saturated = 7;
   service::CampaignStepRecord unreachable;
   unreachable.step = 1;
   unreachable.rotation_index = 1;

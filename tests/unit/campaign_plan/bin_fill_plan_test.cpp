@@ -100,9 +100,9 @@ TEST_F(BinFillPlanTest, BothFrontDoorsRefuseTheSameWay) {
   }
 }
 
-// A part's material travels to the bin fill's spec; a dataset, whose scans do not see materials
-// yet, refuses it at its line rather than dropping it.
-TEST_F(BinFillPlanTest, APartsMaterialReachesTheSpecAndADatasetRefusesIt) {
+// A part's material travels to the bin fill's spec and to the dataset's part; a choice among
+// several is a dataset's alone.
+TEST_F(BinFillPlanTest, APartsMaterialReachesTheSpecAndTheDatasetsPart) {
   const std::string fill =
       "bin: {inner_size: [0.3, 0.2, 0.1]}\n"
       "parts:\n"
@@ -119,9 +119,15 @@ TEST_F(BinFillPlanTest, APartsMaterialReachesTheSpecAndADatasetRefusesIt) {
       "bin: {inner_size: [0.3, 0.2, 0.1]}\nparts: [{mesh_id: m, count: 1, material: {diffuse_albedo: 0.2}}]\n")
                              .status();
   EXPECT_NE(refused.message().find("parts[0].material.metallic: required"), std::string::npos) << refused.message();
-  EXPECT_EQ(AsDataset(fill).status().message(),
-            "p.yaml:5: bins[0].parts[0].material: a dataset's scans do not see materials yet (docs/DATASETS.md); "
-            "leave it out");
+  const StatusOr<service::dataset::DatasetPlan> dataset = AsDataset(fill);
+  ASSERT_TRUE(dataset.ok()) << dataset.status().ToString();
+  EXPECT_EQ(dataset->bin_fills[0].parts[0].materials.at(0).preset, "polished-steel");
+  EXPECT_EQ(dataset->bin_fills[0].parts[1].materials.at(0).roughness, 0.3);
+  const std::string choice = "bin: {inner_size: [0.3, 0.2, 0.1]}\nparts:\n"
+                             "  - {mesh_id: m-1, count: 1, material: {choose: [white-abs, black-abs]}}\n";
+  EXPECT_EQ(AsBinPlan(choice).status().message(),
+            "p.yaml:4: parts[0].material: a bin fill takes one material; choose is for dataset plans");
+  ASSERT_TRUE(AsDataset(choice).ok()) << AsDataset(choice).status().ToString();
 }
 
 TEST(UnitNames, ShortAndLongNamesAndTheirLengths) {

@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include <functional>
 #include <memory>
 #include <string>
@@ -136,7 +138,13 @@ INSTANTIATE_TEST_SUITE_P(
         BadSpec{"unknown_preset", [](v1::CampaignSpec* s) { s->mutable_sensor()->set_preset("nope"); },
                 "spec.sensor.preset:"},
         BadSpec{"unknown_frame", [](v1::CampaignSpec* s) { s->set_frame(static_cast<v1::Frame>(42)); },
-                "spec.frame:"}),
+                "spec.frame:"},
+        BadSpec{"light_exposure_nan",
+                [](v1::CampaignSpec* s) { s->mutable_returned_light()->set_exposure_s(std::nan("")); },
+                "spec.returned_light.exposure_s:"},
+        BadSpec{"light_half_angle_270",
+                [](v1::CampaignSpec* s) { s->mutable_returned_light()->set_emitter_half_angle_deg(270); },
+                "spec.returned_light.emitter_half_angle_deg:"}),
     [](const testing::TestParamInfo<BadSpec>& info) { return info.param.name; });
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 
 #include "vscan/common/status.h"
+#include "vscan/plan/material_plan.h"
 
 namespace vscan::service::dataset {
 
@@ -27,6 +28,9 @@ struct DatasetPart {
   std::optional<double> mass_kg;
   double density_kg_per_m3 = 2700.0;
   std::string collision = "convex_hull";
+  // What its instances are made of: none, the default (matte-grey); one, every scene's; several,
+  // one chosen per scene (PartMaterialIndex) for all of the part's instances in it.
+  std::vector<plan::MaterialPlan> materials;
 };
 
 struct DatasetBinFill {

@@ -3,6 +3,7 @@
 #include <filesystem>
 #include <set>
 #include "service/datasets/format/yaml_fields.h"
+#include "sensor/material.h"
 #include "vscan/plan/bin_fill_plan.h"
 
 namespace vscan::service::dataset {
@@ -45,7 +46,26 @@ DatasetPart ToDatasetPart(const plan::PartPlan& part) {
   out.mass_kg = part.mass_kg;
   if (part.density_kg_per_m3) out.density_kg_per_m3 = *part.density_kg_per_m3;
   if (!part.collision.empty()) out.collision = part.collision;
+  if (part.material) {
+    out.materials = {*part.material};
+  } else {
+    out.materials = part.material_choices;
+  }
   return out;
+}
+
+// Every preset a part's material names is one the server knows (the values are the reader's).
+Status CheckPresets(const plan::YamlReader& yaml, const plan::YamlAt& material, const DatasetPart& part) {
+  const bool choice = plan::IsMaterialChoice(material);
+  for (size_t k = 0; k < part.materials.size(); ++k) {
+    const std::string& preset = part.materials[k].preset;
+    if (preset.empty() || sensor::FindMaterialPreset(preset) != nullptr) continue;
+    std::string known;
+    for (const sensor::MaterialPreset& p : sensor::MaterialPresets()) known += (known.empty() ? "" : ", ") + p.name;
+    const plan::YamlAt at = choice ? plan::YamlReader::Item(plan::YamlReader::Child(material, "choose"), k) : material;
+    return yaml.Error(at, "unknown preset '" + preset + "' (" + known + ")");
+  }
+  return Status::Ok();
 }
 
 }  // namespace
@@ -75,12 +95,12 @@ StatusOr<BinEntry> ReadBinEntry(const YAML::Node& node, const std::string& sourc
   fill.inner_size_m = plan.box->inner_size;
   if (plan.box->wall_thickness) fill.wall_thickness_m = *plan.box->wall_thickness;
   for (size_t i = 0; i < plan.parts.size(); ++i) {
-    if (plan.parts[i].material) {
+    DatasetPart part = ToDatasetPart(plan.parts[i]);
+    if (!part.materials.empty()) {
       const plan::YamlAt item = plan::YamlReader::Item(plan::YamlReader::Child(entry_at, "parts"), i);
-      return yaml.Error(plan::YamlReader::Child(item, "material"),
-                        "a dataset's scans do not see materials yet (docs/DATASETS.md); leave it out");
+      RETURN_IF_ERROR(CheckPresets(yaml, plan::YamlReader::Child(item, "material"), part));
     }
-    fill.parts.push_back(ToDatasetPart(plan.parts[i]));
+    fill.parts.push_back(std::move(part));
   }
   if (const plan::YamlAt limit = plan::YamlReader::Child(entry_at, "max_simulated_s"); plan::YamlReader::Has(limit)) {
     ASSIGN_OR_RETURN(fill.max_simulated_s, yaml.Number(limit));

@@ -4,6 +4,7 @@
 // turns it into a scene directory (docs/DATASETS.md).
 
 #include <cstdint>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -11,6 +12,7 @@
 #include "vscan/common/mesh.h"
 #include "vscan/common/point_cloud.h"
 #include "vscan/common/pose.h"
+#include "service/datasets/format/dataset_materials.h"
 
 namespace vscan::service::dataset {
 
@@ -60,6 +62,8 @@ struct DatasetFrame {
   // true meshes, not the collision shapes).
   double deepest_part_overlap_m = 0;
   double deepest_bin_overlap_m = 0;
+  // Set when the plan gives any part a material: each placed part's (scene_materials.json).
+  std::optional<std::vector<InstanceMaterial>> materials;
 };
 
 // A part type for models/models_info.json.

@@ -20,6 +20,8 @@ inline constexpr const char* kScenesDir = "train_pbr";
 inline constexpr const char* kSceneRecordFile = "scene_files.json";
 // Inside a scene directory: how many parts the bin asked for and took.
 inline constexpr const char* kSceneFillFile = "scene_fill.json";
+// Inside a scene directory, when the plan sets materials: each part instance's material.
+inline constexpr const char* kSceneMaterialsFile = "scene_materials.json";
 // A scene being written lives in "<scene_id>.partial" until it is complete.
 inline constexpr const char* kPartialSuffix = ".partial";
 

@@ -1,6 +1,7 @@
 #include "service/datasets/format/dataset_manifest.h"
 
 #include "service/datasets/format/dataset_layout.h"
+#include "service/datasets/format/dataset_materials.h"
 #include "service/datasets/format/durable_file.h"
 #include "service/job/json_writer.h"
 
@@ -39,6 +40,11 @@ void Fills(JsonWriter& json, const DatasetPlan& plan) {
         json.Key("density_kg_per_m3").Value(part.density_kg_per_m3);
       }
       if (part.collision != DatasetPart{}.collision) json.Key("collision").Value(part.collision);
+      if (!part.materials.empty()) {
+        json.Key("materials").Open('[');
+        for (const plan::MaterialPlan& material : part.materials) WriteMaterial(json, material);
+        json.Close(']');
+      }
       json.Close('}');
     }
     json.Close(']').Close('}');
@@ -68,6 +74,17 @@ void Views(JsonWriter& json, const DatasetPlan& plan) {
   json.Close('}');
 }
 
+// Only a plan that lights its scans names the light (every key, 0 where the default holds).
+void ReturnedLight(JsonWriter& json, const plan::ReturnedLightPlan& light) {
+  const double values[] = {light.emitter_w_per_sr, light.emitter_half_angle_deg, light.exposure_s,
+                           light.aperture_diameter_m, light.quantum_efficiency, light.wavelength_m,
+                           light.full_well_e, light.read_noise_e, light.min_snr, light.reference_e};
+  static_assert(std::size(values) == std::size(plan::kReturnedLightKeys));
+  json.Key("returned_light").Open('{');
+  for (size_t i = 0; i < std::size(values); ++i) json.Key(plan::kReturnedLightKeys[i]).Value(values[i]);
+  json.Close('}');
+}
+
 }  // namespace
 
 std::string DatasetManifestJson(const DatasetPlan& plan) {
@@ -89,6 +106,7 @@ std::string DatasetManifestJson(const DatasetPlan& plan) {
   json.Key("depth_scale_mm").Value(plan.depth_scale_mm);
   if (!plan.bin_fills.empty()) Fills(json, plan);
   if (plan.views != DatasetViews{}) Views(json, plan);
+  if (plan.returned_light) ReturnedLight(json, *plan.returned_light);
   json.Close('}').Close('}');
   return json.str() + "\n";
 }

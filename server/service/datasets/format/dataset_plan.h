@@ -3,12 +3,14 @@
 // (seed, bin, sensor) triple; scenes are numbered seed-major, then bin, then sensor.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
 
 #include "service/datasets/format/dataset_bins.h"
 #include "vscan/common/status.h"
+#include "vscan/plan/returned_light_plan.h"
 
 namespace vscan::service::dataset {
 
@@ -44,6 +46,9 @@ struct DatasetPlan {
   // A bin that takes fewer parts than its fill asks for: the scene is written and says so in
   // scene_fill.json and the job's result (false), or the run fails naming the scene (true).
   bool fail_on_underfilled_bin = false;
+  // Every scan lit by the sensor's emitter and the parts' materials (the ReturnedLight message's
+  // keys); unset: the sensor's fixed lighting, as before materials.
+  std::optional<plan::ReturnedLightPlan> returned_light;
 };
 
 struct SceneKey {

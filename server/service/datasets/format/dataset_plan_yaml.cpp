@@ -124,12 +124,12 @@ StatusOr<DatasetPlan> PlanFromNode(const YAML::Node& root, const std::string& so
   if (!root.IsMap()) return InvalidArgument(source + ": the plan must be a mapping");
   static const std::set<std::string> kKeys = {"name",           "bins",           "seeds",
                                               "sensors",        "depth_scale_mm", "camera_height_m",
-                                              "fail_on_underfilled_bin", "views"};
+                                              "fail_on_underfilled_bin", "views", "returned_light"};
   for (const auto& entry : root) {
     if (!kKeys.contains(entry.first.Scalar())) {
       return Refuse(source, entry.first.Scalar(),
                     "is not a key (name, bins, seeds, sensors, depth_scale_mm, camera_height_m, views, "
-                    "fail_on_underfilled_bin)");
+                    "fail_on_underfilled_bin, returned_light)");
     }
   }
   for (const char* key : {"bins", "seeds", "sensors"}) {
@@ -161,6 +161,12 @@ StatusOr<DatasetPlan> PlanFromNode(const YAML::Node& root, const std::string& so
         !YAML::convert<bool>::decode(root["fail_on_underfilled_bin"], plan.fail_on_underfilled_bin)) {
       return Refuse(source, "fail_on_underfilled_bin", "must be true or false");
     }
+  }
+  if (root["returned_light"]) {
+    const plan::YamlReader yaml(source);
+    const plan::YamlAt top{root, "", root.Mark()};
+    ASSIGN_OR_RETURN(plan.returned_light,
+                     plan::ReadReturnedLight(yaml, plan::YamlReader::Child(top, "returned_light")));
   }
   const Status checked = CheckPlan(plan);
   if (!checked.ok()) return Refuse(source, checked.field(), std::string(checked.text()));

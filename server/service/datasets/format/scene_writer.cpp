@@ -46,6 +46,7 @@ DatasetFrame Header(const DatasetFrame& frame) {
   header.parts_placed = frame.parts_placed;
   header.deepest_part_overlap_m = frame.deepest_part_overlap_m;
   header.deepest_bin_overlap_m = frame.deepest_bin_overlap_m;
+  header.materials = frame.materials;
   return header;
 }
 
@@ -108,6 +109,9 @@ Status SceneWriter::Finish() {
   RETURN_IF_ERROR(Write("scene_gt.json", SceneGtJson(views_)));
   RETURN_IF_ERROR(Write("scene_gt_info.json", SceneGtInfoJson(views_)));
   RETURN_IF_ERROR(Write(kSceneFillFile, SceneFillJson(views_.front().frame)));
+  if (const auto& materials = views_.front().frame.materials) {
+    RETURN_IF_ERROR(Write(kSceneMaterialsFile, SceneMaterialsJson(*materials)));
+  }
   std::vector<SceneFileEntry> files = written_;
   std::sort(files.begin(), files.end(), [](const auto& a, const auto& b) { return a.path < b.path; });
   RETURN_IF_ERROR(Write(kSceneRecordFile, SceneRecordJson(*plan_, key_, files)));

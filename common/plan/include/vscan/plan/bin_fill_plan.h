@@ -9,11 +9,14 @@
 #include <string_view>
 #include <vector>
 
+#include "vscan/plan/material_plan.h"
 #include "vscan/plan/yaml_reader.h"
 
 namespace vscan::plan {
 
 inline constexpr uint64_t kMaxPartCount = 100000;
+// Materials one `material: {choose: [...]}` may list.
+inline constexpr size_t kMaxMaterialChoices = 64;
 
 // A mesh file in its unit (as the plan writes the path; relative paths start at the plan's
 // directory), or a stored mesh by id (in metres).
@@ -26,13 +29,6 @@ struct MeshSource {
   YAML::Mark mark;
 };
 
-// A preset's name, or the four values (checked by the server: docs/SENSORS.md, "Where materials
-// are set").
-struct MaterialPlan {
-  std::string preset;
-  double diffuse_albedo = 0, metallic = 0, roughness = 0, specular_reflectance = 0;
-};
-
 struct PartPlan {
   MeshSource mesh;
   uint32_t count = 0;
@@ -42,6 +38,9 @@ struct PartPlan {
   std::optional<double> density_kg_per_m3;
   std::string collision;  // "", "convex_hull" or "convex_decomposition"
   std::optional<MaterialPlan> material;
+  // `material: {choose: [...]}`: one of these per scene (dataset plans only; a bin fill refuses it).
+  std::vector<MaterialPlan> material_choices;
+  YAML::Mark material_mark;  // where material: stands, for errors found later
 };
 
 struct BoxBinPlan {
@@ -67,8 +66,19 @@ std::optional<std::string> ShortUnitName(std::string_view unit);
 // Metres per unit of a short unit name; nullopt for an unknown name.
 std::optional<double> MetresPerUnit(std::string_view unit);
 
+// material: NAME, or {diffuse_albedo, metallic, roughness, specular_reflectance}, all four, each
+// within [0, 1] (roughness (0, 1]), as the server checks them. Names are not looked up here: the
+// plan's reader or the server knows the presets.
+StatusOr<MaterialPlan> ReadMaterial(const YamlReader& yaml, const YamlAt& at);
+// A material as ReadMaterial reads it, or {choose: [material, ...]} with 1 to kMaxMaterialChoices
+// materials; one material is a list of one.
+StatusOr<std::vector<MaterialPlan>> ReadMaterialChoice(const YamlReader& yaml, const YamlAt& at);
+// Whether at is written as a choice ({choose: ...}).
+bool IsMaterialChoice(const YamlAt& at);
+
 // bin: {inner_size, wall_thickness, pose} or {mesh | mesh_id, unit, scale, pose}; parts: a list of
-// {mesh | mesh_id, unit, count, scale, name, mass_kg, density_kg_per_m3, collision, material}. Errors name
+// {mesh | mesh_id, unit, count, scale, name, mass_kg, density_kg_per_m3, collision, material}; material may be a
+// choice (material_choices), which callers that take one material refuse. Errors name
 // the key path and line; sizes and totals are the fill's own checks. The bin's pose is allowed but
 // not read: plans read poses with their own rules (bin.pose).
 StatusOr<BinFillPlan> ReadBinFill(const YamlReader& yaml, const YamlAt& bin, const YamlAt& parts);

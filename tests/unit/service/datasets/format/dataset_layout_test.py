@@ -297,6 +297,19 @@ class DatasetLayoutTest(unittest.TestCase):
         # The synthetic plan's seed 12 far-pair asks for a part more than it holds, for both sensors.
         self.assertEqual(underfilled, [(12, "far-pair"), (12, "far-pair")])
 
+    def test_scene_materials_name_every_placed_part_the_same_for_a_fills_sensors(self):
+        chosen = {}
+        for entry, scene in self.scene_dirs():
+            materials = load(os.path.join(scene, "scene_materials.json"))["instances"]
+            for view in load(os.path.join(scene, "scene_gt.json")).values():
+                self.assertEqual(sorted(m["obj_id"] for m in materials), sorted(p["obj_id"] for p in view))
+            for m in materials:
+                self.assertIn(m["material"]["preset"],
+                              {"machined-aluminium", "black-anodised-aluminium", "white-abs"})
+                # A part type has one material in a scene; both sensors of a fill see the same.
+                key = (entry["seed"], entry["bin"], m["obj_id"])
+                self.assertEqual(chosen.setdefault(key, m["material"]["preset"]), m["material"]["preset"], key)
+
     def test_model_meshes_in_millimetres_beside_models_info(self):
         for obj_id, info in self.models.items():
             ply = read_ply_mesh(os.path.join(self.root, "models", "obj_%06d.ply" % int(obj_id)))

@@ -123,7 +123,7 @@ TEST(DatasetPlanYaml, NamesTheKeyItRefuses) {
   };
   EXPECT_EQ(message("bins: [b]\nseeds: [1]\nsensors: [s]\ncolour: red\n"),
             "p.yaml: colour: is not a key (name, bins, seeds, sensors, depth_scale_mm, camera_height_m, views, "
-            "fail_on_underfilled_bin)");
+            "fail_on_underfilled_bin, returned_light)");
   EXPECT_EQ(message("bins: [b]\nsensors: [s]\n"), "p.yaml: seeds: is missing");
   EXPECT_EQ(message("bins: [b]\nseeds: {first: 1}\nsensors: [s]\n"), "p.yaml: seeds: needs both first and count");
   EXPECT_EQ(message("bins: [b]\nseeds: [1, -2]\nsensors: [s]\n"),
@@ -181,9 +181,30 @@ TEST(DatasetPlanYaml, APartsPhysicsIsPartOfTheDatasetsIdentity) {
   EXPECT_EQ(plain.find("density_kg_per_m3"), std::string::npos);
   EXPECT_EQ(manifest(", collision: convex_hull, density_kg_per_m3: 2700"), plain);
   std::set<std::string> distinct = {plain};
-  for (const std::string part : {", collision: convex_decomposition", ", mass_kg: 0.2", ", density_kg_per_m3: 7800"}) {
+  for (const std::string part : {", collision: convex_decomposition", ", mass_kg: 0.2", ", density_kg_per_m3: 7800",
+                                 ", material: white-abs", ", material: {choose: [white-abs, black-abs]}",
+                                 ", material: {choose: [black-abs, white-abs]}"}) {
     EXPECT_TRUE(distinct.insert(manifest(part)).second) << part;
   }
+  EXPECT_EQ(plain.find("material"), std::string::npos);
+  EXPECT_EQ(plain.find("returned_light"), std::string::npos);
+}
+
+// A lit plan and an unlit one, or two lights, are two datasets.
+TEST(DatasetPlanYaml, TheReturnedLightIsPartOfTheDatasetsIdentity) {
+  const auto manifest = [](const std::string& light) {
+    const auto plan = ParseDatasetPlanYaml("bins:\n  - name: b\n    bin: {inner_size: [0.3, 0.2, 0.1]}\n"
+                                           "    parts: [{mesh: block.stl, unit: m, count: 3}]\n"
+                                           "seeds: [4]\nsensors: [ideal-vga]\n" + light,
+                                           "plan.yaml");
+    EXPECT_TRUE(plan.ok()) << plan.status().ToString();
+    return plan.ok() ? DatasetManifestJson(*plan) : std::string();
+  };
+  const std::set<std::string> distinct = {manifest(""), manifest("returned_light: {}\n"),
+                                          manifest("returned_light: {emitter_w_per_sr: 0.5}\n"),
+                                          manifest("returned_light: {min_snr: 3}\n")};
+  EXPECT_EQ(distinct.size(), 4u);
+  EXPECT_NE(manifest("returned_light: {min_snr: 3}\n").find("\"min_snr\":3"), std::string::npos);
 }
 
 // A dataset's bins are read by the bin plans' reader (vscan/plan/bin_fill_plan.h): its messages,

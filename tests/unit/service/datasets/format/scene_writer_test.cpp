@@ -111,6 +111,24 @@ TEST_F(SceneWriterTest, CloudKeepsPositionsNormalsAndInstancesOnly) {
   }
 }
 
+// Each placed part's material, when the frame carries them (the plan names any); none otherwise.
+TEST_F(SceneWriterTest, MaterialsAreWrittenOnlyWhenTheFrameCarriesThem) {
+  ASSERT_TRUE(frame_.materials.has_value());
+  ASSERT_TRUE(WriteScene(dir_.path(), plan_, key_, frame_).ok());
+  StatusOr<std::string> written = ReadWholeFile(Scene() / kSceneMaterialsFile);
+  ASSERT_TRUE(written.ok()) << written.status().ToString();
+  EXPECT_EQ(*written, SceneMaterialsJson(*frame_.materials));
+  for (const InstanceMaterial& instance : *frame_.materials) {
+    EXPECT_NE(written->find("\"instance_id\":" + std::to_string(instance.instance_id)), std::string::npos);
+  }
+  std::filesystem::remove_all(Scene());
+  DatasetFrame plain = frame_;
+  plain.materials.reset();
+  ASSERT_TRUE(WriteScene(dir_.path(), plan_, key_, plain).ok());
+  EXPECT_FALSE(std::filesystem::exists(Scene() / kSceneMaterialsFile));
+  EXPECT_TRUE(std::filesystem::exists(Scene() / kSceneFillFile));
+}
+
 TEST_F(SceneWriterTest, RecordListsEveryFileWithItsSizeAndChecksum) {
   ASSERT_TRUE(WriteScene(dir_.path(), plan_, key_, frame_).ok());
   StatusOr<std::vector<SceneFileEntry>> files = ListSceneFiles(Scene());
@@ -121,7 +139,7 @@ TEST_F(SceneWriterTest, RecordListsEveryFileWithItsSizeAndChecksum) {
                                              "mask/000000_000000.png", "mask/000000_000001.png",
                                              "mask_visib/000000_000000.png", "mask_visib/000000_000001.png",
                                              "scene_camera.json", "scene_fill.json", "scene_gt.json",
-                                             "scene_gt_info.json"}));
+                                             "scene_gt_info.json", "scene_materials.json"}));
   StatusOr<std::string> record = ReadWholeFile(Scene() / kSceneRecordFile);
   ASSERT_TRUE(record.ok());
   EXPECT_EQ(*record, SceneRecordJson(plan_, key_, *files));

@@ -4,6 +4,7 @@
 #include <limits>
 #include <numbers>
 
+#include "service/datasets/format/dataset_materials.h"
 #include "service/datasets/format/view_poses.h"
 #include "vscan_test/meshes.h"
 
@@ -198,6 +199,14 @@ DatasetFrame SyntheticFrame(const service::dataset::DatasetPlan& plan, const Sce
     object.alone_pixels = alone;
     object.visible_fraction = alone == 0 ? 0.0 : double(object.visible_pixels) / double(alone);
     frame.objects.push_back(object);
+  }
+  // Each part type one of three materials per (seed, bin), as the dataset job chooses them.
+  static const char* const kMaterials[] = {"machined-aluminium", "black-anodised-aluminium", "white-abs"};
+  frame.materials.emplace();
+  for (const SyntheticBox& box : boxes) {
+    const size_t chosen = service::dataset::PartMaterialIndex(key.seed, key.bin_index, box.obj_id, 3);
+    frame.materials->push_back({box.instance_id, box.obj_id, "box" + std::to_string(box.obj_id),
+                                plan::MaterialPlan{kMaterials[chosen], 0, 0, 0, 0}});
   }
   return frame;
 }
