@@ -146,6 +146,15 @@ class DatasetJobTest(unittest.TestCase):
                 u = np.floor(in_camera[:, 0] / in_camera[:, 2] * k[0, 0] + k[0, 2] + 0.5).astype(int)
                 v = np.floor(in_camera[:, 1] / in_camera[:, 2] * k[1, 1] + k[1, 2] + 0.5).astype(int)
                 np.testing.assert_allclose(depth[v, u], in_camera[:, 2], atol=0.1)
+                # The reason image says measured (or outlier, flying pixel) exactly where there is a
+                # depth, and the grey image is black only where no surface was met or the light grazes.
+                reasons, _ = read_png(os.path.join(scene, "reasons", "%06d.png" % int(im_id)))
+                gray, gray_depth = read_png(os.path.join(scene, "gray", "%06d.png" % int(im_id)))
+                self.assertEqual(gray_depth, 16)
+                self.assertEqual(reasons.shape, depth.shape)
+                np.testing.assert_array_equal(np.isin(reasons, (1, 2, 3)), depth > 0)
+                self.assertTrue(np.all(gray[reasons == 0] == 0))
+                self.assertGreater(np.mean(gray[depth > 0] > 0), 0.99)
                 # The parts stand where they stand whichever view sees them.
                 parts = []
                 for gt in gts[im_id]:

@@ -14,9 +14,10 @@ import unittest
 import grpc
 
 from harness import BUNNY, DATA, VSCAN, VSCAND, Server, cli_result
-from test_dataset_job import tree
+from test_dataset_job import read_png, tree
 from vscan import Client, VscanError
 from vscan.jobs import campaign_spec
+from vscan.v1 import scan_pb2
 
 PARTS = os.path.join(DATA, "parts")
 PANDA = os.path.join(DATA, "robots", "panda")
@@ -205,7 +206,7 @@ class PlanMaterialsTest(unittest.TestCase):
 
     def test_a_datasets_weak_emitter_leaves_its_black_parts_unmeasured(self):
         black = dataset_plan(1, "black-anodised-aluminium")
-        visible = {}
+        visible, dark = {}, {}
         for name, text in (("unlit.yaml", black.replace("returned_light: {}\n", "")),
                            ("lit.yaml", black.replace("returned_light: {}", "returned_light: {emitter_w_per_sr: 1e-5}"))):
             scene = self.run_dataset(name, text)
@@ -214,9 +215,14 @@ class PlanMaterialsTest(unittest.TestCase):
             with open(os.path.join(scene, "scene_gt.json")) as f:
                 gt = json.load(f)["0"]
             visible[name] = sum(i["px_count_visib"] for i, p in zip(info, gt) if p["obj_id"] == 1)
-        # The same seed fills the same bin: the blocks the unlit scan sees, the lit one mostly loses.
+            reasons, _ = read_png(os.path.join(scene, "reasons", "000000.png"))
+            dark[name] = int((reasons == scan_pb2.POINT_STATUS_REJECTED_DARK).sum())
+        # The same seed fills the same bin: the blocks the unlit scan sees, the lit one mostly loses,
+        # and the reason image says why: those pixels are dark.
         self.assertGreater(visible["unlit.yaml"], 20, visible)
         self.assertLess(visible["lit.yaml"], visible["unlit.yaml"] / 2, visible)
+        self.assertEqual(dark["unlit.yaml"], 0, dark)
+        self.assertGreaterEqual(dark["lit.yaml"], visible["unlit.yaml"] - visible["lit.yaml"], (dark, visible))
 
     def test_hostile_plans_are_refused_at_once(self):
         # Within the 1 MiB a plan may take, about 90000 choices: refused by their count.

@@ -15,6 +15,7 @@
 #include "service/scan/scan_backends.h"
 #include "service/datasets/format/view_poses.h"
 #include "service/scan/scan_ground_truth.h"
+#include "service/scan/scan_pixel_images.h"
 
 namespace vscan::service {
 namespace {
@@ -166,7 +167,9 @@ StatusOr<dataset::DatasetFrame> ScanFilledBin(const FilledBin& filled, const Dat
   plan.world_from_sensor = world_from_camera;
   plan.measurement.seed = noise_seed;
   raycast::ScanStats stats;
-  ASSIGN_OR_RETURN(const PointCloud cloud, RunScanBackend(plan, filled.target, raster, cancel, &stats));
+  ASSIGN_OR_RETURN(PointCloud cloud,
+                   RunScanBackend(WithPixelImageFields(plan), filled.target, raster, cancel, &stats));
+  capture::PixelImages images = TakePixelImages(plan, cloud);
   ASSIGN_OR_RETURN(const std::vector<ObjectTruth> truths,
                    ObjectGroundTruth(filled.target, plan.camera, world_from_camera, cloud, cancel));
   dataset::DatasetFrame frame;
@@ -179,6 +182,8 @@ StatusOr<dataset::DatasetFrame> ScanFilledBin(const FilledBin& filled, const Dat
   frame.deepest_bin_overlap_m = filled.mesh_overlap.max_part_bin_m;
   frame.materials = filled.materials;
   FillImages(cloud, world_from_camera, frame);
+  frame.reasons = std::move(images.reasons);
+  frame.gray = std::move(images.gray);
   for (const ObjectTruth& truth : truths) {
     dataset::GroundTruthObject object;
     object.obj_id = filled.obj_ids[truth.instance_id - kFirstPartInstance];

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "service/scan/scan_ground_truth.h"
+#include "service/scan/scan_pixel_images.h"
 
 namespace vscan::service {
 namespace {

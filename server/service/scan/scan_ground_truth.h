@@ -43,9 +43,6 @@ StatusOr<std::vector<ObjectTruth>> ObjectGroundTruth(const scenes::ScanTarget& t
                                                      const Pose3& world_from_sensor, const PointCloud& cloud,
                                                      const std::atomic<bool>* cancel);
 
-// What a scan with per-pixel images measures on top of the asked fields.
-inline constexpr uint32_t kFieldsForPixelImages = kFieldPixel | kFieldStatus | kFieldIntensity;
-
 // Drops the arrays of fields the caller did not ask for.
 void KeepFields(PointCloud& cloud, uint32_t fields);
 

@@ -5,18 +5,10 @@
 #include "service/scan/request_memory.h"
 #include "service/scan/scan_backends.h"
 #include "service/scan/scan_metrics.h"
+#include "service/scan/scan_pixel_images.h"
 #include "service/scan/scan_target.h"
 
 namespace vscan::service {
-namespace {
-
-// The signal shown as white in the grey image: the full well under the returned light, else the
-// fixed lighting's intensity 1.
-double GreyFullScale(const capture::MeasurementSpec& spec) {
-  return spec.returned_light ? spec.returned_light->pixel.full_well_e : 1.0;
-}
-
-}  // namespace
 
 bool StreamsRows(const ScanPlan& plan, const ServerOptions& options) {
   return plan.backend == ScanBackend::kRaycast && !plan.measurement.any() && !plan.ground_truth &&
@@ -53,18 +45,11 @@ Status RunScan(ServiceContext& context, const ScanPlan& plan, const std::atomic<
   // was asked, then hand on only that.
   ScanPlan counted = plan;
   if (plan.ground_truth) counted.fields = FieldsForGroundTruth(plan.fields, plan.measurement.include_rejected);
-  if (plan.pixel_images) {
-    counted.fields |= kFieldsForPixelImages;
-    counted.measurement.include_rejected = true;
-  }
   counted.measurement.fields = counted.fields;
+  if (plan.pixel_images) counted = WithPixelImageFields(std::move(counted));
   ASSIGN_OR_RETURN(PointCloud cloud,
                    RunScanBackend(counted, target, context.raster, cancel, &outcome->stats, &outcome->measure));
-  if (plan.pixel_images) {
-    outcome->images =
-        capture::MakePixelImages(cloud, plan.camera.width, plan.camera.height, GreyFullScale(plan.measurement));
-    if (!plan.measurement.include_rejected) capture::DropRejected(cloud);
-  }
+  if (plan.pixel_images) outcome->images = TakePixelImages(plan, cloud);
   if (plan.ground_truth) {
     ASSIGN_OR_RETURN(outcome->objects,
                      ObjectGroundTruth(target, plan.camera, plan.world_from_sensor, cloud, cancel));

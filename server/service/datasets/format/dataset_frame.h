@@ -53,6 +53,10 @@ struct DatasetFrame {
   std::vector<float> depth_m;
   // Row-major width * height: the instance seen at each pixel, 0 for none.
   std::vector<uint32_t> instance_ids;
+  // Row-major width * height, or empty (not written): each pixel's PointStatus (0 where the ray met
+  // no surface) and the grey image (docs/SENSORS.md, "Per-pixel images").
+  std::vector<uint8_t> reasons;
+  std::vector<uint16_t> gray;
   PointCloud cloud;  // world frame; positions, and normals and instance ids when present are written
   std::vector<GroundTruthObject> objects;
   // The bin's fill: parts it asked for and parts that settled in it (fewer when the bin was full).

@@ -99,6 +99,12 @@ Status CheckFrame(const DatasetFrame& frame) {
   const size_t pixels = size_t{camera.width} * camera.height;
   if (frame.depth_m.size() != pixels) return InvalidArgument("depth_m", "must hold width * height values");
   if (frame.instance_ids.size() != pixels) return InvalidArgument("instance_ids", "must hold width * height values");
+  if (!frame.reasons.empty() && frame.reasons.size() != pixels) {
+    return InvalidArgument("reasons", "must be empty or hold width * height values");
+  }
+  if (!frame.gray.empty() && frame.gray.size() != pixels) {
+    return InvalidArgument("gray", "must be empty or hold width * height values");
+  }
   if (frame.objects.size() > std::numeric_limits<uint16_t>::max()) {
     return InvalidArgument("objects", "more than 65535 do not fit the 16-bit object index image");
   }

@@ -12,7 +12,7 @@
 namespace vscan::service::dataset {
 namespace {
 
-constexpr const char* kImageDirs[] = {"depth", "mask", "mask_visib", "instances", "cloud"};
+constexpr const char* kImageDirs[] = {"depth", "gray", "reasons", "mask", "mask_visib", "instances", "cloud"};
 
 // Positions, and normals and instance ids when the cloud has them: the fields the layout promises.
 PointCloud LayoutCloud(const PointCloud& cloud) {
@@ -89,6 +89,12 @@ Status SceneWriter::AddView(const DatasetFrame& frame) {
   const std::vector<uint16_t> object_index = ObjectIndexImage(frame);
   RETURN_IF_ERROR(WriteEncoded("depth/" + image + ".png", EncodeGray16Png(width, height, depth)));
   RETURN_IF_ERROR(WriteEncoded("instances/" + image + ".png", EncodeGray16Png(width, height, object_index)));
+  if (!frame.gray.empty()) {
+    RETURN_IF_ERROR(WriteEncoded("gray/" + image + ".png", EncodeGray16Png(width, height, frame.gray)));
+  }
+  if (!frame.reasons.empty()) {
+    RETURN_IF_ERROR(WriteEncoded("reasons/" + image + ".png", EncodeGray8Png(width, height, frame.reasons)));
+  }
   for (size_t i = 0; i < frame.objects.size(); ++i) {
     RETURN_IF_ERROR(WriteEncoded("mask_visib/" + image + "_" + SixDigits(i) + ".png",
                                  EncodeGray8Png(width, height, VisibleMask(object_index, i))));

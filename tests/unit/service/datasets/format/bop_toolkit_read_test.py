@@ -141,6 +141,11 @@ class BopToolkitReadsTheDatasetTest(unittest.TestCase):
                 depth = self.inout.load_depth(p["depth_tpath"].format(scene_id=scene_id, im_id=im_id))
                 self.assertEqual(depth.ndim, 2)
                 depth_mm = depth * camera["depth_scale"]
+                # BOP's gray/ modality: one 16-bit channel the size of the depth, lit where there is depth.
+                gray = np.asarray(self.inout.load_im(p["gray_tpath"].format(scene_id=scene_id, im_id=im_id)))
+                self.assertEqual(gray.shape, depth.shape)
+                self.assertGreater(int(gray.max()), 255)  # 16 bits
+                np.testing.assert_array_equal(gray > 0, depth_mm > 0)
                 for gt_id, (gt, info) in enumerate(zip(gts[im_id], infos[im_id])):
                     r = gt["cam_R_m2c"]
                     self.assertEqual(r.dtype, np.float64)

@@ -135,9 +135,10 @@ TEST_F(SceneWriterTest, RecordListsEveryFileWithItsSizeAndChecksum) {
   ASSERT_TRUE(files.ok());
   std::vector<std::string> names;
   for (const SceneFileEntry& file : *files) names.push_back(file.path);
-  EXPECT_EQ(names, (std::vector<std::string>{"cloud/000000.ply", "depth/000000.png", "instances/000000.png",
-                                             "mask/000000_000000.png", "mask/000000_000001.png",
+  EXPECT_EQ(names, (std::vector<std::string>{"cloud/000000.ply", "depth/000000.png", "gray/000000.png",
+                                             "instances/000000.png", "mask/000000_000000.png", "mask/000000_000001.png",
                                              "mask_visib/000000_000000.png", "mask_visib/000000_000001.png",
+                                             "reasons/000000.png",
                                              "scene_camera.json", "scene_fill.json", "scene_gt.json",
                                              "scene_gt_info.json", "scene_materials.json"}));
   StatusOr<std::string> record = ReadWholeFile(Scene() / kSceneRecordFile);

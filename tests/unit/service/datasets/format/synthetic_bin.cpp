@@ -1,5 +1,6 @@
 #include "synthetic_bin.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -172,6 +173,8 @@ DatasetFrame SyntheticFrame(const service::dataset::DatasetPlan& plan, const Sce
   const size_t pixels = size_t{camera.width} * camera.height;
   frame.depth_m.assign(pixels, 0.0f);
   frame.instance_ids.assign(pixels, 0);
+  frame.reasons.assign(pixels, 0);
+  frame.gray.assign(pixels, 0);
   frame.cloud.fields = kFieldPosition | kFieldNormal | kFieldInstanceId | kFieldRange;
   for (uint32_t v = 0; v < camera.height; ++v) {
     for (uint32_t u = 0; u < camera.width; ++u) {
@@ -180,6 +183,9 @@ DatasetFrame SyntheticFrame(const service::dataset::DatasetPlan& plan, const Sce
       const size_t i = size_t{v} * camera.width + u;
       frame.depth_m[i] = float(hit.t);
       frame.instance_ids[i] = hit.instance;
+      frame.reasons[i] = static_cast<uint8_t>(PointStatus::kMeasured);
+      // A grey that falls with depth, so that the image is not flat.
+      frame.gray[i] = static_cast<uint16_t>(std::min(65535.0, 20000.0 / hit.t));
       const Eigen::Vector3d in_camera((u + 0.5 - camera.cx) / camera.fx * hit.t,
                                       (v + 0.5 - camera.cy) / camera.fy * hit.t, hit.t);
       frame.cloud.positions.push_back((frame.world_from_camera * in_camera).cast<float>());
