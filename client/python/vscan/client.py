@@ -258,7 +258,8 @@ class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls, BinCalls, Localizatio
         each scene object in view with its true poses and visible fraction (ObjectTruth messages).
         returned_light lights the scene with the sensor's own emitter and each object's material: True
         for the defaults, or a dict of sensor_pb2.ReturnedLight's fields ({"emitter_w_per_sr": 0.01,
-        "exposure_s": 0.02, ...}); rays too dark or saturated get status "dark" or "saturated", and
+        "exposure_s": 0.02, "indirect_samples": 64, ...}); rays too dark or saturated get status "dark"
+        or "saturated", structured-light rays drowned by indirect light "interreflection", and
         intensity is the measured electrons.
         """
         request = scan_pb2.ScanRequest(scene_id=scene_id, seed=int(seed), frame=convert.frame(frame),
@@ -306,7 +307,8 @@ class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls, BinCalls, Localizatio
             request.returned_light.SetInParent()
             if returned_light is not True:
                 for key, value in dict(returned_light).items():
-                    setattr(request.returned_light, key, float(value))
+                    counts = ("indirect_samples", "indirect_stride_px")
+                    setattr(request.returned_light, key, int(value) if key in counts else float(value))
         if normal_estimation is not None:
             k, max_distance = normal_estimation
             request.normal_estimation.k = int(k)

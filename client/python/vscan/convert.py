@@ -48,6 +48,7 @@ STATUSES = {
     "unlit": scan_pb2.POINT_STATUS_REJECTED_UNLIT,
     "dark": scan_pb2.POINT_STATUS_REJECTED_DARK,
     "saturated": scan_pb2.POINT_STATUS_REJECTED_SATURATED,
+    "interreflection": scan_pb2.POINT_STATUS_REJECTED_INTERREFLECTION,
 }
 
 FRAMES = {"world": scan_pb2.FRAME_WORLD, "sensor": scan_pb2.FRAME_SENSOR}

@@ -17,6 +17,8 @@ constexpr uint64_t kScratchBytesPerRay = 48;
 constexpr uint64_t kRasterBytesPerPixel = 32;
 // Neighbour search of estimated normals: the k-d tree and its index per point.
 constexpr uint64_t kNormalSearchBytesPerPoint = 40;
+// The indirect light: its radiance and phasor, the wanted mask and the pixel-to-point map per ray.
+constexpr uint64_t kIndirectBytesPerRay = 40;
 
 uint64_t BytesPerPoint(uint32_t fields) {
   PointCloud cloud;
@@ -46,6 +48,9 @@ uint64_t ScanMemoryBytes(const ScanPlan& plan, bool streamed) {
   if (fields & kFieldEstimatedNormal) per_ray += kNormalSearchBytesPerPoint;
   // Structured light casts from the projector too and keeps its visibility per ray.
   if (plan.measurement.structured_light) per_ray += kScratchBytesPerRay;
+  if (plan.measurement.returned_light && plan.measurement.returned_light->indirect_samples > 0) {
+    per_ray += kIndirectBytesPerRay;
+  }
   return rays * per_ray;
 }
 
