@@ -18,7 +18,7 @@ namespace {
 
 constexpr int32_t kNone = -1;
 // Grid pixels count as the same surface as a pixel within these bounds.
-constexpr double kSameSurfaceCos = 0.95;         // normals within about 18 degrees
+constexpr double kSameSurfaceCos = 0.9;          // normals within about 26 degrees
 constexpr double kSameSurfaceRelativeGap = 0.01;  // off the pixel's plane by 1% of its range
 
 // Duff et al.'s branchless orthonormal basis ("Building an orthonormal basis, revisited", 2017).

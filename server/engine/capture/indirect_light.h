@@ -32,7 +32,7 @@ struct IndirectReturn {
 // (seed, pixel, sample), are cast to x2; x2 is lit by spec.emitter (its cone, and a shadow ray from
 // the emitter) and sends x1 DirectRadiance with its material, which x1's BRDF turns to the camera.
 // Pixels on the grid of spec.indirect_stride_px are computed; the others interpolate the grid
-// pixels around them that lie on the same surface (same object, normals within 18 degrees, within
+// pixels around them that lie on the same surface (same object, normals within 26 degrees, within
 // 1% of the range of its plane), or are computed themselves when none does. wanted, when not
 // empty, marks the points whose value is needed (others come back zero unless on the grid).
 // Deterministic for a seed, whatever the number of threads. All zero when indirect_samples is 0.
