@@ -149,6 +149,11 @@ class IndirectLightTest(unittest.TestCase):
                 self.scan("tof", light, width=32, height=24)
             self.assertEqual(caught.exception.code, C.INVALID_ARGUMENT)
             self.assertIn(field, caught.exception.message)
+        # Each bound alone is fine, but every pixel of a VGA frame at 4096 samples is 1.3e9 bounces.
+        with self.assertRaises(VscanError) as caught:
+            self.scan("tof", {"indirect_samples": 4096, "indirect_stride_px": 1}, width=640, height=480)
+        self.assertEqual(caught.exception.code, C.INVALID_ARGUMENT)
+        self.assertIn("returned_light.indirect_samples", caught.exception.message)
         # A structured-light sensor does not measure time of flight.
         with self.assertRaises(VscanError) as caught:
             self.scan("sl", {"modulation_frequency_hz": 20e6}, sensor=self.sl_sensor())

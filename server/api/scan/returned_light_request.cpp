@@ -4,6 +4,7 @@
 #include <string>
 
 #include "api/transport/validate.h"
+#include "capture/indirect_light.h"
 
 namespace vscan::api {
 
@@ -50,6 +51,13 @@ StatusOr<capture::ReturnedLightSpec> ReturnedLightFromProto(const v1::ReturnedLi
                            "must be in [1, " + std::to_string(capture::kMaxIndirectStridePx) + "] (0: 4)");
   }
   if (light.indirect_stride_px() != 0) spec.indirect_stride_px = light.indirect_stride_px();
+  if (capture::IndirectGridSamples(camera, spec) > capture::kMaxIndirectGridSamples) {
+    return InvalidArgument("returned_light.indirect_samples",
+                           "times the grid's pixels (ceil(width / indirect_stride_px) x ceil(height / "
+                           "indirect_stride_px)) must be at most " +
+                               std::to_string(capture::kMaxIndirectGridSamples) +
+                               ": ask for fewer samples or a wider stride");
+  }
   ASSIGN_OR_RETURN(spec.modulation_frequency_hz,
                    read(light.modulation_frequency_hz(), sensor_modulation_hz, 0, capture::kMaxModulationFrequencyHz,
                         "modulation_frequency_hz", "Hz"));

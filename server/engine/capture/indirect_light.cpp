@@ -110,13 +110,22 @@ bool SameSurface(const PointCloud& clean, size_t pixel, size_t grid) {
 
 }  // namespace
 
-std::vector<IndirectReturn> IndirectReturns(const raycast::RaycastScene& scene, const Pose3& world_from_sensor,
-                                            const sensor::PinholeCamera& camera, const PointCloud& clean,
-                                            const ReturnedLightSpec& spec, uint64_t seed,
-                                            const std::vector<uint8_t>& wanted) {
+uint64_t IndirectGridSamples(const sensor::PinholeCamera& camera, const ReturnedLightSpec& spec) {
+  const uint64_t stride = std::max<uint32_t>(1, spec.indirect_stride_px);
+  return uint64_t{spec.indirect_samples} * ((camera.width + stride - 1) / stride) *
+         ((camera.height + stride - 1) / stride);
+}
+
+StatusOr<std::vector<IndirectReturn>> IndirectReturns(const raycast::RaycastScene& scene,
+                                                      const Pose3& world_from_sensor,
+                                                      const sensor::PinholeCamera& camera, const PointCloud& clean,
+                                                      const ReturnedLightSpec& spec, uint64_t seed,
+                                                      const std::vector<uint8_t>& wanted,
+                                                      const std::atomic<bool>* cancel) {
   const size_t n = clean.size();
   std::vector<IndirectReturn> out(n);
   if (spec.indirect_samples == 0 || n == 0) return out;
+  const auto cancelled = [cancel] { return cancel != nullptr && cancel->load(std::memory_order_relaxed); };
   const IndirectTracer tracer(scene, world_from_sensor, clean, spec, seed);
   const uint32_t stride = std::max<uint32_t>(1, spec.indirect_stride_px);
   const uint32_t width = std::max<uint32_t>(1, camera.width);
@@ -127,16 +136,19 @@ std::vector<IndirectReturn> IndirectReturns(const raycast::RaycastScene& scene, 
   const auto needed = [&](size_t i) { return wanted.empty() || wanted[i] != 0; };
   // The grid first; with stride 1 every pixel is on it.
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const tbb::blocked_range<size_t>& r) {
+    if (cancelled()) return;
     for (size_t i = r.begin(); i != r.end(); ++i) {
       if (on_grid(i)) out[i] = tracer.Trace(i);
     }
   });
+  if (cancelled()) return Cancelled("indirect light: cancelled");
   if (stride == 1) return out;
   std::vector<int32_t> at_pixel(camera.pixel_count(), kNone);
   for (size_t i = 0; i < n; ++i) {
     if (clean.pixels[i] < at_pixel.size()) at_pixel[clean.pixels[i]] = static_cast<int32_t>(i);
   }
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const tbb::blocked_range<size_t>& r) {
+    if (cancelled()) return;
     for (size_t i = r.begin(); i != r.end(); ++i) {
       if (on_grid(i) || !needed(i)) continue;
       const uint32_t u = clean.pixels[i] % width, v = clean.pixels[i] / width;
@@ -161,6 +173,7 @@ std::vector<IndirectReturn> IndirectReturns(const raycast::RaycastScene& scene, 
       }
     }
   });
+  if (cancelled()) return Cancelled("indirect light: cancelled");
   return out;
 }
 

@@ -4,6 +4,7 @@
 // to the pixel's signal, biases a time-of-flight depth (multipath) and can drown a structured-light
 // pattern (interreflection).
 
+#include <atomic>
 #include <complex>
 #include <cstdint>
 #include <vector>
@@ -15,6 +16,7 @@
 #include "sensor/camera.h"
 #include "vscan/common/point_cloud.h"
 #include "vscan/common/pose.h"
+#include "vscan/common/status.h"
 
 namespace vscan::capture {
 
@@ -36,10 +38,19 @@ struct IndirectReturn {
 // 1% of the range of its plane), or are computed themselves when none does. wanted, when not
 // empty, marks the points whose value is needed (others come back zero unless on the grid).
 // Deterministic for a seed, whatever the number of threads. All zero when indirect_samples is 0.
-std::vector<IndirectReturn> IndirectReturns(const raycast::RaycastScene& scene, const Pose3& world_from_sensor,
-                                            const sensor::PinholeCamera& camera, const PointCloud& clean,
-                                            const ReturnedLightSpec& spec, uint64_t seed,
-                                            const std::vector<uint8_t>& wanted = {});
+// cancel, when set, is polled between blocks of pixels and stops the work with CANCELLED.
+StatusOr<std::vector<IndirectReturn>> IndirectReturns(const raycast::RaycastScene& scene,
+                                                      const Pose3& world_from_sensor,
+                                                      const sensor::PinholeCamera& camera, const PointCloud& clean,
+                                                      const ReturnedLightSpec& spec, uint64_t seed,
+                                                      const std::vector<uint8_t>& wanted = {},
+                                                      const std::atomic<bool>* cancel = nullptr);
+
+// The samples a scan of this camera traces on its grid: indirect_samples x the grid pixels
+// (ceil(width / stride) x ceil(height / stride)); the pixels traced off the grid add to it.
+uint64_t IndirectGridSamples(const sensor::PinholeCamera& camera, const ReturnedLightSpec& spec);
+// What one request may ask for: about two minutes of bounces on 2 cores.
+inline constexpr uint64_t kMaxIndirectGridSamples = uint64_t{1} << 27;
 
 // The range along the unit ray from the camera (at the origin) at which the path
 // emitter -> point -> camera is path_m long: r = (L^2 - |e|^2) / (2 (L - e.u)).

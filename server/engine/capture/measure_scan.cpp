@@ -98,16 +98,17 @@ struct SignalEffects {
 // intensity, each ray's factor on the depth noise, and with indirect light the interreflection
 // verdict (structured light) or the multipath range (time of flight) (docs/SENSORS.md, "The
 // returned signal", "Indirect light").
-SignalEffects JudgeSignals(const raycast::RaycastScene& scene, const Pose3& world_from_sensor,
-                           const sensor::PinholeCamera& camera, const MeasurementSpec& spec, PointCloud& clean,
-                           std::vector<uint8_t>& status) {
+StatusOr<SignalEffects> JudgeSignals(const raycast::RaycastScene& scene, const Pose3& world_from_sensor,
+                                     const sensor::PinholeCamera& camera, const MeasurementSpec& spec,
+                                     const std::atomic<bool>* cancel, PointCloud& clean,
+                                     std::vector<uint8_t>& status) {
   const ReturnedLightSpec& light = *spec.returned_light;
   std::vector<IndirectReturn> indirect;
   std::vector<double> indirect_radiance;
   if (light.indirect_samples > 0) {
     std::vector<uint8_t> wanted(status.size());
     for (size_t i = 0; i < status.size(); ++i) wanted[i] = status[i] == static_cast<uint8_t>(PointStatus::kMeasured);
-    indirect = IndirectReturns(scene, world_from_sensor, camera, clean, light, spec.seed, wanted);
+    ASSIGN_OR_RETURN(indirect, IndirectReturns(scene, world_from_sensor, camera, clean, light, spec.seed, wanted, cancel));
     indirect_radiance.resize(indirect.size());
     for (size_t i = 0; i < indirect.size(); ++i) indirect_radiance[i] = indirect[i].radiance;
   }
@@ -281,7 +282,9 @@ StatusOr<PointCloud> MeasureScan(const raycast::RaycastScene& scene, const senso
   JudgeRays(clean, camera, spec, status, incidence);
   if (spec.structured_light) RejectUnlit(scene, world_from_sensor, *spec.structured_light, clean, status);
   SignalEffects signal;
-  if (spec.returned_light) signal = JudgeSignals(scene, world_from_sensor, camera, spec, clean, status);
+  if (spec.returned_light) {
+    ASSIGN_OR_RETURN(signal, JudgeSignals(scene, world_from_sensor, camera, spec, cancel, clean, status));
+  }
   std::vector<Eigen::Vector3f> measured = clean.positions;
   for (size_t i = 0; i < signal.range_scale.size(); ++i) measured[i] *= static_cast<float>(signal.range_scale[i]);
   if (spec.outliers.any()) {

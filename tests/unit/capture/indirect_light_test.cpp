@@ -15,6 +15,8 @@
 
 #include <tbb/global_control.h>
 
+#include <atomic>
+
 #include "capture/indirect_light.h"
 #include "capture_scenes.h"
 #include "vscan_test/meshes.h"
@@ -195,7 +197,9 @@ TEST(IndirectLight, ASinglePlaneGetsNoIndirectLight) {
     clean.pixels.push_back(static_cast<uint32_t>(i));
   }
   clean.fields = kFieldPosition | kFieldNormal | kFieldInstanceId | kFieldPixel;
-  for (const IndirectReturn& r : IndirectReturns(*scene, Pose3::Identity(), camera, clean, *spec.returned_light, 3)) {
+  const auto returns = IndirectReturns(*scene, Pose3::Identity(), camera, clean, *spec.returned_light, 3);
+  ASSERT_TRUE(returns.ok());
+  for (const IndirectReturn& r : *returns) {
     ASSERT_EQ(r.radiance, 0.0);
     ASSERT_EQ(std::abs(r.phasor), 0.0);
   }
@@ -296,6 +300,25 @@ TEST(IndirectLight, DeterministicForASeedWhateverTheThreads) {
   EXPECT_GT(differ, many.size() / 2);
 }
 
+// A scan cancelled before its bounces stops with CANCELLED instead of tracing them.
+TEST(IndirectLight, ACancelledScanStopsWithCancelled) {
+  const SlCorner sl = MakeSlCorner();
+  MeasurementSpec spec = LitSpec(0.9, 64);
+  spec.fields &= ~kFieldEstimatedNormal;
+  auto clean = raycast::Scan(*sl.scene, ExtendedRangeCamera(sl.camera), Pose3::Identity(),
+                             {.fields = CleanFieldsFor(spec), .frame = raycast::ScanFrame::kSensor});
+  ASSERT_TRUE(clean.ok());
+  const std::atomic<bool> cancel{true};
+  const auto cloud = MeasureScan(*sl.scene, sl.camera, Pose3::Identity(), *clean, spec, &cancel, nullptr);
+  EXPECT_EQ(cloud.status().code(), StatusCode::kCancelled);
+  const std::atomic<bool> go_on{false};
+  EXPECT_TRUE(MeasureScan(*sl.scene, sl.camera, Pose3::Identity(), *clean, spec, &go_on, nullptr).ok());
+  // The flag stops the bounces, not an earlier stage: without them the same scan completes.
+  MeasurementSpec direct = spec;
+  direct.returned_light->indirect_samples = 0;
+  EXPECT_TRUE(MeasureScan(*sl.scene, sl.camera, Pose3::Identity(), *clean, direct, &cancel, nullptr).ok());
+}
+
 // (e) Each bound of the indirect light's members refused with INVALID_ARGUMENT naming the member.
 TEST(IndirectLight, RefusalsNameTheField) {
   const auto refused = [](const std::function<void(ReturnedLightSpec&)>& change, const std::string& member) {
@@ -314,6 +337,15 @@ TEST(IndirectLight, RefusalsNameTheField) {
   refused([](ReturnedLightSpec& s) { s.modulation_frequency_hz = 1e11; }, "modulation_frequency_hz");
   refused([](ReturnedLightSpec& s) { s.interreflection_ratio = -0.5; }, "interreflection_ratio");
   refused([](ReturnedLightSpec& s) { s.interreflection_ratio = INFINITY; }, "interreflection_ratio");
+  // The whole grid's bounces: 4096 samples on every pixel of a 2064 x 1544 frame is 1.3e10.
+  ReturnedLightSpec heavy;
+  heavy.indirect_samples = kMaxIndirectSamples;
+  heavy.indirect_stride_px = 1;
+  const sensor::PinholeCamera phoxi = sensor::CameraFromFov(2064, 1544, 48.8, 0.4, 1.2);
+  EXPECT_GT(IndirectGridSamples(phoxi, heavy), kMaxIndirectGridSamples);
+  heavy.indirect_samples = 16;
+  heavy.indirect_stride_px = 8;
+  EXPECT_EQ(IndirectGridSamples(phoxi, heavy), 16u * 258u * 193u);
   ReturnedLightSpec fine;
   fine.indirect_samples = kMaxIndirectSamples;
   fine.indirect_stride_px = kMaxIndirectStridePx;
