@@ -1,13 +1,15 @@
 // Cost of the one-bounce indirect light (capture/indirect_light.h) on a phoxi-m-class frame at full
 // resolution (2064 x 1544): an open bin of cardboard holding nine bunnies of three materials at the
 // preset's optimal distance, scanned clean, with the direct returned light, and with the indirect
-// light at a few sample counts and grid strides. Medians and spread (min, max) of repeated runs.
+// light at a few sample counts and grid strides. Medians and spread (min, max) of repeated runs, and
+// the median CPU time over all threads (on a shared machine the wall time also counts others' load).
 #include <malloc.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <functional>
 #include <memory>
 #include <string>
@@ -48,21 +50,28 @@ TriangleMesh OpenBin(double half_x, double half_y, double floor_z, double wall) 
 
 struct Timing {
   double median = 0, min = 0, max = 0;
+  double cpu_median = 0;  // the process's CPU time over all threads: what a shared machine's load does not inflate
   size_t points = 0;
 };
 
+double CpuMs() { return 1000.0 * static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
+
 Timing Time(const std::function<size_t()>& run) {
-  std::vector<double> ms;
+  std::vector<double> ms, cpu;
   Timing t;
   for (int i = 0; i < kRuns; ++i) {
     const auto start = std::chrono::steady_clock::now();
+    const double cpu_start = CpuMs();
     t.points = run();
+    cpu.push_back(CpuMs() - cpu_start);
     ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
   }
   std::sort(ms.begin(), ms.end());
+  std::sort(cpu.begin(), cpu.end());
   t.median = ms[kRuns / 2];
   t.min = ms.front();
   t.max = ms.back();
+  t.cpu_median = cpu[kRuns / 2];
   return t;
 }
 
@@ -157,14 +166,15 @@ int Main(const char* only) {
   };
   std::printf("indirect light, phoxi-m-class %ux%u, open cardboard bin + 9 bunnies (%llu triangles), %d runs\n",
               camera.width, camera.height, static_cast<unsigned long long>(scene.triangle_count()), kRuns);
-  std::printf("%-36s %9s %9s %9s %9s %8s\n", "case", "points", "median ms", "min ms", "max ms", "x clean");
+  std::printf("%-36s %9s %9s %9s %9s %8s %10s\n", "case", "points", "median ms", "min ms", "max ms", "x clean",
+              "cpu ms");
   double base = 0;
   for (const Case& c : cases) {
     if (only != nullptr && base != 0 && c.name.find(only) == std::string::npos) continue;
     const Timing t = Time(c.run);
     if (base == 0) base = t.median;
-    std::printf("%-36s %9zu %9.0f %9.0f %9.0f %8.2f\n", c.name.c_str(), t.points, t.median, t.min, t.max,
-                t.median / base);
+    std::printf("%-36s %9zu %9.0f %9.0f %9.0f %8.2f %10.0f\n", c.name.c_str(), t.points, t.median, t.min, t.max,
+                t.median / base, t.cpu_median);
   }
   return 0;
 }
