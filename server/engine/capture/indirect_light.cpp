@@ -134,11 +134,33 @@ StatusOr<std::vector<IndirectReturn>> IndirectReturns(const raycast::RaycastScen
     return (p % width) % stride == 0 && (p / width) % stride == 0;
   };
   const auto needed = [&](size_t i) { return wanted.empty() || wanted[i] != 0; };
+  // A grid pixel is traced only when a wanted pixel may interpolate from it: one in the (up to four)
+  // cells of the grid it is a corner of.
+  const uint64_t cells_x = (width + stride - 1) / stride, cells_y = (camera.height + stride - 1) / stride;
+  std::vector<uint8_t> cell_wanted;
+  if (!wanted.empty()) {
+    cell_wanted.assign(cells_x * cells_y, 0);
+    for (size_t i = 0; i < n; ++i) {
+      const uint64_t cell = uint64_t{clean.pixels[i] / width / stride} * cells_x + clean.pixels[i] % width / stride;
+      if (wanted[i] && cell < cell_wanted.size()) cell_wanted[cell] = 1;
+    }
+  }
+  const auto grid_needed = [&](size_t i) {
+    if (cell_wanted.empty()) return true;
+    if (stride == 1) return wanted[i] != 0;  // no pixel interpolates
+    const uint64_t cu = clean.pixels[i] % width / stride, cv = clean.pixels[i] / width / stride;
+    for (uint64_t v = cv > 0 ? cv - 1 : 0; v <= cv && v < cells_y; ++v) {
+      for (uint64_t u = cu > 0 ? cu - 1 : 0; u <= cu && u < cells_x; ++u) {
+        if (cell_wanted[v * cells_x + u]) return true;
+      }
+    }
+    return false;
+  };
   // The grid first; with stride 1 every pixel is on it.
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 256), [&](const tbb::blocked_range<size_t>& r) {
     if (cancelled()) return;
     for (size_t i = r.begin(); i != r.end(); ++i) {
-      if (on_grid(i)) out[i] = tracer.Trace(i);
+      if (on_grid(i) && grid_needed(i)) out[i] = tracer.Trace(i);
     }
   });
   if (cancelled()) return Cancelled("indirect light: cancelled");

@@ -36,7 +36,8 @@ struct IndirectReturn {
 // Pixels on the grid of spec.indirect_stride_px are computed; the others interpolate the grid
 // pixels around them that lie on the same surface (same object, normals within 26 degrees, within
 // 1% of the range of its plane), or are computed themselves when none does. wanted, when not
-// empty, marks the points whose value is needed (others come back zero unless on the grid).
+// empty, marks the points whose value is needed: others come back zero, except grid pixels that a
+// wanted pixel may interpolate from.
 // Deterministic for a seed, whatever the number of threads. All zero when indirect_samples is 0.
 // cancel, when set, is polled between blocks of pixels and stops the work with CANCELLED.
 StatusOr<std::vector<IndirectReturn>> IndirectReturns(const raycast::RaycastScene& scene,
