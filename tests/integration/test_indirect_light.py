@@ -138,6 +138,14 @@ class IndirectLightTest(unittest.TestCase):
         self.assertEqual(int(np.sum(rejected & on_a)), 0)  # the facing wall decodes
         self.assertGreater(int(np.sum(on_a & (statuses == MEASURED))), 5000)
 
+    def test_the_raster_backends_keep_the_direct_light(self):
+        light = {"emitter_w_per_sr": 0.003}
+        for backend in ("depth", "colour"):
+            direct = self.scan("sl", light, sensor=self.sl_sensor(), backend=backend)
+            with_indirect = self.scan("sl", dict(light, indirect_samples=64), sensor=self.sl_sensor(), backend=backend)
+            self.assertEqual(with_indirect.stats.rejected_interreflection, 0, backend)
+            self.assertEqual(with_indirect.intensities.tobytes(), direct.intensities.tobytes(), backend)
+
     def test_refusals_name_the_field(self):
         for light, field in (({"indirect_samples": 1_000_000_000}, "returned_light.indirect_samples"),
                              ({"indirect_samples": 4097}, "returned_light.indirect_samples"),
