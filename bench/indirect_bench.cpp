@@ -41,10 +41,12 @@ TriangleMesh OpenBin(double half_x, double half_y, double floor_z, double wall) 
   const double top = floor_z - wall;
   AddQuad(mesh, {-half_x, -half_y, floor_z}, {half_x, -half_y, floor_z}, {half_x, half_y, floor_z},
           {-half_x, half_y, floor_z});
-  AddQuad(mesh, {-half_x, -half_y, floor_z}, {-half_x, half_y, floor_z}, {-half_x, half_y, top}, {-half_x, -half_y, top});
-  AddQuad(mesh, {half_x, -half_y, floor_z}, {half_x, half_y, floor_z}, {half_x, half_y, top}, {half_x, -half_y, top});
-  AddQuad(mesh, {-half_x, -half_y, floor_z}, {half_x, -half_y, floor_z}, {half_x, -half_y, top}, {-half_x, -half_y, top});
-  AddQuad(mesh, {-half_x, half_y, floor_z}, {half_x, half_y, floor_z}, {half_x, half_y, top}, {-half_x, half_y, top});
+  for (const double x : {-half_x, half_x}) {
+    AddQuad(mesh, {x, -half_y, floor_z}, {x, half_y, floor_z}, {x, half_y, top}, {x, -half_y, top});
+  }
+  for (const double y : {-half_y, half_y}) {
+    AddQuad(mesh, {-half_x, y, floor_z}, {half_x, y, floor_z}, {half_x, y, top}, {-half_x, y, top});
+  }
   return mesh;
 }
 
@@ -97,7 +99,8 @@ int Main(const char* only) {
     b.material = sensor::FindMaterialPreset(materials[k % 3])->material;
     // Standing on the floor (the bunny's y up turned to -z, towards the sensor), in a 3 x 3 grid.
     const Eigen::Vector3d at((k % 3 - 1) * 0.15, (k / 3 - 1) * 0.12, floor_z);
-    b.world_from_object = Eigen::Translation3d(at) * Eigen::AngleAxisd(-0.5 * std::numbers::pi, Eigen::Vector3d::UnitX()) *
+    b.world_from_object = Eigen::Translation3d(at) *
+                          Eigen::AngleAxisd(-0.5 * std::numbers::pi, Eigen::Vector3d::UnitX()) *
                           Eigen::AngleAxisd(0.7 * k, Eigen::Vector3d::UnitY()) *
                           Eigen::Translation3d(-0.5 * (lo.x() + hi.x()), -lo.y(), -0.5 * (lo.z() + hi.z()));
     instances.push_back(b);

@@ -108,7 +108,8 @@ StatusOr<SignalEffects> JudgeSignals(const raycast::RaycastScene& scene, const P
   if (light.indirect_samples > 0) {
     std::vector<uint8_t> wanted(status.size());
     for (size_t i = 0; i < status.size(); ++i) wanted[i] = status[i] == static_cast<uint8_t>(PointStatus::kMeasured);
-    ASSIGN_OR_RETURN(indirect, IndirectReturns(scene, world_from_sensor, camera, clean, light, spec.seed, wanted, cancel));
+    ASSIGN_OR_RETURN(indirect,
+                     IndirectReturns(scene, world_from_sensor, camera, clean, light, spec.seed, wanted, cancel));
     indirect_radiance.resize(indirect.size());
     for (size_t i = 0; i < indirect.size(); ++i) indirect_radiance[i] = indirect[i].radiance;
   }
@@ -124,7 +125,9 @@ StatusOr<SignalEffects> JudgeSignals(const raycast::RaycastScene& scene, const P
       if (status[i] != static_cast<uint8_t>(PointStatus::kMeasured)) continue;
       // The indirect light in electrons, on the same scale as the signal's mean.
       const double to_electrons =
-          indirect.empty() ? 0.0 : sensor::ExpectedElectrons(1.0, sensor::OffAxisFalloff(clean.positions[i].cast<double>()), light.pixel);
+          indirect.empty()
+              ? 0.0
+              : sensor::ExpectedElectrons(1.0, sensor::OffAxisFalloff(clean.positions[i].cast<double>()), light.pixel);
       const double indirect_e = indirect.empty() ? 0.0 : to_electrons * indirect[i].radiance;
       const double direct_e = signals[i].expected_e - indirect_e;
       if (signals[i].verdict == sensor::SignalVerdict::kDark) {

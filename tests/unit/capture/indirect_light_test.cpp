@@ -39,8 +39,9 @@ raycast::SceneInstance Wall(const Eigen::Vector3d& fold, const Eigen::Vector3d& 
                             double half_height, uint32_t id) {
   TriangleMesh mesh;
   const Eigen::Vector3d y = Eigen::Vector3d::UnitY() * half_height;
-  for (const Eigen::Vector3d& v : {Eigen::Vector3d(fold - y), Eigen::Vector3d(fold + y),
-                                   Eigen::Vector3d(fold + along * length + y), Eigen::Vector3d(fold + along * length - y)}) {
+  const Eigen::Vector3d end = fold + along * length;
+  for (const Eigen::Vector3d& v : {Eigen::Vector3d(fold - y), Eigen::Vector3d(fold + y), Eigen::Vector3d(end + y),
+                                   Eigen::Vector3d(end - y)}) {
     mesh.vertices.push_back(v.cast<float>());
   }
   mesh.triangles = {{0, 1, 2}, {0, 2, 3}};
