@@ -51,6 +51,7 @@ void PrintSummary(Context& ctx, const client::ScanResult& result, uint64_t point
   add(s.rejected_dim(), "dim");
   add(s.rejected_dark(), "dark");
   add(s.rejected_saturated(), "saturated");
+  add(s.rejected_interreflection(), "interreflection");
   if (!artefacts.empty()) ctx.Say("measurement: " + artefacts + " (" + Fixed(s.measurement_ms(), 1) + " ms)");
   ctx.Say("time: server scan " + Fixed(s.scan_ms(), 1) + " ms, server total " + Fixed(s.total_ms(), 1) +
           " ms, client total " + Fixed(times.total_ms, 1) + " ms" +
@@ -99,7 +100,8 @@ void AddMeasurementOptions(CLI::App* cmd, ScanArgs& s) {
   cmd->add_option("--returned-light", s.returned_light,
                   "Light the scene with the sensor's emitter and each object's material: 'on', or "
                   "key=value,... of ReturnedLight (emitter_w_per_sr, exposure_s, aperture_diameter_m, full_well_e, "
-                  "read_noise_e, min_snr, reference_e, ...); dark and saturated rays are rejected");
+                  "read_noise_e, min_snr, reference_e, indirect_samples, modulation_frequency_hz, interreflection_ratio, ...); "
+                  "dark, saturated and (structured light with indirect_samples) interreflected rays are rejected");
   cmd->add_option("--flying-pixel-edge", s.flying_pixel_edge_m, "Depth jump that makes an edge, metres (0.02)");
   cmd->add_flag("--include-rejected", s.include_rejected,
                 "Also return rejected rays at their clean positions (see the status field)");

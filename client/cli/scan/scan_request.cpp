@@ -126,12 +126,21 @@ Status FillReturnedLight(const std::string& text, v1::ReturnedLight* light) {
     const std::string item = text.substr(at, end - at);
     const size_t equals = item.find('=');
     const auto* field = equals == std::string::npos ? nullptr : descriptor->FindFieldByName(item.substr(0, equals));
-    if (field == nullptr || field->cpp_type() != google::protobuf::FieldDescriptor::CPPTYPE_DOUBLE) {
+    const bool count = field != nullptr && field->cpp_type() == google::protobuf::FieldDescriptor::CPPTYPE_UINT32;
+    if (field == nullptr || (field->cpp_type() != google::protobuf::FieldDescriptor::CPPTYPE_DOUBLE && !count)) {
       return InvalidArgument("--returned-light", "'" + item + "' is not key=value with a key of vscan.v1.ReturnedLight (" +
                                                      "emitter_w_per_sr, exposure_s, full_well_e, ...), nor 'on'");
     }
     ASSIGN_OR_RETURN(const auto value, ParseNumbers(item.substr(equals + 1), 1, "--returned-light " + field->name()));
-    light->GetReflection()->SetDouble(light, field, value[0]);
+    if (count) {
+      // A count (indirect_samples, indirect_stride_px): a whole number the field can hold.
+      if (!(value[0] >= 0 && value[0] <= 4294967295.0) || value[0] != std::floor(value[0])) {
+        return InvalidArgument("--returned-light " + field->name(), "must be a whole number in [0, 4294967295]");
+      }
+      light->GetReflection()->SetUInt32(light, field, static_cast<uint32_t>(value[0]));
+    } else {
+      light->GetReflection()->SetDouble(light, field, value[0]);
+    }
     at = end + 1;
   }
   return Status::Ok();

@@ -258,7 +258,8 @@ class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls, BinCalls, Localizatio
         each scene object in view with its true poses and visible fraction (ObjectTruth messages).
         returned_light lights the scene with the sensor's own emitter and each object's material: True
         for the defaults, or a dict of sensor_pb2.ReturnedLight's fields ({"emitter_w_per_sr": 0.01,
-        "exposure_s": 0.02, ...}); rays too dark or saturated get status "dark" or "saturated", and
+        "exposure_s": 0.02, "indirect_samples": 64, ...}); rays too dark or saturated get status "dark"
+        or "saturated", structured-light rays drowned by indirect light "interreflection", and
         intensity is the measured electrons. pixel_images fills result.reasons and result.gray,
         (height, width) arrays: each pixel's PointStatus (0 where the ray met no surface) and the grey
         image of the returned signal (uint16, 65535 at full scale).

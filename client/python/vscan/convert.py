@@ -48,6 +48,7 @@ STATUSES = {
     "unlit": scan_pb2.POINT_STATUS_REJECTED_UNLIT,
     "dark": scan_pb2.POINT_STATUS_REJECTED_DARK,
     "saturated": scan_pb2.POINT_STATUS_REJECTED_SATURATED,
+    "interreflection": scan_pb2.POINT_STATUS_REJECTED_INTERREFLECTION,
 }
 
 FRAMES = {"world": scan_pb2.FRAME_WORLD, "sensor": scan_pb2.FRAME_SENSOR}
@@ -109,7 +110,9 @@ def returned_light(value, message):
         for key, number in dict(value).items():
             if key not in fields:
                 raise ValueError(f"returned_light: unknown key {key!r} (one of {', '.join(fields)})")
-            setattr(message, key, float(number))
+            whole = fields[key].cpp_type in (fields[key].CPPTYPE_UINT32, fields[key].CPPTYPE_UINT64,
+                                             fields[key].CPPTYPE_INT32, fields[key].CPPTYPE_INT64)
+            setattr(message, key, int(number) if whole else float(number))
     return True
 
 

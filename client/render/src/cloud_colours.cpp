@@ -50,6 +50,7 @@ Eigen::Vector3f StatusColour(uint8_t status) {
     case PointStatus::kRejectedDim: return {0.3f, 0.3f, 0.3f};
     case PointStatus::kRejectedUnlit: return {0.1f, 0.8f, 0.85f};
     case PointStatus::kRejectedDark: return {0.25f, 0.2f, 0.45f};
+    case PointStatus::kRejectedInterreflection: return {0.9f, 0.5f, 0.8f};
     case PointStatus::kRejectedSaturated: return {1.0f, 1.0f, 0.6f};
     case PointStatus::kUnspecified: break;
   }

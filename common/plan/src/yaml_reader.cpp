@@ -10,7 +10,7 @@
 namespace vscan::plan {
 namespace {
 
-std::string JoinKeys(std::initializer_list<const char*> keys) {
+std::string JoinKeys(std::span<const char* const> keys) {
   std::string out;
   for (const char* key : keys) out += (out.empty() ? "" : ", ") + std::string(key);
   return out;
@@ -87,6 +87,10 @@ YamlAt YamlReader::Item(const YamlAt& seq, size_t index) {
 }
 
 Status YamlReader::ExpectMap(const YamlAt& at, std::initializer_list<const char*> allowed) const {
+  return ExpectMap(at, std::span<const char* const>(allowed.begin(), allowed.size()));
+}
+
+Status YamlReader::ExpectMap(const YamlAt& at, std::span<const char* const> allowed) const {
   if (!at.node.IsMap())
     return Error(at, "expected a mapping with keys " + JoinKeys(allowed) + ", got " + Describe(at.node));
   std::set<std::string> seen;

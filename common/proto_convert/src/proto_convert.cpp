@@ -9,6 +9,7 @@ static_assert(static_cast<int>(PointStatus::kFlyingPixel) == v1::POINT_STATUS_FL
 static_assert(static_cast<int>(PointStatus::kRejectedUnlit) == v1::POINT_STATUS_REJECTED_UNLIT);
 static_assert(static_cast<int>(PointStatus::kRejectedDark) == v1::POINT_STATUS_REJECTED_DARK);
 static_assert(static_cast<int>(PointStatus::kRejectedSaturated) == v1::POINT_STATUS_REJECTED_SATURATED);
+static_assert(static_cast<int>(PointStatus::kRejectedInterreflection) == v1::POINT_STATUS_REJECTED_INTERREFLECTION);
 
 Eigen::Vector3d FromProto(const v1::Vector3& v) { return {v.x(), v.y(), v.z()}; }
 

@@ -95,6 +95,10 @@ StatusOr<capture::ReturnedLightSpec> DatasetReturnedLight(const plan::ReturnedLi
   light.set_read_noise_e(plan.read_noise_e);
   light.set_min_snr(plan.min_snr);
   light.set_reference_e(plan.reference_e);
+  light.set_indirect_samples(static_cast<uint32_t>(plan.indirect_samples));
+  light.set_indirect_stride_px(static_cast<uint32_t>(plan.indirect_stride_px));
+  light.set_modulation_frequency_hz(plan.modulation_frequency_hz);
+  light.set_interreflection_ratio(plan.interreflection_ratio);
   return ReturnedLightFromProto(light, sensor.camera, sensor.measurement.structured_light);
 }
 

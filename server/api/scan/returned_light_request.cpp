@@ -4,12 +4,14 @@
 #include <string>
 
 #include "api/transport/validate.h"
+#include "capture/indirect_light.h"
 
 namespace vscan::api {
 
 StatusOr<capture::ReturnedLightSpec> ReturnedLightFromProto(const v1::ReturnedLight& light,
                                                            const sensor::PinholeCamera& camera,
-                                                           const std::optional<sensor::StructuredLight>& projector) {
+                                                           const std::optional<sensor::StructuredLight>& projector,
+                                                           double sensor_modulation_hz) {
   // 0 takes the default; a positive lower bound of 0 is the same as an open one, since 0 is taken.
   const auto read = [](double value, double fallback, double lo, double hi, const char* member, const char* unit) {
     return NumberOrDefault(value, fallback, lo, hi, std::string("returned_light.") + member, unit);
@@ -39,6 +41,32 @@ StatusOr<capture::ReturnedLightSpec> ReturnedLightFromProto(const v1::ReturnedLi
                    read(light.read_noise_e(), spec.pixel.read_noise_e, 0, 1e6, "read_noise_e", "electrons"));
   ASSIGN_OR_RETURN(spec.pixel.min_snr, read(light.min_snr(), spec.pixel.min_snr, 0, 1e3, "min_snr", ""));
   ASSIGN_OR_RETURN(spec.reference_e, read(light.reference_e(), 0.0, 0, 1e9, "reference_e", "electrons"));
+  if (light.indirect_samples() > capture::kMaxIndirectSamples) {
+    return InvalidArgument("returned_light.indirect_samples",
+                           "must be at most " + std::to_string(capture::kMaxIndirectSamples));
+  }
+  spec.indirect_samples = light.indirect_samples();
+  if (light.indirect_stride_px() > capture::kMaxIndirectStridePx) {
+    return InvalidArgument("returned_light.indirect_stride_px",
+                           "must be in [1, " + std::to_string(capture::kMaxIndirectStridePx) + "] (0: 4)");
+  }
+  if (light.indirect_stride_px() != 0) spec.indirect_stride_px = light.indirect_stride_px();
+  if (capture::IndirectGridSamples(camera, spec) > capture::kMaxIndirectGridSamples) {
+    return InvalidArgument("returned_light.indirect_samples",
+                           "times the grid's pixels (ceil(width / indirect_stride_px) x ceil(height / "
+                           "indirect_stride_px)) must be at most " +
+                               std::to_string(capture::kMaxIndirectGridSamples) +
+                               ": ask for fewer samples or a wider stride");
+  }
+  ASSIGN_OR_RETURN(spec.modulation_frequency_hz,
+                   read(light.modulation_frequency_hz(), sensor_modulation_hz, 0, capture::kMaxModulationFrequencyHz,
+                        "modulation_frequency_hz", "Hz"));
+  if (projector && light.modulation_frequency_hz() != 0) {
+    return InvalidArgument("returned_light.modulation_frequency_hz",
+                           "a structured-light sensor does not measure time of flight; leave it 0");
+  }
+  ASSIGN_OR_RETURN(spec.interreflection_ratio,
+                   read(light.interreflection_ratio(), 1.0, 0, 1e3, "interreflection_ratio", ""));
   spec.default_material = sensor::DefaultMaterial();
   RETURN_IF_ERROR(capture::ValidateReturnedLight(spec, "returned_light"));
   return spec;

@@ -14,9 +14,11 @@
 namespace vscan::api {
 
 // Every value finite and within the range the message documents; INVALID_ARGUMENT naming
-// "returned_light.<field>".
+// "returned_light.<field>". sensor_modulation_hz: a time-of-flight preset's modulation frequency,
+// taken when the request leaves modulation_frequency_hz 0.
 StatusOr<capture::ReturnedLightSpec> ReturnedLightFromProto(const v1::ReturnedLight& light,
                                                            const sensor::PinholeCamera& camera,
-                                                           const std::optional<sensor::StructuredLight>& projector);
+                                                           const std::optional<sensor::StructuredLight>& projector,
+                                                           double sensor_modulation_hz = 0);
 
 }  // namespace vscan::api

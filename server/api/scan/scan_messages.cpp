@@ -70,6 +70,7 @@ void FillScanStatistics(const raycast::ScanStats& stats, const capture::MeasureS
   s->set_rejected_unlit(m.rejected_unlit);
   s->set_rejected_dark(m.rejected_dark);
   s->set_rejected_saturated(m.rejected_saturated);
+  s->set_rejected_interreflection(m.rejected_interreflection);
   s->set_measurement_ms(m.elapsed_ms);
 }
 

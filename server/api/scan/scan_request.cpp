@@ -82,7 +82,8 @@ StatusOr<ScanPlan> ParseScanRequest(const v1::ScanRequest& request, const servic
   plan.measurement.structured_light = sensing.structured_light;
   if (request.has_returned_light()) {
     ASSIGN_OR_RETURN(plan.measurement.returned_light,
-                     ReturnedLightFromProto(request.returned_light(), plan.camera, sensing.structured_light));
+                     ReturnedLightFromProto(request.returned_light(), plan.camera, sensing.structured_light,
+                                            sensing.modulation_frequency_hz));
   }
   plan.measurement.seed = request.seed();
 

@@ -99,6 +99,7 @@ StatusOr<SensorSettings> SensorFromProto(const v1::SensorSpec& spec, const servi
       RETURN_IF_ERROR(sensor::ValidateCamera(settings.camera, "sensor.preset", limits.max_rays_per_scan));
       settings.preset_noise = preset->noise;
       settings.structured_light = preset->structured_light;
+      settings.modulation_frequency_hz = preset->modulation_frequency_hz;
       return settings;
     }
     case v1::SensorSpec::KIND_NOT_SET: break;

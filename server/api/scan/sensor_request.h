@@ -20,6 +20,8 @@ struct SensorSettings {
   std::optional<sensor::DepthNoise> preset_noise;
   // Set for structured-light scanners; camera is then its camera.
   std::optional<sensor::StructuredLight> structured_light;
+  // A time-of-flight preset's modulation frequency (Hz); 0: not time of flight.
+  double modulation_frequency_hz = 0;
 };
 
 StatusOr<SensorSettings> SensorFromProto(const v1::SensorSpec& spec, const service::Limits& limits);

@@ -11,6 +11,7 @@
 #include <tbb/parallel_for.h>
 
 #include "capture/flying_pixels.h"
+#include "capture/indirect_light.h"
 #include "capture/outlier_rays.h"
 #include "capture/ray_verdicts.h"
 #include "normals/normal_estimation.h"
@@ -23,7 +24,7 @@ namespace {
 constexpr double kExtendedNear = 1e-4;
 constexpr double kExtendedFarFactor = 4.0;
 constexpr size_t kBlock = 16384;
-using StatusCounts = std::array<uint64_t, static_cast<size_t>(PointStatus::kRejectedSaturated) + 1>;
+using StatusCounts = std::array<uint64_t, static_cast<size_t>(PointStatus::kRejectedInterreflection) + 1>;
 
 bool Returned(uint8_t status) {
   const auto s = static_cast<PointStatus>(status);
@@ -88,27 +89,67 @@ void RejectUnlit(const raycast::RaycastScene& scene, const Pose3& world_from_sen
   }
 }
 
+struct SignalEffects {
+  std::vector<double> sigma_factor;  // on each ray's depth noise
+  std::vector<double> range_scale;   // time of flight with indirect light: measured over true range
+};
+
 // The returned light's verdicts on the rays no earlier rule rejected, its measured electrons as the
-// intensity, and each ray's factor on the depth noise (docs/SENSORS.md, "The returned signal").
-std::vector<double> JudgeSignals(const ReturnedLightSpec& light, uint64_t seed, PointCloud& clean,
-                                 std::vector<uint8_t>& status) {
-  const std::vector<sensor::PixelSignal> signals = ReturnedSignals(clean, light, seed);
-  std::vector<double> sigma_factor(signals.size(), 1.0);
+// intensity, each ray's factor on the depth noise, and with indirect light the interreflection
+// verdict (structured light) or the multipath range (time of flight) (docs/SENSORS.md, "The
+// returned signal", "Indirect light").
+StatusOr<SignalEffects> JudgeSignals(const raycast::RaycastScene& scene, const Pose3& world_from_sensor,
+                                     const sensor::PinholeCamera& camera, const MeasurementSpec& spec,
+                                     const std::atomic<bool>* cancel, PointCloud& clean,
+                                     std::vector<uint8_t>& status) {
+  const ReturnedLightSpec& light = *spec.returned_light;
+  std::vector<IndirectReturn> indirect;
+  std::vector<double> indirect_radiance;
+  if (light.indirect_samples > 0) {
+    std::vector<uint8_t> wanted(status.size());
+    for (size_t i = 0; i < status.size(); ++i) wanted[i] = status[i] == static_cast<uint8_t>(PointStatus::kMeasured);
+    ASSIGN_OR_RETURN(indirect,
+                     IndirectReturns(scene, world_from_sensor, camera, clean, light, spec.seed, wanted, cancel));
+    indirect_radiance.resize(indirect.size());
+    for (size_t i = 0; i < indirect.size(); ++i) indirect_radiance[i] = indirect[i].radiance;
+  }
+  const std::vector<sensor::PixelSignal> signals = ReturnedSignals(clean, light, spec.seed, indirect_radiance);
+  SignalEffects effects{std::vector<double>(signals.size(), 1.0), {}};
+  const bool time_of_flight = !indirect.empty() && light.modulation_frequency_hz > 0 && !spec.structured_light;
+  if (time_of_flight) effects.range_scale.assign(signals.size(), 1.0);
+  const bool interreflection = !indirect.empty() && spec.structured_light.has_value();
   const bool intensities = clean.Has(kFieldIntensity);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, signals.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
     for (size_t i = r.begin(); i != r.end(); ++i) {
       if (intensities) clean.intensities[i] = static_cast<float>(signals[i].measured_e);
       if (status[i] != static_cast<uint8_t>(PointStatus::kMeasured)) continue;
+      // The indirect light in electrons, on the same scale as the signal's mean.
+      const double to_electrons =
+          indirect.empty()
+              ? 0.0
+              : sensor::ExpectedElectrons(1.0, sensor::OffAxisFalloff(clean.positions[i].cast<double>()), light.pixel);
+      const double indirect_e = indirect.empty() ? 0.0 : to_electrons * indirect[i].radiance;
+      const double direct_e = signals[i].expected_e - indirect_e;
       if (signals[i].verdict == sensor::SignalVerdict::kDark) {
         status[i] = static_cast<uint8_t>(PointStatus::kRejectedDark);
       } else if (signals[i].verdict == sensor::SignalVerdict::kSaturated) {
         status[i] = static_cast<uint8_t>(PointStatus::kRejectedSaturated);
+      } else if (interreflection && direct_e < light.interreflection_ratio * indirect_e) {
+        status[i] = static_cast<uint8_t>(PointStatus::kRejectedInterreflection);
       } else {
-        sigma_factor[i] = SignalSigmaFactor(light, signals[i]);
+        effects.sigma_factor[i] = SignalSigmaFactor(light, signals[i]);
+        if (time_of_flight) {
+          const Eigen::Vector3d p = clean.positions[i].cast<double>();
+          const double range = p.norm();
+          const double path = (light.emitter.position - p).norm() + range;
+          effects.range_scale[i] = MultipathRange(light.emitter.position, p / range, path, direct_e,
+                                                  to_electrons * indirect[i].phasor, light.modulation_frequency_hz) /
+                                   range;
+        }
       }
     }
   });
-  return sigma_factor;
+  return effects;
 }
 
 // Disparity quantisation of the returned points; a point left with no depth is dropped.
@@ -154,6 +195,7 @@ void Count(const StatusCounts& n, MeasureStats& stats) {
   stats.rejected_unlit = at(PointStatus::kRejectedUnlit);
   stats.rejected_dark = at(PointStatus::kRejectedDark);
   stats.rejected_saturated = at(PointStatus::kRejectedSaturated);
+  stats.rejected_interreflection = at(PointStatus::kRejectedInterreflection);
 }
 
 // Normals of the returned points, in clean-cloud order; 0,0,0 for the others and where too few
@@ -242,15 +284,18 @@ StatusOr<PointCloud> MeasureScan(const raycast::RaycastScene& scene, const senso
   std::vector<float> incidence;
   JudgeRays(clean, camera, spec, status, incidence);
   if (spec.structured_light) RejectUnlit(scene, world_from_sensor, *spec.structured_light, clean, status);
-  std::vector<double> sigma_factor;
-  if (spec.returned_light) sigma_factor = JudgeSignals(*spec.returned_light, spec.seed, clean, status);
+  SignalEffects signal;
+  if (spec.returned_light) {
+    ASSIGN_OR_RETURN(signal, JudgeSignals(scene, world_from_sensor, camera, spec, cancel, clean, status));
+  }
   std::vector<Eigen::Vector3f> measured = clean.positions;
+  for (size_t i = 0; i < signal.range_scale.size(); ++i) measured[i] *= static_cast<float>(signal.range_scale[i]);
   if (spec.outliers.any()) {
     const float max_distance = static_cast<float>(ExtendedRangeCamera(camera).far * 2.0);
     s.dropped += CastOutliers(scene, camera, world_from_sensor, clean, spec, max_distance, status, measured).missed;
   }
   if (spec.flying_pixels.enabled) MixDepthEdges(clean, camera, spec, status, measured);
-  s.dropped += ApplyNoise(clean, spec, sigma_factor, status, measured);
+  s.dropped += ApplyNoise(clean, spec, signal.sigma_factor, status, measured);
   if (spec.structured_light) s.dropped += QuantiseDisparities(*spec.structured_light, status, measured);
 
   std::vector<Eigen::Vector3f> estimated;

@@ -28,6 +28,7 @@ struct MeasureStats {
   uint64_t rejected_unlit = 0;
   uint64_t rejected_dark = 0;
   uint64_t rejected_saturated = 0;
+  uint64_t rejected_interreflection = 0;
   // Outlier rays that hit nothing and points quantised to a non-positive depth; never returned.
   uint64_t dropped = 0;
   double min_range = 0, max_range = 0;  // over the returned measurements
@@ -35,7 +36,7 @@ struct MeasureStats {
 
   uint64_t rejected() const {
     return rejected_out_of_range + rejected_shadowed + rejected_grazing + rejected_dim + rejected_unlit +
-           rejected_dark + rejected_saturated;
+           rejected_dark + rejected_saturated + rejected_interreflection;
   }
 };
 

@@ -8,7 +8,7 @@
 
 namespace vscan::capture {
 
-enum class DrawStream : uint64_t { kOutlierPick = 1, kOutlierRay = 2, kFlyingPixel = 3 };
+enum class DrawStream : uint64_t { kOutlierPick = 1, kOutlierRay = 2, kFlyingPixel = 3, kIndirectLight = 4 };
 
 class PixelDraws : public random::KeyedDraws {
  public:

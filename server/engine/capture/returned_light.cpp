@@ -24,6 +24,19 @@ Status ValidateReturnedLight(const ReturnedLightSpec& spec, std::string_view fie
   if (!std::isfinite(spec.reference_e) || spec.reference_e < 0) {
     return InvalidArgument(at + ".reference_e", "must be finite and not negative (electrons)");
   }
+  if (spec.indirect_samples > kMaxIndirectSamples) {
+    return InvalidArgument(at + ".indirect_samples", "must be at most " + std::to_string(kMaxIndirectSamples));
+  }
+  if (spec.indirect_stride_px < 1 || spec.indirect_stride_px > kMaxIndirectStridePx) {
+    return InvalidArgument(at + ".indirect_stride_px", "must be in [1, " + std::to_string(kMaxIndirectStridePx) + "]");
+  }
+  if (!std::isfinite(spec.modulation_frequency_hz) || spec.modulation_frequency_hz < 0 ||
+      spec.modulation_frequency_hz > kMaxModulationFrequencyHz) {
+    return InvalidArgument(at + ".modulation_frequency_hz", "must be in [0, 1e10] Hz");
+  }
+  if (!std::isfinite(spec.interreflection_ratio) || spec.interreflection_ratio < 0) {
+    return InvalidArgument(at + ".interreflection_ratio", "must be finite and not negative");
+  }
   return Status::Ok();
 }
 
@@ -33,7 +46,7 @@ double CameraPixelGain(const sensor::PinholeCamera& camera, sensor::PinholePixel
 }
 
 std::vector<sensor::PixelSignal> ReturnedSignals(const PointCloud& clean, const ReturnedLightSpec& spec,
-                                                 uint64_t seed) {
+                                                 uint64_t seed, std::span<const double> indirect_radiance) {
   std::vector<sensor::PixelSignal> signals(clean.size());
   const bool has_ids = clean.Has(kFieldInstanceId);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, clean.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
@@ -46,7 +59,8 @@ std::vector<sensor::PixelSignal> ReturnedSignals(const PointCloud& clean, const 
       Eigen::Vector3d normal = clean.normals[i].cast<double>();
       if (normal.dot(point) > 0) normal = -normal;
       const double radiance =
-          sensor::DirectRadiance(material, point, normal, spec.emitter, Eigen::Vector3d::Zero());
+          sensor::DirectRadiance(material, point, normal, spec.emitter, Eigen::Vector3d::Zero()) +
+          (indirect_radiance.empty() ? 0.0 : indirect_radiance[i]);
       const double expected = sensor::ExpectedElectrons(radiance, sensor::OffAxisFalloff(point), spec.pixel);
       signals[i] = sensor::RespondToElectrons(expected, spec.pixel, seed ^ kSignalStream, clean.pixels[i]);
     }

@@ -3,6 +3,7 @@
 // material: the direct term of docs/SENSORS.md, "The returned signal", applied to a whole scan.
 
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include "sensor/camera.h"
@@ -27,7 +28,23 @@ struct ReturnedLightSpec {
   // The depth noise's sigma holds at this many electrons and grows as the signal falls
   // (SignalDepthSigma); 0: the depth noise does not follow the signal.
   double reference_e = 0;
+  // One-bounce indirect light (capture/indirect_light.h): Monte Carlo samples per computed pixel,
+  // at most kMaxIndirectSamples; 0: direct light only.
+  uint32_t indirect_samples = 0;
+  // The indirect light is computed on every indirect_stride_px-th pixel of each row and column and
+  // interpolated between them on the same surface; 1: on every pixel. In [1, kMaxIndirectStridePx].
+  uint32_t indirect_stride_px = 4;
+  // Time of flight: the depth is the phase of the returned light at this modulation frequency (Hz);
+  // 0: the sensor does not measure time of flight, and the depth stays the surface's.
+  double modulation_frequency_hz = 0;
+  // Structured light: a pixel decodes only when its direct electrons are at least this many times
+  // its indirect ones (Gupta et al.'s condition for binary codes is 1).
+  double interreflection_ratio = 1.0;
 };
+
+inline constexpr uint32_t kMaxIndirectSamples = 4096;
+inline constexpr uint32_t kMaxIndirectStridePx = 64;
+inline constexpr double kMaxModulationFrequencyHz = 1e10;
 
 // Emitter and pixel checked (ValidateEmitter, ValidatePixelResponse), every material
 // (ValidateMaterial), reference_e finite and non-negative; INVALID_ARGUMENT naming
@@ -39,10 +56,11 @@ Status ValidateReturnedLight(const ReturnedLightSpec& spec, std::string_view fie
 double CameraPixelGain(const sensor::PinholeCamera& camera, sensor::PinholePixel pixel);
 
 // One PixelSignal per point of clean (sensor frame, with normals, instance ids and pixels): the
-// material's direct radiance towards the camera at the origin, the cos^4 fall-off of the pixel's
-// ray, then the pixel's response with its noise drawn from (seed, pixel index).
+// material's direct radiance towards the camera at the origin, plus indirect_radiance[i] when given
+// (the indirect light, capture/indirect_light.h), the cos^4 fall-off of the pixel's ray, then the
+// pixel's response with its noise drawn from (seed, pixel index).
 std::vector<sensor::PixelSignal> ReturnedSignals(const PointCloud& clean, const ReturnedLightSpec& spec,
-                                                 uint64_t seed);
+                                                 uint64_t seed, std::span<const double> indirect_radiance = {});
 
 // The factor on the depth noise's sigma at this signal: SignalDepthSigma(1, reference_e, expected_e,
 // read_noise_e), 1 when reference_e is 0.

@@ -27,7 +27,44 @@ RTCRay MakeRay(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, 
   return ray;
 }
 
+RayHit IntersectWith(const RaycastScene& scene, RTCScene rtc, RTCIntersectContext& context,
+                     const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, float t_near, float t_far) {
+  RayHit out;
+  if (!EmbreeAcceptsRay(origin, direction, t_near, t_far)) return out;  // a miss
+  RTCRayHit query{};
+  query.ray = MakeRay(origin, direction, t_near, t_far);
+  query.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  rtcIntersect1(rtc, &context, &query);
+  if (query.hit.geomID == RTC_INVALID_GEOMETRY_ID) return out;
+  out.hit = true;
+  out.distance = query.ray.tfar;
+  Eigen::Vector3f n(query.hit.Ng_x, query.hit.Ng_y, query.hit.Ng_z);
+  const float length = n.norm();
+  n = length > 0 ? Eigen::Vector3f(n / length) : Eigen::Vector3f(-direction);
+  out.normal = n.dot(direction) > 0 ? Eigen::Vector3f(-n) : n;
+  out.instance_id = scene.InstanceOfGeometry(query.hit.geomID);
+  return out;
+}
+
 }  // namespace
+
+RayHit IntersectRay(const RaycastScene& scene, const Eigen::Vector3f& origin, const Eigen::Vector3f& direction,
+                    float t_near, float t_far) {
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  return IntersectWith(scene, EmbreeOf(scene).scene, context, origin, direction, t_near, t_far);
+}
+
+bool SegmentOccluded(const RaycastScene& scene, const Eigen::Vector3f& from, const Eigen::Vector3f& to, float margin) {
+  const Eigen::Vector3f d = to - from;
+  const float length = d.norm();
+  if (!(length > 2 * margin) || !EmbreeAcceptsRay(from, d / length, margin, length - margin)) return false;
+  RTCIntersectContext context;
+  rtcInitIntersectContext(&context);
+  RTCRay ray = MakeRay(from, d / length, margin, length - margin);
+  rtcOccluded1(EmbreeOf(scene).scene, &context, &ray);
+  return std::isinf(ray.tfar) && ray.tfar < 0;
+}
 
 std::vector<RayHit> IntersectRays(const RaycastScene& scene, std::span<const Eigen::Vector3f> origins,
                                   std::span<const Eigen::Vector3f> directions, float t_near, float t_far) {
@@ -37,20 +74,7 @@ std::vector<RayHit> IntersectRays(const RaycastScene& scene, std::span<const Eig
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
     for (size_t i = r.begin(); i != r.end(); ++i) {
-      if (!EmbreeAcceptsRay(origins[i], directions[i], t_near, t_far)) continue;  // a miss
-      RTCRayHit query{};
-      query.ray = MakeRay(origins[i], directions[i], t_near, t_far);
-      query.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-      rtcIntersect1(rtc, &context, &query);
-      if (query.hit.geomID == RTC_INVALID_GEOMETRY_ID) continue;
-      RayHit& out = hits[i];
-      out.hit = true;
-      out.distance = query.ray.tfar;
-      Eigen::Vector3f n(query.hit.Ng_x, query.hit.Ng_y, query.hit.Ng_z);
-      const float length = n.norm();
-      n = length > 0 ? Eigen::Vector3f(n / length) : Eigen::Vector3f(-directions[i]);
-      out.normal = n.dot(directions[i]) > 0 ? Eigen::Vector3f(-n) : n;
-      out.instance_id = scene.InstanceOfGeometry(query.hit.geomID);
+      hits[i] = IntersectWith(scene, rtc, context, origins[i], directions[i], t_near, t_far);
     }
   });
   return hits;

@@ -30,4 +30,10 @@ std::vector<uint8_t> OccludedSegments(const RaycastScene& scene, std::span<const
                                       std::span<const Eigen::Vector3f> to, float relative_margin,
                                       float min_margin);
 
+// One ray's nearest hit, for loops that already run in parallel (the indirect light's bounces).
+RayHit IntersectRay(const RaycastScene& scene, const Eigen::Vector3f& origin, const Eigen::Vector3f& direction,
+                    float t_near, float t_far);
+// Whether something lies on the segment from -> to, `margin` metres excluded at each end.
+bool SegmentOccluded(const RaycastScene& scene, const Eigen::Vector3f& from, const Eigen::Vector3f& to, float margin);
+
 }  // namespace vscan::raycast

@@ -43,7 +43,7 @@ std::vector<SensorPreset> MakePresets() {
                      "(70.6 x 60 degrees, 0.5-4.5 m). Noise: P. Fankhauser et al., 'Kinect v2 for mobile robot "
                      "navigation: evaluation and modeling', ICAR 2015, report axial noise of the order of a "
                      "millimetre or two in the central field; modelled here as a constant 1.5 mm.",
-                     Camera(512, 424, 70.6, 0.5, 4.5), kinect_v2});
+                     Camera(512, 424, 70.6, 0.5, 4.5), kinect_v2, std::nullopt, kDefaultModulationFrequencyHz});
   AppendStructuredLightPresets(presets);
   return presets;
 }

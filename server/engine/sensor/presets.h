@@ -21,7 +21,14 @@ struct SensorPreset {
   DepthNoise noise;
   // Set for structured-light scanners; its camera is the same as `camera`.
   std::optional<StructuredLight> structured_light;
+  // Set (Hz) for time-of-flight cameras: the modulation frequency whose phase gives the depth when
+  // the returned light has indirect light (multipath); 0: not time of flight.
+  double modulation_frequency_hz = 0;
 };
+
+// A time-of-flight preset's modulation frequency: one frequency standing for the several a real
+// camera combines to unwrap its phase.
+inline constexpr double kDefaultModulationFrequencyHz = 20e6;
 
 const std::vector<SensorPreset>& SensorPresets();
 // nullptr when no preset has that name.

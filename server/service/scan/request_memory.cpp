@@ -18,6 +18,8 @@ constexpr uint64_t kScratchBytesPerRay = 48;
 constexpr uint64_t kRasterBytesPerPixel = 32;
 // Neighbour search of estimated normals: the k-d tree and its index per point.
 constexpr uint64_t kNormalSearchBytesPerPoint = 40;
+// The indirect light: its radiance and phasor, the wanted mask and the pixel-to-point map per ray.
+constexpr uint64_t kIndirectBytesPerRay = 40;
 
 uint64_t BytesPerPoint(uint32_t fields) {
   PointCloud cloud;
@@ -50,6 +52,9 @@ uint64_t ScanMemoryBytes(const ScanPlan& plan, bool streamed) {
   if (plan.measurement.structured_light) per_ray += kScratchBytesPerRay;
   // The reason and grey images, and their copy in messages.
   if (plan.pixel_images) per_ray += 2 * (sizeof(uint8_t) + sizeof(uint16_t));
+  if (plan.measurement.returned_light && plan.measurement.returned_light->indirect_samples > 0) {
+    per_ray += kIndirectBytesPerRay;
+  }
   return rays * per_ray;
 }
 

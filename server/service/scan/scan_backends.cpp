@@ -43,11 +43,13 @@ StatusOr<PointCloud> RunClean(const ScanPlan& plan, const scenes::ScanTarget& ta
 }
 
 // The raster backends keep the plan's depth range (their depth precision follows near and far), so
-// they report no out-of-range rejections and see through surfaces nearer than near.
-StatusOr<PointCloud> RunMeasuredRaster(const ScanPlan& plan, const capture::MeasurementSpec& spec,
+// they report no out-of-range rejections and see through surfaces nearer than near. Their returned
+// light is the direct term only: the indirect light's bounces are Embree rays of the ray-cast backend.
+StatusOr<PointCloud> RunMeasuredRaster(const ScanPlan& plan, capture::MeasurementSpec spec,
                                        const scenes::ScanTarget& target, RasterProvider& raster,
                                        const std::atomic<bool>* cancel, raycast::ScanStats* stats,
                                        capture::MeasureStats* measure_stats) {
+  if (spec.returned_light) spec.returned_light->indirect_samples = 0;
   ASSIGN_OR_RETURN(PointCloud clean, RunRaster(plan, plan.camera, capture::CleanFieldsFor(spec),
                                                raycast::ScanFrame::kSensor, target, raster, cancel, stats));
   ASSIGN_OR_RETURN(PointCloud cloud, capture::MeasureScan(*target.raycast, plan.camera, plan.world_from_sensor,

@@ -40,6 +40,9 @@ enum class PointStatus : uint8_t {
   // The returned signal (docs/SENSORS.md): too weak to decode above its noise, or past the full well.
   kRejectedDark = 9,
   kRejectedSaturated = 10,
+  // Structured light: the projector's direct light does not stand above the indirect light by the
+  // returned light's interreflection_ratio, so the pattern does not decode.
+  kRejectedInterreflection = 11,
 };
 
 // Positions are always present; other arrays are empty or have size() elements.

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <initializer_list>
 #include <map>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -37,6 +38,7 @@ class YamlReader {
 
   // at must be a map whose keys are all in allowed, each once.
   Status ExpectMap(const YamlAt& at, std::initializer_list<const char*> allowed) const;
+  Status ExpectMap(const YamlAt& at, std::span<const char* const> allowed) const;
   // Sequence of at least min_size items.
   Status ExpectSequence(const YamlAt& at, size_t min_size) const;
 
