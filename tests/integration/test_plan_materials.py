@@ -17,7 +17,7 @@ from harness import BUNNY, DATA, VSCAN, VSCAND, Server, cli_result
 from test_dataset_job import read_png, tree
 from vscan import Client, VscanError
 from vscan.jobs import campaign_spec
-from vscan.v1 import scan_pb2
+from vscan.v1 import job_pb2, scan_pb2
 
 PARTS = os.path.join(DATA, "parts")
 PANDA = os.path.join(DATA, "robots", "panda")
@@ -141,6 +141,22 @@ class PlanMaterialsTest(unittest.TestCase):
             self.assertIn("spec.returned_light.exposure_s", refused.exception.message)
             with self.assertRaises(ValueError):
                 campaign_spec("s", "m", [], returned_light={"exposure": 1})
+
+    def test_next_best_views_count_only_what_the_campaigns_light_would_measure(self):
+        black, _ = self.run_campaign("nbv-black", "black-anodised-aluminium")
+        white, _ = self.run_campaign("nbv-white", "white-abs")
+        gains = {}
+        with Client(self.server.address) as client:
+            for name, run in (("black", black), ("white", white)):
+                job = client.start_model(campaign_job_id=run["job"]["jobId"], evaluate=True, next_best_views=3)
+                done = client.wait_job(job.job_id, timeout=300)
+                self.assertEqual(done.state, job_pb2.JOB_STATE_SUCCEEDED, done.message)
+                views = client.model_report(job.job_id)["evaluation"].get("next_best_views", [])
+                gains[name] = sum(view["coverage_gain"] for view in views)
+        # The same bunny from the same viewpoint missed about as much either way, but a new view of
+        # the black one under the same weak light would measure little of it.
+        self.assertGreater(gains["white"], 0.05, gains)
+        self.assertLess(gains["black"], gains["white"] / 2, gains)
 
     def test_campaign_plans_with_bad_materials_or_light_are_refused_at_their_line(self):
         with Client(self.server.address) as client:

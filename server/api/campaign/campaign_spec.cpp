@@ -134,6 +134,7 @@ StatusOr<service::CampaignPlan> Validate(const v1::CampaignSpec& spec, bool dry_
     ASSIGN_OR_RETURN(const service::ModelRequest request, ModelRequestFromCampaign(spec));
     const bool pixels = (plan.scan.fields & kFieldPixel) != 0;
     ASSIGN_OR_RETURN(plan.model, service::PlanCampaignModel(context, request, plan.scene_id, plan.mount_id, pixels));
+    plan.model->returned_light = plan.scan.measurement.returned_light;
     plan.model_steps = service::CampaignModelSteps(*plan.model);
   }
   return plan;

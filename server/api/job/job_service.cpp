@@ -56,7 +56,7 @@ grpc::ServerUnaryReactor* JobService::StartModel(grpc::CallbackServerContext* ct
                                                  v1::StartModelResponse* response) {
   return RunBlockingUnary(ctx, context_.options.token, "StartModel", context_.call_workers, [=, this]() -> Status {
     if (!request->has_spec()) return InvalidArgument("spec: required");
-    CatalogueCampaignRecords campaigns(tracker_.catalogue());
+    CatalogueCampaignRecords campaigns(tracker_.catalogue(), context_.options.limits);
     ASSIGN_OR_RETURN(service::ModelPlan validated, ValidateModel(request->spec(), context_, campaigns));
     if (request->validate_only()) return Status::Ok();
     auto plan = std::make_shared<const service::ModelPlan>(std::move(validated));

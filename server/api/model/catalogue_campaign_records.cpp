@@ -1,5 +1,7 @@
 #include "api/model/catalogue_campaign_records.h"
 
+#include "api/scan/returned_light_request.h"
+#include "api/scan/sensor_request.h"
 #include "vscan/common/proto_convert.h"
 #include "vscan/v1/job.pb.h"
 #include "service/job/job_kind.h"
@@ -20,6 +22,14 @@ StatusOr<service::CampaignRecord> CatalogueCampaignRecords::Get(const std::strin
   record.scene_id = spec.scene_id();
   record.mount_id = spec.mount_id();
   record.encoder_noise = spec.apply_encoder_noise();
+  if (spec.has_returned_light()) {
+    // Checked when the campaign started; a spec that no longer reads only loses the light's effect.
+    auto sensor = SensorFromProto(spec.sensor(), limits_);
+    if (sensor.ok()) {
+      auto light = ReturnedLightFromProto(spec.returned_light(), sensor->camera, sensor->structured_light);
+      if (light.ok()) record.returned_light = std::move(light).value();
+    }
+  }
   for (const store::ArtifactRecord& artifact : job.artifacts) {
     if (artifact.info.empty()) continue;
     v1::ScanArtifactInfo info;

@@ -9,6 +9,7 @@
 
 #include <Eigen/Core>
 
+#include "capture/returned_light.h"
 #include "store/stored_enums.h"
 #include "vscan/common/pose.h"
 #include "vscan/common/status.h"
@@ -28,6 +29,8 @@ struct CampaignRecord {
   std::string scene_id;
   std::string mount_id;
   bool encoder_noise = false;  // the campaign applied the mount's encoder noise
+  // The returned light its scans were taken under, when it asked for one.
+  std::optional<capture::ReturnedLightSpec> returned_light;
   std::vector<CampaignScanRecord> scans;  // in the order they were captured
 };
 

@@ -109,6 +109,7 @@ StatusOr<ProposedViews> ProposeNextBestViews(robot_registry::RobotRegistry& robo
   options.max_views = request.count;
   options.tau = request.tau;
   options.max_rays_per_view = kRaysPerCandidate;
+  options.light = request.light;
   ASSIGN_OR_RETURN(const std::vector<evaluation::ViewPick> picks,
                    evaluation::PickNextBestViews(*request.truth, request.samples, request.covered, request.camera,
                                                  views, options, cancel));

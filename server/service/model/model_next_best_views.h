@@ -13,6 +13,7 @@
 
 #include <Eigen/Core>
 
+#include "evaluation/view_hits.h"
 #include "sensor/camera.h"
 #include "service/model/model_report.h"
 #include "robot_registry/robot_registry.h"
@@ -33,6 +34,8 @@ struct NextBestViewRequest {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();  // of the truth, model frame
   std::optional<store::TableRecord> table;
   std::vector<Pose3> scan_poses;  // model_from_sensor of the aligned scans
+  // Set: a candidate sees only what the scans' own light would measure (evaluation::MeasurableLight).
+  std::optional<evaluation::MeasurableLight> light;
 };
 
 struct ProposedViews {

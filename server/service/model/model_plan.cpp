@@ -262,6 +262,16 @@ StatusOr<std::optional<store::SceneRecord>> ResolveScene(ServiceContext& context
   return FindScene(context, *ids.begin());
 }
 
+// The returned light of the one campaign every cloud comes from, when it asked for one.
+std::optional<capture::ReturnedLightSpec> CampaignLight(CampaignCache& campaigns, const std::vector<ModelCloud>& clouds) {
+  std::set<std::string> jobs;
+  for (const ModelCloud& cloud : clouds) jobs.insert(cloud.record.job_id);
+  if (jobs.size() != 1 || jobs.begin()->empty()) return std::nullopt;
+  auto campaign = campaigns.Get(*jobs.begin());
+  if (!campaign.ok()) return std::nullopt;
+  return (*campaign)->returned_light;
+}
+
 // The mount the request names, else the campaign's when all clouds come from one campaign.
 StatusOr<std::string> ResolveMount(ServiceContext& context, CampaignCache& campaigns, const ModelRequest& request,
                                    const std::vector<ModelCloud>& clouds,
@@ -418,6 +428,7 @@ StatusOr<ModelPlan> PlanModel(ServiceContext& context, CampaignRecords& campaign
   ASSIGN_OR_RETURN(plan.scene, ResolveScene(context, request, plan.clouds));
   RETURN_IF_ERROR(CheckEvaluationScene(plan));
   ASSIGN_OR_RETURN(plan.mount_id, ResolveMount(context, campaigns, request, plan.clouds, plan.scene));
+  plan.returned_light = CampaignLight(campaigns, plan.clouds);
   ResolveNextBestViews(request, plan);
   return plan;
 }

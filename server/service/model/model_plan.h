@@ -11,6 +11,7 @@
 
 #include <Eigen/Core>
 
+#include "capture/returned_light.h"
 #include "service/model/campaign_records.h"
 #include "service/context/service_context.h"
 #include "store/catalogue.h"
@@ -105,6 +106,9 @@ struct ModelPlan {
   std::string next_best_views_note;
   // The crop the request gave; without it the run uses the default about the ground truth.
   std::optional<ModelBox> crop;
+  // The returned light the scans were taken under (the campaign's): next best views then count
+  // only the surface that light would measure on the object's material.
+  std::optional<capture::ReturnedLightSpec> returned_light;
 };
 
 // Checks the request and resolves it. INVALID_ARGUMENT for a value out of range, NOT_FOUND for an

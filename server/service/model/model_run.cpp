@@ -9,6 +9,7 @@
 
 #include "evaluation/surface_sampling.h"
 #include "registration/feature_alignment.h"
+#include "scenes/object_material.h"
 #include "service/job/run_end.h"
 #include "service/model/model_alignment.h"
 #include "service/model/model_evaluation.h"
@@ -365,6 +366,17 @@ class ModelRun {
     return NextBestViews(verdict);
   }
 
+  // The material the next best views judge the object's surface by: its first object's (the truth
+  // merges the objects on the table, which a campaign's plan gives one material).
+  StatusOr<sensor::Material> TruthMaterial() {
+    for (const store::ObjectRecord& object : plan_.scene->objects) {
+      if (object.object_id != truth_->object_ids.front()) continue;
+      ASSIGN_OR_RETURN(const store::MeshRecord mesh, context_.registry.catalogue().GetMesh(object.mesh_id));
+      return scenes::EffectiveMaterial(object, mesh);
+    }
+    return sensor::DefaultMaterial();
+  }
+
   Status NextBestViews(const ModelVerdict& verdict) {
     ModelEvaluationReport& report = *report_.evaluation;
     NextBestViewRequest request;
@@ -387,6 +399,10 @@ class ModelRun {
       return Status::Ok();
     }
     request.camera = *camera;
+    if (plan_.returned_light) {
+      ASSIGN_OR_RETURN(const sensor::Material material, TruthMaterial());
+      request.light = evaluation::MeasurableLight{plan_.returned_light->emitter, plan_.returned_light->pixel, material};
+    }
     auto proposed = ProposeNextBestViews(context_.robots, request, cancel());
     if (!proposed.ok()) return Stopped() ? Stop() : proposed.status();
     report.next_best_views = proposed->views;
