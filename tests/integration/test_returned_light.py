@@ -91,6 +91,21 @@ class ReturnedLightTest(unittest.TestCase):
         self.assertEqual(strong["white"], 1.0, strong)
         self.assertEqual(strong["black"], 0.0, strong)
 
+    def test_ambient_light_brightens_every_pixel_but_darkens_the_black_one(self):
+        # Black: about 120 e of the emitter's light, an SNR near 10 alone. An ambient 0.03 W/m^2 adds
+        # about 1400 e of its own (albedo 0.03 / pi x 0.03 x the gain): the emitter's share now
+        # stands near 3 sigmas and does not decode. White keeps an SNR near 17.
+        plain = self.scan(emitter_w_per_sr=0.002, full_well_e=1e6)
+        lit = self.scan(emitter_w_per_sr=0.002, full_well_e=1e6, ambient_irradiance_w_per_m2=0.03)
+        self.assertLess(self.by_object(plain, scan_pb2.POINT_STATUS_REJECTED_DARK)["black"], 0.1)
+        self.assertGreater(self.by_object(lit, scan_pb2.POINT_STATUS_REJECTED_DARK)["black"], 0.9)
+        self.assertEqual(self.by_object(lit, scan_pb2.POINT_STATUS_MEASURED)["white"], 1.0)
+        white = [np.mean(np.asarray(r.intensities)[np.asarray(r.instance_ids) == self.white_id]) for r in (plain, lit)]
+        self.assertGreater(white[1], 5 * white[0], white)
+        with self.assertRaises(VscanError) as caught:
+            self.scan(ambient_irradiance_w_per_m2=1e19)
+        self.assertIn("returned_light.ambient_irradiance_w_per_m2", caught.exception.message)
+
     def test_the_raster_backends_judge_the_same_light(self):
         for backend in ("depth", "colour"):
             drawn = self.scan(backend=backend, emitter_w_per_sr=0.0002)

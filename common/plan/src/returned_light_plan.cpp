@@ -14,7 +14,7 @@ StatusOr<ReturnedLightPlan> ReadReturnedLight(const YamlReader& yaml, const Yaml
                       &light.aperture_diameter_m, &light.quantum_efficiency, &light.wavelength_m,
                       &light.full_well_e, &light.read_noise_e, &light.min_snr, &light.reference_e,
                       &light.indirect_samples, &light.indirect_stride_px, &light.modulation_frequency_hz,
-                      &light.interreflection_ratio};
+                      &light.interreflection_ratio, &light.ambient_irradiance_w_per_m2};
   static_assert(std::size(values) == std::size(kReturnedLightKeys));
   for (size_t i = 0; i < std::size(values); ++i) {
     const YamlAt child = YamlReader::Child(at, kReturnedLightKeys[i]);

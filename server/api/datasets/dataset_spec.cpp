@@ -99,6 +99,7 @@ StatusOr<capture::ReturnedLightSpec> DatasetReturnedLight(const plan::ReturnedLi
   light.set_indirect_stride_px(static_cast<uint32_t>(plan.indirect_stride_px));
   light.set_modulation_frequency_hz(plan.modulation_frequency_hz);
   light.set_interreflection_ratio(plan.interreflection_ratio);
+  light.set_ambient_irradiance_w_per_m2(plan.ambient_irradiance_w_per_m2);
   return ReturnedLightFromProto(light, sensor.camera, sensor.measurement.structured_light);
 }
 

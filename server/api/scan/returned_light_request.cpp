@@ -67,6 +67,9 @@ StatusOr<capture::ReturnedLightSpec> ReturnedLightFromProto(const v1::ReturnedLi
   }
   ASSIGN_OR_RETURN(spec.interreflection_ratio,
                    read(light.interreflection_ratio(), 1.0, 0, 1e3, "interreflection_ratio", ""));
+  ASSIGN_OR_RETURN(spec.ambient_irradiance_w_per_m2,
+                   read(light.ambient_irradiance_w_per_m2(), 0.0, 0, capture::kMaxAmbientIrradiance,
+                        "ambient_irradiance_w_per_m2", "W/m^2"));
   spec.default_material = sensor::DefaultMaterial();
   RETURN_IF_ERROR(capture::ValidateReturnedLight(spec, "returned_light"));
   return spec;

@@ -129,7 +129,7 @@ StatusOr<SignalEffects> JudgeSignals(const raycast::RaycastScene& scene, const P
               ? 0.0
               : sensor::ExpectedElectrons(1.0, sensor::OffAxisFalloff(clean.positions[i].cast<double>()), light.pixel);
       const double indirect_e = indirect.empty() ? 0.0 : to_electrons * indirect[i].radiance;
-      const double direct_e = signals[i].expected_e - indirect_e;
+      const double direct_e = signals[i].expected_e - indirect_e - signals[i].ambient_e;
       if (signals[i].verdict == sensor::SignalVerdict::kDark) {
         status[i] = static_cast<uint8_t>(PointStatus::kRejectedDark);
       } else if (signals[i].verdict == sensor::SignalVerdict::kSaturated) {

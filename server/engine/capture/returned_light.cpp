@@ -1,6 +1,8 @@
 #include "capture/returned_light.h"
 
 #include <cmath>
+#include <limits>
+#include <numbers>
 #include <string>
 
 #include <tbb/parallel_for.h>
@@ -23,6 +25,9 @@ Status ValidateReturnedLight(const ReturnedLightSpec& spec, std::string_view fie
   }
   if (!std::isfinite(spec.reference_e) || spec.reference_e < 0) {
     return InvalidArgument(at + ".reference_e", "must be finite and not negative (electrons)");
+  }
+  if (!(spec.ambient_irradiance_w_per_m2 >= 0 && spec.ambient_irradiance_w_per_m2 <= kMaxAmbientIrradiance)) {
+    return InvalidArgument(at + ".ambient_irradiance_w_per_m2", "must be in [0, 1e4] W/m^2");
   }
   if (spec.indirect_samples > kMaxIndirectSamples) {
     return InvalidArgument(at + ".indirect_samples", "must be at most " + std::to_string(kMaxIndirectSamples));
@@ -61,16 +66,37 @@ std::vector<sensor::PixelSignal> ReturnedSignals(const PointCloud& clean, const 
       const double radiance =
           sensor::DirectRadiance(material, point, normal, spec.emitter, Eigen::Vector3d::Zero()) +
           (indirect_radiance.empty() ? 0.0 : indirect_radiance[i]);
-      const double expected = sensor::ExpectedElectrons(radiance, sensor::OffAxisFalloff(point), spec.pixel);
-      signals[i] = sensor::RespondToElectrons(expected, spec.pixel, seed ^ kSignalStream, clean.pixels[i]);
+      const double falloff = sensor::OffAxisFalloff(point);
+      const double ambient_e = sensor::ExpectedElectrons(AmbientRadiance(spec, material), falloff, spec.pixel);
+      const double expected = sensor::ExpectedElectrons(radiance, falloff, spec.pixel) + ambient_e;
+      sensor::PixelSignal& signal = signals[i];
+      signal = sensor::RespondToElectrons(expected, spec.pixel, seed ^ kSignalStream, clean.pixels[i]);
+      signal.ambient_e = ambient_e;
+      // Only the sensor's own light decodes: the ambient share counts in the noise, not the signal.
+      if (ambient_e > 0 && signal.verdict == sensor::SignalVerdict::kMeasured &&
+          (expected - ambient_e) < spec.pixel.min_snr * signal.noise_e) {
+        signal.verdict = sensor::SignalVerdict::kDark;
+      }
     }
   });
   return signals;
 }
 
+double AmbientRadiance(const ReturnedLightSpec& spec, const sensor::Material& material) {
+  return spec.ambient_irradiance_w_per_m2 * material.albedo / std::numbers::pi;
+}
+
 double SignalSigmaFactor(const ReturnedLightSpec& spec, const sensor::PixelSignal& signal) {
   if (!(spec.reference_e > 0)) return 1.0;
-  return sensor::SignalDepthSigma(1.0, spec.reference_e, signal.expected_e, spec.pixel.read_noise_e);
+  if (!(signal.ambient_e > 0)) {
+    return sensor::SignalDepthSigma(1.0, spec.reference_e, signal.expected_e, spec.pixel.read_noise_e);
+  }
+  // The ambient light's shot noise joins the floor: SNR = active / sqrt(active + ambient + read^2).
+  const double floor = std::sqrt(spec.pixel.read_noise_e * spec.pixel.read_noise_e + signal.ambient_e);
+  const double active = signal.expected_e - signal.ambient_e;
+  const double snr_reference = spec.reference_e / std::hypot(std::sqrt(spec.reference_e), spec.pixel.read_noise_e);
+  const double snr = active / std::hypot(std::sqrt(std::max(0.0, active)), floor);
+  return snr > 0 ? snr_reference / snr : std::numeric_limits<double>::infinity();
 }
 
 }  // namespace vscan::capture

@@ -40,7 +40,15 @@ struct ReturnedLightSpec {
   // Structured light: a pixel decodes only when its direct electrons are at least this many times
   // its indirect ones (Gupta et al.'s condition for binary codes is 1).
   double interreflection_ratio = 1.0;
+  // A uniform ambient light in the camera's band, the irradiance it puts on every surface (W/m^2);
+  // 0: none. Each surface sends it back as a diffuse reflector of its material's albedo.
+  double ambient_irradiance_w_per_m2 = 0;
 };
+
+inline constexpr double kMaxAmbientIrradiance = 1e4;
+
+// The radiance a surface of this material sends back of the ambient light: E albedo / pi.
+double AmbientRadiance(const ReturnedLightSpec& spec, const sensor::Material& material);
 
 inline constexpr uint32_t kMaxIndirectSamples = 4096;
 inline constexpr uint32_t kMaxIndirectStridePx = 64;

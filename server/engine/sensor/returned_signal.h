@@ -56,6 +56,9 @@ struct PixelSignal {
   double expected_e = 0;  // the mean: gain_e x radiance
   double noise_e = 0;     // its sigma: sqrt(expected_e + read_noise_e^2) (shot noise and the floor)
   double measured_e = 0;  // one draw: expected + noise, clipped to [0, full_well_e]
+  // Of expected_e, the ambient light's share: it fills the well and adds shot noise, but carries
+  // no pattern or modulation, so it does not count towards decoding.
+  double ambient_e = 0;
   SignalVerdict verdict = SignalVerdict::kMeasured;
 };
 

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -71,6 +72,55 @@ TEST(ReturnedLight, ALambertianPlanesElectronsFollowAlbedoCosineOverRangeSquared
   // The corners get a third of the centre's light (cos^7 at 36 degrees): the test spans that range.
   EXPECT_LT(lowest, 0.4 * highest);
   EXPECT_EQ(stats.rejected_dark + stats.rejected_saturated, 0u);
+}
+
+// A uniform ambient light adds E albedo / pi of radiance to every pixel (no cos / r^2 of its own),
+// with its shot noise; where the emitter's share then stands below 5 sigmas of the whole pixel's
+// noise the pixel is dark, though its signal alone would decode.
+TEST(ReturnedLight, AmbientLightAddsItsElectronsAndNoiseButDoesNotDecode) {
+  const auto scene = Build({test::Plane(1.0, 2.0)});
+  const auto camera = test::Camera(160, 120, 60);
+  const double albedo = 0.6, intensity = 0.05, gain = 4e4, ambient = 0.3;
+  MeasurementSpec spec = LitSpec(Lambertian(albedo), gain, intensity);
+  const PointCloud unlit = Measure(*scene, camera, spec, nullptr);
+  spec.returned_light->ambient_irradiance_w_per_m2 = ambient;
+  MeasureStats stats;
+  const PointCloud cloud = Measure(*scene, camera, spec, &stats);
+  ASSERT_EQ(cloud.size(), unlit.size());
+  double sum = 0, sum2 = 0;
+  size_t dark = 0, expected_dark = 0, unlit_dark = 0;
+  for (size_t i = 0; i < cloud.size(); ++i) {
+    const Eigen::Vector3d p = cloud.clean_positions[i].cast<double>();
+    const double direct = ClosedFormElectrons(p, albedo, intensity, gain);
+    const double cos4 = std::pow(p.z() / p.norm(), 4);
+    const double ambient_e = gain * albedo / std::numbers::pi * ambient * cos4;
+    const double total = direct + ambient_e, noise = std::sqrt(total + 25.0);
+    const double z = (cloud.intensities[i] - total) / noise;
+    sum += z;
+    sum2 += z * z;
+    // Stay clear of the bar by a tenth of a sigma, where rounding could go either way.
+    if (std::abs(direct / noise - 5.0) < 0.1) continue;
+    expected_dark += direct / noise < 5.0;
+    dark += cloud.statuses[i] == Code(PointStatus::kRejectedDark);
+    unlit_dark += unlit.statuses[i] == Code(PointStatus::kRejectedDark);
+    ASSERT_EQ(cloud.statuses[i] == Code(PointStatus::kRejectedDark), direct / noise < 5.0) << i;
+  }
+  const double n = static_cast<double>(cloud.size()), mean = sum / n, sd = std::sqrt(sum2 / n - mean * mean);
+  EXPECT_NEAR(mean, 0.0, 5.0 / std::sqrt(n));
+  EXPECT_NEAR(sd, 1.0, 0.03);
+  // The scene is chosen so that the ambient light darkens part of the image, not all of it.
+  EXPECT_GT(expected_dark, cloud.size() / 10);
+  EXPECT_LT(expected_dark, cloud.size() * 9 / 10);
+  EXPECT_EQ(dark, expected_dark);
+  EXPECT_EQ(unlit_dark, 0u);
+  // The depth noise's factor follows SNR = active / sqrt(active + ambient + read^2).
+  ReturnedLightSpec light = *spec.returned_light;
+  light.reference_e = 1000;
+  sensor::PixelSignal signal;
+  signal.expected_e = 4000;
+  signal.ambient_e = 3000;
+  const double reference_snr = 1000 / std::sqrt(1000 + 25.0), snr = 1000 / std::sqrt(4000 + 25.0);
+  EXPECT_NEAR(SignalSigmaFactor(light, signal), reference_snr / snr, 1e-12);
 }
 
 // Half the plane black anodised, half white: at a power where the closed form puts the black half
@@ -153,6 +203,15 @@ TEST(ReturnedLight, DepthNoiseWidensAsTheSignalFalls) {
   }
   EXPECT_NEAR(std::sqrt(sum2 / static_cast<double>(cloud.size())), 1.0, 0.03);
   EXPECT_GT(widest, 3 * sigma);  // the signal is well below the reference: the widening is tested
+}
+
+TEST(ReturnedLight, AnAmbientLightOutOfRangeIsRefusedNamingIt) {
+  ReturnedLightSpec light;
+  for (const double bad : {-1.0, 2e4, std::numeric_limits<double>::quiet_NaN()}) {
+    light.ambient_irradiance_w_per_m2 = bad;
+    const Status status = ValidateReturnedLight(light, "returned_light");
+    EXPECT_EQ(status.field(), "returned_light.ambient_irradiance_w_per_m2") << bad;
+  }
 }
 
 TEST(ReturnedLight, TheSameSeedGivesTheSameBitsAndBadValuesNameTheirField) {

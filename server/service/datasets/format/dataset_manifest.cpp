@@ -80,7 +80,7 @@ void ReturnedLight(JsonWriter& json, const plan::ReturnedLightPlan& light) {
                            light.aperture_diameter_m, light.quantum_efficiency, light.wavelength_m,
                            light.full_well_e, light.read_noise_e, light.min_snr, light.reference_e,
                            light.indirect_samples, light.indirect_stride_px, light.modulation_frequency_hz,
-                           light.interreflection_ratio};
+                           light.interreflection_ratio, light.ambient_irradiance_w_per_m2};
   static_assert(std::size(values) == std::size(plan::kReturnedLightKeys));
   json.Key("returned_light").Open('{');
   for (size_t i = 0; i < std::size(values); ++i) json.Key(plan::kReturnedLightKeys[i]).Value(values[i]);

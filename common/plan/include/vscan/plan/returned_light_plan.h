@@ -22,6 +22,7 @@ struct ReturnedLightPlan {
   double indirect_stride_px = 0;  // a whole number
   double modulation_frequency_hz = 0;
   double interreflection_ratio = 0;
+  double ambient_irradiance_w_per_m2 = 0;
 };
 
 // The message's field names, in its order.
@@ -29,7 +30,7 @@ inline constexpr const char* kReturnedLightKeys[] = {
     "emitter_w_per_sr", "emitter_half_angle_deg", "exposure_s",       "aperture_diameter_m",
     "quantum_efficiency", "wavelength_m",         "full_well_e",      "read_noise_e",
     "min_snr",          "reference_e",            "indirect_samples", "indirect_stride_px",
-    "modulation_frequency_hz", "interreflection_ratio"};
+    "modulation_frequency_hz", "interreflection_ratio", "ambient_irradiance_w_per_m2"};
 
 // A mapping of those keys to finite, non-negative numbers (an empty mapping: every default).
 StatusOr<ReturnedLightPlan> ReadReturnedLight(const YamlReader& yaml, const YamlAt& at);
