@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 
 #include <tbb/parallel_for.h>
 
@@ -121,7 +122,7 @@ StatusOr<std::vector<IndirectReturn>> IndirectReturns(const raycast::RaycastScen
                                                       const sensor::PinholeCamera& camera, const PointCloud& clean,
                                                       const ReturnedLightSpec& spec, uint64_t seed,
                                                       const std::vector<uint8_t>& wanted,
-                                                      const std::atomic<bool>* cancel) {
+                                                      const std::atomic<bool>* cancel, uint64_t max_samples) {
   const size_t n = clean.size();
   std::vector<IndirectReturn> out(n);
   if (spec.indirect_samples == 0 || n == 0) return out;
@@ -169,32 +170,54 @@ StatusOr<std::vector<IndirectReturn>> IndirectReturns(const raycast::RaycastScen
   for (size_t i = 0; i < n; ++i) {
     if (clean.pixels[i] < at_pixel.size()) at_pixel[clean.pixels[i]] = static_cast<int32_t>(i);
   }
+  // Bilinear weights of the grid pixels about pixel i; same_surface: only those on its surface.
+  const auto interpolate = [&](size_t i, bool same_surface) -> std::optional<IndirectReturn> {
+    const uint32_t u = clean.pixels[i] % width, v = clean.pixels[i] / width;
+    const uint32_t u0 = u - u % stride, v0 = v - v % stride;
+    const double fu = static_cast<double>(u - u0) / stride, fv = static_cast<double>(v - v0) / stride;
+    const std::array<uint32_t, 4> us{u0, u0 + stride, u0, u0 + stride}, vs{v0, v0, v0 + stride, v0 + stride};
+    const std::array<double, 4> weights{(1 - fu) * (1 - fv), fu * (1 - fv), (1 - fu) * fv, fu * fv};
+    double total = 0;
+    IndirectReturn sum;
+    for (size_t k = 0; k < 4; ++k) {
+      if (weights[k] <= 0 || us[k] >= width || vs[k] >= camera.height) continue;
+      const int32_t g = at_pixel[uint64_t{vs[k]} * width + us[k]];
+      if (g == kNone || (same_surface && !SameSurface(clean, i, static_cast<size_t>(g)))) continue;
+      total += weights[k];
+      sum.radiance += weights[k] * out[g].radiance;
+      sum.phasor += weights[k] * out[g].phasor;
+    }
+    if (!(total > 0)) return std::nullopt;
+    return IndirectReturn{sum.radiance / total, sum.phasor / total};
+  };
+  std::vector<uint8_t> alone(n, 0);  // no grid pixel on its surface: an edge, to be computed itself
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, 1024), [&](const tbb::blocked_range<size_t>& r) {
     if (cancelled()) return;
     for (size_t i = r.begin(); i != r.end(); ++i) {
       if (on_grid(i) || !needed(i)) continue;
-      const uint32_t u = clean.pixels[i] % width, v = clean.pixels[i] / width;
-      const uint32_t u0 = u - u % stride, v0 = v - v % stride;
-      const double fu = static_cast<double>(u - u0) / stride, fv = static_cast<double>(v - v0) / stride;
-      const std::array<uint32_t, 4> us{u0, u0 + stride, u0, u0 + stride}, vs{v0, v0, v0 + stride, v0 + stride};
-      const std::array<double, 4> weights{(1 - fu) * (1 - fv), fu * (1 - fv), (1 - fu) * fv, fu * fv};
-      double total = 0;
-      IndirectReturn sum;
-      for (size_t k = 0; k < 4; ++k) {
-        if (weights[k] <= 0 || us[k] >= width || vs[k] >= camera.height) continue;
-        const int32_t g = at_pixel[uint64_t{vs[k]} * width + us[k]];
-        if (g == kNone || !SameSurface(clean, i, static_cast<size_t>(g))) continue;
-        total += weights[k];
-        sum.radiance += weights[k] * out[g].radiance;
-        sum.phasor += weights[k] * out[g].phasor;
-      }
-      if (total > 0) {
-        out[i] = {sum.radiance / total, sum.phasor / total};
+      const std::optional<IndirectReturn> value = interpolate(i, true);
+      if (value) {
+        out[i] = *value;
       } else {
-        out[i] = tracer.Trace(i);  // no grid pixel on its surface: an edge, computed itself
+        alone[i] = 1;
       }
     }
   });
+  if (cancelled()) return Cancelled("indirect light: cancelled");
+  // Within max_samples in all: the first edge pixels (in pixel order, so whatever the threads) are
+  // traced, the rest take whatever grid pixels stand about them, so that a scene broken into
+  // fragments cannot make the request trace every pixel.
+  const uint64_t grid_samples = IndirectGridSamples(camera, spec);
+  const uint64_t budget = max_samples > grid_samples ? (max_samples - grid_samples) / spec.indirect_samples : 0;
+  std::vector<size_t> traced, rest;
+  for (size_t i = 0; i < n; ++i) {
+    if (alone[i]) (traced.size() < budget ? traced : rest).push_back(i);
+  }
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, traced.size(), 64), [&](const tbb::blocked_range<size_t>& r) {
+    if (cancelled()) return;
+    for (size_t k = r.begin(); k != r.end(); ++k) out[traced[k]] = tracer.Trace(traced[k]);
+  });
+  for (const size_t i : rest) out[i] = interpolate(i, false).value_or(IndirectReturn{});
   if (cancelled()) return Cancelled("indirect light: cancelled");
   return out;
 }

@@ -20,6 +20,9 @@
 
 namespace vscan::capture {
 
+// What one request may ask for: about two minutes of bounces on 2 cores.
+inline constexpr uint64_t kMaxIndirectGridSamples = uint64_t{1} << 27;
+
 struct IndirectReturn {
   // The one-bounce radiance x1 sends to the camera, W / (m^2 sr).
   double radiance = 0;
@@ -40,18 +43,19 @@ struct IndirectReturn {
 // wanted pixel may interpolate from.
 // Deterministic for a seed, whatever the number of threads. All zero when indirect_samples is 0.
 // cancel, when set, is polled between blocks of pixels and stops the work with CANCELLED.
+// max_samples bounds the samples traced in all: once the grid's and the first edge pixels' reach it,
+// the remaining edge pixels interpolate whatever grid pixels stand about them, on any surface.
 StatusOr<std::vector<IndirectReturn>> IndirectReturns(const raycast::RaycastScene& scene,
                                                       const Pose3& world_from_sensor,
                                                       const sensor::PinholeCamera& camera, const PointCloud& clean,
                                                       const ReturnedLightSpec& spec, uint64_t seed,
                                                       const std::vector<uint8_t>& wanted = {},
-                                                      const std::atomic<bool>* cancel = nullptr);
+                                                      const std::atomic<bool>* cancel = nullptr,
+                                                      uint64_t max_samples = 2 * kMaxIndirectGridSamples);
 
 // The samples a scan of this camera traces on its grid: indirect_samples x the grid pixels
 // (ceil(width / stride) x ceil(height / stride)); the pixels traced off the grid add to it.
 uint64_t IndirectGridSamples(const sensor::PinholeCamera& camera, const ReturnedLightSpec& spec);
-// What one request may ask for: about two minutes of bounces on 2 cores.
-inline constexpr uint64_t kMaxIndirectGridSamples = uint64_t{1} << 27;
 
 // The range along the unit ray from the camera (at the origin) at which the path
 // emitter -> point -> camera is path_m long: r = (L^2 - |e|^2) / (2 (L - e.u)).

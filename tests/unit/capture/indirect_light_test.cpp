@@ -344,6 +344,45 @@ TEST(IndirectLight, ACancelledScanStopsWithCancelled) {
   EXPECT_TRUE(MeasureScan(*sl.scene, sl.camera, Pose3::Identity(), *clean, direct, &cancel, nullptr).ok());
 }
 
+// A scene broken into fragments (every pixel its own object, so no pixel shares a surface with a
+// grid pixel) would make every pixel trace its own bounces; past the budget the first edge pixels
+// in pixel order are traced and the rest interpolate their grid pixels on any surface.
+TEST(IndirectLight, EdgePixelsPastTheBudgetInterpolateInsteadOfTracing) {
+  const SlCorner sl = MakeSlCorner();
+  MeasurementSpec spec = LitSpec(0.9, 16);
+  ReturnedLightSpec light = *spec.returned_light;
+  light.indirect_stride_px = 4;
+  auto scanned = raycast::Scan(*sl.scene, sl.camera, Pose3::Identity(),
+                               {.fields = kFieldPosition | kFieldNormal | kFieldInstanceId | kFieldPixel,
+                                .frame = raycast::ScanFrame::kSensor});
+  ASSERT_TRUE(scanned.ok());
+  PointCloud fragments = *scanned;
+  for (size_t i = 0; i < fragments.size(); ++i) fragments.instance_ids[i] = static_cast<uint32_t>(i + 1);
+  light.materials.assign(fragments.size() + 1, Lambertian(0.9));
+  const uint64_t grid = IndirectGridSamples(sl.camera, light);
+  constexpr uint64_t kTraced = 10;
+  const auto unbounded = IndirectReturns(*sl.scene, Pose3::Identity(), sl.camera, fragments, light, 5);
+  const auto bounded = IndirectReturns(*sl.scene, Pose3::Identity(), sl.camera, fragments, light, 5, {}, nullptr,
+                                       grid + kTraced * light.indirect_samples);
+  ASSERT_TRUE(unbounded.ok() && bounded.ok());
+  size_t alone = 0, differ = 0, lit = 0;
+  for (size_t i = 0; i < fragments.size(); ++i) {
+    const uint32_t p = fragments.pixels[i];
+    const bool on_grid = (p % sl.camera.width) % 4 == 0 && (p / sl.camera.width) % 4 == 0;
+    const IndirectReturn& a = (*unbounded)[i];
+    const IndirectReturn& b = (*bounded)[i];
+    lit += a.radiance > 0;
+    if (on_grid || alone++ < kTraced) {
+      ASSERT_EQ(a.radiance, b.radiance) << i;  // traced in both
+      continue;
+    }
+    ASSERT_TRUE(std::isfinite(b.radiance) && b.radiance >= 0) << i;
+    differ += a.radiance != b.radiance;
+  }
+  EXPECT_GT(lit, fragments.size() / 4);
+  EXPECT_GT(differ, alone / 2);  // interpolated rather than traced
+}
+
 // (e) Each bound of the indirect light's members refused with INVALID_ARGUMENT naming the member.
 TEST(IndirectLight, RefusalsNameTheField) {
   const auto refused = [](const std::function<void(ReturnedLightSpec&)>& change, const std::string& member) {
