@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "bench_meshes.h"
+#include "measured_scan.h"
 #include "capture/measure_scan.h"
 #include "raycast/scanner.h"
 #include "sensor/presets.h"
@@ -119,15 +120,7 @@ int Main(const char* only) {
     return raycast::Scan(scene, camera, world_from_sensor, options)->size();
   };
   const auto measured = [&](capture::MeasurementSpec spec) {
-    return [&scene, &camera, &world_from_sensor, spec] {
-      auto cloud = capture::ScanMeasured(scene, camera, world_from_sensor, spec, raycast::ScanFrame::kWorld, nullptr,
-                                         nullptr, nullptr);
-      if (!cloud.ok()) {
-        std::fprintf(stderr, "bench: %s\n", cloud.status().ToString().c_str());
-        std::exit(1);
-      }
-      return cloud->size();
-    };
+    return MeasuredScan(scene, camera, world_from_sensor, std::move(spec));
   };
 
   // The preset's noise and projector, and the returned light from the projector off each material.

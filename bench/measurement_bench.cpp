@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "bench_meshes.h"
+#include "measured_scan.h"
 #include "capture/measure_scan.h"
 #include "raycast/scanner.h"
 
@@ -48,15 +49,7 @@ int Main(const char* only) {
     return raycast::Scan(scene, grid.camera, grid.world_from_sensor, options)->size();
   };
   const auto measured = [&](capture::MeasurementSpec spec) {
-    return [&scene, &grid, spec] {
-      auto cloud = capture::ScanMeasured(scene, grid.camera, grid.world_from_sensor, spec, raycast::ScanFrame::kWorld,
-                                         nullptr, nullptr, nullptr);
-      if (!cloud.ok()) {
-        std::fprintf(stderr, "bench: %s\n", cloud.status().ToString().c_str());
-        std::exit(1);
-      }
-      return cloud->size();
-    };
+    return MeasuredScan(scene, grid.camera, grid.world_from_sensor, std::move(spec));
   };
 
   capture::MeasurementSpec spec;

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <functional>
 #include <utility>
 
 #include "store/list_page.h"
@@ -199,6 +200,21 @@ StatusOr<ObjectRecord> LoadObject(sqlite3* db, const std::string& scene_id, cons
   ASSIGN_OR_RETURN(bool row, s.Step());
   if (!row) return ObjectNotFound(scene_id, object_id);
   return ReadObject(s);
+}
+
+// In one transaction: the scene's revision bumped, the object loaded and handed to `write`, which
+// changes and stores it. Returns the changed object and the new revision.
+StatusOr<std::pair<ObjectRecord, uint64_t>> EditObject(sqlite3* db, const std::string& scene_id,
+                                                       const std::string& object_id,
+                                                       const std::function<Status(ObjectRecord&)>& write) {
+  ObjectRecord object;
+  uint64_t revision = 0;
+  RETURN_IF_ERROR(sqlite::InTransaction(db, true, [&]() -> Status {
+    ASSIGN_OR_RETURN(revision, BumpRevision(db, scene_id));
+    ASSIGN_OR_RETURN(object, LoadObject(db, scene_id, object_id));
+    return write(object);
+  }));
+  return std::make_pair(std::move(object), revision);
 }
 
 Status LoadObjects(sqlite3* db, SceneRecord& scene) {
@@ -425,37 +441,27 @@ StatusOr<std::pair<ObjectRecord, uint64_t>> Catalogue::MoveObject(const std::str
   RETURN_IF_ERROR(CheckPose(pose));
   if (scale) RETURN_IF_ERROR(CheckScale(*scale));
   std::lock_guard lock(mutex_);
-  ObjectRecord object;
-  uint64_t revision = 0;
-  RETURN_IF_ERROR(sqlite::InTransaction(db_, true, [&]() -> Status {
-    ASSIGN_OR_RETURN(revision, BumpRevision(db_, scene_id));
-    ASSIGN_OR_RETURN(object, LoadObject(db_, scene_id, object_id));
+  return EditObject(db_, scene_id, object_id, [&](ObjectRecord& object) -> Status {
     object.pose = pose;
     if (scale) object.scale = *scale;
     RETURN_IF_ERROR(CheckPlacement(db_, object.mesh_id, object.pose, object.scale));
     ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_, "UPDATE objects SET pose = ?1, scale = ?2 WHERE object_id = ?3"));
     s.BindBlob(1, EncodePose(object.pose)).Bind(2, object.scale).Bind(3, object_id);
     return s.Run();
-  }));
-  return std::make_pair(std::move(object), revision);
+  });
 }
 
 StatusOr<std::pair<ObjectRecord, uint64_t>> Catalogue::SetObjectMaterial(
     const std::string& scene_id, const std::string& object_id, const std::optional<MaterialRecord>& material) {
   std::lock_guard lock(mutex_);
-  ObjectRecord object;
-  uint64_t revision = 0;
-  RETURN_IF_ERROR(sqlite::InTransaction(db_, true, [&]() -> Status {
-    ASSIGN_OR_RETURN(revision, BumpRevision(db_, scene_id));
-    ASSIGN_OR_RETURN(object, LoadObject(db_, scene_id, object_id));
+  return EditObject(db_, scene_id, object_id, [&](ObjectRecord& object) -> Status {
     object.material = material;
     ASSIGN_OR_RETURN(Statement s, Statement::Prepare(db_, Sql("UPDATE objects SET (", kMaterialColumns,
                                                               ") = (?1, ?2, ?3, ?4, ?5) WHERE object_id = ?6")));
     BindMaterial(s, 1, object.material);
     s.Bind(6, object_id);
     return s.Run();
-  }));
-  return std::make_pair(std::move(object), revision);
+  });
 }
 
 StatusOr<uint64_t> Catalogue::RemoveObject(const std::string& scene_id, const std::string& object_id) {

@@ -12,23 +12,12 @@ import numpy as np
 import open3d as o3d
 
 from harness import VSCAN, Server
+from test_returned_light import BLACK, EYE, TARGET, WHITE, quad_ply, square_ply
 from vscan import Client
 from vscan.v1 import scan_pb2
 
-WHITE = {"diffuse_albedo": 0.9, "metallic": 0.0, "roughness": 1.0, "specular_reflectance": 0.0}
-BLACK = {"diffuse_albedo": 0.03, "metallic": 0.0, "roughness": 1.0, "specular_reflectance": 0.0}
-EYE, TARGET = (0.0, -0.6, 0.8), (0.0, 0.0, 0.0)
 WIDTH, HEIGHT = 160, 120
 LIGHT = {"emitter_w_per_sr": 0.0002, "full_well_e": 20000}
-
-
-def quad_ply(path, corners):
-    with open(path, "w") as f:
-        f.write("ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
-                "property float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n")
-        for x, y, z in corners:
-            f.write(f"{x} {y} {z}\n")
-        f.write("3 0 1 2\n3 0 2 3\n")
 
 
 class PixelImagesTest(unittest.TestCase):
@@ -38,8 +27,8 @@ class PixelImagesTest(unittest.TestCase):
         cls.server = Server().start()
         cls.client = Client(cls.server.address)
         paths = {name: os.path.join(cls.tmp.name, name + ".ply") for name in ("left", "right", "wall")}
-        quad_ply(paths["left"], [(-0.2, -0.1, 0), (0, -0.1, 0), (0, 0.1, 0), (-0.2, 0.1, 0)])
-        quad_ply(paths["right"], [(0, -0.1, 0), (0.2, -0.1, 0), (0.2, 0.1, 0), (0, 0.1, 0)])
+        square_ply(paths["left"], -0.2, 0.0)
+        square_ply(paths["right"], 0.0, 0.2)
         # Far behind the squares, beyond the 2 m far limit but within four times it.
         quad_ply(paths["wall"], [(-3, 3, -2), (3, 3, -2), (3, 3, 4), (-3, 3, 4)])
         cls.scene = cls.client.create_scene("pixel-images").scene_id

@@ -24,14 +24,19 @@ BLACK = {"diffuse_albedo": 0.03, "metallic": 0.0, "roughness": 1.0, "specular_re
 EYE, TARGET = (0.0, -0.6, 0.8), (0.0, 0.0, 0.0)  # 1 m away, 37 degrees off the squares' normal
 
 
-def square_ply(path, x0, x1):
-    """A 0.2 m square on z = 0 from x0 to x1, y in [-0.1, 0.1], facing +z."""
+def quad_ply(path, corners):
+    """Two triangles over four corners (x, y, z), in order."""
     with open(path, "w") as f:
         f.write("ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
                 "property float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n")
-        for x, y in ((x0, -0.1), (x1, -0.1), (x1, 0.1), (x0, 0.1)):
-            f.write(f"{x} {y} 0\n")
+        for x, y, z in corners:
+            f.write(f"{x} {y} {z}\n")
         f.write("3 0 1 2\n3 0 2 3\n")
+
+
+def square_ply(path, x0, x1):
+    """A 0.2 m square on z = 0 from x0 to x1, y in [-0.1, 0.1], facing +z."""
+    quad_ply(path, [(x0, -0.1, 0), (x1, -0.1, 0), (x1, 0.1, 0), (x0, 0.1, 0)])
 
 
 class ReturnedLightTest(unittest.TestCase):
