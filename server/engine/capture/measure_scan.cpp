@@ -76,17 +76,22 @@ uint64_t ApplyNoise(const PointCloud& clean, const MeasurementSpec& spec, const 
 }
 
 // The projector's verdict comes right after out of range and before grazing and dim.
-void RejectUnlit(const raycast::RaycastScene& scene, const Pose3& world_from_sensor, const sensor::StructuredLight& sl,
-                 const PointCloud& clean, std::vector<uint8_t>& status) {
+// Returns 1 for each point the projector's light does not reach.
+std::vector<uint8_t> RejectUnlit(const raycast::RaycastScene& scene, const Pose3& world_from_sensor,
+                                 const sensor::StructuredLight& sl, const PointCloud& clean,
+                                 std::vector<uint8_t>& status) {
   const std::vector<sensor::ProjectorVisibility> lit =
       sensor::ProjectorVisibilityOf(scene, world_from_sensor, sl, clean.positions);
+  std::vector<uint8_t> hidden(lit.size());
   for (size_t i = 0; i < status.size(); ++i) {
+    hidden[i] = lit[i] != sensor::ProjectorVisibility::kLit;
     if (status[i] == static_cast<uint8_t>(PointStatus::kRejectedOutOfRange)) continue;
     if (lit[i] == sensor::ProjectorVisibility::kUnlit) status[i] = static_cast<uint8_t>(PointStatus::kRejectedUnlit);
     if (lit[i] == sensor::ProjectorVisibility::kShadowed) {
       status[i] = static_cast<uint8_t>(PointStatus::kRejectedShadowed);
     }
   }
+  return hidden;
 }
 
 struct SignalEffects {
@@ -100,8 +105,8 @@ struct SignalEffects {
 // returned signal", "Indirect light").
 StatusOr<SignalEffects> JudgeSignals(const raycast::RaycastScene& scene, const Pose3& world_from_sensor,
                                      const sensor::PinholeCamera& camera, const MeasurementSpec& spec,
-                                     const std::atomic<bool>* cancel, PointCloud& clean,
-                                     std::vector<uint8_t>& status) {
+                                     const std::atomic<bool>* cancel, std::span<const uint8_t> emitter_hidden,
+                                     PointCloud& clean, std::vector<uint8_t>& status) {
   const ReturnedLightSpec& light = *spec.returned_light;
   std::vector<IndirectReturn> indirect;
   std::vector<double> indirect_radiance;
@@ -113,7 +118,7 @@ StatusOr<SignalEffects> JudgeSignals(const raycast::RaycastScene& scene, const P
     indirect_radiance.resize(indirect.size());
     for (size_t i = 0; i < indirect.size(); ++i) indirect_radiance[i] = indirect[i].radiance;
   }
-  const std::vector<sensor::PixelSignal> signals = ReturnedSignals(clean, light, spec.seed, indirect_radiance);
+  const std::vector<sensor::PixelSignal> signals = ReturnedSignals(clean, light, spec.seed, indirect_radiance, emitter_hidden);
   SignalEffects effects{std::vector<double>(signals.size(), 1.0), {}};
   const bool time_of_flight = !indirect.empty() && light.modulation_frequency_hz > 0 && !spec.structured_light;
   if (time_of_flight) effects.range_scale.assign(signals.size(), 1.0);
@@ -283,10 +288,14 @@ StatusOr<PointCloud> MeasureScan(const raycast::RaycastScene& scene, const senso
   std::vector<uint8_t> status;
   std::vector<float> incidence;
   JudgeRays(clean, camera, spec, status, incidence);
-  if (spec.structured_light) RejectUnlit(scene, world_from_sensor, *spec.structured_light, clean, status);
+  std::vector<uint8_t> emitter_hidden;
+  if (spec.structured_light) {
+    emitter_hidden = RejectUnlit(scene, world_from_sensor, *spec.structured_light, clean, status);
+  }
   SignalEffects signal;
   if (spec.returned_light) {
-    ASSIGN_OR_RETURN(signal, JudgeSignals(scene, world_from_sensor, camera, spec, cancel, clean, status));
+    ASSIGN_OR_RETURN(signal,
+                     JudgeSignals(scene, world_from_sensor, camera, spec, cancel, emitter_hidden, clean, status));
   }
   std::vector<Eigen::Vector3f> measured = clean.positions;
   for (size_t i = 0; i < signal.range_scale.size(); ++i) measured[i] *= static_cast<float>(signal.range_scale[i]);

@@ -51,7 +51,8 @@ double CameraPixelGain(const sensor::PinholeCamera& camera, sensor::PinholePixel
 }
 
 std::vector<sensor::PixelSignal> ReturnedSignals(const PointCloud& clean, const ReturnedLightSpec& spec,
-                                                 uint64_t seed, std::span<const double> indirect_radiance) {
+                                                 uint64_t seed, std::span<const double> indirect_radiance,
+                                                 std::span<const uint8_t> emitter_hidden) {
   std::vector<sensor::PixelSignal> signals(clean.size());
   const bool has_ids = clean.Has(kFieldInstanceId);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, clean.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
@@ -63,8 +64,9 @@ std::vector<sensor::PixelSignal> ReturnedSignals(const PointCloud& clean, const 
       // The side the camera sees: a mesh's winding need not point its normals outwards.
       Eigen::Vector3d normal = clean.normals[i].cast<double>();
       if (normal.dot(point) > 0) normal = -normal;
+      const bool hidden = !emitter_hidden.empty() && emitter_hidden[i] != 0;
       const double radiance =
-          sensor::DirectRadiance(material, point, normal, spec.emitter, Eigen::Vector3d::Zero()) +
+          (hidden ? 0.0 : sensor::DirectRadiance(material, point, normal, spec.emitter, Eigen::Vector3d::Zero())) +
           (indirect_radiance.empty() ? 0.0 : indirect_radiance[i]);
       const double falloff = sensor::OffAxisFalloff(point);
       const double ambient_e = sensor::ExpectedElectrons(AmbientRadiance(spec, material), falloff, spec.pixel);

@@ -66,9 +66,11 @@ double CameraPixelGain(const sensor::PinholeCamera& camera, sensor::PinholePixel
 // One PixelSignal per point of clean (sensor frame, with normals, instance ids and pixels): the
 // material's direct radiance towards the camera at the origin, plus indirect_radiance[i] when given
 // (the indirect light, capture/indirect_light.h), the cos^4 fall-off of the pixel's ray, then the
-// pixel's response with its noise drawn from (seed, pixel index).
+// pixel's response with its noise drawn from (seed, pixel index). Where emitter_hidden[i] is 1 (a
+// projector's shadow or outside its field) the emitter's direct light does not reach the point.
 std::vector<sensor::PixelSignal> ReturnedSignals(const PointCloud& clean, const ReturnedLightSpec& spec,
-                                                 uint64_t seed, std::span<const double> indirect_radiance = {});
+                                                 uint64_t seed, std::span<const double> indirect_radiance = {},
+                                                 std::span<const uint8_t> emitter_hidden = {});
 
 // The factor on the depth noise's sigma at this signal: SignalDepthSigma(1, reference_e, expected_e,
 // read_noise_e), 1 when reference_e is 0.

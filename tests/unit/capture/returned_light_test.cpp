@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "capture/returned_light.h"
+#include "sensor/structured_light.h"
 #include "capture_scenes.h"
 
 namespace vscan::capture {
@@ -154,6 +155,40 @@ TEST(ReturnedLight, ADarkMaterialIsRejectedAsDarkWhereTheSignalIsBelowTheSnr) {
   EXPECT_GT(measured, 4000u);
   EXPECT_EQ(stats.rejected_dark, dark);
   EXPECT_EQ(stats.rejected_saturated, 0u);
+}
+
+// A structured-light scanner's emitter is its projector: where a box shadows the plane from the
+// projector, the plane's pixels get none of its light (their electrons are the read noise's), and
+// the lit pixels beside them follow the closed form from the projector's position.
+TEST(ReturnedLight, AProjectorsShadowGetsNoneOfItsLight) {
+  const auto scene = Build({test::Box({-0.05, -0.05, 0.7}, {0.05, 0.05, 0.75}), test::Plane(1.0, 2.0)});
+  const auto camera = test::Camera(160, 120, 40);
+  MeasurementSpec spec = LitSpec(Lambertian(0.9), 4e4, 0.5);
+  sensor::StructuredLight projector;
+  projector.camera = camera;
+  projector.projector_offset = Eigen::Vector3d(0.2, 0, 0);
+  projector.projector_hfov_deg = projector.projector_vfov_deg = 120;
+  spec.structured_light = projector;
+  spec.returned_light->emitter.position = projector.projector_offset;
+  const PointCloud cloud = Measure(*scene, camera, spec);
+  size_t shadowed = 0, lit = 0;
+  for (size_t i = 0; i < cloud.size(); ++i) {
+    if (cloud.instance_ids[i] != test::kPlaneId) continue;
+    if (cloud.statuses[i] == Code(PointStatus::kRejectedShadowed)) {
+      ++shadowed;
+      EXPECT_LT(cloud.intensities[i], 5 * 5.0) << i;  // within 5 sigmas of the read noise, 5 e
+    } else if (cloud.statuses[i] == Code(PointStatus::kMeasured)) {
+      ++lit;
+      const Eigen::Vector3d p = cloud.clean_positions[i].cast<double>();
+      const Eigen::Vector3d to_projector = projector.projector_offset - p;
+      const double r = p.norm(), d = to_projector.norm();
+      const double expected = 4e4 * 0.9 / std::numbers::pi * 0.5 * (-to_projector.z() / d) / (d * d) *
+                              std::pow(p.z() / r, 4);
+      EXPECT_NEAR(cloud.intensities[i], expected, 6 * std::sqrt(expected + 25.0)) << i;
+    }
+  }
+  EXPECT_GT(shadowed, 200u);
+  EXPECT_GT(lit, 5000u);
 }
 
 // A polished metal plane facing the camera, lit from the camera: the mirror sends the light back
