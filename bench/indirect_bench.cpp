@@ -140,6 +140,7 @@ int Main(const char* only) {
     if (light.materials.size() <= instance.instance_id) light.materials.resize(instance.instance_id + 1);
     light.materials[instance.instance_id] = instance.material;
   }
+  capture::MeasurementSpec without_light = direct;
   direct.returned_light = light;
   const auto indirect = [&](uint32_t samples, uint32_t stride) {
     capture::MeasurementSpec spec = direct;
@@ -154,6 +155,7 @@ int Main(const char* only) {
   };
   const std::vector<Case> cases = {
       {"clean scan", clean},
+      {"noise + projector", measured(without_light)},
       {"noise + projector + direct light", measured(direct)},
       {"+ indirect 16 samples, stride 8", measured(indirect(16, 8))},
       {"+ indirect 64 samples, stride 8", measured(indirect(64, 8))},

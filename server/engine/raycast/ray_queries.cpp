@@ -12,6 +12,7 @@ namespace vscan::raycast {
 namespace {
 
 constexpr size_t kRayGrain = 1024;
+constexpr size_t kOcclusionLanes = 16;
 
 RTCRay MakeRay(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, float t_near, float t_far) {
   RTCRay ray{};
@@ -25,6 +26,21 @@ RTCRay MakeRay(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, 
   ray.tfar = t_far;
   ray.mask = ~0u;
   return ray;
+}
+
+void SetLane(RTCRay16& packet, size_t lane, const RTCRay& ray) {
+  packet.org_x[lane] = ray.org_x;
+  packet.org_y[lane] = ray.org_y;
+  packet.org_z[lane] = ray.org_z;
+  packet.dir_x[lane] = ray.dir_x;
+  packet.dir_y[lane] = ray.dir_y;
+  packet.dir_z[lane] = ray.dir_z;
+  packet.tnear[lane] = ray.tnear;
+  packet.tfar[lane] = ray.tfar;
+  packet.time[lane] = 0;
+  packet.mask[lane] = ray.mask;
+  packet.id[lane] = 0;
+  packet.flags[lane] = 0;
 }
 
 RayHit IntersectWith(const RaycastScene& scene, RTCScene rtc, RTCIntersectContext& context,
@@ -85,17 +101,35 @@ std::vector<uint8_t> OccludedSegments(const RaycastScene& scene, std::span<const
                                       float min_margin) {
   std::vector<uint8_t> occluded(from.size(), 0);
   const RTCScene rtc = EmbreeOf(scene).scene;
+  // Packets of neighbouring segments: a scan's segments come in pixel order from one emitter, so a
+  // packet's rays run nearly side by side and Embree traverses them together.
   tbb::parallel_for(tbb::blocked_range<size_t>(0, from.size(), kRayGrain), [&](const tbb::blocked_range<size_t>& r) {
     RTCIntersectContext context;
     rtcInitIntersectContext(&context);
-    for (size_t i = r.begin(); i != r.end(); ++i) {
-      const Eigen::Vector3f d = to[i] - from[i];
-      const float length = d.norm();
-      const float margin = std::max(min_margin, relative_margin * length);
-      if (!(length > 2 * margin) || !EmbreeAcceptsRay(from[i], d / length, margin, length - margin)) continue;
-      RTCRay ray = MakeRay(from[i], d / length, margin, length - margin);
-      rtcOccluded1(rtc, &context, &ray);
-      occluded[i] = std::isinf(ray.tfar) && ray.tfar < 0 ? 1 : 0;
+    context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
+    alignas(64) RTCRay16 packet;
+    alignas(64) int valid[kOcclusionLanes];
+    for (size_t first = r.begin(); first < r.end(); first += kOcclusionLanes) {
+      const size_t lanes = std::min(kOcclusionLanes, r.end() - first);
+      bool any = false;
+      for (size_t lane = 0; lane < kOcclusionLanes; ++lane) {
+        valid[lane] = 0;
+        if (lane >= lanes) continue;
+        const size_t i = first + lane;
+        const Eigen::Vector3f d = to[i] - from[i];
+        const float length = d.norm();
+        const float margin = std::max(min_margin, relative_margin * length);
+        if (!(length > 2 * margin) || !EmbreeAcceptsRay(from[i], d / length, margin, length - margin)) continue;
+        SetLane(packet, lane, MakeRay(from[i], d / length, margin, length - margin));
+        valid[lane] = -1;
+        any = true;
+      }
+      if (!any) continue;
+      rtcOccluded16(valid, rtc, &context, &packet);
+      for (size_t lane = 0; lane < lanes; ++lane) {
+        // Embree sets an occluded ray's tfar to -inf.
+        if (valid[lane] != 0) occluded[first + lane] = std::isinf(packet.tfar[lane]) && packet.tfar[lane] < 0 ? 1 : 0;
+      }
     }
   });
   return occluded;

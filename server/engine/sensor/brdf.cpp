@@ -35,9 +35,11 @@ double EvaluateBrdf(const Material& material, const Eigen::Vector3d& normal, con
   // h.v == h.l, so the Fresnel term, and with it the whole BRDF, is the same both ways round.
   const double fresnel = SchlickFresnel(f0, half.dot(to_viewer));
   const double roughness = std::max(material.roughness, kMinRoughness);
-  const double alpha = roughness * roughness;
-  const double specular = GgxDistribution(cos_h, alpha) * GgxMasking(cos_l, alpha) * GgxMasking(cos_v, alpha) *
-                          fresnel / (4 * cos_l * cos_v);
+  const double alpha = roughness * roughness, a2 = alpha * alpha;
+  // G1(l) G1(v) / (4 n.l n.v) with G1(c) = 2c / (c + sqrt(a2 + (1 - a2) c^2)): one division, not three.
+  const double visibility = 1.0 / ((cos_l + std::sqrt(a2 + (1 - a2) * cos_l * cos_l)) *
+                                   (cos_v + std::sqrt(a2 + (1 - a2) * cos_v * cos_v)));
+  const double specular = GgxDistribution(cos_h, alpha) * visibility * fresnel;
   // Light that enters the surface crosses its interface twice, in along l and out along v; weighting
   // by h.v instead would return more than arrives at grazing views.
   const double diffuse = (1 - material.metallic) * (1 - SchlickFresnel(f0, cos_l)) * (1 - SchlickFresnel(f0, cos_v)) *
