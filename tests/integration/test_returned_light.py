@@ -139,6 +139,41 @@ class ReturnedLightTest(unittest.TestCase):
             self.assertEqual(usage.returncode, 2, usage.stderr)
             self.assertIn("--returned-light", usage.stderr)
 
+    def test_a_preset_brings_its_camera_and_emitter_and_the_request_overrides_them(self):
+        preset = [p for p in self.client.list_sensor_presets() if p.name == "kinect-v2-class"][0]
+        light, camera = preset.returned_light, preset.spec.pinhole
+        self.assertGreater(light.full_well_e, 0)
+        self.assertGreater(light.read_noise_e, 0)
+        self.assertEqual(light.modulation_frequency_hz, 20e6)
+        self.assertIn("Bamji", preset.returned_light_source)
+        # The preset's gain: QE t A Omega lambda / (h c), Omega = 1 / (fx fy) on the axis.
+        pupil_area = math.pi * light.aperture_diameter_m ** 2 / 4
+        gain = (light.quantum_efficiency * light.exposure_s * pupil_area / (camera.intrinsics.fx * camera.intrinsics.fy)
+                * light.wavelength_m / (6.62607015e-34 * 299792458.0))
+        # An emitter putting about a third of the well on the white square (37 degrees, 1 m; the
+        # cos^4 of the square's pixels takes a little more off).
+        emitter = light.full_well_e / 3 / (gain * 0.9 / math.pi * math.cos(math.radians(37)))
+
+        def white(**values):
+            result = self.client.scan(self.scene, preset="kinect-v2-class", eye=EYE, target=TARGET,
+                                      fields=["position", "intensity", "instance", "status"], include_rejected=True,
+                                      returned_light={"emitter_w_per_sr": emitter, **values}, seed=3)
+            return np.asarray(result.intensities)[np.asarray(result.instance_ids) == self.white_id]
+
+        at_preset = white()
+        self.assertGreater(len(at_preset), 500)
+        self.assertLess(np.max(at_preset), light.full_well_e)
+        self.assertGreater(np.mean(at_preset), 0.2 * light.full_well_e)
+        # Half the preset's exposure halves the electrons; ten times the emitter fills the preset's well.
+        self.assertAlmostEqual(np.mean(white(exposure_s=light.exposure_s / 2)) / np.mean(at_preset), 0.5, delta=0.02)
+        self.assertEqual(np.max(white(emitter_w_per_sr=10 * emitter)), np.float32(light.full_well_e))
+        cli = subprocess.run([VSCAN, "--server", self.server.address, "sensors", "--verbose"], capture_output=True,
+                             text=True)
+        self.assertEqual(cli.returncode, 0, cli.stderr)
+        self.assertRegex(cli.stdout, r"light: exposure [0-9.]+ ms, full well [0-9.e+]+ e, read noise [0-9.]+ e "
+                                     r"\(dynamic range [0-9.]+ dB\)")
+        self.assertIn("light source:", cli.stdout)
+
     def test_python_refusals_name_the_field(self):
         for light, field in (({"min_snr": math.inf}, "returned_light.min_snr"),
                              ({"emitter_half_angle_deg": 270}, "returned_light.emitter_half_angle_deg"),

@@ -19,6 +19,25 @@ std::string Summary(const v1::SensorPreset& preset) {
   return line;
 }
 
+// The camera and emitter figures the preset's returned light takes; empty when it has none.
+std::string LightSummary(const v1::SensorPreset& preset) {
+  const v1::ReturnedLight& l = preset.returned_light();
+  if (l.full_well_e() <= 0 || l.read_noise_e() <= 0) return "";
+  char line[320];
+  std::snprintf(line, sizeof line,
+                "light: exposure %g ms, full well %g e, read noise %g e (dynamic range %.1f dB), QE %g at %g nm, "
+                "pupil %.3g mm, emitter %.3g W/sr",
+                l.exposure_s() * 1e3, l.full_well_e(), l.read_noise_e(),
+                20.0 * std::log10(l.full_well_e() / l.read_noise_e()), l.quantum_efficiency(),
+                l.wavelength_m() * 1e9, l.aperture_diameter_m() * 1e3, l.emitter_w_per_sr());
+  std::string text = line;
+  if (l.modulation_frequency_hz() > 0) {
+    std::snprintf(line, sizeof line, ", modulated at %g MHz", l.modulation_frequency_hz() / 1e6);
+    text += line;
+  }
+  return text;
+}
+
 }  // namespace
 
 void AddSensorsCommand(CLI::App& app, Context& ctx) {
@@ -41,6 +60,11 @@ void AddSensorsCommand(CLI::App& app, Context& ctx) {
       if (*verbose && !ctx.quiet()) {
         ctx.Print("    " + p.description());
         ctx.Print("    source: " + p.source());
+        const std::string light = LightSummary(p);
+        if (!light.empty()) {
+          ctx.Print("    " + light);
+          ctx.Print("    light source: " + p.returned_light_source());
+        }
       }
     }
     return kExitOk;

@@ -100,7 +100,8 @@ StatusOr<capture::ReturnedLightSpec> DatasetReturnedLight(const plan::ReturnedLi
   light.set_modulation_frequency_hz(plan.modulation_frequency_hz);
   light.set_interreflection_ratio(plan.interreflection_ratio);
   light.set_ambient_irradiance_w_per_m2(plan.ambient_irradiance_w_per_m2);
-  return ReturnedLightFromProto(light, sensor.camera, sensor.measurement.structured_light);
+  return ReturnedLightFromProto(light, sensor.camera, sensor.measurement.structured_light,
+                                sensor.modulation_frequency_hz, sensor.illumination);
 }
 
 StatusOr<std::vector<v1::PlanMeshFile>> PlanMeshFiles(const v1::DatasetSpec& spec) {

@@ -26,7 +26,8 @@ StatusOr<service::CampaignRecord> CatalogueCampaignRecords::Get(const std::strin
     // Checked when the campaign started; a spec that no longer reads only loses the light's effect.
     auto sensor = SensorFromProto(spec.sensor(), limits_);
     if (sensor.ok()) {
-      auto light = ReturnedLightFromProto(spec.returned_light(), sensor->camera, sensor->structured_light);
+      auto light = ReturnedLightFromProto(spec.returned_light(), sensor->camera, sensor->structured_light,
+                                          sensor->modulation_frequency_hz, sensor->illumination);
       if (light.ok()) record.returned_light = std::move(light).value();
     }
   }

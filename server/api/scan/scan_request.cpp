@@ -83,7 +83,7 @@ StatusOr<ScanPlan> ParseScanRequest(const v1::ScanRequest& request, const servic
   if (request.has_returned_light()) {
     ASSIGN_OR_RETURN(plan.measurement.returned_light,
                      ReturnedLightFromProto(request.returned_light(), plan.camera, sensing.structured_light,
-                                            sensing.modulation_frequency_hz));
+                                            sensing.modulation_frequency_hz, sensing.illumination));
   }
   plan.measurement.seed = request.seed();
 

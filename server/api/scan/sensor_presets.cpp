@@ -24,6 +24,17 @@ void PresetToProto(const sensor::SensorPreset& preset, v1::SensorPreset* out) {
   noise->set_along_ray(preset.noise.along_ray);
   noise->set_depth_step_m(preset.noise.depth_step);
   noise->set_min_intensity(preset.noise.min_intensity);
+  const sensor::PresetIllumination& light = preset.illumination;
+  auto* returned_light = out->mutable_returned_light();
+  returned_light->set_emitter_w_per_sr(light.emitter_w_per_sr);
+  returned_light->set_exposure_s(light.exposure_s);
+  returned_light->set_aperture_diameter_m(light.aperture_diameter_m);
+  returned_light->set_quantum_efficiency(light.quantum_efficiency);
+  returned_light->set_wavelength_m(light.wavelength_m);
+  returned_light->set_full_well_e(light.full_well_e);
+  returned_light->set_read_noise_e(light.read_noise_e);
+  returned_light->set_modulation_frequency_hz(preset.modulation_frequency_hz);
+  out->set_returned_light_source(light.source);
 }
 
 }  // namespace

@@ -100,6 +100,7 @@ StatusOr<SensorSettings> SensorFromProto(const v1::SensorSpec& spec, const servi
       settings.preset_noise = preset->noise;
       settings.structured_light = preset->structured_light;
       settings.modulation_frequency_hz = preset->modulation_frequency_hz;
+      settings.illumination = preset->illumination;
       return settings;
     }
     case v1::SensorSpec::KIND_NOT_SET: break;

@@ -7,6 +7,7 @@
 #include "service/context/server_options.h"
 #include "sensor/camera.h"
 #include "sensor/measurement.h"
+#include "sensor/presets.h"
 #include "sensor/structured_light.h"
 #include "vscan/common/status.h"
 #include "vscan/v1/sensor.pb.h"
@@ -22,6 +23,8 @@ struct SensorSettings {
   std::optional<sensor::StructuredLight> structured_light;
   // A time-of-flight preset's modulation frequency (Hz); 0: not time of flight.
   double modulation_frequency_hz = 0;
+  // A preset's camera and emitter figures for the returned light.
+  sensor::PresetIllumination illumination;
 };
 
 StatusOr<SensorSettings> SensorFromProto(const v1::SensorSpec& spec, const service::Limits& limits);

@@ -33,6 +33,17 @@ std::vector<SensorPreset> MakePresets() {
                      "the random depth error grows with the square of the distance to about 4 cm at 5 m, "
                      "modelled here as 1.6 mm x z^2.",
                      Camera(640, 480, 57.0, 0.8, 4.0), kinect_v1});
+  presets.back().illumination = {
+      0.036, 0.01, 3.0e-3, 0.15, 830e-9, 31600, 12,
+      "Emitter: the 830 nm laser behind a diffractive dot pattern, about 27.6 mW after the diffractive element "
+      "over about 54 x 50 degrees (community measurements: OpenKinect wiki 'Hardware info', "
+      "https://openkinect.org/wiki/Hardware_info; an Electronics Stack Exchange photodiode measurement), "
+      "0.772 sr: 0.036 W/sr as the field's mean (the dots concentrate it). Camera: the Aptina MT9M001 "
+      "(5.2 um pixels, binned), data sheet: maximum SNR 45 dB and dynamic range 68.2 dB, hence a full well of "
+      "about 31 600 e and 12 e of read noise. Quantum efficiency 0.15 at 830 nm (assumed: the data sheet gives "
+      "only a relative response), exposure 10 ms of the 33 ms frame (assumed, not published), aperture f/2 "
+      "on the 6 mm lens community calibrations report (assumed)."};
+
   DepthNoise kinect_v2;
   kinect_v2.sigma_a = 1.5e-3;
   kinect_v2.along_ray = true;
@@ -44,6 +55,19 @@ std::vector<SensorPreset> MakePresets() {
                      "navigation: evaluation and modeling', ICAR 2015, report axial noise of the order of a "
                      "millimetre or two in the central field; modelled here as a constant 1.5 mm.",
                      Camera(512, 424, 70.6, 0.5, 4.5), kinect_v2, std::nullopt, kDefaultModulationFrequencyHz});
+  PresetIllumination& v2 = presets.back().illumination;
+  v2 = {0, 0.011, 3.3e-3, 0.20, 860e-9, 16000, 10,
+        "Camera: C. S. Bamji et al., 'A 0.13 um CMOS System-on-Chip for a 512 x 424 Time-of-Flight Image Sensor "
+        "with Multi-Frequency Photo-Demodulation up to 130 MHz and 2 GS/s ADC', IEEE JSSC 50(1), 2015: 10 um "
+        "pixels, responsivity 0.14 A/W at 860 nm (a quantum efficiency of 0.20), dynamic range above 64 dB "
+        "(full well 16 000 e over 10 e of read noise is 64 dB: the split is assumed). Exposure 11 ms, a third "
+        "of the 33 ms frame, one modulation frequency's captures (assumed). Aperture f/1.1 on the 3.65 mm lens "
+        "of the factory intrinsics (fx 365.5 px x 10 um; the f-number is assumed). Emitter: three laser diodes "
+        "(Chipworks teardown) of unpublished power, derived as the intensity that puts half the full well on "
+        "white (albedo 0.9) at the near end of the range, 0.5 m, so that white facing it saturates nowhere in "
+        "the range (the camera's multi-gain operation reaches further than one exposure)."};
+  v2.emitter_w_per_sr = HalfWellEmitter(presets.back().camera, v2, 0.5);
+
   AppendStructuredLightPresets(presets);
   return presets;
 }

@@ -8,6 +8,7 @@
 
 #include "sensor/camera.h"
 #include "sensor/measurement.h"
+#include "sensor/preset_illumination.h"
 #include "sensor/structured_light.h"
 
 namespace vscan::sensor {
@@ -24,6 +25,7 @@ struct SensorPreset {
   // Set (Hz) for time-of-flight cameras: the modulation frequency whose phase gives the depth when
   // the returned light has indirect light (multipath); 0: not time of flight.
   double modulation_frequency_hz = 0;
+  PresetIllumination illumination;
 };
 
 // A time-of-flight preset's modulation frequency: one frequency standing for the several a real

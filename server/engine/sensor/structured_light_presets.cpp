@@ -28,6 +28,17 @@ constexpr char kFamilySource[] =
     "law sigma_z = k z^2 / b with the same k, applied along the ray. The data sheets' calibration accuracy "
     "(a systematic deformation of space) is not modelled.";
 
+constexpr char kLightSource[] =
+    "Projector: a visible red laser, 639 nm (S) and 637 nm (M, L) (Photoneo, 'PhoXi 3D scanners family'). Its "
+    "radiant power over the field is not published (the laser-safety figures are not it): derived as the "
+    "intensity that puts half the full well on white (albedo 0.9) at the model's optimal distance (S: the "
+    "middle of its range) at the shortest exposure. Exposure: 10.24 ms, the shortest single-pattern exposure "
+    "(10.24-100.352 ms in Photoneo's GenICam examples). Camera: not named by Photoneo; 2064 x 1544 at 3.45 um "
+    "is the geometry of Sony's Pregius IMX265/IMX252, whose cameras' EMVA 1288 data give a full well of about "
+    "10 500 e and a dynamic range of 72.7 dB (Allied Vision Mako G-319, IMX265), hence 2.4 e of read noise. "
+    "Quantum efficiency 0.55 at 637 nm (assumed, from the Pregius monochrome spectral curve). Aperture "
+    "(assumed, not published): f/2.8 on the focal length the field of view and the 3.45 um pixel give.";
+
 struct Model {
   const char* name;
   const char* description;
@@ -36,7 +47,11 @@ struct Model {
   double near, far;
   double baseline;
   double mounting_angle_deg;
+  double design_distance;  // where white fills half the well (the optimal scanning distance)
+  double wavelength_nm;
 };
+
+constexpr double kPixelPitchM = 3.45e-6;
 
 SensorPreset MakePreset(const Model& m) {
   StructuredLight sl;
@@ -55,6 +70,15 @@ SensorPreset MakePreset(const Model& m) {
   preset.camera = sl.camera;
   preset.noise = noise;
   preset.structured_light = std::move(sl);
+  PresetIllumination& light = preset.illumination;
+  light.exposure_s = 10.24e-3;
+  light.aperture_diameter_m = preset.camera.fx * kPixelPitchM / 2.8;
+  light.quantum_efficiency = 0.55;
+  light.wavelength_m = m.wavelength_nm * 1e-9;
+  light.full_well_e = 10500;
+  light.read_noise_e = 2.4;
+  light.emitter_w_per_sr = HalfWellEmitter(preset.camera, light, m.design_distance);
+  light.source = kLightSource;
   return preset;
 }
 
@@ -77,7 +101,7 @@ void AppendStructuredLightPresets(std::vector<SensorPreset>& presets) {
        "Photoneo PhoXi 3D Scanner S data sheet (https://www.photoneo.com/products/phoxi-scan-s/): scanning range "
        "384-520 mm; b = 230 mm, a = 15.45 degrees. Field of view (assumed): 48.0 degrees "
        "horizontal, the mean of the M and L models' sheet-derived values.",
-       0.5 * (medium_fov + large_fov), 0.384, 0.520, 0.230, 15.45}));
+       0.5 * (medium_fov + large_fov), 0.384, 0.520, 0.230, 15.45, 0.452, 639}));
   presets.push_back(MakePreset(
       {"phoxi-m-class",
        "Medium-volume industrial structured-light scanner of the Photoneo PhoXi 3D Scanner M class: "
@@ -86,7 +110,7 @@ void AppendStructuredLightPresets(std::vector<SensorPreset>& presets) {
        "458-1118 mm, optimal scanning distance 650 mm, scanning area 317 x 303 mm (near), 590 x 421 mm "
        "(optimal), 826 x 877 mm (far); b = 350 mm, a = 11.75 degrees. Field of view "
        "(derived): the 590 mm width at 650 mm gives 48.8 degrees horizontal.",
-       medium_fov, 0.458, 1.118, 0.350, 11.75}));
+       medium_fov, 0.458, 1.118, 0.350, 11.75, 0.650, 637}));
   presets.push_back(MakePreset(
       {"phoxi-l-class",
        "Large-volume industrial structured-light scanner of the Photoneo PhoXi 3D Scanner L class: "
@@ -96,7 +120,7 @@ void AppendStructuredLightPresets(std::vector<SensorPreset>& presets) {
        "(optimal), 1644 x 1388 mm (far), point-to-point distance 0.524 mm, temporal noise 0.190 mm and "
        "calibration accuracy 0.200 mm (1 sigma); b = 550 mm, a = 9.45 degrees. Field of "
        "view (derived): the 1082 mm width at 1239 mm gives 47.2 degrees horizontal.",
-       large_fov, 0.870, 2.150, 0.550, 9.45}));
+       large_fov, 0.870, 2.150, 0.550, 9.45, 1.239, 637}));
 }
 
 }  // namespace vscan::sensor

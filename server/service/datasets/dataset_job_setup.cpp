@@ -116,6 +116,8 @@ StatusOr<DatasetSensorSetup> PrepareSensor(const dataset::DatasetSensor& asked, 
   setup.measurement.noise = preset->noise;
   setup.measurement.structured_light = preset->structured_light;
   if (setup.measurement.structured_light) setup.measurement.structured_light->camera = setup.camera;
+  setup.modulation_frequency_hz = preset->modulation_frequency_hz;
+  setup.illumination = preset->illumination;
   return setup;
 }
 

@@ -15,6 +15,7 @@
 #include "capture/returned_light.h"
 #include "sensor/camera.h"
 #include "sensor/material.h"
+#include "sensor/presets.h"
 #include "service/datasets/format/dataset_frame.h"
 #include "service/datasets/format/dataset_plan.h"
 #include "vscan/common/status.h"
@@ -36,6 +37,8 @@ struct DatasetBinSetup {
 struct DatasetSensorSetup {
   sensor::PinholeCamera camera;
   capture::MeasurementSpec measurement;  // seed set per scene
+  double modulation_frequency_hz = 0;    // the preset's, for time of flight
+  sensor::PresetIllumination illumination;
 };
 
 struct DatasetSetup {
