@@ -3,7 +3,9 @@
 namespace vscan::raster {
 
 // Line for line sensor::GgxDistribution, GgxMasking, SchlickFresnel, EvaluateBrdf and
-// DirectRadiance, in single precision.
+// DirectRadiance, in single precision, but for one rearrangement: GGX's denominator
+// cos^2 (alpha^2 - 1) + 1 is written cos^2 alpha^2 + sin^2 with sin from a cross product, since
+// 1 - cos^2 in float loses the narrow lobe of a polished surface (1% at roughness 0.08).
 const char* const kDirectLightGlsl = R"(
 uniform samplerBuffer materials;  // per slot: albedo, metallic, roughness, specular_reflectance
 uniform vec3 emitter_position;    // scene frame
@@ -14,10 +16,10 @@ layout(location = 2) out float radiance;
 const float kPi = 3.14159265358979;
 const float kMinRoughness = 0.02;
 
-float GgxDistribution(float cos_h, float alpha) {
+float GgxDistribution(float cos_h, float sin2_h, float alpha) {
   if (cos_h <= 0.0) return 0.0;
   float a2 = alpha * alpha;
-  float d = cos_h * cos_h * (a2 - 1.0) + 1.0;
+  float d = cos_h * cos_h * a2 + sin2_h;
   return a2 / (kPi * d * d);
 }
 
@@ -39,11 +41,12 @@ float EvaluateBrdf(vec4 m, vec3 n, vec3 l, vec3 v) {
   if (!(cos_l > 0.0) || !(cos_v > 0.0)) return 0.0;
   vec3 h = normalize(l + v);
   float cos_h = dot(n, h);
+  vec3 sin_h = cross(n, h);
   float f0 = (1.0 - m.y) * m.w + m.y * m.x;
   float fresnel = SchlickFresnel(f0, dot(h, v));
   float roughness = max(m.z, kMinRoughness);
   float alpha = roughness * roughness;
-  float specular = GgxDistribution(cos_h, alpha) * GgxMasking(cos_l, alpha) * GgxMasking(cos_v, alpha) * fresnel /
+  float specular = GgxDistribution(cos_h, dot(sin_h, sin_h), alpha) * GgxMasking(cos_l, alpha) * GgxMasking(cos_v, alpha) * fresnel /
                    (4.0 * cos_l * cos_v);
   float diffuse = (1.0 - m.y) * (1.0 - SchlickFresnel(f0, cos_l)) * (1.0 - SchlickFresnel(f0, cos_v)) * m.x / kPi;
   return diffuse + specular;
