@@ -212,11 +212,11 @@ TEST_P(DirectLightTest, RoughPlasticUnderAnOffsetProjectorIsDarkOutsideItsCone) 
 TEST_P(DirectLightTest, EachObjectShowsItsOwnMaterialInOneFrame) {
   LitScene s;
   s.AddPlane(Eigen::Vector3d(-0.35, 0, 1.3), 0.3, Tilt(10, 20), 3);   // white Lambertian
-  s.AddPlane(Eigen::Vector3d(0.35, 0, 1.1), 0.3, Tilt(-15, -10), 5);  // rough plastic
+  s.AddPlane(Eigen::Vector3d(0.35, 0, 1.1), 0.3, Tilt(-20, -55), 5);  // a rough, weakly specular plastic
   s.AddPlane(Eigen::Vector3d(0, 0.3, 1.6), 0.25, Tilt(5, 0), 9);     // past the table: the default
   s.materials.assign(6, Lambertian(0.1));
   s.materials[3] = Lambertian(0.9);
-  s.materials[5] = {0.25, 0.0, 0.45, 0.05};
+  s.materials[5] = {0.25, 0.0, 0.45, 0.01};  // F0 < 0.02: Schlick's F90 = 50 F0 below 1
   s.light.default_material = {0.5, 1.0, 0.3, 0.04};  // a brushed metal
   const LitCloud lit = ScanLit(s, GetParam(), Key("three"));
   size_t of_id[10] = {};
@@ -230,6 +230,36 @@ TEST_P(DirectLightTest, EachObjectShowsItsOwnMaterialInOneFrame) {
   const double worst = WorstError(lit, s.light, s.camera);
   std::printf("three materials: worst error vs the CPU %.2f of the tolerance\n", worst);
   EXPECT_LT(worst, 1.0);
+}
+
+// The lit programs draw the same geometry, and a lit scan leaves nothing behind that changes the
+// plain scans after it (the radiance attachment is detached, the plain programs bound again).
+TEST_P(DirectLightTest, PlainScansAroundALitOneGiveTheSamePoints) {
+  LitScene s;
+  s.AddPlane(Eigen::Vector3d(0, 0, 1.4), 0.8, Tilt(20, 10), 1);
+  s.materials = {Lambertian(0.5), Lambertian(0.5)};
+  RasterRenderer* renderer = testing::SharedRenderer();
+  ASSERT_NE(renderer, nullptr);
+  RasterOptions options;
+  options.fields = kFieldPosition | kFieldPixel;
+  const auto plain = [&] {
+    auto cloud = RasterScan(*renderer, Key("around"), s.instances, s.camera, s.world_from_sensor, GetParam(), options);
+    EXPECT_TRUE(cloud.ok()) << cloud.status().ToString();
+    return cloud.ok() ? std::move(*cloud) : PointCloud{};
+  };
+  const PointCloud before = plain();
+  s.light.materials = s.materials;
+  auto lit = RasterScanLit(*renderer, Key("around"), s.instances, s.camera, s.world_from_sensor, GetParam(), s.light,
+                           options);
+  ASSERT_TRUE(lit.ok()) << lit.status().ToString();
+  const PointCloud after = plain();
+  ASSERT_GT(before.size(), 1000u);
+  ASSERT_EQ(after.size(), before.size());
+  ASSERT_EQ(lit->cloud.size(), before.size());
+  EXPECT_EQ(lit->direct_radiance.size(), before.size());
+  EXPECT_TRUE(after.positions == before.positions);
+  EXPECT_TRUE(lit->cloud.positions == before.positions);
+  EXPECT_TRUE(lit->cloud.pixels == before.pixels);
 }
 
 INSTANTIATE_TEST_SUITE_P(Methods, DirectLightTest,
