@@ -108,14 +108,14 @@ double WorstError(const LitCloud& lit, const DirectLight& light, const sensor::P
   return WorstError(lit, light, camera, [](size_t) { return false; });
 }
 
-class DirectLightTest : public ::testing::TestWithParam<RasterMethod> {
+class RasterDirectLightTest : public ::testing::TestWithParam<RasterMethod> {
  protected:
   std::string Key(const char* name) const {
     return std::string(name) + (GetParam() == RasterMethod::kDepthBuffer ? "/depth" : "/colour");
   }
 };
 
-TEST_P(DirectLightTest, LambertianPlaneIsAlbedoOverPiTimesIntensityCosOverRSquared) {
+TEST_P(RasterDirectLightTest, LambertianPlaneIsAlbedoOverPiTimesIntensityCosOverRSquared) {
   LitScene s;
   const Eigen::Vector3d centre(0.05, -0.03, 1.2);
   const Eigen::Vector3d n = s.AddPlane(centre, 1.0, Tilt(25, -15), 1);
@@ -141,7 +141,7 @@ TEST_P(DirectLightTest, LambertianPlaneIsAlbedoOverPiTimesIntensityCosOverRSquar
   EXPECT_LT(worst, 1.0);
 }
 
-TEST_P(DirectLightTest, PolishedMetalShinesOnlyAboutTheMirrorDirection) {
+TEST_P(RasterDirectLightTest, PolishedMetalShinesOnlyAboutTheMirrorDirection) {
   LitScene s;
   const Eigen::Vector3d centre(0, 0, 1.0);
   const Eigen::Vector3d n = s.AddPlane(centre, 1.0, Tilt(6, 4), 2);
@@ -173,7 +173,7 @@ TEST_P(DirectLightTest, PolishedMetalShinesOnlyAboutTheMirrorDirection) {
   EXPECT_LT(worst, 1.0);
 }
 
-TEST_P(DirectLightTest, RoughPlasticUnderAnOffsetProjectorIsDarkOutsideItsCone) {
+TEST_P(RasterDirectLightTest, RoughPlasticUnderAnOffsetProjectorIsDarkOutsideItsCone) {
   LitScene s;
   s.AddPlane(Eigen::Vector3d(0, 0, 1.5), 1.5, Tilt(-20, 30), 4);
   s.materials.assign(5, Lambertian(0.5));
@@ -209,7 +209,7 @@ TEST_P(DirectLightTest, RoughPlasticUnderAnOffsetProjectorIsDarkOutsideItsCone) 
   EXPECT_LT(worst, 1.0);
 }
 
-TEST_P(DirectLightTest, EachObjectShowsItsOwnMaterialInOneFrame) {
+TEST_P(RasterDirectLightTest, EachObjectShowsItsOwnMaterialInOneFrame) {
   LitScene s;
   s.AddPlane(Eigen::Vector3d(-0.35, 0, 1.3), 0.3, Tilt(10, 20), 3);   // white Lambertian
   s.AddPlane(Eigen::Vector3d(0.35, 0, 1.1), 0.3, Tilt(-20, -55), 5);  // a rough, weakly specular plastic
@@ -234,7 +234,7 @@ TEST_P(DirectLightTest, EachObjectShowsItsOwnMaterialInOneFrame) {
 
 // The lit programs draw the same geometry, and a lit scan leaves nothing behind that changes the
 // plain scans after it (the radiance attachment is detached, the plain programs bound again).
-TEST_P(DirectLightTest, PlainScansAroundALitOneGiveTheSamePoints) {
+TEST_P(RasterDirectLightTest, PlainScansAroundALitOneGiveTheSamePoints) {
   LitScene s;
   s.AddPlane(Eigen::Vector3d(0, 0, 1.4), 0.8, Tilt(20, 10), 1);
   s.materials = {Lambertian(0.5), Lambertian(0.5)};
@@ -262,7 +262,7 @@ TEST_P(DirectLightTest, PlainScansAroundALitOneGiveTheSamePoints) {
   EXPECT_TRUE(lit->cloud.pixels == before.pixels);
 }
 
-INSTANTIATE_TEST_SUITE_P(Methods, DirectLightTest,
+INSTANTIATE_TEST_SUITE_P(Methods, RasterDirectLightTest,
                          ::testing::Values(RasterMethod::kDepthBuffer, RasterMethod::kColourBuffer),
                          [](const auto& info) { return info.param == RasterMethod::kDepthBuffer ? "Depth" : "Colour"; });
 

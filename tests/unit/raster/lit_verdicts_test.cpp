@@ -60,9 +60,9 @@ std::vector<uint8_t> StatusImage(const PointCloud& cloud, const sensor::PinholeC
   return image;
 }
 
-class LitVerdictsTest : public ::testing::TestWithParam<RasterMethod> {};
+class RasterLitVerdictsTest : public ::testing::TestWithParam<RasterMethod> {};
 
-TEST_P(LitVerdictsTest, MatchTheRayCastBackend) {
+TEST_P(RasterLitVerdictsTest, MatchTheRayCastBackend) {
   RasterRenderer* renderer = testing::SharedRenderer();
   ASSERT_NE(renderer, nullptr);
   const VerdictScene s = MakeScene();
@@ -104,7 +104,7 @@ TEST_P(LitVerdictsTest, MatchTheRayCastBackend) {
   EXPECT_LE(mismatch, kMaxVerdictMismatch * both);
 }
 
-INSTANTIATE_TEST_SUITE_P(Methods, LitVerdictsTest,
+INSTANTIATE_TEST_SUITE_P(Methods, RasterLitVerdictsTest,
                          ::testing::Values(RasterMethod::kDepthBuffer, RasterMethod::kColourBuffer),
                          [](const auto& info) { return info.param == RasterMethod::kDepthBuffer ? "Depth" : "Colour"; });
 
