@@ -2,10 +2,10 @@
 
 namespace vscan::raster {
 
-// Line for line sensor::GgxDistribution, GgxMasking, SchlickFresnel, EvaluateBrdf and
-// DirectRadiance, in single precision, but for one rearrangement: GGX's denominator
-// cos^2 (alpha^2 - 1) + 1 is written cos^2 alpha^2 + sin^2 with sin from a cross product, since
-// 1 - cos^2 in float loses the narrow lobe of a polished surface (1% at roughness 0.08).
+// Line for line sensor::GgxDistribution, SchlickFresnel, EvaluateBrdf (Smith's masking as its
+// one-division visibility) and DirectRadiance, in single precision, but for one rearrangement:
+// GGX's denominator cos^2 (alpha^2 - 1) + 1 is written cos^2 alpha^2 + sin^2 with sin from a cross
+// product, since 1 - cos^2 in float loses the narrow lobe of a polished surface (1% at roughness 0.08).
 const char* const kDirectLightGlsl = R"(
 uniform samplerBuffer materials;  // per slot: albedo, metallic, roughness, specular_reflectance
 uniform vec3 emitter_position;    // scene frame
@@ -21,12 +21,6 @@ float GgxDistribution(float cos_h, float sin2_h, float alpha) {
   float a2 = alpha * alpha;
   float d = cos_h * cos_h * a2 + sin2_h;
   return a2 / (kPi * d * d);
-}
-
-float GgxMasking(float cos_v, float alpha) {
-  if (cos_v <= 0.0) return 0.0;
-  float a2 = alpha * alpha;
-  return 2.0 * cos_v / (cos_v + sqrt(a2 + (1.0 - a2) * cos_v * cos_v));
 }
 
 float SchlickFresnel(float f0, float cos_d) {
@@ -45,9 +39,11 @@ float EvaluateBrdf(vec4 m, vec3 n, vec3 l, vec3 v) {
   float f0 = (1.0 - m.y) * m.w + m.y * m.x;
   float fresnel = SchlickFresnel(f0, dot(h, v));
   float roughness = max(m.z, kMinRoughness);
-  float alpha = roughness * roughness;
-  float specular = GgxDistribution(cos_h, dot(sin_h, sin_h), alpha) * GgxMasking(cos_l, alpha) * GgxMasking(cos_v, alpha) * fresnel /
-                   (4.0 * cos_l * cos_v);
+  float alpha = roughness * roughness, a2 = alpha * alpha;
+  // G1(l) G1(v) / (4 n.l n.v), Smith's masking for GGX in both directions, in one division.
+  float visibility = 1.0 / ((cos_l + sqrt(a2 + (1.0 - a2) * cos_l * cos_l)) *
+                            (cos_v + sqrt(a2 + (1.0 - a2) * cos_v * cos_v)));
+  float specular = GgxDistribution(cos_h, dot(sin_h, sin_h), alpha) * visibility * fresnel;
   float diffuse = (1.0 - m.y) * (1.0 - SchlickFresnel(f0, cos_l)) * (1.0 - SchlickFresnel(f0, cos_v)) * m.x / kPi;
   return diffuse + specular;
 }

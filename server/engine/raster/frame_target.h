@@ -1,6 +1,7 @@
 #pragma once
 // The offscreen framebuffer a scan renders into: face ids (R32UI), an optional RGBA8 colour
-// attachment, an optional R32F radiance attachment (the returned light's direct term), and a depth buffer. Reallocated only when the size or formats change.
+// attachment, an optional R32F radiance attachment (the returned light's direct term), and a depth
+// buffer. Reallocated only when the size or formats change.
 
 #include <cstdint>
 

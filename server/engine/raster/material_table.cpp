@@ -23,7 +23,8 @@ Status MaterialTable::Upload(const DirectLight& light, const std::vector<uint32_
   }
   if (buffer_ == 0) glGenBuffers(1, &buffer_);
   glBindBuffer(GL_TEXTURE_BUFFER, buffer_);
-  glBufferData(GL_TEXTURE_BUFFER, static_cast<GLsizeiptr>(texels.size() * sizeof(float)), texels.data(), GL_STREAM_DRAW);
+  glBufferData(GL_TEXTURE_BUFFER, static_cast<GLsizeiptr>(texels.size() * sizeof(float)), texels.data(),
+               GL_STREAM_DRAW);
   if (texture_ == 0) glGenTextures(1, &texture_);
   glBindTexture(GL_TEXTURE_BUFFER, texture_);
   glTexBuffer(GL_TEXTURE_BUFFER, GL_RGBA32F, buffer_);

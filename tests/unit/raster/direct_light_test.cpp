@@ -185,10 +185,14 @@ TEST_P(RasterDirectLightTest, RoughPlasticUnderAnOffsetProjectorIsDarkOutsideIts
   const LitCloud lit = ScanLit(s, GetParam(), Key("plastic"));
   ASSERT_GT(lit.cloud.size(), s.camera.pixel_count() / 2);
   const Eigen::Vector3d axis = s.light.emitter.axis.normalized();
+  const auto cone_angle_deg = [&](size_t i) {
+    const Eigen::Vector3d from_emitter =
+        (lit.cloud.positions[i].cast<double>() - s.light.emitter.position).normalized();
+    return std::acos(std::clamp(from_emitter.dot(axis), -1.0, 1.0)) * 180 / std::numbers::pi;
+  };
   size_t inside = 0, outside = 0;
   for (size_t i = 0; i < lit.cloud.size(); ++i) {
-    const Eigen::Vector3d from_emitter = (lit.cloud.positions[i].cast<double>() - s.light.emitter.position).normalized();
-    const double angle_deg = std::acos(std::clamp(from_emitter.dot(axis), -1.0, 1.0)) * 180 / std::numbers::pi;
+    const double angle_deg = cone_angle_deg(i);
     if (angle_deg > 12.5) {
       ++outside;
       EXPECT_EQ(lit.direct_radiance[i], 0.0f) << "pixel " << lit.cloud.pixels[i];
@@ -200,10 +204,8 @@ TEST_P(RasterDirectLightTest, RoughPlasticUnderAnOffsetProjectorIsDarkOutsideIts
   EXPECT_GT(inside, lit.cloud.size() / 20);
   EXPECT_GT(outside, lit.cloud.size() / 20);
   // Pixels on the cone's rim may fall either side in float and double; away from it they agree.
-  const double worst = WorstError(lit, s.light, s.camera, [&](size_t i) {
-    const Eigen::Vector3d from_emitter = (lit.cloud.positions[i].cast<double>() - s.light.emitter.position).normalized();
-    return std::abs(std::acos(std::clamp(from_emitter.dot(axis), -1.0, 1.0)) * 180 / std::numbers::pi - 12) < 0.5;
-  });
+  const double worst =
+      WorstError(lit, s.light, s.camera, [&](size_t i) { return std::abs(cone_angle_deg(i) - 12) < 0.5; });
   std::printf("rough plastic: %zu pixels inside the cone, %zu outside, worst error %.2f of the tolerance\n", inside,
               outside, worst);
   EXPECT_LT(worst, 1.0);
@@ -264,7 +266,9 @@ TEST_P(RasterDirectLightTest, PlainScansAroundALitOneGiveTheSamePoints) {
 
 INSTANTIATE_TEST_SUITE_P(Methods, RasterDirectLightTest,
                          ::testing::Values(RasterMethod::kDepthBuffer, RasterMethod::kColourBuffer),
-                         [](const auto& info) { return info.param == RasterMethod::kDepthBuffer ? "Depth" : "Colour"; });
+                         [](const auto& info) {
+                           return info.param == RasterMethod::kDepthBuffer ? "Depth" : "Colour";
+                         });
 
 }  // namespace
 }  // namespace vscan::raster

@@ -106,7 +106,9 @@ TEST_P(RasterLitVerdictsTest, MatchTheRayCastBackend) {
 
 INSTANTIATE_TEST_SUITE_P(Methods, RasterLitVerdictsTest,
                          ::testing::Values(RasterMethod::kDepthBuffer, RasterMethod::kColourBuffer),
-                         [](const auto& info) { return info.param == RasterMethod::kDepthBuffer ? "Depth" : "Colour"; });
+                         [](const auto& info) {
+                           return info.param == RasterMethod::kDepthBuffer ? "Depth" : "Colour";
+                         });
 
 }  // namespace
 }  // namespace vscan::raster
