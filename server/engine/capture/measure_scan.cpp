@@ -106,7 +106,8 @@ struct SignalEffects {
 StatusOr<SignalEffects> JudgeSignals(const raycast::RaycastScene& scene, const Pose3& world_from_sensor,
                                      const sensor::PinholeCamera& camera, const MeasurementSpec& spec,
                                      const std::atomic<bool>* cancel, std::span<const uint8_t> emitter_hidden,
-                                     PointCloud& clean, std::vector<uint8_t>& status) {
+                                     std::span<const float> direct_radiance, PointCloud& clean,
+                                     std::vector<uint8_t>& status) {
   const ReturnedLightSpec& light = *spec.returned_light;
   std::vector<IndirectReturn> indirect;
   std::vector<double> indirect_radiance;
@@ -118,7 +119,8 @@ StatusOr<SignalEffects> JudgeSignals(const raycast::RaycastScene& scene, const P
     indirect_radiance.resize(indirect.size());
     for (size_t i = 0; i < indirect.size(); ++i) indirect_radiance[i] = indirect[i].radiance;
   }
-  const std::vector<sensor::PixelSignal> signals = ReturnedSignals(clean, light, spec.seed, indirect_radiance, emitter_hidden);
+  const std::vector<sensor::PixelSignal> signals =
+      ReturnedSignals(clean, light, spec.seed, indirect_radiance, emitter_hidden, direct_radiance);
   SignalEffects effects{std::vector<double>(signals.size(), 1.0), {}};
   const bool time_of_flight = !indirect.empty() && light.modulation_frequency_hz > 0 && !spec.structured_light;
   if (time_of_flight) effects.range_scale.assign(signals.size(), 1.0);
@@ -277,9 +279,13 @@ sensor::PinholeCamera ExtendedRangeCamera(const sensor::PinholeCamera& camera) {
 
 StatusOr<PointCloud> MeasureScan(const raycast::RaycastScene& scene, const sensor::PinholeCamera& camera,
                                  const Pose3& world_from_sensor, PointCloud clean, const MeasurementSpec& spec,
-                                 const std::atomic<bool>* cancel, MeasureStats* stats) {
+                                 const std::atomic<bool>* cancel, MeasureStats* stats,
+                                 std::span<const float> direct_radiance) {
   const auto start = std::chrono::steady_clock::now();
   RETURN_IF_ERROR(CheckClean(clean, CleanFieldsFor(spec)));
+  if (!direct_radiance.empty() && direct_radiance.size() != clean.size()) {
+    return InvalidArgument("direct_radiance: one per clean point");
+  }
   MeasureStats local;
   MeasureStats& s = stats ? *stats : local;
   s = MeasureStats{};
@@ -295,7 +301,8 @@ StatusOr<PointCloud> MeasureScan(const raycast::RaycastScene& scene, const senso
   SignalEffects signal;
   if (spec.returned_light) {
     ASSIGN_OR_RETURN(signal,
-                     JudgeSignals(scene, world_from_sensor, camera, spec, cancel, emitter_hidden, clean, status));
+                     JudgeSignals(scene, world_from_sensor, camera, spec, cancel, emitter_hidden, direct_radiance,
+                                  clean, status));
   }
   std::vector<Eigen::Vector3f> measured = clean.positions;
   for (size_t i = 0; i < signal.range_scale.size(); ++i) measured[i] *= static_cast<float>(signal.range_scale[i]);

@@ -6,6 +6,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <span>
 
 #include "capture/measurement_spec.h"
 #include "raycast/raycast_scene.h"
@@ -53,9 +54,12 @@ uint32_t CleanFieldsFor(const MeasurementSpec& spec);
 // ExtendedRangeCamera(camera). Returns the measured cloud in the sensor frame with spec.fields;
 // rejected rays only with spec.include_rejected, at their clean positions. scene is where outlier rays are re-cast (world_from_sensor places the sensor in it).
 // cancel, when set, is polled by the long stages (normal estimation) and stops them with CANCELLED.
+// direct_radiance, when given (one per clean point), is the returned light's direct term already
+// evaluated per pixel (the raster shaders'); otherwise ReturnedSignals evaluates it per point.
 StatusOr<PointCloud> MeasureScan(const raycast::RaycastScene& scene, const sensor::PinholeCamera& camera,
                                  const Pose3& world_from_sensor, PointCloud clean_sensor_cloud,
-                                 const MeasurementSpec& spec, const std::atomic<bool>* cancel, MeasureStats* stats);
+                                 const MeasurementSpec& spec, const std::atomic<bool>* cancel, MeasureStats* stats,
+                                 std::span<const float> direct_radiance = {});
 
 // The ray-cast scan with the measurement model: widened clean scan, MeasureScan, then the frame.
 StatusOr<PointCloud> ScanMeasured(const raycast::RaycastScene& scene, const sensor::PinholeCamera& camera,

@@ -52,7 +52,8 @@ double CameraPixelGain(const sensor::PinholeCamera& camera, sensor::PinholePixel
 
 std::vector<sensor::PixelSignal> ReturnedSignals(const PointCloud& clean, const ReturnedLightSpec& spec,
                                                  uint64_t seed, std::span<const double> indirect_radiance,
-                                                 std::span<const uint8_t> emitter_hidden) {
+                                                 std::span<const uint8_t> emitter_hidden,
+                                                 std::span<const float> direct_radiance) {
   std::vector<sensor::PixelSignal> signals(clean.size());
   const bool has_ids = clean.Has(kFieldInstanceId);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, clean.size(), 4096), [&](const tbb::blocked_range<size_t>& r) {
@@ -61,13 +62,17 @@ std::vector<sensor::PixelSignal> ReturnedSignals(const PointCloud& clean, const 
       const sensor::Material& material =
           id != 0 && id < spec.materials.size() ? spec.materials[id] : spec.default_material;
       const Eigen::Vector3d point = clean.positions[i].cast<double>();
-      // The side the camera sees: a mesh's winding need not point its normals outwards.
-      Eigen::Vector3d normal = clean.normals[i].cast<double>();
-      if (normal.dot(point) > 0) normal = -normal;
       const bool hidden = !emitter_hidden.empty() && emitter_hidden[i] != 0;
-      const double radiance =
-          (hidden ? 0.0 : sensor::DirectRadiance(material, point, normal, spec.emitter, Eigen::Vector3d::Zero())) +
-          (indirect_radiance.empty() ? 0.0 : indirect_radiance[i]);
+      double direct = 0;  // none where the emitter is hidden
+      if (!hidden && !direct_radiance.empty()) {
+        direct = direct_radiance[i];
+      } else if (!hidden) {
+        // The side the camera sees: a mesh's winding need not point its normals outwards.
+        Eigen::Vector3d normal = clean.normals[i].cast<double>();
+        if (normal.dot(point) > 0) normal = -normal;
+        direct = sensor::DirectRadiance(material, point, normal, spec.emitter, Eigen::Vector3d::Zero());
+      }
+      const double radiance = direct + (indirect_radiance.empty() ? 0.0 : indirect_radiance[i]);
       const double falloff = sensor::OffAxisFalloff(point);
       const double ambient_e = sensor::ExpectedElectrons(AmbientRadiance(spec, material), falloff, spec.pixel);
       const double expected = sensor::ExpectedElectrons(radiance, falloff, spec.pixel) + ambient_e;

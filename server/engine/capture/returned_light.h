@@ -68,9 +68,12 @@ double CameraPixelGain(const sensor::PinholeCamera& camera, sensor::PinholePixel
 // (the indirect light, capture/indirect_light.h), the cos^4 fall-off of the pixel's ray, then the
 // pixel's response with its noise drawn from (seed, pixel index). Where emitter_hidden[i] is 1 (a
 // projector's shadow or outside its field) the emitter's direct light does not reach the point.
+// direct_radiance, when given (one per point), is the direct radiance already evaluated (the raster
+// shaders'), used instead of DirectRadiance; emitter_hidden still zeroes it.
 std::vector<sensor::PixelSignal> ReturnedSignals(const PointCloud& clean, const ReturnedLightSpec& spec,
                                                  uint64_t seed, std::span<const double> indirect_radiance = {},
-                                                 std::span<const uint8_t> emitter_hidden = {});
+                                                 std::span<const uint8_t> emitter_hidden = {},
+                                                 std::span<const float> direct_radiance = {});
 
 // The factor on the depth noise's sigma at this signal: SignalDepthSigma(1, reference_e, expected_e,
 // read_noise_e), 1 when reference_e is 0.

@@ -29,8 +29,10 @@ bool Covered(uint32_t id, size_t face_count) { return id != 0 && id <= face_coun
 // is single precision like the ray caster's output.
 class Decoder {
  public:
-  Decoder(const RenderedFrame& frame, const SceneFaces& faces, const DecodeRequest& r, PointCloud& cloud)
+  Decoder(const RenderedFrame& frame, const SceneFaces& faces, const DecodeRequest& r, PointCloud& cloud,
+          std::vector<float>& direct_radiance)
       : frame_(frame), faces_(faces), r_(r) {
+    radiance_ = direct_radiance.empty() ? nullptr : direct_radiance.data();
     const sensor::PinholeCamera& c = *r.camera;
     for (uint32_t u = 0; u < c.width; ++u) column_x_.push_back(static_cast<float>((u + 0.5 - c.cx) / c.fx));
     for (uint32_t v = 0; v < c.height; ++v) row_y_.push_back(static_cast<float>((v + 0.5 - c.cy) / c.fy));
@@ -84,6 +86,7 @@ class Decoder {
       Store(Eigen::Vector3f(x * t, y * t, t), face_normals[id - 1], x, y, ray_length, static_cast<float>(range), k);
       if (instance_ids_ != nullptr) instance_ids_[k] = face_instances[id - 1];
       if (pixels_ != nullptr) pixels_[k] = static_cast<uint32_t>(row + u);
+      if (radiance_ != nullptr) radiance_[k] = frame_.radiance[row + u];
       span.min = std::min(span.min, range);
       span.max = std::max(span.max, range);
       ++k;
@@ -138,6 +141,7 @@ class Decoder {
   float* intensities_ = nullptr;
   uint32_t* instance_ids_ = nullptr;
   uint32_t* pixels_ = nullptr;
+  float* radiance_ = nullptr;
 };
 
 }  // namespace
@@ -159,8 +163,9 @@ StatusOr<DecodedFrame> DecodeFrame(const RenderedFrame& frame, const SceneFaces&
   });
   for (uint32_t v = 0; v < height; ++v) first[v + 1] += first[v];
   out.cloud.Resize(first[height]);
+  if (frame.radiance != nullptr) out.direct_radiance.resize(first[height]);
 
-  const Decoder decoder(frame, faces, request, out.cloud);
+  const Decoder decoder(frame, faces, request, out.cloud, out.direct_radiance);
   tbb::combinable<RangeSpan> spans;
   std::atomic<bool> cancelled{false};
   tbb::parallel_for(tbb::blocked_range<uint32_t>(0, height, kRowsPerTask), [&](const tbb::blocked_range<uint32_t>& rows) {

@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <cstdint>
+#include <vector>
 
 #include "raster/frame_render.h"
 #include "raster/scene_geometry.h"
@@ -25,6 +26,8 @@ struct DecodeRequest {
 
 struct DecodedFrame {
   PointCloud cloud;
+  // Point i's pixel's radiance from the direct light, when the frame was rendered lit; else empty.
+  std::vector<float> direct_radiance;
   double min_range = 0, max_range = 0;
 };
 

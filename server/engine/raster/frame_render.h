@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <memory>
 
+#include "raster/direct_light.h"
 #include "raster/gpu_scene.h"
 #include "raster/raster_scanner.h"
 #include "raster/render_state.h"
@@ -17,6 +18,7 @@ struct RenderedFrame {
   std::unique_ptr<uint32_t[]> faces;  // face index + 1, 0 where nothing was hit
   std::unique_ptr<uint32_t[]> depth;  // depth method: GL_UNSIGNED_INT codes (24-bit) or float bits
   std::unique_ptr<uint8_t[]> colour;  // colour method: RGBA8
+  std::unique_ptr<float[]> radiance;  // with direct light: its radiance towards the camera, W/(m^2 sr)
 
   bool empty() const { return faces == nullptr; }
 };
@@ -28,6 +30,8 @@ struct FrameRequest {
   ViewPlanes planes;
   RasterMethod method = RasterMethod::kDepthBuffer;
   DepthFormat depth_format = DepthFormat::kFloat32Reversed;
+  // Set: the lit program also writes the direct term's radiance per pixel, read back as radiance.
+  const DirectLight* direct_light = nullptr;
 };
 
 Status RenderFrame(RenderState& state, const GpuScene& scene, const FrameRequest& request, RenderedFrame& out);

@@ -21,19 +21,19 @@ void Allocate(GLuint& renderbuffer, GLenum format, uint32_t width, uint32_t heig
 }  // namespace
 
 FrameTarget::~FrameTarget() {
-  const GLuint renderbuffers[] = {faces_, colour_, depth_};
-  glDeleteRenderbuffers(3, renderbuffers);
+  const GLuint renderbuffers[] = {faces_, colour_, radiance_, depth_};
+  glDeleteRenderbuffers(4, renderbuffers);
   if (framebuffer_ != 0) glDeleteFramebuffers(1, &framebuffer_);
 }
 
-Status FrameTarget::Prepare(uint32_t width, uint32_t height, DepthFormat depth, bool colour) {
+Status FrameTarget::Prepare(uint32_t width, uint32_t height, DepthFormat depth, bool colour, bool radiance) {
   if (framebuffer_ == 0) glGenFramebuffers(1, &framebuffer_);
   glBindFramebuffer(GL_FRAMEBUFFER, framebuffer_);
   const bool resized = width != width_ || height != height_;
   const GLenum depth_format = DepthInternalFormat(depth);
   if (resized) {
     width_ = height_ = 0;  // stays invalid if an allocation below fails
-    has_colour_ = false;
+    has_colour_ = has_radiance_ = false;
     Allocate(faces_, GL_R32UI, width, height);
     glFramebufferRenderbuffer(GL_FRAMEBUFFER, kFaceAttachment, GL_RENDERBUFFER, faces_);
   }
@@ -46,14 +46,20 @@ Status FrameTarget::Prepare(uint32_t width, uint32_t height, DepthFormat depth, 
     Allocate(colour_, GL_RGBA8, width, height);
     has_colour_ = true;
   }
-  // The colour attachment is attached only while a colour scan needs it.
+  if (radiance && (resized || !has_radiance_)) {
+    Allocate(radiance_, GL_R32F, width, height);
+    has_radiance_ = true;
+  }
+  // The colour and radiance attachments are attached only while a scan needs them.
   glFramebufferRenderbuffer(GL_FRAMEBUFFER, kColourAttachment, GL_RENDERBUFFER, colour ? colour_ : 0);
+  glFramebufferRenderbuffer(GL_FRAMEBUFFER, kRadianceAttachment, GL_RENDERBUFFER, radiance ? radiance_ : 0);
   RETURN_IF_ERROR(gl::CheckGl("raster: allocating the framebuffer"));
   width_ = width;
   height_ = height;
 
-  const GLenum buffers[] = {kFaceAttachment, kColourAttachment};
-  glDrawBuffers(colour ? 2 : 1, buffers);
+  // Fragment output location i goes to buffers[i].
+  const GLenum buffers[] = {kFaceAttachment, colour ? kColourAttachment : GL_NONE, kRadianceAttachment};
+  glDrawBuffers(radiance ? 3 : colour ? 2 : 1, buffers);
   const GLenum status = glCheckFramebufferStatus(GL_FRAMEBUFFER);
   if (status != GL_FRAMEBUFFER_COMPLETE) {
     char code[16];

@@ -1,6 +1,7 @@
 #pragma once
 // The offscreen framebuffer a scan renders into: face ids (R32UI), an optional RGBA8 colour
-// attachment, and a depth buffer. Reallocated only when the size or formats change.
+// attachment, an optional R32F radiance attachment (the returned light's direct term), and a depth
+// buffer. Reallocated only when the size or formats change.
 
 #include <cstdint>
 
@@ -12,6 +13,7 @@ namespace vscan::raster {
 
 inline constexpr GLenum kFaceAttachment = GL_COLOR_ATTACHMENT0;
 inline constexpr GLenum kColourAttachment = GL_COLOR_ATTACHMENT1;
+inline constexpr GLenum kRadianceAttachment = GL_COLOR_ATTACHMENT2;
 
 class FrameTarget {
  public:
@@ -21,14 +23,14 @@ class FrameTarget {
   ~FrameTarget();
 
   // Sizes the attachments, binds the framebuffer for drawing and reading, and sets the draw buffers.
-  Status Prepare(uint32_t width, uint32_t height, DepthFormat depth, bool colour);
+  Status Prepare(uint32_t width, uint32_t height, DepthFormat depth, bool colour, bool radiance);
 
  private:
   GLuint framebuffer_ = 0;
-  GLuint faces_ = 0, colour_ = 0, depth_ = 0;
+  GLuint faces_ = 0, colour_ = 0, radiance_ = 0, depth_ = 0;
   uint32_t width_ = 0, height_ = 0;
   GLenum depth_format_ = 0;
-  bool has_colour_ = false;
+  bool has_colour_ = false, has_radiance_ = false;
 };
 
 }  // namespace vscan::raster

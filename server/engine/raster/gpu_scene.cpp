@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "vscan/gl/gl_check.h"
@@ -21,10 +22,14 @@ StatusOr<std::unique_ptr<GpuScene>> GpuScene::Upload(const SceneGeometry& geomet
   scene->mesh_.SetTriangles(geometry.triangles);
 
   // RGBA32F rather than RGB32F: buffer textures take three-component formats only from GL 4.0.
+  // The fourth component is the face's material slot, exact in a float below 2^24 slots.
   std::vector<float> normals(4 * faces.size());
+  std::unordered_map<uint32_t, uint32_t> slot_of;
   for (size_t f = 0; f < faces.size(); ++f) {
     for (int k = 0; k < 3; ++k) normals[4 * f + k] = faces.normals[f][k];
-    normals[4 * f + 3] = 0.0f;
+    const auto [it, added] = slot_of.try_emplace(faces.instance_ids[f], static_cast<uint32_t>(slot_of.size()));
+    if (added) scene->slot_ids_.push_back(faces.instance_ids[f]);
+    normals[4 * f + 3] = static_cast<float>(it->second);
   }
   glGenBuffers(1, &scene->normal_buffer_);
   glBindBuffer(GL_TEXTURE_BUFFER, scene->normal_buffer_);

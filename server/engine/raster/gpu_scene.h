@@ -1,10 +1,11 @@
 #pragma once
 // A scene's triangles in GPU buffers (the shared vscan_gl mesh upload, drawn in a single call),
-// and the face normals as a buffer texture for the colour method's shader. Lives on the render
+// and the face normals with each face's material slot as a buffer texture for the shaders. Lives on the render
 // thread.
 
 #include <cstdint>
 #include <memory>
+#include <vector>
 
 #include "raster/scene_geometry.h"
 #include "vscan/common/status.h"
@@ -26,11 +27,14 @@ class GpuScene {
   GLuint face_normal_texture() const { return normal_texture_; }
   uint64_t triangle_count() const { return mesh_.triangle_count(); }
   uint64_t bytes() const { return bytes_; }
+  // Instance id of each material slot; a face's slot is the w of its face_normal_texture texel.
+  const std::vector<uint32_t>& slot_instance_ids() const { return slot_ids_; }
 
  private:
   GpuScene() = default;
   gl::MeshBuffers mesh_;
   GLuint normal_buffer_ = 0, normal_texture_ = 0;
+  std::vector<uint32_t> slot_ids_;
   uint64_t bytes_ = 0;
 };
 

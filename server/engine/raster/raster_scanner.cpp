@@ -37,12 +37,10 @@ struct Rendered {
   double upload_ms = 0, render_ms = 0;
 };
 
-}  // namespace
-
-StatusOr<PointCloud> RasterScan(RasterRenderer& renderer, const std::string& scene_key,
-                                std::span<const raycast::SceneInstance> instances,
-                                const sensor::PinholeCamera& camera, const Pose3& world_from_sensor,
-                                RasterMethod method, const RasterOptions& options, RasterStats* stats) {
+StatusOr<DecodedFrame> Scan(RasterRenderer& renderer, const std::string& scene_key,
+                            std::span<const raycast::SceneInstance> instances, const sensor::PinholeCamera& camera,
+                            const Pose3& world_from_sensor, RasterMethod method, const RasterOptions& options,
+                            const DirectLight* light, RasterStats* stats) {
   const auto start = Clock::now();
   RETURN_IF_ERROR(sensor::ValidateCamera(camera, "camera", options.max_pixels));
   RETURN_IF_ERROR(CheckFrameSize(camera, renderer.max_side()));
@@ -67,6 +65,7 @@ StatusOr<PointCloud> RasterScan(RasterRenderer& renderer, const std::string& sce
     request.planes = rendered.planes;
     request.method = method;
     request.depth_format = options.depth_format;
+    request.direct_light = light;
     RETURN_IF_ERROR(RenderFrame(state, *scene.gpu, request, rendered.frame));
     rendered.render_ms = MsSince(render_start);
     return Status::Ok();
@@ -99,7 +98,31 @@ StatusOr<PointCloud> RasterScan(RasterRenderer& renderer, const std::string& sce
     stats->decode_ms = MsSince(decode_start);
     stats->elapsed_ms = MsSince(start);
   }
+  return decoded;
+}
+
+}  // namespace
+
+StatusOr<PointCloud> RasterScan(RasterRenderer& renderer, const std::string& scene_key,
+                                std::span<const raycast::SceneInstance> instances,
+                                const sensor::PinholeCamera& camera, const Pose3& world_from_sensor,
+                                RasterMethod method, const RasterOptions& options, RasterStats* stats) {
+  ASSIGN_OR_RETURN(DecodedFrame decoded,
+                   Scan(renderer, scene_key, instances, camera, world_from_sensor, method, options, nullptr, stats));
   return std::move(decoded.cloud);
+}
+
+StatusOr<LitCloud> RasterScanLit(RasterRenderer& renderer, const std::string& scene_key,
+                                 std::span<const raycast::SceneInstance> instances,
+                                 const sensor::PinholeCamera& camera, const Pose3& world_from_sensor,
+                                 RasterMethod method, const DirectLight& light, const RasterOptions& options,
+                                 RasterStats* stats) {
+  ASSIGN_OR_RETURN(DecodedFrame decoded,
+                   Scan(renderer, scene_key, instances, camera, world_from_sensor, method, options, &light, stats));
+  LitCloud out{std::move(decoded.cloud), std::move(decoded.direct_radiance)};
+  // A frame whose planes hug nothing renders nothing, and so has no radiance either.
+  out.direct_radiance.resize(out.cloud.size(), 0.0f);
+  return out;
 }
 
 }  // namespace vscan::raster

@@ -6,7 +6,9 @@
 #include <cstdint>
 #include <span>
 #include <string>
+#include <vector>
 
+#include "raster/direct_light.h"
 #include "raster/raster_renderer.h"
 #include "raycast/raycast_scene.h"
 #include "raycast/scanner.h"
@@ -65,5 +67,19 @@ StatusOr<PointCloud> RasterScan(RasterRenderer& renderer, const std::string& sce
                                 std::span<const raycast::SceneInstance> instances,
                                 const sensor::PinholeCamera& camera, const Pose3& world_from_sensor,
                                 RasterMethod method, const RasterOptions& options, RasterStats* stats = nullptr);
+
+struct LitCloud {
+  PointCloud cloud;
+  // Per point, the radiance (W / (m^2 sr)) its pixel's fragment shader computed of light's direct
+  // term towards the camera (float; the same formulas as sensor::DirectRadiance).
+  std::vector<float> direct_radiance;
+};
+
+// RasterScan with the returned light's direct term evaluated in the shaders (an extra R32F target).
+StatusOr<LitCloud> RasterScanLit(RasterRenderer& renderer, const std::string& scene_key,
+                                 std::span<const raycast::SceneInstance> instances,
+                                 const sensor::PinholeCamera& camera, const Pose3& world_from_sensor,
+                                 RasterMethod method, const DirectLight& light, const RasterOptions& options,
+                                 RasterStats* stats = nullptr);
 
 }  // namespace vscan::raster

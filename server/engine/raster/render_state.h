@@ -7,6 +7,7 @@
 #include <string>
 
 #include "raster/frame_target.h"
+#include "raster/material_table.h"
 #include "raster/raster_renderer.h"
 #include "raster/scan_programs.h"
 #include "raster/scene_cache.h"
@@ -28,6 +29,7 @@ struct RenderState {
   GlCaps caps;
   ScanPrograms programs;
   FrameTarget target;
+  MaterialTable materials;
   SceneCache scenes;
 
   // Needs a current context; sets the state every scan relies on.

@@ -3,6 +3,7 @@
 #include <string>
 #include <utility>
 
+#include "raster/direct_light_glsl.h"
 #include "vscan/gl/gl_check.h"
 #include "vscan/gl/gl_program.h"
 
@@ -19,14 +20,27 @@ void main() {
 }
 )";
 
-constexpr const char* kDepthFragmentShader = R"(#version 330 core
+constexpr const char* kVersion = "#version 330 core\n";
+
+// With DIRECT_LIGHT (kDirectLightGlsl before it) the depth method needs the normals and the eye too.
+constexpr const char* kDepthFragmentShader = R"(
 layout(location = 0) out uint face;
-void main() { face = uint(gl_PrimitiveID) + 1u; }
+#ifdef DIRECT_LIGHT
+uniform samplerBuffer face_normals;
+uniform vec3 eye;
+in vec3 scene_position;
+#endif
+void main() {
+  face = uint(gl_PrimitiveID) + 1u;
+#ifdef DIRECT_LIGHT
+  radiance = SurfaceRadiance(texelFetch(face_normals, gl_PrimitiveID), scene_position, eye);
+#endif
+}
 )";
 
 // Without a geometry shader gl_PrimitiveID counts the triangles of the draw call, which draws the
 // whole scene, so it indexes the scene's face arrays.
-constexpr const char* kColourFragmentShader = R"(#version 330 core
+constexpr const char* kColourFragmentShader = R"(
 uniform samplerBuffer face_normals;
 uniform vec3 eye;
 uniform vec2 range_code;
@@ -46,38 +60,73 @@ void main() {
   colour = vec4(clamp(light.w * cos_incidence / attenuation, 0.0, 1.0), (high + 0.25) / 255.0,
                 (code - high * 256.0 + 0.25) / 255.0, 1.0);
   face = uint(gl_PrimitiveID) + 1u;
+#ifdef DIRECT_LIGHT
+  radiance = SurfaceRadiance(texelFetch(face_normals, gl_PrimitiveID), scene_position, eye);
+#endif
 }
 )";
 
-StatusOr<GLuint> Link(const char* fragment_source, const char* name) {
-  auto program = gl::BuildProgram(kVertexShader, fragment_source, name);
+StatusOr<GLuint> Link(const char* body, bool lit, const char* name) {
+  std::string fragment = kVersion;
+  if (lit) fragment += std::string("#define DIRECT_LIGHT\n") + kDirectLightGlsl;
+  fragment += body;
+  auto program = gl::BuildProgram(kVertexShader, fragment.c_str(), name);
   if (!program.ok()) return Internal("raster: " + program.status().message());
   return program;
+}
+
+void LocateLight(GLuint id, LightUniforms& u) {
+  u.face_normals = glGetUniformLocation(id, "face_normals");
+  u.eye = glGetUniformLocation(id, "eye");
+  u.materials = glGetUniformLocation(id, "materials");
+  u.emitter_position = glGetUniformLocation(id, "emitter_position");
+  u.emitter_axis = glGetUniformLocation(id, "emitter_axis");
+  u.emitter = glGetUniformLocation(id, "emitter");
+}
+
+StatusOr<DepthProgram> BuildDepth(bool lit) {
+  DepthProgram p;
+  ASSIGN_OR_RETURN(p.id, Link(kDepthFragmentShader, lit, lit ? "lit depth" : "depth"));
+  p.clip_from_scene = glGetUniformLocation(p.id, "clip_from_scene");
+  if (lit) LocateLight(p.id, p.direct);
+  return p;
+}
+
+StatusOr<ColourProgram> BuildColour(bool lit) {
+  ColourProgram p;
+  ASSIGN_OR_RETURN(p.id, Link(kColourFragmentShader, lit, lit ? "lit colour" : "colour"));
+  const GLuint c = p.id;
+  p.clip_from_scene = glGetUniformLocation(c, "clip_from_scene");
+  p.eye = glGetUniformLocation(c, "eye");
+  p.range_code = glGetUniformLocation(c, "range_code");
+  p.light = glGetUniformLocation(c, "light");
+  p.face_normals = glGetUniformLocation(c, "face_normals");
+  if (lit) LocateLight(c, p.direct);
+  return p;
 }
 
 }  // namespace
 
 StatusOr<ScanPrograms> ScanPrograms::Build() {
   ScanPrograms programs;
-  ASSIGN_OR_RETURN(programs.depth.id, Link(kDepthFragmentShader, "depth"));
-  programs.depth.clip_from_scene = glGetUniformLocation(programs.depth.id, "clip_from_scene");
-  ASSIGN_OR_RETURN(programs.colour.id, Link(kColourFragmentShader, "colour"));
-  const GLuint c = programs.colour.id;
-  programs.colour.clip_from_scene = glGetUniformLocation(c, "clip_from_scene");
-  programs.colour.eye = glGetUniformLocation(c, "eye");
-  programs.colour.range_code = glGetUniformLocation(c, "range_code");
-  programs.colour.light = glGetUniformLocation(c, "light");
-  programs.colour.face_normals = glGetUniformLocation(c, "face_normals");
+  ASSIGN_OR_RETURN(programs.depth, BuildDepth(false));
+  ASSIGN_OR_RETURN(programs.colour, BuildColour(false));
+  ASSIGN_OR_RETURN(programs.lit_depth, BuildDepth(true));
+  ASSIGN_OR_RETURN(programs.lit_colour, BuildColour(true));
   RETURN_IF_ERROR(gl::CheckGl("raster: building shader programs"));
   return programs;
 }
 
 ScanPrograms::ScanPrograms(ScanPrograms&& other) noexcept
-    : depth(std::exchange(other.depth, {})), colour(std::exchange(other.colour, {})) {}
+    : depth(std::exchange(other.depth, {})),
+      colour(std::exchange(other.colour, {})),
+      lit_depth(std::exchange(other.lit_depth, {})),
+      lit_colour(std::exchange(other.lit_colour, {})) {}
 
 ScanPrograms::~ScanPrograms() {
-  if (depth.id != 0) glDeleteProgram(depth.id);
-  if (colour.id != 0) glDeleteProgram(colour.id);
+  for (const GLuint id : {depth.id, colour.id, lit_depth.id, lit_colour.id}) {
+    if (id != 0) glDeleteProgram(id);
+  }
 }
 
 }  // namespace vscan::raster

@@ -9,25 +9,53 @@
 namespace vscan::service {
 namespace {
 
-StatusOr<PointCloud> RunRaster(const ScanPlan& plan, const sensor::PinholeCamera& camera, uint32_t fields,
-                               raycast::ScanFrame frame, const scenes::ScanTarget& target, RasterProvider& provider,
-                               const std::atomic<bool>* cancel, raycast::ScanStats* stats) {
-  ASSIGN_OR_RETURN(raster::RasterRenderer * renderer, provider.Get());
-  raster::RasterOptions options;
-  options.fields = fields;
-  options.frame = frame;
-  options.cancel = cancel;
-  const auto method = plan.backend == ScanBackend::kRasterDepth ? raster::RasterMethod::kDepthBuffer
-                                                                 : raster::RasterMethod::kColourBuffer;
-  raster::RasterStats raster_stats;
-  ASSIGN_OR_RETURN(PointCloud cloud, raster::RasterScan(*renderer, target.cache_key, *target.instances, camera,
-                                                        plan.world_from_sensor, method, options, &raster_stats));
+void CopyStats(const raster::RasterStats& raster_stats, raycast::ScanStats* stats) {
   stats->rays = raster_stats.pixels;
   stats->points = raster_stats.points;
   stats->min_range = raster_stats.min_range;
   stats->max_range = raster_stats.max_range;
   stats->elapsed_ms = raster_stats.elapsed_ms;
+}
+
+raster::RasterMethod MethodOf(const ScanPlan& plan) {
+  return plan.backend == ScanBackend::kRasterDepth ? raster::RasterMethod::kDepthBuffer
+                                                   : raster::RasterMethod::kColourBuffer;
+}
+
+raster::RasterOptions RasterOptionsFor(uint32_t fields, raycast::ScanFrame frame, const std::atomic<bool>* cancel) {
+  raster::RasterOptions options;
+  options.fields = fields;
+  options.frame = frame;
+  options.cancel = cancel;
+  return options;
+}
+
+StatusOr<PointCloud> RunRaster(const ScanPlan& plan, const sensor::PinholeCamera& camera, uint32_t fields,
+                               raycast::ScanFrame frame, const scenes::ScanTarget& target, RasterProvider& provider,
+                               const std::atomic<bool>* cancel, raycast::ScanStats* stats) {
+  ASSIGN_OR_RETURN(raster::RasterRenderer * renderer, provider.Get());
+  raster::RasterStats raster_stats;
+  ASSIGN_OR_RETURN(PointCloud cloud,
+                   raster::RasterScan(*renderer, target.cache_key, *target.instances, camera, plan.world_from_sensor,
+                                      MethodOf(plan), RasterOptionsFor(fields, frame, cancel), &raster_stats));
+  CopyStats(raster_stats, stats);
   return cloud;
+}
+
+// The clean sensor-frame scan under a measured one with returned light: the shaders evaluate the
+// light's direct term per pixel.
+StatusOr<raster::LitCloud> RunLitRaster(const ScanPlan& plan, uint32_t fields, const capture::ReturnedLightSpec& light,
+                                        const scenes::ScanTarget& target, RasterProvider& provider,
+                                        const std::atomic<bool>* cancel, raycast::ScanStats* stats) {
+  ASSIGN_OR_RETURN(raster::RasterRenderer * renderer, provider.Get());
+  raster::DirectLight direct{light.emitter, light.materials, light.default_material};
+  raster::RasterStats raster_stats;
+  ASSIGN_OR_RETURN(raster::LitCloud lit,
+                   raster::RasterScanLit(*renderer, target.cache_key, *target.instances, plan.camera,
+                                         plan.world_from_sensor, MethodOf(plan), direct,
+                                         RasterOptionsFor(fields, raycast::ScanFrame::kSensor, cancel), &raster_stats));
+  CopyStats(raster_stats, stats);
+  return lit;
 }
 
 StatusOr<PointCloud> RunClean(const ScanPlan& plan, const scenes::ScanTarget& target, RasterProvider& raster,
@@ -44,16 +72,24 @@ StatusOr<PointCloud> RunClean(const ScanPlan& plan, const scenes::ScanTarget& ta
 
 // The raster backends keep the plan's depth range (their depth precision follows near and far), so
 // they report no out-of-range rejections and see through surfaces nearer than near. Their returned
-// light is the direct term only: the indirect light's bounces are Embree rays of the ray-cast backend.
+// light is the direct term only, from their shaders: the indirect light's bounces are Embree rays of
+// the ray-cast backend.
 StatusOr<PointCloud> RunMeasuredRaster(const ScanPlan& plan, capture::MeasurementSpec spec,
                                        const scenes::ScanTarget& target, RasterProvider& raster,
                                        const std::atomic<bool>* cancel, raycast::ScanStats* stats,
                                        capture::MeasureStats* measure_stats) {
-  if (spec.returned_light) spec.returned_light->indirect_samples = 0;
-  ASSIGN_OR_RETURN(PointCloud clean, RunRaster(plan, plan.camera, capture::CleanFieldsFor(spec),
-                                               raycast::ScanFrame::kSensor, target, raster, cancel, stats));
-  ASSIGN_OR_RETURN(PointCloud cloud, capture::MeasureScan(*target.raycast, plan.camera, plan.world_from_sensor,
-                                                          std::move(clean), spec, cancel, measure_stats));
+  const uint32_t fields = capture::CleanFieldsFor(spec);
+  raster::LitCloud clean;
+  if (spec.returned_light) {
+    spec.returned_light->indirect_samples = 0;
+    ASSIGN_OR_RETURN(clean, RunLitRaster(plan, fields, *spec.returned_light, target, raster, cancel, stats));
+  } else {
+    ASSIGN_OR_RETURN(clean.cloud, RunRaster(plan, plan.camera, fields, raycast::ScanFrame::kSensor, target, raster,
+                                            cancel, stats));
+  }
+  ASSIGN_OR_RETURN(PointCloud cloud,
+                   capture::MeasureScan(*target.raycast, plan.camera, plan.world_from_sensor, std::move(clean.cloud),
+                                        spec, cancel, measure_stats, clean.direct_radiance));
   if (plan.frame == raycast::ScanFrame::kWorld) capture::SensorToWorld(plan.world_from_sensor, cloud);
   return cloud;
 }

@@ -7,6 +7,8 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <span>
+#include <string>
 #include <vector>
 
 #include "capture/returned_light.h"
@@ -265,6 +267,55 @@ TEST(ReturnedLight, TheSameSeedGivesTheSameBitsAndBadValuesNameTheirField) {
   bad = *spec.returned_light;
   bad.pixel.full_well_e = 1e19 * 0;
   EXPECT_FALSE(ValidateReturnedLight(bad, "light").ok());
+}
+
+}  // namespace
+}  // namespace vscan::capture
+
+namespace vscan::capture {
+namespace {
+
+// A direct radiance evaluated elsewhere (the raster shaders) replaces the per-point DirectRadiance:
+// the CPU's own values (rounded to float) give the same mean electrons, doubled ones double them, a
+// hidden emitter still gives none, and a radiance array of the wrong length is refused.
+TEST(ReturnedLight, AGivenDirectRadianceReplacesTheCpuEvaluation) {
+  const auto scene = test::Build({test::Plane(1.0, 2.0)});
+  const auto camera = test::Camera(80, 60, 60);
+  const MeasurementSpec spec = LitSpec(Lambertian(0.6), 4e4, 0.5);
+  raycast::ScanOptions options;
+  options.fields = CleanFieldsFor(spec);
+  options.frame = raycast::ScanFrame::kSensor;
+  auto clean = raycast::Scan(*scene, camera, Pose3::Identity(), options);
+  ASSERT_TRUE(clean.ok()) << clean.status().ToString();
+  ASSERT_EQ(clean->size(), 80u * 60u);
+  const ReturnedLightSpec& light = *spec.returned_light;
+  std::vector<float> cpu(clean->size()), doubled(clean->size());
+  for (size_t i = 0; i < clean->size(); ++i) {
+    Eigen::Vector3d n = clean->normals[i].cast<double>();
+    const Eigen::Vector3d p = clean->positions[i].cast<double>();
+    if (n.dot(p) > 0) n = -n;
+    const double radiance =
+        sensor::DirectRadiance(light.materials[test::kPlaneId], p, n, light.emitter, Eigen::Vector3d::Zero());
+    cpu[i] = static_cast<float>(radiance);
+    doubled[i] = static_cast<float>(2 * radiance);
+  }
+  const auto own = ReturnedSignals(*clean, light, 3);
+  const auto given = ReturnedSignals(*clean, light, 3, {}, {}, cpu);
+  const auto twice = ReturnedSignals(*clean, light, 3, {}, {}, doubled);
+  // A projector's shadow (emitter_hidden) still takes the emitter's light away.
+  const std::vector<uint8_t> hidden(clean->size(), 1);
+  const auto shadowed = ReturnedSignals(*clean, light, 3, {}, hidden, cpu);
+  for (size_t i = 0; i < own.size(); ++i) {
+    EXPECT_EQ(shadowed[i].expected_e, 0.0) << i;
+    // The float rounding of the given radiance is all that differs.
+    EXPECT_NEAR(given[i].expected_e, own[i].expected_e, 1e-6 * own[i].expected_e) << i;
+    EXPECT_NEAR(twice[i].expected_e, 2 * own[i].expected_e, 1e-6 * own[i].expected_e) << i;
+    EXPECT_GT(own[i].expected_e, 0.0);
+  }
+  auto refused = MeasureScan(*scene, camera, Pose3::Identity(), *clean, spec, nullptr, nullptr,
+                             std::span<const float>(cpu).first(cpu.size() - 1));
+  EXPECT_EQ(refused.status().code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(refused.status().message().find("direct_radiance"), std::string::npos);
 }
 
 }  // namespace
