@@ -95,10 +95,15 @@ def scenes():
     s2 = math.sqrt(0.5)
     corner = [rectangle((0.0, 0.0, 1.0) + 0.3 * np.array(a), a, (0.0, 1.0, 0.0), 0.3, 0.6)
               for a in ((s2, 0.0, -s2), (-s2, 0.0, -s2))]
+    # (d) the same two planes with the right one Lambertian: the light the steel sends it is then checked
+    # independently (the glossy weights of a bounce's first surface are the mapping's weak point).
+    lambert_right = dict(WHITE_ABS, specular_reflectance=0.0)
     return {
         "lambert-plane": ([(*plane_a, LAMBERT_GREY)], 20.0, "Lambertian plane (albedo 0.6) at 35 deg, 20 deg cone"),
         "ggx-planes": ([(*steel, BRUSHED_STEEL), (*plastic, WHITE_ABS)], 60.0,
                        "brushed-steel and white-abs planes, specular peaks in view"),
+        "steel-lambert": ([(*steel, BRUSHED_STEEL), (*plastic, lambert_right)], 60.0,
+                          "brushed-steel plane beside a Lambertian one (albedo 0.85)"),
         "corner": ([(*w, LAMBERT_WHITE) for w in corner], 60.0, "right-angled corner of two white walls (albedo 0.9)"),
     }
 
@@ -189,15 +194,21 @@ def agreement(vscan, cycles, mask, tolerance):
             "max_rel": float(np.max(rel))}
 
 
-def indirect_terms(vscan, cycles, vscan_direct, cycles_direct, mask):
+def indirect_terms(vscan, cycles, vscan_direct, cycles_direct, mask, instances):
     """The one-bounce light alone (each renderer's one-bounce image less its direct one): its share of
     the signal, and vscan's sum over Cycles' sum on the compared pixels (a bias the per-pixel noise of
-    both Monte Carlo estimates does not hide)."""
-    vscan_ind, cycles_ind = vscan[mask] - vscan_direct[mask], cycles[mask] - cycles_direct[mask]
-    if not np.any(cycles_ind > 0):
+    both Monte Carlo estimates does not hide), over all compared pixels and per object (in the order
+    the scene lists them)."""
+    vscan_ind, cycles_ind = vscan - vscan_direct, cycles - cycles_direct
+    if not np.any(cycles_ind[mask] > 0):
         return {"indirect_share": 0.0, "indirect_ratio": None}
-    return {"indirect_share": float(np.mean(cycles_ind / cycles[mask])),
-            "indirect_ratio": float(np.sum(vscan_ind) / np.sum(cycles_ind))}
+    by_object = []
+    for instance in np.unique(instances[mask]):
+        chosen = mask & (instances == instance)
+        by_object.append(float(np.sum(vscan_ind[chosen]) / np.sum(cycles_ind[chosen])))
+    return {"indirect_share": float(np.mean(cycles_ind[mask] / cycles[mask])),
+            "indirect_ratio": float(np.sum(vscan_ind[mask]) / np.sum(cycles_ind[mask])),
+            "indirect_ratio_by_object": by_object}
 
 
 def self_check():
@@ -240,7 +251,11 @@ def share(row):
 
 
 def ratio(row):
-    return f"{row['indirect_ratio']:.4f}" if row.get("indirect_ratio") is not None else "-"
+    if row.get("indirect_ratio") is None:
+        return "-"
+    objects = row.get("indirect_ratio_by_object", [])
+    each = " (" + ", ".join(f"{r:.3f}" for r in objects) + ")" if len(objects) > 1 else ""
+    return f"{row['indirect_ratio']:.4f}{each}"
 
 
 def floor(row):
@@ -256,7 +271,7 @@ def main():
     parser.add_argument("--stride", type=int, default=2, help="vscan's indirect_stride_px")
     parser.add_argument("--tolerance", type=float, default=0.01, help="relative error counted as agreement")
     parser.add_argument("--seed", type=int, default=7)
-    parser.add_argument("--scenes", default="lambert-plane,ggx-planes,corner")
+    parser.add_argument("--scenes", default="lambert-plane,ggx-planes,steel-lambert,corner")
     parser.add_argument("--json")
     parser.add_argument("--keep", help="directory to keep the scene files and both images in")
     parser.add_argument("--self-check", action="store_true", help="check the conversions and exit")
@@ -309,8 +324,8 @@ def main():
                 if bounces == 0:
                     direct = (radiance, cycles)
                 else:
-                    row.update(indirect_terms(radiance, cycles, *direct, mask))
-                    if row["indirect_share"] > 0:
+                    row.update(indirect_terms(radiance, cycles, *direct, mask, instances))
+                    if row["indirect_share"] > 1e-4:
                         # Cycles against itself at another seed: the per-pixel Monte Carlo noise floor.
                         again, _, _ = cycles_radiance(blender, objects, half_angle, bounces, spp, args.seed + 1,
                                                       workdir, f"{name}-{bounces}-seed2")
