@@ -274,8 +274,12 @@ def main():
     parser.add_argument("--scenes", default="lambert-plane,ggx-planes,steel-lambert,corner")
     parser.add_argument("--json")
     parser.add_argument("--keep", help="directory to keep the scene files and both images in")
+    parser.add_argument("--principal-point", help="cx,cy in pixels instead of the image's centre")
     parser.add_argument("--self-check", action="store_true", help="check the conversions and exit")
     args = parser.parse_args()
+    if args.principal_point:
+        global CX, CY
+        CX, CY = (float(x) for x in args.principal_point.split(","))
     if args.self_check:
         self_check()
         return 0
