@@ -7,9 +7,9 @@ same scene with Cycles on the CPU (bench/cycles_oracle/render_cycles.py), and co
 away from silhouettes, fold lines and the cone's edge.
 
   VSCAN_BUILD_DIR=build/release VSCAN_SOURCE_DIR=. /usr/bin/python3 bench/cycles_oracle/cycles_oracle.py \\
-      [--samples 1024] [--indirect-samples 1024] [--json out.json] [--keep DIR]
+      [--samples 1024] [--indirect-samples 4096] [--json out.json] [--keep DIR]
 
-Prints a Markdown table (docs/BENCHMARKS.md, "Cycles as an oracle"). Without `blender` on PATH it
+Prints a Markdown table (docs/BENCHMARKS.md, "Cycles as an oracle for the returned light"). Without `blender` on PATH it
 says so and exits 0 ("skipped"); --self-check checks the conversions without a server or Blender.
 """
 
