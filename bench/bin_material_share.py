@@ -31,9 +31,6 @@ FIXTURE = (("angle_block.STL", "in", 1.0, 6), ("round.stl", "cm", 0.127, 6), ("p
 INNER = (0.24, 0.18, 0.10)
 # phoxi-m-class: 0.458-1.118 m, optimal 0.65 m from the scanner to the scene.
 HEIGHT_M = 0.65
-# About half the full well from a grey diffuse part (albedo 0.5) at 0.65 m on the axis at the
-# defaults' pixel (exposure 10 ms, 4 mm pupil, QE 0.3, 850 nm): a scanner exposed for grey parts.
-EMITTER_W_PER_SR = 0.4
 MATERIALS = ("white-abs", "machined-aluminium", "brushed-steel", "polished-steel", "black-anodised-aluminium")
 STATUSES = {
     "returned": (scan_pb2.POINT_STATUS_MEASURED, scan_pb2.POINT_STATUS_OUTLIER, scan_pb2.POINT_STATUS_FLYING_PIXEL),
@@ -57,6 +54,8 @@ def main():
     parser.add_argument("--server", required=True)
     parser.add_argument("--seed", type=int, default=3)
     parser.add_argument("--indirect-samples", type=int, default=16)
+    parser.add_argument("--emitter-w-per-sr", type=float, default=0.0,
+                        help="the emitter's radiant intensity (default 0: the preset's own)")
     parser.add_argument("--json")
     args = parser.parse_args()
     client = Client(args.server)
@@ -80,9 +79,10 @@ def main():
     for material in MATERIALS:
         for object_id, _ in placed:
             client.set_object_material(scene, object_id, material)
-        for label, light in (("direct", {"emitter_w_per_sr": EMITTER_W_PER_SR}),
-                             ("direct + 1 bounce", {"emitter_w_per_sr": EMITTER_W_PER_SR,
-                                                    "indirect_samples": args.indirect_samples,
+        # The preset's own camera and emitter unless --emitter-w-per-sr sets the emitter.
+        direct = {"emitter_w_per_sr": args.emitter_w_per_sr} if args.emitter_w_per_sr > 0 else {}
+        for label, light in (("direct", direct or True),
+                             ("direct + 1 bounce", {**direct, "indirect_samples": args.indirect_samples,
                                                     "indirect_stride_px": 8})):
             share, rays = shares(scan(light), part_ids)
             rows.append({"material": material, "light": label, "part_rays": rays, **share})
@@ -92,7 +92,7 @@ def main():
     for row in rows:
         print(f"| {row['material']} | {row['light']} | " + " | ".join(f"{100 * row[n]:.1f} %" for n in names) + " |")
     print(f"{len(placed)} parts placed, {rows[0]['part_rays']} rays on them; seed {args.seed}, "
-          f"emitter {EMITTER_W_PER_SR} W/sr, {args.indirect_samples} indirect samples at stride 8")
+          f"emitter {args.emitter_w_per_sr or 'of the preset'} W/sr, {args.indirect_samples} indirect samples at stride 8")
     if args.json:
         with open(args.json, "w") as f:
             json.dump({"rows": rows, "parts_placed": len(placed), "seed": args.seed}, f, indent=1)
