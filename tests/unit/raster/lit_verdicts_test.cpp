@@ -37,7 +37,7 @@ void AddPlane(VerdictScene& s, const Eigen::Vector3d& centre, double half_side, 
   s.instances.push_back(plane);
 }
 
-VerdictScene MakeScene() {
+VerdictScene MakeVerdictScene() {
   VerdictScene s;
   AddPlane(s, {-0.45, 0, 1.2}, 0.35, 25, 1);  // mid grey
   AddPlane(s, {0.1, 0, 1.0}, 0.25, -4, 2);    // polished metal, nearly facing the camera
@@ -65,7 +65,7 @@ class RasterLitVerdictsTest : public ::testing::TestWithParam<RasterMethod> {};
 TEST_P(RasterLitVerdictsTest, MatchTheRayCastBackend) {
   RasterRenderer* renderer = testing::SharedRenderer();
   ASSERT_NE(renderer, nullptr);
-  const VerdictScene s = MakeScene();
+  const VerdictScene s = MakeVerdictScene();
   auto scene = raycast::RaycastScene::Build(s.instances);
   ASSERT_TRUE(scene.ok()) << scene.status().ToString();
 
