@@ -7,7 +7,7 @@ ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 OUT="${VSCAN_DEMO_DIR:-$ROOT/vscan-demo}"
 BIN="$ROOT/build/${VSCAN_PRESET:-release}"
 
-"$ROOT/scripts/install-deps.sh"
+"$ROOT/scripts/install-deps.sh" build
 "$ROOT/scripts/build.sh" --target vscand vscan
 
 rm -rf "$OUT/port"
