@@ -75,16 +75,22 @@ raster::RasterMethod MethodOf(const benchmark::State& state) {
   return state.range(0) == 0 ? raster::RasterMethod::kDepthBuffer : raster::RasterMethod::kColourBuffer;
 }
 
-// The clean raster scan a measured scan starts from, without returned light.
+// The clean raster scan a measured scan starts from, its render and decode times counted.
+StatusOr<PointCloud> PlainScan(benchmark::State& state, const Setup& s, double& render_ms, double& decode_ms) {
+  raster::RasterStats stats;
+  auto cloud = raster::RasterScan(*s.renderer, "bunnies", s.grid.instances, s.grid.camera, s.grid.world_from_sensor,
+                                  MethodOf(state), CleanOptions(s), &stats);
+  if (cloud.ok()) Count(state, stats, render_ms, decode_ms);
+  return cloud;
+}
+
+// The clean raster scan alone, without returned light.
 void BM_NoReturnedLight(benchmark::State& state) {
   Setup& s = Shared();
   double render_ms = 0, decode_ms = 0;
   for (auto _ : state) {
-    raster::RasterStats stats;
-    auto cloud = raster::RasterScan(*s.renderer, "bunnies", s.grid.instances, s.grid.camera, s.grid.world_from_sensor,
-                                    MethodOf(state), CleanOptions(s), &stats);
+    auto cloud = PlainScan(state, s, render_ms, decode_ms);
     if (!cloud.ok()) return state.SkipWithError(cloud.status().ToString().c_str());
-    Count(state, stats, render_ms, decode_ms);
     benchmark::DoNotOptimize(cloud->positions.data());
   }
   Finish(state, render_ms, decode_ms);
@@ -95,11 +101,8 @@ void BM_CpuDirectTerm(benchmark::State& state) {
   Setup& s = Shared();
   double render_ms = 0, decode_ms = 0;
   for (auto _ : state) {
-    raster::RasterStats stats;
-    auto cloud = raster::RasterScan(*s.renderer, "bunnies", s.grid.instances, s.grid.camera, s.grid.world_from_sensor,
-                                    MethodOf(state), CleanOptions(s), &stats);
+    auto cloud = PlainScan(state, s, render_ms, decode_ms);
     if (!cloud.ok()) return state.SkipWithError(cloud.status().ToString().c_str());
-    Count(state, stats, render_ms, decode_ms);
     auto measured = capture::MeasureScan(*s.scene, s.grid.camera, s.grid.world_from_sensor, std::move(*cloud), s.spec,
                                          nullptr, nullptr);
     if (!measured.ok()) return state.SkipWithError(measured.status().ToString().c_str());
