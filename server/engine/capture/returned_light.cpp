@@ -75,22 +75,15 @@ std::vector<sensor::PixelSignal> ReturnedSignals(const PointCloud& clean, const 
       const double radiance = direct + (indirect_radiance.empty() ? 0.0 : indirect_radiance[i]);
       const double falloff = sensor::OffAxisFalloff(point);
       const double ambient_e = sensor::ExpectedElectrons(AmbientRadiance(spec, material), falloff, spec.pixel);
-      const double expected = sensor::ExpectedElectrons(radiance, falloff, spec.pixel) + ambient_e;
-      sensor::PixelSignal& signal = signals[i];
-      signal = sensor::RespondToElectrons(expected, spec.pixel, seed ^ kSignalStream, clean.pixels[i]);
-      signal.ambient_e = ambient_e;
-      // Only the sensor's own light decodes: the ambient share counts in the noise, not the signal.
-      if (ambient_e > 0 && signal.verdict == sensor::SignalVerdict::kMeasured &&
-          (expected - ambient_e) < spec.pixel.min_snr * signal.noise_e) {
-        signal.verdict = sensor::SignalVerdict::kDark;
-      }
+      signals[i] = sensor::RespondWithAmbient(sensor::ExpectedElectrons(radiance, falloff, spec.pixel), ambient_e,
+                                              spec.pixel, seed ^ kSignalStream, clean.pixels[i]);
     }
   });
   return signals;
 }
 
 double AmbientRadiance(const ReturnedLightSpec& spec, const sensor::Material& material) {
-  return spec.ambient_irradiance_w_per_m2 * material.albedo / std::numbers::pi;
+  return sensor::AmbientRadiance(spec.ambient_irradiance_w_per_m2, material);
 }
 
 double SignalSigmaFactor(const ReturnedLightSpec& spec, const sensor::PixelSignal& signal) {

@@ -30,9 +30,12 @@ bool Window(double centre, double reach, uint32_t pixels, int& first, int& last)
 // Whether the pixel's mean signal from a hit (sensor frame, normal facing the sensor) decodes.
 bool Measurable(const MeasurableLight& light, const Eigen::Vector3d& point, const Eigen::Vector3d& normal) {
   const double radiance = sensor::DirectRadiance(light.material, point, normal, light.emitter, Eigen::Vector3d::Zero());
-  const double expected = sensor::ExpectedElectrons(radiance, sensor::OffAxisFalloff(point), light.pixel);
+  const double falloff = sensor::OffAxisFalloff(point);
+  const double ambient = sensor::AmbientRadiance(light.ambient_irradiance_w_per_m2, light.material);
   // The verdict reads the mean only, so the draw's seed does not matter.
-  return sensor::RespondToElectrons(expected, light.pixel, 0, 0).verdict == sensor::SignalVerdict::kMeasured;
+  return sensor::RespondWithAmbient(sensor::ExpectedElectrons(radiance, falloff, light.pixel),
+                                    sensor::ExpectedElectrons(ambient, falloff, light.pixel), light.pixel, 0, 0)
+             .verdict == sensor::SignalVerdict::kMeasured;
 }
 
 }  // namespace

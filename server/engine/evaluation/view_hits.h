@@ -35,6 +35,7 @@ struct MeasurableLight {
   sensor::Emitter emitter;      // in the sensor frame
   sensor::PixelResponse pixel;  // gain_e of the sensor's own pixel (not a thinned image's)
   sensor::Material material;
+  double ambient_irradiance_w_per_m2 = 0;  // fills the well and adds noise; does not decode
 };
 
 // Scans the scene through camera (depths within near..far) and keeps the hits whose surface meets

@@ -84,6 +84,20 @@ PixelSignal RespondToElectrons(double expected_e, const PixelResponse& response,
   return out;
 }
 
+PixelSignal RespondWithAmbient(double emitter_e, double ambient_e, const PixelResponse& response, uint64_t seed,
+                               uint64_t key) {
+  PixelSignal signal = RespondToElectrons(emitter_e + ambient_e, response, seed, key);
+  signal.ambient_e = ambient_e;
+  if (ambient_e > 0 && signal.verdict == SignalVerdict::kMeasured && emitter_e < response.min_snr * signal.noise_e) {
+    signal.verdict = SignalVerdict::kDark;
+  }
+  return signal;
+}
+
+double AmbientRadiance(double irradiance_w_per_m2, const Material& material) {
+  return irradiance_w_per_m2 * material.albedo / std::numbers::pi;
+}
+
 double SignalDepthSigma(double sigma_reference_m, double reference_e, double signal_e, double read_noise_e) {
   if (!(signal_e > 0)) return std::numeric_limits<double>::infinity();
   return sigma_reference_m * Snr(reference_e, read_noise_e) / Snr(signal_e, read_noise_e);

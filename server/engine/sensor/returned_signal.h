@@ -73,6 +73,14 @@ PixelSignal RespondToElectrons(double expected_e, const PixelResponse& response,
 // RespondToElectrons(ExpectedElectrons(radiance, 1, response), ...): a pixel on the optical axis, or
 // a radiance the caller has already multiplied by the fall-off.
 PixelSignal RespondToRadiance(double radiance, const PixelResponse& response, uint64_t seed, uint64_t key);
+// RespondToElectrons(emitter_e + ambient_e, ...) with ambient_e recorded: the ambient light fills the
+// well and adds its shot noise, but only the emitter's light decodes, so a pixel is also kDark when
+// emitter_e stands below min_snr of the whole pixel's noise.
+PixelSignal RespondWithAmbient(double emitter_e, double ambient_e, const PixelResponse& response, uint64_t seed,
+                               uint64_t key);
+// The radiance a uniform ambient irradiance (W/m^2) sends back off a surface: E albedo / pi, a diffuse
+// reflector of the material's albedo.
+double AmbientRadiance(double irradiance_w_per_m2, const Material& material);
 
 // Depth noise that follows from the signal: a sensor whose depth sigma is sigma_reference_m at a
 // signal of reference_e electrons has sigma_reference_m x SNR(reference_e) / SNR(signal_e) at

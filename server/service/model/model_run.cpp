@@ -401,7 +401,8 @@ class ModelRun {
     request.camera = *camera;
     if (plan_.returned_light) {
       ASSIGN_OR_RETURN(const sensor::Material material, TruthMaterial());
-      request.light = evaluation::MeasurableLight{plan_.returned_light->emitter, plan_.returned_light->pixel, material};
+      request.light = evaluation::MeasurableLight{plan_.returned_light->emitter, plan_.returned_light->pixel, material,
+                                                  plan_.returned_light->ambient_irradiance_w_per_m2};
     }
     auto proposed = ProposeNextBestViews(context_.robots, request, cancel());
     if (!proposed.ok()) return Stopped() ? Stop() : proposed.status();

@@ -152,6 +152,29 @@ TEST(ViewHits, UnderItsOwnLightOnlyTheSurfaceThatWouldDecodeIsSeen) {
   EXPECT_TRUE(lit_black->hits.empty());
 }
 
+// Ambient light fills the well and adds noise but does not decode: a grey plane the emitter alone
+// measures everywhere is lost under a strong ambient, as the scan itself loses it.
+TEST(ViewHits, AStrongAmbientLightHidesWhatTheEmitterAloneWouldMeasure) {
+  const LitPlane plane;
+  // Grey 0.3: about 950 e from the emitter on the axis, an SNR near 30.
+  MeasurableLight grey = plane.Light(Lambertian(0.3));
+  grey.pixel.full_well_e = 1e9;
+  const auto alone = CastView(*plane.scene, plane.camera, plane.pose, 90, nullptr, &grey);
+  ASSERT_TRUE(alone.ok());
+  EXPECT_EQ(alone->hits.size(), plane.camera.pixel_count());
+  // 1 W/m^2 of ambient: 0.3 / pi x 1 x 1e7 = about 950 000 e of noise-only light, a noise near 975 e:
+  // the emitter's 950 e stand under one sigma.
+  grey.ambient_irradiance_w_per_m2 = 1.0;
+  const auto drowned = CastView(*plane.scene, plane.camera, plane.pose, 90, nullptr, &grey);
+  ASSERT_TRUE(drowned.ok());
+  EXPECT_TRUE(drowned->hits.empty());
+  // A weak ambient (1e-6 W/m^2, about 1 e) changes nothing.
+  grey.ambient_irradiance_w_per_m2 = 1e-6;
+  const auto faint = CastView(*plane.scene, plane.camera, plane.pose, 90, nullptr, &grey);
+  ASSERT_TRUE(faint.ok());
+  EXPECT_EQ(faint->hits.size(), plane.camera.pixel_count());
+}
+
 TEST(ViewHits, APolishedPlaneLosesOnlyTheSaturatedDiscAboutItsHighlight) {
   const LitPlane plane;
   MeasurableLight mirror = plane.Light({0.9, 1.0, 0.1, 0.04});
