@@ -212,6 +212,8 @@ Server::~Server() { Shutdown(0); }
 
 int Server::port() const { return impl_->port; }
 
+scenes::SceneRegistry& Server::scene_registry() { return *impl_->registry; }
+
 StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& options) {
   auto impl = std::make_unique<Impl>();
   impl->options = options;

@@ -6,6 +6,10 @@
 #include "service/context/server_options.h"
 #include "vscan/common/status.h"
 
+namespace vscan::scenes {
+class SceneRegistry;
+}
+
 namespace vscan::api {
 
 class Server {
@@ -14,6 +18,8 @@ class Server {
   // Opens the data directory and starts listening; the bound port is in port().
   static StatusOr<std::unique_ptr<Server>> Start(const service::ServerOptions& options);
   int port() const;
+  // The scenes and meshes the services read (for the web view, which reads them too).
+  scenes::SceneRegistry& scene_registry();
   // Stops accepting calls, cancels running ones after grace_seconds, and waits for them.
   void Shutdown(double grace_seconds);
 
