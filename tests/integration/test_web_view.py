@@ -239,6 +239,11 @@ class WebViewTest(ServerTestCase):
     def test_browser_draws_the_scene(self):
         seen, image = self.open_page(self.view_url(self.scene.scene_id, TOKEN))
         self.assertEqual(seen["consoleErrors"], [])
+        # Offline: everything the page loads comes from vscand (page, app.js, three.js, the API).
+        origin = f"http://{self.web}/"
+        self.assertEqual([r for r in seen["requests"] if not r.startswith(origin)], [])
+        self.assertIn(origin + "three.module.js", seen["requests"])
+        self.assertIn(f"{origin}api/meshes/{self.mesh.mesh_id}", seen["requests"])
         self.assertEqual(seen["errorText"], "")
         self.assertIn(self.object.object_id, seen["text"])  # the object table
         self.assertEqual(image.shape, (240, 320, 3))

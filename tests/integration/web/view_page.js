@@ -8,13 +8,16 @@ const puppeteer = require(puppeteerDir);
   const browser = await puppeteer.launch({
     executablePath: chromium,
     headless: true,
-    // WebGL without a GPU: SwiftShader through ANGLE. No sandbox: the tests may run as root.
+    // WebGL without a GPU: SwiftShader through ANGLE, asked for explicitly (chromium 156 falls back
+    // to it by itself, older and newer ones may need the flags). No sandbox: tests may run as root.
     args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist'],
   });
   try {
     const page = await browser.newPage();
     await page.setViewport({ width: 320, height: 240, deviceScaleFactor: 1 });
     const consoleErrors = [];
+    const requests = [];
+    page.on('request', (request) => requests.push(request.url()));
     page.on('console', (message) => {
       if (message.type() === 'error') consoleErrors.push(message.text());
     });
@@ -28,7 +31,7 @@ const puppeteer = require(puppeteerDir);
       text: document.body.innerText,
     }));
     await page.screenshot({ path: screenshot });
-    console.log(JSON.stringify({ consoleErrors, ...seen }));
+    console.log(JSON.stringify({ consoleErrors, requests, ...seen }));
   } finally {
     await browser.close();
   }
