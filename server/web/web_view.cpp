@@ -18,6 +18,11 @@ void Send(mg_connection* connection, int status, std::string_view content_type, 
   mg_response_header_add(connection, "Content-Length", length.c_str(), -1);
   mg_response_header_add(connection, "Cache-Control", "no-store", -1);
   mg_response_header_add(connection, "X-Content-Type-Options", "nosniff", -1);
+  // The page may load nothing but vscand's own files and API, and may not be framed by another site.
+  mg_response_header_add(connection, "Content-Security-Policy",
+                         "default-src 'self'; style-src 'self' 'unsafe-inline'; img-src 'self' data:; "
+                         "frame-ancestors 'none'",
+                         -1);
   mg_response_header_send(connection);
   if (!head) mg_write(connection, body.data(), body.size());
 }

@@ -193,6 +193,8 @@ class WebViewTest(ServerTestCase):
         status, content_type, body = self.get("/", token=None)
         self.assertEqual((status, content_type), (200, "text/html; charset=utf-8"))
         self.assertIn(b'src="app.js"', body)
+        with urllib.request.urlopen(f"http://{self.web}/", timeout=10) as response:
+            self.assertIn("default-src 'self'", response.headers["Content-Security-Policy"])
         status, content_type, body = self.get("/app.js", token=None)
         self.assertEqual((status, content_type), (200, "text/javascript; charset=utf-8"))
         self.assertIn(b"./three.module.js", body)
