@@ -15,7 +15,7 @@ import zlib
 
 import numpy as np
 
-from harness import SOURCE_DIR, VSCAN, ServerTestCase, common_pb2, icosphere_ply, scene_pb2
+from harness import SOURCE_DIR, VSCAN, VSCAND, ServerTestCase, common_pb2, icosphere_ply, scene_pb2
 
 TOKEN = "web-view-token"
 CHROMIUM = "/usr/bin/chromium"
@@ -279,6 +279,29 @@ class WebViewTest(ServerTestCase):
         self.assertEqual(seen["consoleErrors"], [])
         self.assertIn(self.scene.scene_id, seen["text"])
         self.assertIn(self.empty.scene_id, seen["text"])
+
+
+class WebViewRefusalTest(unittest.TestCase):
+    """vscand does not start half-way: a web view it cannot serve stops it with the reason."""
+
+    def run_vscand(self, *args):
+        with tempfile.TemporaryDirectory(prefix="vscand-web-") as data:
+            return subprocess.run([VSCAND, "--listen", "127.0.0.1:0", "--data-dir", data, *args],
+                                  capture_output=True, text=True, timeout=60)
+
+    def test_missing_three_js(self):
+        run = self.run_vscand("--web-listen", f"127.0.0.1:{free_port()}", "--web-three-js", "/nonexistent/three.js")
+        self.assertEqual(run.returncode, 1)
+        self.assertIn("cannot read three.js at '/nonexistent/three.js'", run.stdout + run.stderr)
+
+    def test_address_in_use(self):
+        with socket.socket() as busy:
+            busy.bind(("127.0.0.1", 0))
+            busy.listen()
+            address = f"127.0.0.1:{busy.getsockname()[1]}"
+            run = self.run_vscand("--web-listen", address)
+        self.assertEqual(run.returncode, 1)
+        self.assertIn(f"--web-listen: cannot listen on '{address}'", run.stdout + run.stderr)
 
 
 if __name__ == "__main__":

@@ -109,6 +109,30 @@ TEST_F(WebApiTest, SceneJsonHoldsTheObjectPoseAndEffectiveMaterial) {
   EXPECT_NE(list.body.find("\"object_count\":1"), std::string::npos);
 }
 
+TEST_F(WebApiTest, ObjectsOnTheTableTurnWithIt) {
+  store::TableRecord table;
+  table.enabled = true;
+  table.angle_deg = 90;  // about +z through the origin: (1.5, 0, 0) goes to (0, 1.5, 0)
+  ASSERT_TRUE(catalogue_->SetTable(scene_id_, table).ok());
+  store::ObjectRecord object;
+  object.scene_id = scene_id_;
+  object.mesh_id = mesh_id_;
+  object.pose(0, 3) = 1.5;
+  object.on_table = true;
+  ASSERT_TRUE(catalogue_->AddObject(object).ok());
+  const WebReply reply = Api().Handle("GET", "/api/scenes/" + scene_id_, "Bearer s3cret");
+  ASSERT_EQ(reply.status, 200);
+  // The first object stays put; the second turned a quarter (cos 90 degrees prints as 6.1e-17).
+  EXPECT_NE(reply.body.find(R"("world_from_object":[[1,0,0,1.5],[0,1,0,0],[0,0,1,0],[0,0,0,1]])"),
+            std::string::npos);
+  EXPECT_NE(reply.body.find(R"("on_table":true)"), std::string::npos);
+  const size_t turned = reply.body.find(R"("on_table":true)");
+  const std::string rows = reply.body.substr(reply.body.find("world_from_object", turned));
+  EXPECT_NE(rows.find(",-1,0,"), std::string::npos) << rows;  // first row: (~0, -1, 0, ~0)
+  EXPECT_NE(rows.find("],[1,"), std::string::npos) << rows;  // second row: (1, ~0, 0, 1.5)
+  EXPECT_NE(rows.find(",0,1.5],[0,0,1,0]"), std::string::npos) << rows;
+}
+
 TEST_F(WebApiTest, MeshBytesFollowTheLayout) {
   const WebReply reply = Api().Handle("GET", "/api/meshes/" + mesh_id_, "Bearer s3cret");
   ASSERT_EQ(reply.status, 200) << reply.body;
