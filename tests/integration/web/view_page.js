@@ -10,7 +10,9 @@ const puppeteer = require(puppeteerDir);
     headless: true,
     // WebGL without a GPU: SwiftShader through ANGLE, asked for explicitly (chromium 156 falls back
     // to it by itself, older and newer ones may need the flags). No sandbox: tests may run as root.
-    args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist'],
+    // Shared memory in /tmp: containers often give /dev/shm only 64 MiB.
+    args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist',
+      '--disable-dev-shm-usage'],
   });
   try {
     const page = await browser.newPage();
@@ -22,8 +24,8 @@ const puppeteer = require(puppeteerDir);
       if (message.type() === 'error') consoleErrors.push(message.text());
     });
     page.on('pageerror', (error) => consoleErrors.push(String(error)));
-    await page.goto(url, { waitUntil: 'load', timeout: 30000 });
-    await page.waitForFunction('window.vscanReady === true', { timeout: 30000 });
+    await page.goto(url, { waitUntil: 'load', timeout: 60000 });
+    await page.waitForFunction('window.vscanReady === true', { timeout: 60000 });
     const seen = await page.evaluate(() => ({
       view: window.vscanView || null,
       errorText: document.getElementById('error').textContent,
