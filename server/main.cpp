@@ -185,6 +185,9 @@ int main(int argc, char** argv) {
     metrics = std::move(endpoint).value();
     spdlog::info("metrics served on http://{}/metrics (port {})", metrics_listen, metrics->port());
   }
+  // With the web view, the port file is written once it serves too, so that the file means "ready".
+  const std::string port_file = options.port_file;
+  if (!web.address.empty()) options.port_file.clear();
   auto server = vscan::api::Server::Start(options);
   if (!server.ok()) {
     spdlog::error("cannot start: {}", server.status().ToString());
@@ -201,6 +204,12 @@ int main(int argc, char** argv) {
     web_view = std::move(view).value();
     spdlog::info("web view served on http://{}/ (port {}), bearer token {}", web.address, web_view->port(),
                  options.token.empty() ? "not required" : "required");
+    if (!port_file.empty()) {
+      if (const vscan::Status written = vscan::api::WritePortFile(port_file, (*server)->port()); !written.ok()) {
+        spdlog::error("cannot start: {}", written.ToString());
+        return 1;
+      }
+    }
   }
   int signal = 0;
   sigwait(&stop_signals, &signal);

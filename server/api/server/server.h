@@ -2,6 +2,7 @@
 // vscand as an object: opens the store, registers the services, serves until shut down.
 
 #include <memory>
+#include <string>
 
 #include "service/context/server_options.h"
 #include "vscan/common/status.h"
@@ -29,5 +30,8 @@ class Server {
   explicit Server(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };
+
+// Writes port to path (what --port-file promises once vscand serves).
+Status WritePortFile(const std::string& path, int port);
 
 }  // namespace vscan::api
