@@ -19,6 +19,8 @@ BUILD_PACKAGES=(
   libsqlite3-dev sqlite3 libssl-dev openssl libspdlog-dev libfmt-dev libcivetweb-dev libcli11-dev
   # the tests' and benchmarks' C++ side, found when configuring (Open3D: a benchmark peer)
   libgtest-dev libgmock-dev libbenchmark-dev liborocos-kdl-dev libkdl-parser-dev libopen3d-dev python3
+  # three.js for the web view's page (vscand --web-listen serves /usr/share/javascript/three)
+  libjs-three
 )
 TEST_PACKAGES=(
   # libFuzzer targets (scripts/build-fuzzers.sh)
@@ -26,6 +28,8 @@ TEST_PACKAGES=(
   # Python client and its tests; venv, pip, setuptools and wheel install it as a package
   python3-grpcio python3-protobuf python3-numpy python3-open3d
   python3-venv python3-pip python3-setuptools python3-wheel
+  # the web view's page in a real browser (driven by puppeteer-core from .tools/)
+  chromium
 )
 PACKAGES=()
 if [ "$PHASE" != test ]; then PACKAGES+=("${BUILD_PACKAGES[@]}"); fi
@@ -57,10 +61,15 @@ else
 fi
 [ "$PHASE" = build ] && exit 0
 
-# buf (protobuf linter) from npm, kept inside the checkout.
+# buf (protobuf linter) and puppeteer-core (drives Debian's chromium in the web view's tests) from
+# npm, kept inside the checkout. One npm call for both, since an install without a package.json
+# removes what the call does not name. Never a browser download: the tests use /usr/bin/chromium.
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
-if [ ! -x "$ROOT/.tools/node_modules/.bin/buf" ]; then
-  echo "install-deps: installing buf into .tools/"
+NPM_TOOLS=(@bufbuild/buf@1.75.0 puppeteer-core@24.31.0)
+if [ ! -x "$ROOT/.tools/node_modules/.bin/buf" ] ||
+   ! grep -q '"version": "24.31.0"' "$ROOT/.tools/node_modules/puppeteer-core/package.json" 2>/dev/null; then
+  echo "install-deps: installing ${NPM_TOOLS[*]} into .tools/"
   mkdir -p "$ROOT/.tools"
-  (cd "$ROOT/.tools" && npm install --no-save --no-audit --no-fund --loglevel=error @bufbuild/buf@1.75.0 >/dev/null)
+  (cd "$ROOT/.tools" && PUPPETEER_SKIP_DOWNLOAD=1 npm install --no-save --no-audit --no-fund --loglevel=error \
+    "${NPM_TOOLS[@]}" >/dev/null)
 fi

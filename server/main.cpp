@@ -23,6 +23,7 @@
 #include "observability/metrics_http.h"
 #include "observability/server_metrics.h"
 #include "vscan/common/logging.h"
+#include "web/web_view.h"
 
 namespace {
 
@@ -86,6 +87,7 @@ int main(int argc, char** argv) {
   std::string log_format = "text";
   std::string metrics_listen;
   std::string token_file;
+  vscan::web::WebViewOptions web;
   double grace_seconds = 10;
 
   CLI::App app{"vscand: the vscan scanning simulation server"};
@@ -98,6 +100,11 @@ int main(int argc, char** argv) {
       ->capture_default_str()->check(CLI::IsMember({"text", "json"}));
   app.add_option("--metrics-listen", metrics_listen,
                  "Serve Prometheus metrics at http://HOST:PORT/metrics (numeric IPv4 host; off when not given)");
+  app.add_option("--web-listen", web.address,
+                 "Serve the read-only web view at http://HOST:PORT/ (numeric IPv4 host; off when not given; "
+                 "the --token-file token guards its data)");
+  app.add_option("--web-three-js", web.three_module_path, "three.js as an ES module, served to the web view's page")
+      ->capture_default_str();
   app.add_option("--token-file", token_file, "Require 'authorization: Bearer <token>' with the token in this file");
   app.add_option("--tls-cert", options.tls_cert_file, "PEM certificate chain; enables TLS with --tls-key");
   app.add_option("--tls-key", options.tls_key_file, "PEM private key");
@@ -178,15 +185,37 @@ int main(int argc, char** argv) {
     metrics = std::move(endpoint).value();
     spdlog::info("metrics served on http://{}/metrics (port {})", metrics_listen, metrics->port());
   }
+  // With the web view, the port file is written once it serves too, so that the file means "ready".
+  const std::string port_file = options.port_file;
+  if (!web.address.empty()) options.port_file.clear();
   auto server = vscan::api::Server::Start(options);
   if (!server.ok()) {
     spdlog::error("cannot start: {}", server.status().ToString());
     return 1;
   }
+  std::unique_ptr<vscan::web::WebView> web_view;
+  if (!web.address.empty()) {
+    web.api.token = options.token;
+    auto view = vscan::web::WebView::Start(web, (*server)->scene_registry());
+    if (!view.ok()) {
+      spdlog::error("cannot start: {}", view.status().ToString());
+      return 1;
+    }
+    web_view = std::move(view).value();
+    spdlog::info("web view served on http://{}/ (port {}), bearer token {}", web.address, web_view->port(),
+                 options.token.empty() ? "not required" : "required");
+    if (!port_file.empty()) {
+      if (const vscan::Status written = vscan::api::WritePortFile(port_file, (*server)->port()); !written.ok()) {
+        spdlog::error("cannot start: {}", written.ToString());
+        return 1;
+      }
+    }
+  }
   int signal = 0;
   sigwait(&stop_signals, &signal);
   spdlog::info("received {}", signal == SIGTERM ? "SIGTERM" : "SIGINT");
   StopDeadline stop_deadline(grace_seconds + kStopSeconds);
+  if (web_view) web_view->Stop();
   (*server)->Shutdown(grace_seconds);
   return 0;
 }

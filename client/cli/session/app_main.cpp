@@ -18,6 +18,7 @@ Exit codes:
 Environment:
   VSCAN_SERVER  default for --server
   VSCAN_TOKEN   default for --token
+  VSCAN_WEB     default for `vscan view --web`
   VSCAN_CA_CERT, VSCAN_CLIENT_CERT, VSCAN_CLIENT_KEY
                 defaults for --ca-cert, --client-cert, --client-key)";
 

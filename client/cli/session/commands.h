@@ -25,5 +25,7 @@ void AddModelCommands(CLI::App& app, Context& ctx);
 void AddLocalizationCommands(CLI::App& group, Context& ctx);
 // `vscan dataset run|watch|cancel|download|list|delete` (cmd_dataset.cpp).
 void AddDatasetCommands(CLI::App& app, Context& ctx);
+// `vscan view [SCENE]`: the web view's address (cmd_view.cpp).
+void AddViewCommand(CLI::App& app, Context& ctx);
 
 }  // namespace vscan::cli

@@ -212,6 +212,18 @@ Server::~Server() { Shutdown(0); }
 
 int Server::port() const { return impl_->port; }
 
+Status WritePortFile(const std::string& path, int port) {
+  // Renamed into place, so that a reader never sees a partial file.
+  const std::string tmp = path + ".tmp";
+  std::ofstream(tmp) << port << "\n";
+  std::error_code ec;
+  std::filesystem::rename(tmp, path, ec);
+  if (ec) return Unavailable("--port-file: cannot write '" + path + "': " + ec.message());
+  return Status::Ok();
+}
+
+scenes::SceneRegistry& Server::scene_registry() { return *impl_->registry; }
+
 StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& options) {
   auto impl = std::make_unique<Impl>();
   impl->options = options;
@@ -325,12 +337,7 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& op
     return Unavailable("--listen: cannot listen on '" + options.listen_address + "'");
   }
   impl->ticker = std::make_unique<CallbackQueueTicker>(*impl->server, std::chrono::milliseconds(250));
-  if (!options.port_file.empty()) {
-    const std::string tmp = options.port_file + ".tmp";
-    std::ofstream(tmp) << impl->port << "\n";
-    std::filesystem::rename(tmp, options.port_file, ec);
-    if (ec) return Unavailable("--port-file: cannot write '" + options.port_file + "': " + ec.message());
-  }
+  if (!options.port_file.empty()) RETURN_IF_ERROR(WritePortFile(options.port_file, impl->port));
   spdlog::info("vscand listening on {} (port {}), data in {}", options.listen_address, impl->port,
                std::filesystem::absolute(data_dir).string());
   spdlog::info("transport {}, bearer token {}",

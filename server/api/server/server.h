@@ -2,9 +2,14 @@
 // vscand as an object: opens the store, registers the services, serves until shut down.
 
 #include <memory>
+#include <string>
 
 #include "service/context/server_options.h"
 #include "vscan/common/status.h"
+
+namespace vscan::scenes {
+class SceneRegistry;
+}
 
 namespace vscan::api {
 
@@ -14,6 +19,8 @@ class Server {
   // Opens the data directory and starts listening; the bound port is in port().
   static StatusOr<std::unique_ptr<Server>> Start(const service::ServerOptions& options);
   int port() const;
+  // The scenes and meshes the services read (for the web view, which reads them too).
+  scenes::SceneRegistry& scene_registry();
   // Stops accepting calls, cancels running ones after grace_seconds, and waits for them.
   void Shutdown(double grace_seconds);
 
@@ -23,5 +30,8 @@ class Server {
   explicit Server(std::unique_ptr<Impl> impl);
   std::unique_ptr<Impl> impl_;
 };
+
+// Writes port to path (what --port-file promises once vscand serves).
+Status WritePortFile(const std::string& path, int port);
 
 }  // namespace vscan::api

@@ -1,0 +1,119 @@
+#include "web/web_view.h"
+
+#include <fstream>
+#include <sstream>
+#include <string_view>
+
+#include <civetweb.h>
+
+#include "web/web_assets.h"
+
+namespace vscan::web {
+namespace {
+
+void Send(mg_connection* connection, int status, std::string_view content_type, std::string_view body, bool head) {
+  mg_response_header_start(connection, status);
+  mg_response_header_add(connection, "Content-Type", content_type.data(), static_cast<int>(content_type.size()));
+  const std::string length = std::to_string(body.size());
+  mg_response_header_add(connection, "Content-Length", length.c_str(), -1);
+  mg_response_header_add(connection, "Cache-Control", "no-store", -1);
+  mg_response_header_add(connection, "X-Content-Type-Options", "nosniff", -1);
+  // The page may load nothing but vscand's own files and API, and may not be framed by another site.
+  mg_response_header_add(connection, "Content-Security-Policy",
+                         "default-src 'self'; style-src 'self' 'unsafe-inline'; img-src 'self' data:; "
+                         "frame-ancestors 'none'",
+                         -1);
+  mg_response_header_send(connection);
+  if (!head) mg_write(connection, body.data(), body.size());
+}
+
+void InitCivetweb() {
+  static const unsigned features = mg_init_library(0);
+  (void)features;
+}
+
+}  // namespace
+
+struct WebView::Server {
+  mg_context* context = nullptr;
+  std::unique_ptr<WebApi> api;
+  std::string three_module;
+};
+
+namespace {
+
+int Serve(mg_connection* connection, void* server_ptr) {
+  const auto& server = *static_cast<const WebView::Server*>(server_ptr);
+  const mg_request_info* request = mg_get_request_info(connection);
+  const std::string_view method = request->request_method;
+  const std::string_view path = request->local_uri ? request->local_uri : "";
+  if (path.starts_with("/api/")) {
+    const char* authorization = mg_get_header(connection, "Authorization");
+    const WebReply reply = server.api->Handle(method, path, authorization ? authorization : "");
+    Send(connection, reply.status, reply.content_type, reply.body, false);
+    return reply.status;
+  }
+  const bool head = method == "HEAD";
+  if (method != "GET" && !head) {
+    Send(connection, 405, "text/plain; charset=utf-8", "the web view is read-only: only GET is served\n", false);
+    return 405;
+  }
+  if (path == "/three.module.js") {
+    Send(connection, 200, "text/javascript; charset=utf-8", server.three_module, head);
+    return 200;
+  }
+  if (const WebAsset* asset = FindAsset(path == "/" ? "/index.html" : path)) {
+    Send(connection, 200, asset->content_type, asset->body, head);
+    return 200;
+  }
+  Send(connection, 404, "text/plain; charset=utf-8", "not found\n", head);
+  return 404;
+}
+
+}  // namespace
+
+WebView::WebView(std::unique_ptr<Server> server, int port) : server_(std::move(server)), port_(port) {}
+
+WebView::~WebView() { Stop(); }
+
+StatusOr<std::unique_ptr<WebView>> WebView::Start(const WebViewOptions& options, scenes::SceneRegistry& registry) {
+  auto server = std::make_unique<Server>();
+  {
+    std::ifstream in(options.three_module_path, std::ios::binary);
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (!in || text.str().empty()) {
+      return Unavailable("--web-listen: cannot read three.js at '" + options.three_module_path +
+                         "' (Debian package libjs-three)");
+    }
+    server->three_module = text.str();
+  }
+  server->api = std::make_unique<WebApi>(registry, options.api);
+  InitCivetweb();
+  // No document root: only what Serve answers is served.
+  const char* civet_options[] = {"listening_ports", options.address.c_str(), "num_threads", "4",
+                                 "request_timeout_ms", "30000", nullptr};
+  mg_callbacks callbacks{};
+  mg_init_data init{&callbacks, nullptr, civet_options};
+  char error_text[256] = "";
+  unsigned error_code = 0;
+  mg_error_data error{&error_code, error_text, sizeof(error_text)};
+  server->context = mg_start2(&init, &error);
+  if (!server->context) {
+    return Unavailable("--web-listen: cannot listen on '" + options.address + "': " + error_text);
+  }
+  mg_set_request_handler(server->context, "/", Serve, server.get());
+  mg_server_port ports[1]{};
+  const int bound = mg_get_server_ports(server->context, 1, ports);
+  const int port = bound > 0 ? ports[0].port : 0;
+  return std::unique_ptr<WebView>(new WebView(std::move(server), port));
+}
+
+void WebView::Stop() {
+  if (server_ && server_->context) {
+    mg_stop(server_->context);
+    server_->context = nullptr;
+  }
+}
+
+}  // namespace vscan::web

@@ -1,0 +1,42 @@
+#pragma once
+// Serves the read-only web view over plain HTTP (civetweb): the page at /, three.js at
+// /three.module.js, and the API under /api/ (web_api.h).
+
+#include <memory>
+#include <string>
+
+#include "vscan/common/status.h"
+#include "web/web_api.h"
+
+namespace vscan::web {
+
+struct WebViewOptions {
+  // HOST:PORT with a numeric IPv4 host (port 0 picks a free one).
+  std::string address;
+  // three.js as an ES module (Debian's libjs-three).
+  std::string three_module_path = "/usr/share/javascript/three/build/three.module.js";
+  WebApiOptions api;
+};
+
+class WebView {
+ public:
+  // The registry must outlive the view. UNAVAILABLE when the address cannot be bound or three.js
+  // cannot be read.
+  static StatusOr<std::unique_ptr<WebView>> Start(const WebViewOptions& options, scenes::SceneRegistry& registry);
+  ~WebView();
+  WebView(const WebView&) = delete;
+  WebView& operator=(const WebView&) = delete;
+
+  int port() const { return port_; }
+  // Stops serving; waits for requests in progress.
+  void Stop();
+
+  struct Server;
+
+ private:
+  WebView(std::unique_ptr<Server> server, int port);
+  std::unique_ptr<Server> server_;
+  int port_ = 0;
+};
+
+}  // namespace vscan::web

@@ -1,0 +1,298 @@
+"""The read-only web view (vscand --web-listen): its API over HTTP, and its page in headless chromium."""
+
+import json
+import os
+import shutil
+import socket
+import struct
+import subprocess
+import tempfile
+import unittest
+import urllib.error
+import urllib.request
+import zlib
+
+import numpy as np
+
+from harness import SOURCE_DIR, VSCAN, VSCAND, ServerTestCase, common_pb2, icosphere_ply, scene_pb2
+
+TOKEN = "web-view-token"
+CHROMIUM = "/usr/bin/chromium"
+PUPPETEER = os.path.join(SOURCE_DIR, ".tools", "node_modules", "puppeteer-core")
+PAGE_SCRIPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "web", "view_page.js")
+BACKGROUND = (0x20, 0x20, 0x20)
+
+
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def read_png(data):
+    """An independent decoder for 8-bit RGB or RGBA non-interlaced PNG: an (height, width, 3) uint8 array."""
+    assert data[:8] == b"\x89PNG\r\n\x1a\n", "not a PNG"
+    pos, idat, header = 8, b"", None
+    while pos < len(data):
+        length, kind = struct.unpack(">I4s", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + length]
+        if kind == b"IHDR":
+            header = struct.unpack(">IIBBBBB", body)
+        elif kind == b"IDAT":
+            idat += body
+        elif kind == b"IEND":
+            break
+        pos += 12 + length
+    width, height, depth, colour_type, _, _, interlace = header
+    assert depth == 8 and colour_type in (2, 6) and interlace == 0, header
+    bpp = 3 if colour_type == 2 else 4
+    stride = width * bpp
+    raw = zlib.decompress(idat)
+    out = np.zeros((height, stride), np.int64)
+    prev = np.zeros(stride, np.int64)
+    for y in range(height):
+        kind = raw[y * (stride + 1)]
+        line = np.frombuffer(raw, np.uint8, stride, y * (stride + 1) + 1).astype(np.int64)
+        if kind == 0:
+            cur = line
+        elif kind == 2:
+            cur = (line + prev) & 0xFF
+        else:
+            cur = line.tolist()
+            up = prev.tolist()
+            for x in range(stride):
+                a = cur[x - bpp] if x >= bpp else 0
+                b = up[x]
+                if kind == 1:
+                    cur[x] = (cur[x] + a) & 0xFF
+                elif kind == 3:
+                    cur[x] = (cur[x] + (a + b) // 2) & 0xFF
+                else:
+                    c = up[x - bpp] if x >= bpp else 0
+                    p = a + b - c
+                    pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
+                    cur[x] = (cur[x] + (a if pa <= pb and pa <= pc else (b if pb <= pc else c))) & 0xFF
+            cur = np.array(cur, np.int64)
+        out[y] = cur
+        prev = cur
+    return out.astype(np.uint8).reshape(height, width, bpp)[:, :, :3]
+
+
+class WebViewTest(ServerTestCase):
+    @classmethod
+    def setUpClass(cls):
+        cls.tmp = tempfile.TemporaryDirectory(prefix="vscan-web-")
+        token_file = os.path.join(cls.tmp.name, "token")
+        with open(token_file, "w") as f:
+            f.write(TOKEN + "\n")
+        cls.web_port = free_port()
+        cls.web = f"127.0.0.1:{cls.web_port}"
+        cls.server_args = ("--token-file", token_file, "--web-listen", cls.web)
+        super().setUpClass()
+        # The port file is written once the web view serves too: no waiting for it here.
+        auth = [("authorization", f"Bearer {TOKEN}")]
+        # One sphere of radius 0.2 at (0.3, 0.2, 0.1), and a second scene left empty.
+        cls.scene = cls.scenes.CreateScene(scene_pb2.CreateSceneRequest(name="web <view>"), metadata=auth).scene
+        cls.empty = cls.scenes.CreateScene(scene_pb2.CreateSceneRequest(name="empty"), metadata=auth).scene
+        data = icosphere_ply(0.2, (0, 0, 0), 3)
+
+        def requests():
+            yield scene_pb2.UploadMeshRequest(header=scene_pb2.MeshHeader(
+                name="sphere.ply", unit=common_pb2.LENGTH_UNIT_METRE, size_bytes=len(data)))
+            yield scene_pb2.UploadMeshRequest(chunk=data)
+        cls.mesh = cls.scenes.UploadMesh(requests(), metadata=auth, timeout=60).mesh
+        pose = common_pb2.Pose(quaternion=common_pb2.QuaternionPose(
+            translation=common_pb2.Vector3(x=0.3, y=0.2, z=0.1), qw=1.0))
+        cls.object = cls.scenes.AddObject(scene_pb2.AddObjectRequest(
+            scene_id=cls.scene.scene_id, mesh_id=cls.mesh.mesh_id, pose=pose, label="ball", scale=1.0,
+            material=scene_pb2.Material(preset="cardboard")),
+            metadata=auth).object
+
+    @classmethod
+    def tearDownClass(cls):
+        super().tearDownClass()
+        cls.tmp.cleanup()
+
+    def get(self, path, token=TOKEN, method="GET"):
+        """(status, content type, body) of one request to the web view."""
+        request = urllib.request.Request(f"http://{self.web}{path}", method=method)
+        if token is not None:
+            request.add_header("Authorization", f"Bearer {token}")
+        try:
+            with urllib.request.urlopen(request, timeout=10) as response:
+                return response.status, response.headers["Content-Type"], response.read()
+        except urllib.error.HTTPError as e:
+            return e.code, e.headers["Content-Type"], e.read()
+
+    def test_api_needs_the_token(self):
+        for path in ("/api/scenes", f"/api/scenes/{self.scene.scene_id}", f"/api/meshes/{self.mesh.mesh_id}"):
+            for token in (None, "wrong", TOKEN + "x", ""):
+                status, _, body = self.get(path, token)
+                self.assertEqual(status, 401, (path, token))
+                self.assertNotIn(self.scene.scene_id.encode(), body)
+                self.assertNotIn(b"VSMH", body)
+
+    def test_scene_list_and_scene(self):
+        status, content_type, body = self.get("/api/scenes")
+        self.assertEqual((status, content_type), (200, "application/json"))
+        listed = {s["scene_id"]: s for s in json.loads(body)["scenes"]}
+        self.assertEqual(listed[self.scene.scene_id]["name"], "web <view>")
+        self.assertEqual(listed[self.scene.scene_id]["object_count"], 1)
+        self.assertEqual(listed[self.empty.scene_id]["object_count"], 0)
+
+        status, _, body = self.get(f"/api/scenes/{self.scene.scene_id}")
+        self.assertEqual(status, 200)
+        scene = json.loads(body)
+        self.assertEqual(scene["name"], "web <view>")
+        self.assertEqual(len(scene["objects"]), 1)
+        placed = scene["objects"][0]
+        self.assertEqual(placed["object_id"], self.object.object_id)
+        self.assertEqual(placed["mesh_id"], self.mesh.mesh_id)
+        self.assertEqual(placed["label"], "ball")
+        self.assertEqual(placed["instance_id"], self.object.instance_id)
+        np.testing.assert_allclose(placed["world_from_object"],
+                                   [[1, 0, 0, 0.3], [0, 1, 0, 0.2], [0, 0, 1, 0.1], [0, 0, 0, 1]], atol=1e-12)
+        # The material in effect (the object's own here), so that the page can show it.
+        self.assertEqual(placed["material"]["preset"], "cardboard")
+        presets = {p.name: p.values for p in self.scenes.ListMaterialPresets(
+            scene_pb2.ListMaterialPresetsRequest(), metadata=[("authorization", f"Bearer {TOKEN}")]).presets}
+        self.assertEqual(placed["material"]["albedo"], presets["cardboard"].diffuse_albedo)
+        self.assertEqual(placed["material"]["roughness"], presets["cardboard"].roughness)
+
+    def test_mesh_binary_matches_the_upload(self):
+        status, content_type, body = self.get(f"/api/meshes/{self.mesh.mesh_id}")
+        self.assertEqual((status, content_type), (200, "application/octet-stream"))
+        magic, version, vertices, triangles = struct.unpack("<4sIII", body[:16])
+        self.assertEqual((magic, version), (b"VSMH", 1))
+        self.assertEqual((vertices, triangles), (self.mesh.vertex_count, self.mesh.triangle_count))
+        self.assertEqual(len(body), 16 + 12 * vertices + 12 * triangles)
+        positions = np.frombuffer(body, "<f4", vertices * 3, 16).reshape(-1, 3)
+        np.testing.assert_allclose(np.linalg.norm(positions, axis=1), 0.2, rtol=1e-5)
+        indices = np.frombuffer(body, "<u4", triangles * 3, 16 + 12 * vertices)
+        self.assertEqual(indices.max(), vertices - 1)
+
+    def test_unknown_ids_and_methods(self):
+        for path in ("/api/scenes/scn_0000000000000000", "/api/meshes/msh_0000000000000000", "/api/scenes/a%2Fb",
+                     "/api/nothing", "/nothing.js"):
+            self.assertEqual(self.get(path)[0], 404, path)
+        for method in ("POST", "PUT", "DELETE"):
+            self.assertEqual(self.get("/api/scenes", method=method)[0], 405, method)
+            self.assertEqual(self.get("/", method=method)[0], 405, method)
+
+    def test_page_and_three_js_are_served_without_the_token(self):
+        status, content_type, body = self.get("/", token=None)
+        self.assertEqual((status, content_type), (200, "text/html; charset=utf-8"))
+        self.assertIn(b'src="app.js"', body)
+        with urllib.request.urlopen(f"http://{self.web}/", timeout=10) as response:
+            self.assertIn("default-src 'self'", response.headers["Content-Security-Policy"])
+        status, content_type, body = self.get("/app.js", token=None)
+        self.assertEqual((status, content_type), (200, "text/javascript; charset=utf-8"))
+        self.assertIn(b"./three.module.js", body)
+        status, _, body = self.get("/three.module.js", token=None)
+        self.assertEqual(status, 200)
+        with open("/usr/share/javascript/three/build/three.module.js", "rb") as f:
+            self.assertEqual(body, f.read())
+
+    def test_cli_prints_the_page_address(self):
+        run = subprocess.run([VSCAN, "--token", "a b/c", "view", self.scene.scene_id, "--web", self.web],
+                             capture_output=True, text=True, timeout=30)
+        self.assertEqual(run.returncode, 0, run.stderr)
+        self.assertEqual(run.stdout.strip(), f"http://{self.web}/?scene={self.scene.scene_id}#token=a%20b%2Fc")
+        run = subprocess.run([VSCAN, "--json", "view"], capture_output=True, text=True, timeout=30,
+                             env={**os.environ, "VSCAN_WEB": self.web, "VSCAN_TOKEN": ""})
+        self.assertEqual(run.returncode, 0, run.stderr)
+        self.assertEqual(json.loads(run.stdout), {"url": f"http://{self.web}/"})
+        run = subprocess.run([VSCAN, "view"], capture_output=True, text=True, timeout=30,
+                             env={k: v for k, v in os.environ.items() if k != "VSCAN_WEB"})
+        self.assertEqual(run.returncode, 2)
+        self.assertIn("--web", run.stderr)
+
+    # In a browser: what a person would see.
+
+    def open_page(self, url):
+        if not os.access(CHROMIUM, os.X_OK):
+            self.skipTest(f"{CHROMIUM} is not installed (Debian package chromium; scripts/install-deps.sh)")
+        if not os.path.isdir(PUPPETEER):
+            self.skipTest("puppeteer-core is not in .tools/ (scripts/install-deps.sh)")
+        if not shutil.which("node"):
+            self.skipTest("node is not installed")
+        shot = os.path.join(self.tmp.name, "page.png")
+        run = subprocess.run(["node", PAGE_SCRIPT, PUPPETEER, CHROMIUM, url, shot],
+                             capture_output=True, text=True, timeout=120)
+        self.assertEqual(run.returncode, 0, run.stdout + run.stderr)
+        seen = json.loads(run.stdout.strip().splitlines()[-1])
+        with open(shot, "rb") as f:
+            return seen, read_png(f.read())
+
+    def view_url(self, scene_id, token):
+        return subprocess.run([VSCAN, "--token", token, "view", scene_id, "--web", self.web],
+                              capture_output=True, text=True, timeout=30, check=True).stdout.strip()
+
+    def test_browser_draws_the_scene(self):
+        seen, image = self.open_page(self.view_url(self.scene.scene_id, TOKEN))
+        self.assertEqual(seen["consoleErrors"], [])
+        # Offline: everything the page loads comes from vscand (page, app.js, three.js, the API).
+        origin = f"http://{self.web}/"
+        self.assertEqual([r for r in seen["requests"] if not r.startswith(origin)], [])
+        self.assertIn(origin + "three.module.js", seen["requests"])
+        self.assertIn(f"{origin}api/meshes/{self.mesh.mesh_id}", seen["requests"])
+        self.assertEqual(seen["errorText"], "")
+        self.assertIn(self.object.object_id, seen["text"])  # the object table
+        self.assertEqual(image.shape, (240, 320, 3))
+        [drawn] = seen["view"]["objects"]
+        self.assertEqual(drawn["object_id"], self.object.object_id)
+        x, y = drawn["pixel"]
+        # Framed by the camera: the sphere's centre projects near the middle of the page.
+        self.assertLess(abs(x - 160), 40)
+        self.assertLess(abs(y - 120), 40)
+        expected = np.array(drawn["colour"])
+        self.assertGreater(np.abs(expected - BACKGROUND).max(), 100)
+        # Lit from the camera, the side facing it shows (close to) the object's colour ...
+        centre = image[y - 2:y + 3, x - 2:x + 3].reshape(-1, 3).astype(int)
+        self.assertLess(np.abs(centre - expected).max(), 40, (centre.tolist(), expected.tolist()))
+        # ... and pixels well outside it the background.
+        for corner in (image[5, 300], image[230, 5], image[230, 315]):
+            np.testing.assert_array_equal(corner, BACKGROUND)
+        # The sphere (radius 0.2 of the framed 0.2) covers a good part of the page.
+        covered = (np.abs(image.astype(int) - expected).max(axis=2) < 80).mean()
+        self.assertGreater(covered, 0.1)
+
+    def test_browser_with_a_wrong_token_shows_an_error_and_no_scene(self):
+        seen, image = self.open_page(self.view_url(self.scene.scene_id, "wrong"))
+        self.assertIn("401", seen["errorText"])
+        self.assertIsNone(seen["view"])
+        self.assertNotIn(self.object.object_id, seen["text"])
+        self.assertTrue(any("401" in e for e in seen["consoleErrors"]), seen["consoleErrors"])
+
+    def test_browser_lists_scenes_without_a_scene_id(self):
+        seen, _ = self.open_page(self.view_url("", TOKEN))
+        self.assertEqual(seen["consoleErrors"], [])
+        self.assertIn(self.scene.scene_id, seen["text"])
+        self.assertIn(self.empty.scene_id, seen["text"])
+
+
+class WebViewRefusalTest(unittest.TestCase):
+    """vscand does not start half-way: a web view it cannot serve stops it with the reason."""
+
+    def run_vscand(self, *args):
+        with tempfile.TemporaryDirectory(prefix="vscand-web-") as data:
+            return subprocess.run([VSCAND, "--listen", "127.0.0.1:0", "--data-dir", data, *args],
+                                  capture_output=True, text=True, timeout=60)
+
+    def test_missing_three_js(self):
+        run = self.run_vscand("--web-listen", f"127.0.0.1:{free_port()}", "--web-three-js", "/nonexistent/three.js")
+        self.assertEqual(run.returncode, 1)
+        self.assertIn("cannot read three.js at '/nonexistent/three.js'", run.stdout + run.stderr)
+
+    def test_address_in_use(self):
+        with socket.socket() as busy:
+            busy.bind(("127.0.0.1", 0))
+            busy.listen()
+            address = f"127.0.0.1:{busy.getsockname()[1]}"
+            run = self.run_vscand("--web-listen", address)
+        self.assertEqual(run.returncode, 1)
+        self.assertIn(f"--web-listen: cannot listen on '{address}'", run.stdout + run.stderr)
+
+
+if __name__ == "__main__":
+    unittest.main()
