@@ -1,13 +1,14 @@
 #!/usr/bin/python3
 """Blender's Cycles as an independent oracle for vscan's returned light: per-pixel radiance of the
 same scenes, direct and with one bounce. Starts a vscand from the build, builds each scene through
-the API, scans it with the returned light (320 x 240 pinhole, emitter at the camera), converts each
+the API, scans it with the returned light (320 x 240 pinhole, the emitter at the camera or, for the
+sl-* scenes, at a structured-light sensor's projector beside it), converts each
 point's measured electrons back to radiance (PixelGain and cos^4, as vscan computes them), renders the
 same scene with Cycles on the CPU (bench/cycles_oracle/render_cycles.py), and compares pixel by pixel
 away from silhouettes, fold lines and the cone's edge.
 
   VSCAN_BUILD_DIR=build/release VSCAN_SOURCE_DIR=. /usr/bin/python3 bench/cycles_oracle/cycles_oracle.py \\
-      [--samples 1024] [--indirect-samples 4096] [--json out.json] [--keep DIR]
+      [--scenes camera|projector|NAME,...] [--samples 1024] [--indirect-samples 4096] [--json out.json] [--keep DIR]
 
 Prints a Markdown table (docs/BENCHMARKS.md, "Cycles as an oracle for the returned light"). Without `blender` on PATH it
 says so and exits 0 ("skipped"); --self-check checks the conversions without a server or Blender.
@@ -291,6 +292,15 @@ def agreement(vscan, cycles, mask, tolerance):
             "max_rel": float(np.max(rel))}
 
 
+def unlit_terms(vscan, cycles):
+    """Direct light: the pixels vscan returns no point for (no surface, or one its emitter does not
+    light: the projector's shadow, outside its cone), and how many of them Cycles lights, and how many
+    pixels Cycles leaves dark that vscan measured: both 0 where the shadows and the cone agree."""
+    missing, dark = ~np.isfinite(vscan), ~(cycles > 0)
+    return {"unmeasured": int(missing.sum()), "unmeasured_lit_in_cycles": int((missing & ~dark).sum()),
+            "measured_dark_in_cycles": int((~missing & dark).sum())}
+
+
 def indirect_terms(vscan, cycles, vscan_direct, cycles_direct, mask, instances):
     """The one-bounce light alone (each renderer's one-bounce image less its direct one): its share of
     the signal, and vscan's sum over Cycles' sum on the compared pixels (a bias the per-pixel noise of
@@ -340,6 +350,8 @@ def self_check():
     columns = np.arange(WIDTH)[None, :]
     assert not np.any(mask & ((np.abs(columns - 99.5) < 2.5) | (angle > 8.0))) and np.any(mask), "mask"
     assert np.all(mask[(angle < 7.9) & (np.abs(columns - 99.5) > 3)]), "mask keeps the inside"
+    unlit = unlit_terms(np.array([np.nan, np.nan, 1.0, 2.0]), np.array([0.0, 1.0, 0.0, 2.0]))
+    assert unlit == {"unmeasured": 2, "unmeasured_lit_in_cycles": 1, "measured_dark_in_cycles": 1}, unlit
     stats = agreement(np.array([1.0, 1.02, 0.9]), np.ones(3), np.ones(3, bool), 0.05)
     assert abs(stats["median_rel"] - 0.02) < 1e-12 and abs(stats["within_tol"] - 2 / 3) < 1e-12, stats
     # The Blender side imports bpy, which only Blender has: compile it without running it.
@@ -496,6 +508,7 @@ def main():
                        **agreement(radiance, cycles, mask, args.tolerance)}
                 if bounces == 0:
                     direct = (radiance, cycles)
+                    row.update(unlit_terms(radiance, cycles))
                 else:
                     row.update(indirect_terms(radiance, cycles, *direct, mask, instances))
                     if row["indirect_share"] > 1e-4:
@@ -521,6 +534,12 @@ def main():
               f"{100 * r['p95_rel']:.3f} % | {100 * r['within_tol']:.1f} % | {100 * r['mean_signed']:+.3f} % | "
               f"{share(r)} | {ratio(r)} | {floor(r)} | "
               f"{r['vscan_s']:.2f} | {r['cycles_render_s']:.1f} |")
+    print("\n| Scene | Pixels without a vscan point | of them lit in Cycles | vscan's points dark in Cycles |")
+    print("|---|---|---|---|")
+    for r in rows:
+        if "unmeasured" in r:
+            print(f"| {r['scene']} | {r['unmeasured']} | {r['unmeasured_lit_in_cycles']} | "
+                  f"{r['measured_dark_in_cycles']} |")
     if args.json:
         with open(args.json, "w") as f:
             json.dump({"rows": rows, "blender": version, "tolerance": args.tolerance}, f, indent=1)
