@@ -156,11 +156,13 @@ def scenes():
     # independently (the glossy weights of a bounce's first surface are the mapping's weak point).
     lambert_right = dict(WHITE_ABS, specular_reflectance=0.0)
     # Structured light: the projector 0.2 m to the camera's right (+x), its axis converging on the
-    # camera's at the scene's depth. (e) a white wall 1.2 m ahead filling the image with a white cube
-    # before it, which shadows the wall on its left; the 30-degree cone, tilted 11 degrees towards -x,
+    # camera's at the scene's depth. (e) a white wall 1.2 m ahead filling the image, a grey floor meeting
+    # it 0.15 m below the camera and a white cube standing on the floor before the wall, which shadows
+    # wall and floor on its left and lights both; the 30-degree cone, tilted 11 degrees towards -x,
     # crosses the image's right side and corners.
     box_projector = Projector((0.2, 0.0, 0.0), 1.0, (90.0, 90.0))
     wall = rectangle((0.0, 0.0, 1.2), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0), 0.8, 0.6)
+    floor = rectangle((0.0, 0.15, 0.85), (1.0, 0.0, 0.0), (0.0, 0.0, 1.0), 0.8, 0.35)
     cube = box((-0.05, 0.05, 0.85), 0.2, 30.0)
     # (f) the brushed-steel and white-abs pair turned so that the projector's specular peaks are in view:
     # each normal bisects the directions to the camera and to the projector, so the highlights moved
@@ -177,8 +179,9 @@ def scenes():
                           "brushed-steel plane beside a Lambertian one (albedo 0.85)", AT_CAMERA),
         "corner": ([(*w, LAMBERT_WHITE) for w in corner], 60.0, "right-angled corner of two white walls (albedo 0.9)",
                    AT_CAMERA),
-        "sl-box-shadow": ([(*wall, LAMBERT_WHITE), (*cube, LAMBERT_WHITE)], 30.0,
-                          "structured light: white cube before a white wall, its projector shadow in view",
+        "sl-box-shadow": ([(*wall, LAMBERT_WHITE), (*floor, LAMBERT_GREY), (*cube, LAMBERT_WHITE)], 30.0,
+                          "structured light: white cube on a grey floor before a white wall, its projector "
+                          "shadow in view",
                           box_projector),
         "sl-ggx-planes": ([(*sl_steel, BRUSHED_STEEL), (*sl_plastic, WHITE_ABS)], 60.0,
                           "structured light: brushed-steel and white-abs planes, the projector's peaks in view",
