@@ -186,11 +186,14 @@ def scenes():
         "sl-ggx-planes": ([(*sl_steel, BRUSHED_STEEL), (*sl_plastic, WHITE_ABS)], 60.0,
                           "structured light: brushed-steel and white-abs planes, the projector's peaks in view",
                           pair_projector),
+        "sl-steel-lambert": ([(*sl_steel, BRUSHED_STEEL), (*sl_plastic, lambert_right)], 60.0,
+                             "structured light: brushed-steel plane beside a Lambertian one (albedo 0.85)",
+                             pair_projector),
     }
 
 
 # The scenes scanned with a structured-light sensor, whose emitter is its projector.
-PROJECTOR_SCENES = "sl-box-shadow,sl-ggx-planes"
+PROJECTOR_SCENES = "sl-box-shadow,sl-ggx-planes,sl-steel-lambert"
 CAMERA_SCENES = "lambert-plane,ggx-planes,steel-lambert,corner"
 
 
