@@ -1,5 +1,6 @@
 // The vscan web view: reads one scene (?scene=ID) over the read-only API with the token from the
 // URL fragment (#token=...) and draws its objects with three.js. Without ?scene it lists the scenes.
+// A click on the drawing reports the object under it (three.js's Raycaster) in #picked.
 import * as THREE from './three.module.js';
 
 const BACKGROUND = 0x202020;
@@ -71,6 +72,35 @@ function showTable(scene) {
   document.getElementById('content').appendChild(table);
 }
 
+function describeMaterial(material) {
+  if (!material) return '';
+  const values = `albedo ${material.albedo}, metallic ${material.metallic}, roughness ${material.roughness}, ` +
+    `specular ${material.specular_reflectance}`;
+  return material.preset ? `${material.preset} (${values})` : values;
+}
+
+// Fills #picked with the clicked object (null: the click hit nothing) and keeps it in window.vscanPicked.
+function showPicked(object) {
+  const panel = document.getElementById('picked');
+  panel.textContent = '';
+  window.vscanPicked = object && {
+    object_id: object.object_id, label: object.label, instance_id: object.instance_id, material: object.material,
+  };
+  if (!object) {
+    panel.textContent = 'nothing picked';
+    return;
+  }
+  const rows = [['object', object.object_id], ['label', object.label], ['instance', String(object.instance_id)],
+    ['material', describeMaterial(object.material)]];
+  for (const [name, value] of rows) {
+    const line = document.createElement('div');
+    const key = document.createElement('b');
+    key.textContent = `${name}: `;
+    line.append(key, value);
+    panel.appendChild(line);
+  }
+}
+
 async function listScenes() {
   const { scenes } = await get('api/scenes');
   const list = document.createElement('ul');
@@ -139,6 +169,20 @@ async function showScene(id) {
   renderer.setSize(width, height);
   container.appendChild(renderer.domElement);
   renderer.render(world, camera);
+
+  // A click reports the nearest object under the pointer, or that none is there.
+  const raycaster = new THREE.Raycaster();
+  const meshes = placed.map(({ mesh }) => mesh);
+  window.vscanPickCount = 0;
+  renderer.domElement.addEventListener('click', (event) => {
+    const rect = renderer.domElement.getBoundingClientRect();
+    const pointer = new THREE.Vector2((event.clientX - rect.left) / rect.width * 2 - 1,
+      -((event.clientY - rect.top) / rect.height) * 2 + 1);
+    raycaster.setFromCamera(pointer, camera);
+    const [hit] = raycaster.intersectObjects(meshes);
+    showPicked(hit ? placed[meshes.indexOf(hit.object)].object : null);
+    window.vscanPickCount += 1;
+  });
 
   // Where each object's bounds centre lands in the page (CSS pixels), for checks of what is drawn.
   window.vscanView = {

@@ -107,6 +107,20 @@ class WebViewTest(ServerTestCase):
             scene_id=cls.scene.scene_id, mesh_id=cls.mesh.mesh_id, pose=pose, label="ball", scale=1.0,
             material=scene_pb2.Material(preset="cardboard")),
             metadata=auth).object
+        # Three spheres side by side for picking: a preset, explicit values, and the mesh's (default) material.
+        cls.row = cls.scenes.CreateScene(scene_pb2.CreateSceneRequest(name="row"), metadata=auth).scene
+        materials = (scene_pb2.Material(preset="cardboard"),
+                     scene_pb2.Material(values=scene_pb2.MaterialValues(
+                         diffuse_albedo=0.5, metallic=0.0, roughness=0.25, specular_reflectance=0.04)),
+                     None)
+        cls.row_objects = []
+        # Along (3, 2, 0), square to the page's view direction (1, -1.5, 1): a row across the page.
+        for t, label, material in zip((-1, 0, 1), ("left", "middle", "right"), materials):
+            pose = common_pb2.Pose(quaternion=common_pb2.QuaternionPose(
+                translation=common_pb2.Vector3(x=0.5 * t * 3 / 13 ** 0.5, y=0.5 * t * 2 / 13 ** 0.5, z=0.2), qw=1.0))
+            cls.row_objects.append(cls.scenes.AddObject(scene_pb2.AddObjectRequest(
+                scene_id=cls.row.scene_id, mesh_id=cls.mesh.mesh_id, pose=pose, label=label, scale=1.0,
+                material=material), metadata=auth).object)
 
     @classmethod
     def tearDownClass(cls):
@@ -209,7 +223,7 @@ class WebViewTest(ServerTestCase):
 
     # In a browser: what a person would see.
 
-    def open_page(self, url):
+    def open_page(self, url, size="320x240", mode=""):
         if not os.access(CHROMIUM, os.X_OK):
             self.skipTest(f"{CHROMIUM} is not installed (Debian package chromium; scripts/install-deps.sh)")
         if not os.path.isdir(PUPPETEER):
@@ -217,8 +231,8 @@ class WebViewTest(ServerTestCase):
         if not shutil.which("node"):
             self.skipTest("node is not installed")
         shot = os.path.join(self.tmp.name, "page.png")
-        run = subprocess.run(["node", PAGE_SCRIPT, PUPPETEER, CHROMIUM, url, shot],
-                             capture_output=True, text=True, timeout=120)
+        run = subprocess.run(["node", PAGE_SCRIPT, PUPPETEER, CHROMIUM, url, shot, size, mode],
+                             capture_output=True, text=True, timeout=240)
         self.assertEqual(run.returncode, 0, run.stdout + run.stderr)
         seen = json.loads(run.stdout.strip().splitlines()[-1])
         with open(shot, "rb") as f:
@@ -256,6 +270,46 @@ class WebViewTest(ServerTestCase):
         # The sphere (radius 0.2 of the framed 0.2) covers a good part of the page.
         covered = (np.abs(image.astype(int) - expected).max(axis=2) < 80).mean()
         self.assertGreater(covered, 0.1)
+
+    def test_browser_click_reports_the_object_hit(self):
+        seen, image = self.open_page(self.view_url(self.row.scene_id, TOKEN), "640x480", "pick")
+        self.assertEqual(seen["consoleErrors"], [])
+        self.assertEqual(seen["errorText"], "")
+        # Set VSCAN_WEB_SCREENSHOT to keep the picture (docs/images/web_scene.png is made so).
+        if os.environ.get("VSCAN_WEB_SCREENSHOT"):
+            shutil.copyfile(os.path.join(self.tmp.name, "page.png"), os.environ["VSCAN_WEB_SCREENSHOT"])
+        self.assertEqual(image.shape, (480, 640, 3))
+        instances = [o.instance_id for o in self.row_objects]
+        self.assertEqual(len(set(instances)), 3)
+        drawn = {o["object_id"]: o for o in seen["view"]["objects"]}
+        # One click per sphere at its projected centre, in the page's order, then one on the background.
+        self.assertEqual(len(seen["picks"]), 4)
+        xs = []
+        for pick, object in zip(seen["picks"], self.row_objects):
+            x, y = drawn[object.object_id]["pixel"]
+            xs.append(x)
+            self.assertEqual(pick["at"], [x, y])
+            # The click landed on the sphere as drawn (its colour), and the page names that sphere.
+            self.assertLess(np.abs(image[y, x].astype(int) - drawn[object.object_id]["colour"]).max(), 40)
+            self.assertEqual(pick["picked"]["object_id"], object.object_id)
+            self.assertEqual(pick["picked"]["label"], object.label)
+            self.assertEqual(pick["picked"]["instance_id"], object.instance_id)
+            self.assertIn(f"instance: {object.instance_id}", pick["panel"])
+            self.assertIn(f"label: {object.label}", pick["panel"])
+            self.assertIn(f"object: {object.object_id}", pick["panel"])
+        # Side by side along x: left, middle, right on the page too.
+        self.assertEqual(xs, sorted(xs))
+        left, middle, right = (p["picked"]["material"] for p in seen["picks"][:3])
+        self.assertEqual(left["preset"], "cardboard")
+        self.assertIn("material: cardboard (albedo", seen["picks"][0]["panel"])
+        self.assertEqual((middle["preset"], middle["albedo"], middle["roughness"]), ("", 0.5, 0.25))
+        self.assertIn("material: albedo 0.5, metallic 0, roughness 0.25, specular 0.04", seen["picks"][1]["panel"])
+        self.assertEqual(right["preset"], "matte-grey")
+        background = seen["picks"][3]
+        self.assertEqual(background["at"], [635, 475])
+        np.testing.assert_array_equal(image[475, 635], BACKGROUND)
+        self.assertIsNone(background["picked"])
+        self.assertEqual(background["panel"].strip(), "nothing picked")
 
     def test_browser_with_a_wrong_token_shows_an_error_and_no_scene(self):
         seen, image = self.open_page(self.view_url(self.scene.scene_id, "wrong"))
