@@ -2,66 +2,13 @@
 
 import json
 import os
-import struct
 import subprocess
 import tempfile
 import unittest
-import zlib
 
 import numpy as np
 
-from harness import BUNNY, VSCAN, Server
-
-
-def read_png(path):
-    """An independent decoder for 8-bit RGB, non-interlaced PNG: returns an (height, width, 3) uint8 array."""
-    with open(path, "rb") as f:
-        data = f.read()
-    assert data[:8] == b"\x89PNG\r\n\x1a\n", "not a PNG"
-    pos, idat, header = 8, b"", None
-    while pos < len(data):
-        length, kind = struct.unpack(">I4s", data[pos:pos + 8])
-        body = data[pos + 8:pos + 8 + length]
-        crc, = struct.unpack(">I", data[pos + 8 + length:pos + 12 + length])
-        assert zlib.crc32(kind + body) == crc, f"bad CRC in {kind}"
-        if kind == b"IHDR":
-            header = struct.unpack(">IIBBBBB", body)
-        elif kind == b"IDAT":
-            idat += body
-        elif kind == b"IEND":
-            break
-        pos += 12 + length
-    width, height, depth, colour_type, _, _, interlace = header
-    assert (depth, colour_type, interlace) == (8, 2, 0), header
-    raw = zlib.decompress(idat)
-    stride, bpp = width * 3, 3
-    out = np.zeros((height, stride), np.int32)
-    prev = np.zeros(stride, np.int32)
-    for y in range(height):
-        kind = raw[y * (stride + 1)]
-        line = np.frombuffer(raw, np.uint8, stride, y * (stride + 1) + 1).astype(np.int32)
-        if kind == 0:
-            cur = line
-        elif kind == 2:
-            cur = (line + prev) & 0xFF
-        else:
-            cur = line.copy()
-            for x in range(stride):
-                a = cur[x - bpp] if x >= bpp else 0
-                b = prev[x]
-                if kind == 1:
-                    cur[x] = (cur[x] + a) & 0xFF
-                elif kind == 3:
-                    cur[x] = (cur[x] + (a + b) // 2) & 0xFF
-                else:
-                    c = prev[x - bpp] if x >= bpp else 0
-                    p = a + b - c
-                    pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-                    pred = a if pa <= pb and pa <= pc else (b if pb <= pc else c)
-                    cur[x] = (cur[x] + pred) & 0xFF
-        out[y] = cur
-        prev = cur
-    return out.astype(np.uint8).reshape(height, width, 3)
+from harness import BUNNY, VSCAN, Server, read_png
 
 
 class RenderTest(unittest.TestCase):

@@ -10,11 +10,10 @@ import tempfile
 import unittest
 import urllib.error
 import urllib.request
-import zlib
 
 import numpy as np
 
-from harness import SOURCE_DIR, VSCAN, VSCAND, ServerTestCase, common_pb2, icosphere_ply, scene_pb2
+from harness import SOURCE_DIR, VSCAN, VSCAND, ServerTestCase, common_pb2, icosphere_ply, read_png, scene_pb2
 
 TOKEN = "web-view-token"
 CHROMIUM = "/usr/bin/chromium"
@@ -27,55 +26,6 @@ def free_port():
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
-
-
-def read_png(data):
-    """An independent decoder for 8-bit RGB or RGBA non-interlaced PNG: an (height, width, 3) uint8 array."""
-    assert data[:8] == b"\x89PNG\r\n\x1a\n", "not a PNG"
-    pos, idat, header = 8, b"", None
-    while pos < len(data):
-        length, kind = struct.unpack(">I4s", data[pos:pos + 8])
-        body = data[pos + 8:pos + 8 + length]
-        if kind == b"IHDR":
-            header = struct.unpack(">IIBBBBB", body)
-        elif kind == b"IDAT":
-            idat += body
-        elif kind == b"IEND":
-            break
-        pos += 12 + length
-    width, height, depth, colour_type, _, _, interlace = header
-    assert depth == 8 and colour_type in (2, 6) and interlace == 0, header
-    bpp = 3 if colour_type == 2 else 4
-    stride = width * bpp
-    raw = zlib.decompress(idat)
-    out = np.zeros((height, stride), np.int64)
-    prev = np.zeros(stride, np.int64)
-    for y in range(height):
-        kind = raw[y * (stride + 1)]
-        line = np.frombuffer(raw, np.uint8, stride, y * (stride + 1) + 1).astype(np.int64)
-        if kind == 0:
-            cur = line
-        elif kind == 2:
-            cur = (line + prev) & 0xFF
-        else:
-            cur = line.tolist()
-            up = prev.tolist()
-            for x in range(stride):
-                a = cur[x - bpp] if x >= bpp else 0
-                b = up[x]
-                if kind == 1:
-                    cur[x] = (cur[x] + a) & 0xFF
-                elif kind == 3:
-                    cur[x] = (cur[x] + (a + b) // 2) & 0xFF
-                else:
-                    c = up[x - bpp] if x >= bpp else 0
-                    p = a + b - c
-                    pa, pb, pc = abs(p - a), abs(p - b), abs(p - c)
-                    cur[x] = (cur[x] + (a if pa <= pb and pa <= pc else (b if pb <= pc else c))) & 0xFF
-            cur = np.array(cur, np.int64)
-        out[y] = cur
-        prev = cur
-    return out.astype(np.uint8).reshape(height, width, bpp)[:, :, :3]
 
 
 class WebViewTest(ServerTestCase):
