@@ -6,31 +6,14 @@
 
 #include <fmt/format.h>
 
+#include "vscan/common/json_quote.h"
+
 namespace vscan::web {
 namespace {
 
 static_assert(std::endian::native == std::endian::little, "the mesh layout is written as the host stores it");
 
-void AppendString(std::string& out, const std::string& text) {
-  out += '"';
-  for (const unsigned char c : text) {
-    switch (c) {
-      case '"': out += "\\\""; break;
-      case '\\': out += "\\\\"; break;
-      case '\n': out += "\\n"; break;
-      case '\r': out += "\\r"; break;
-      case '\t': out += "\\t"; break;
-      default:
-        // '<' too, so that no name can close a script element if the JSON is ever inlined in a page.
-        if (c < 0x20 || c == '<') {
-          out += fmt::format("\\u{:04x}", c);
-        } else {
-          out += static_cast<char>(c);
-        }
-    }
-  }
-  out += '"';
-}
+void AppendString(std::string& out, const std::string& text) { out += JsonQuote(text); }
 
 void AppendNumber(std::string& out, double value) {
   out += std::isfinite(value) ? fmt::format("{}", value) : "null";

@@ -7,6 +7,7 @@
 
 #include <google/protobuf/message.h>
 
+#include "vscan/common/json_quote.h"
 #include "vscan/client/client.h"
 #include "vscan/common/status.h"
 
@@ -71,7 +72,5 @@ class Context {
 
 // Canonical proto3 JSON (lowerCamelCase names, zero values included) on one line.
 std::string ToJson(const google::protobuf::Message& message);
-// A JSON string literal.
-std::string JsonQuote(const std::string& text);
 
 }  // namespace vscan::cli
