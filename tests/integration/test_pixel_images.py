@@ -12,7 +12,7 @@ import numpy as np
 import open3d as o3d
 
 from harness import VSCAN, Server
-from test_returned_light import BLACK, EYE, TARGET, WHITE, quad_ply, square_ply
+from test_returned_light import EYE, TARGET, add_squares, quad_ply
 from vscan import Client
 from vscan.v1 import scan_pb2
 
@@ -26,16 +26,12 @@ class PixelImagesTest(unittest.TestCase):
         cls.tmp = tempfile.TemporaryDirectory()
         cls.server = Server().start()
         cls.client = Client(cls.server.address)
-        paths = {name: os.path.join(cls.tmp.name, name + ".ply") for name in ("left", "right", "wall")}
-        square_ply(paths["left"], -0.2, 0.0)
-        square_ply(paths["right"], 0.0, 0.2)
+        wall = os.path.join(cls.tmp.name, "wall.ply")
         # Far behind the squares, beyond the 2 m far limit but within four times it.
-        quad_ply(paths["wall"], [(-3, 3, -2), (3, 3, -2), (3, 3, 4), (-3, 3, 4)])
+        quad_ply(wall, [(-3, 3, -2), (3, 3, -2), (3, 3, 4), (-3, 3, 4)])
         cls.scene = cls.client.create_scene("pixel-images").scene_id
-        white = cls.client.add_object(cls.scene, cls.client.upload_mesh(paths["right"], "m", material=WHITE).mesh_id)
-        black = cls.client.add_object(cls.scene, cls.client.upload_mesh(paths["left"], "m").mesh_id, material=BLACK)
-        cls.client.add_object(cls.scene, cls.client.upload_mesh(paths["wall"], "m").mesh_id)
-        cls.white_id, cls.black_id = white.instance_id, black.instance_id
+        cls.white_id, cls.black_id = add_squares(cls.client, cls.tmp.name, cls.scene)
+        cls.client.add_object(cls.scene, cls.client.upload_mesh(wall, "m").mesh_id)
 
     @classmethod
     def tearDownClass(cls):

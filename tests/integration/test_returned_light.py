@@ -39,19 +39,25 @@ def square_ply(path, x0, x1):
     quad_ply(path, [(x0, -0.1, 0), (x1, -0.1, 0), (x1, 0.1, 0), (x0, 0.1, 0)])
 
 
+def add_squares(client, directory, scene):
+    """The white square right of x = 0 (its mesh's material) and the black one left of it (its
+    object's): returns their instance ids (white, black)."""
+    left, right = os.path.join(directory, "left.ply"), os.path.join(directory, "right.ply")
+    square_ply(left, -0.2, 0.0)
+    square_ply(right, 0.0, 0.2)
+    white = client.add_object(scene, client.upload_mesh(right, "m", material=WHITE).mesh_id)
+    black = client.add_object(scene, client.upload_mesh(left, "m").mesh_id, material=BLACK)
+    return white.instance_id, black.instance_id
+
+
 class ReturnedLightTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.tmp = tempfile.TemporaryDirectory()
         cls.server = Server().start()
         cls.client = Client(cls.server.address)
-        left, right = os.path.join(cls.tmp.name, "left.ply"), os.path.join(cls.tmp.name, "right.ply")
-        square_ply(left, -0.2, 0.0)
-        square_ply(right, 0.0, 0.2)
         cls.scene = cls.client.create_scene("returned-light").scene_id
-        white = cls.client.add_object(cls.scene, cls.client.upload_mesh(right, "m", material=WHITE).mesh_id)
-        black = cls.client.add_object(cls.scene, cls.client.upload_mesh(left, "m").mesh_id, material=BLACK)
-        cls.white_id, cls.black_id = white.instance_id, black.instance_id
+        cls.white_id, cls.black_id = add_squares(cls.client, cls.tmp.name, cls.scene)
 
     @classmethod
     def tearDownClass(cls):
