@@ -91,8 +91,10 @@ StatusOr<std::unique_ptr<WebView>> WebView::Start(const WebViewOptions& options,
   server->api = std::make_unique<WebApi>(registry, options.api);
   InitCivetweb();
   // No document root: only what Serve answers is served.
-  const char* civet_options[] = {"listening_ports", options.address.c_str(), "num_threads", "4",
-                                 "request_timeout_ms", "30000", nullptr};
+  // A thread per connection: enough threads, and a short wait on each read or write, that clients
+  // which send half a request or stop reading hold a few threads for seconds, not the whole view.
+  const char* civet_options[] = {"listening_ports", options.address.c_str(), "num_threads", "32",
+                                 "request_timeout_ms", "5000", nullptr};
   mg_callbacks callbacks{};
   mg_init_data init{&callbacks, nullptr, civet_options};
   char error_text[256] = "";

@@ -96,6 +96,30 @@ class WebViewTest(ServerTestCase):
                 self.assertNotIn(self.scene.scene_id.encode(), body)
                 self.assertNotIn(b"VSMH", body)
 
+    def test_clients_that_stall_hold_neither_the_view_nor_the_grpc_server(self):
+        # Twelve connections that send half a request and then nothing, and one that asks for the
+        # mesh and never reads: a whole request beside them is still answered at once.
+        stalled = []
+        try:
+            for _ in range(12):
+                s = socket.create_connection(("127.0.0.1", self.web_port))
+                s.sendall(b"GET /api/scenes HTTP/1.1\r\nHost: x\r\n")
+                stalled.append(s)
+            reader = socket.create_connection(("127.0.0.1", self.web_port))
+            reader.setsockopt(socket.SOL_SOCKET, socket.SO_RCVBUF, 4096)
+            reader.sendall(f"GET /api/meshes/{self.mesh.mesh_id} HTTP/1.1\r\nHost: x\r\n"
+                           f"Authorization: Bearer {TOKEN}\r\n\r\n".encode())
+            stalled.append(reader)
+            status, _, body = self.get("/api/scenes")
+            self.assertEqual(status, 200)
+            self.assertIn(self.scene.scene_id.encode(), body)
+            scene = self.scenes.GetScene(scene_pb2.GetSceneRequest(scene_id=self.scene.scene_id),
+                                         metadata=[("authorization", f"Bearer {TOKEN}")], timeout=10).scene
+            self.assertEqual(scene.scene_id, self.scene.scene_id)
+        finally:
+            for s in stalled:
+                s.close()
+
     def test_scene_list_and_scene(self):
         status, content_type, body = self.get("/api/scenes")
         self.assertEqual((status, content_type), (200, "application/json"))
