@@ -103,7 +103,8 @@ int main(int argc, char** argv) {
   app.add_option("--web-listen", web.address,
                  "Serve the read-only web view at http://HOST:PORT/ (numeric IPv4 host; off when not given; "
                  "the --token-file token guards its data)");
-  app.add_option("--web-three-js", web.three_module_path, "three.js as an ES module, served to the web view's page")
+  app.add_option("--web-three-dir", web.three_dir,
+                 "Debian's libjs-three directory, whose three.js and orbit controls the web view's page loads")
       ->capture_default_str();
   app.add_option("--token-file", token_file, "Require 'authorization: Bearer <token>' with the token in this file");
   app.add_option("--tls-cert", options.tls_cert_file, "PEM certificate chain; enables TLS with --tls-key");
@@ -196,7 +197,10 @@ int main(int argc, char** argv) {
   std::unique_ptr<vscan::web::WebView> web_view;
   if (!web.address.empty()) {
     web.api.token = options.token;
-    auto view = vscan::web::WebView::Start(web, (*server)->scene_registry());
+    vscan::api::Server& served = **server;
+    const vscan::web::WebSources sources{&served.scene_registry(), &served.job_tracker(), &served.cloud_catalogue(),
+                                         &served.blobs(), &served.robots(), &served.dataset_directories()};
+    auto view = vscan::web::WebView::Start(web, sources);
     if (!view.ok()) {
       spdlog::error("cannot start: {}", view.status().ToString());
       return 1;

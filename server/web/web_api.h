@@ -1,22 +1,16 @@
 #pragma once
-// The web view's read-only API, apart from HTTP: a request's method, path and authorization
-// header in, a status, content type and body out. Reads the scene registry the gRPC services use.
+// The web view's read-only API, apart from HTTP: a request's method, path, query and authorization
+// header in, a reply out. Checks the token, then hands the request to the handler of its noun
+// (web_scenes.h, ...), each reading the stores the gRPC services use (web_sources.h).
 
 #include <cstdint>
 #include <string>
 #include <string_view>
 
-namespace vscan::scenes {
-class SceneRegistry;
-}
+#include "web/web_request.h"
+#include "web/web_sources.h"
 
 namespace vscan::web {
-
-struct WebReply {
-  int status = 200;
-  std::string content_type;
-  std::string body;
-};
 
 struct WebApiOptions {
   // Requests must send "Authorization: Bearer <token>" when set (the gRPC token).
@@ -29,17 +23,15 @@ struct WebApiOptions {
 
 class WebApi {
  public:
-  // The registry must outlive the API.
-  WebApi(scenes::SceneRegistry& registry, WebApiOptions options);
-  // path: the request path without its query string, starting with "/api/".
-  WebReply Handle(std::string_view method, std::string_view path, std::string_view authorization) const;
+  // The sources must outlive the API.
+  WebApi(WebSources sources, WebApiOptions options);
+  // path: the request path without its query string, starting with "/api/"; query: what followed
+  // '?', if anything.
+  WebReply Handle(std::string_view method, std::string_view path, std::string_view query,
+                  std::string_view authorization) const;
 
  private:
-  WebReply Scenes() const;
-  WebReply Scene(const std::string& scene_id) const;
-  WebReply Mesh(const std::string& mesh_id) const;
-
-  scenes::SceneRegistry& registry_;
+  WebSources sources_;
   WebApiOptions options_;
 };
 

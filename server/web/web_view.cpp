@@ -1,6 +1,7 @@
 #include "web/web_view.h"
 
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string_view>
 
@@ -11,11 +12,11 @@
 namespace vscan::web {
 namespace {
 
-void Send(mg_connection* connection, int status, std::string_view content_type, std::string_view body, bool head) {
+// The headers every answer carries; length < 0 sends none (a stream that ends when the connection does).
+void SendHeaders(mg_connection* connection, int status, std::string_view content_type, long long length) {
   mg_response_header_start(connection, status);
   mg_response_header_add(connection, "Content-Type", content_type.data(), static_cast<int>(content_type.size()));
-  const std::string length = std::to_string(body.size());
-  mg_response_header_add(connection, "Content-Length", length.c_str(), -1);
+  if (length >= 0) mg_response_header_add(connection, "Content-Length", std::to_string(length).c_str(), -1);
   mg_response_header_add(connection, "Cache-Control", "no-store", -1);
   mg_response_header_add(connection, "X-Content-Type-Options", "nosniff", -1);
   // The page may load nothing but vscand's own files and API, and may not be framed by another site.
@@ -24,8 +25,19 @@ void Send(mg_connection* connection, int status, std::string_view content_type, 
                          "frame-ancestors 'none'",
                          -1);
   mg_response_header_send(connection);
+}
+
+void Send(mg_connection* connection, int status, std::string_view content_type, std::string_view body, bool head) {
+  SendHeaders(connection, status, content_type, static_cast<long long>(body.size()));
   if (!head) mg_write(connection, body.data(), body.size());
 }
+
+// The files of libjs-three the page imports, by the path the page asks for. OrbitControls imports
+// "../../../build/three.module.js", which resolves to the first.
+constexpr std::pair<const char*, const char*> kThreeFiles[] = {
+    {"/three/build/three.module.js", "build/three.module.js"},
+    {"/three/examples/jsm/controls/OrbitControls.js", "examples/jsm/controls/OrbitControls.js"},
+};
 
 void InitCivetweb() {
   static const unsigned features = mg_init_library(0);
@@ -37,7 +49,7 @@ void InitCivetweb() {
 struct WebView::Server {
   mg_context* context = nullptr;
   std::unique_ptr<WebApi> api;
-  std::string three_module;
+  std::map<std::string, std::string, std::less<>> three_files;
 };
 
 namespace {
@@ -49,7 +61,15 @@ int Serve(mg_connection* connection, void* server_ptr) {
   const std::string_view path = request->local_uri ? request->local_uri : "";
   if (path.starts_with("/api/")) {
     const char* authorization = mg_get_header(connection, "Authorization");
-    const WebReply reply = server.api->Handle(method, path, authorization ? authorization : "");
+    const WebReply reply =
+        server.api->Handle(method, path, request->query_string ? request->query_string : "", authorization ? authorization : "");
+    if (reply.stream) {
+      SendHeaders(connection, reply.status, reply.content_type, -1);
+      reply.stream([connection](std::string_view bytes) {
+        return mg_write(connection, bytes.data(), bytes.size()) == static_cast<int>(bytes.size());
+      });
+      return reply.status;
+    }
     Send(connection, reply.status, reply.content_type, reply.body, false);
     return reply.status;
   }
@@ -58,8 +78,8 @@ int Serve(mg_connection* connection, void* server_ptr) {
     Send(connection, 405, "text/plain; charset=utf-8", "the web view is read-only: only GET is served\n", false);
     return 405;
   }
-  if (path == "/three.module.js") {
-    Send(connection, 200, "text/javascript; charset=utf-8", server.three_module, head);
+  if (const auto three = server.three_files.find(path); three != server.three_files.end()) {
+    Send(connection, 200, "text/javascript; charset=utf-8", three->second, head);
     return 200;
   }
   if (const WebAsset* asset = FindAsset(path == "/" ? "/index.html" : path)) {
@@ -76,19 +96,19 @@ WebView::WebView(std::unique_ptr<Server> server, int port) : server_(std::move(s
 
 WebView::~WebView() { Stop(); }
 
-StatusOr<std::unique_ptr<WebView>> WebView::Start(const WebViewOptions& options, scenes::SceneRegistry& registry) {
+StatusOr<std::unique_ptr<WebView>> WebView::Start(const WebViewOptions& options, const WebSources& sources) {
   auto server = std::make_unique<Server>();
-  {
-    std::ifstream in(options.three_module_path, std::ios::binary);
+  for (const auto& [served, file] : kThreeFiles) {
+    const std::string path = options.three_dir + "/" + file;
+    std::ifstream in(path, std::ios::binary);
     std::ostringstream text;
     text << in.rdbuf();
     if (!in || text.str().empty()) {
-      return Unavailable("--web-listen: cannot read three.js at '" + options.three_module_path +
-                         "' (Debian package libjs-three)");
+      return Unavailable("--web-three-dir: cannot read '" + path + "' (Debian package libjs-three)");
     }
-    server->three_module = text.str();
+    server->three_files.emplace(served, text.str());
   }
-  server->api = std::make_unique<WebApi>(registry, options.api);
+  server->api = std::make_unique<WebApi>(sources, options.api);
   InitCivetweb();
   // No document root: only what Serve answers is served.
   // A thread per connection: enough threads, and a short wait on each read or write, that clients

@@ -1,6 +1,6 @@
 #pragma once
-// Serves the read-only web view over plain HTTP (civetweb): the page at /, three.js at
-// /three.module.js, and the API under /api/ (web_api.h).
+// Serves the read-only web view over HTTP (civetweb): the page at /, three.js and its orbit
+// controls under /three/ (from Debian's libjs-three), and the API under /api/ (web_api.h).
 
 #include <memory>
 #include <string>
@@ -13,16 +13,16 @@ namespace vscan::web {
 struct WebViewOptions {
   // HOST:PORT with a numeric IPv4 host (port 0 picks a free one).
   std::string address;
-  // three.js as an ES module (Debian's libjs-three).
-  std::string three_module_path = "/usr/share/javascript/three/build/three.module.js";
+  // Debian's libjs-three: build/three.module.js and examples/jsm/controls/OrbitControls.js are served.
+  std::string three_dir = "/usr/share/javascript/three";
   WebApiOptions api;
 };
 
 class WebView {
  public:
-  // The registry must outlive the view. UNAVAILABLE when the address cannot be bound or three.js
+  // The sources must outlive the view. UNAVAILABLE when the address cannot be bound or three.js
   // cannot be read.
-  static StatusOr<std::unique_ptr<WebView>> Start(const WebViewOptions& options, scenes::SceneRegistry& registry);
+  static StatusOr<std::unique_ptr<WebView>> Start(const WebViewOptions& options, const WebSources& sources);
   ~WebView();
   WebView(const WebView&) = delete;
   WebView& operator=(const WebView&) = delete;

@@ -175,11 +175,11 @@ class WebViewTest(ServerTestCase):
             self.assertIn("default-src 'self'", response.headers["Content-Security-Policy"])
         status, content_type, body = self.get("/app.js", token=None)
         self.assertEqual((status, content_type), (200, "text/javascript; charset=utf-8"))
-        self.assertIn(b"./three.module.js", body)
-        status, _, body = self.get("/three.module.js", token=None)
-        self.assertEqual(status, 200)
-        with open("/usr/share/javascript/three/build/three.module.js", "rb") as f:
-            self.assertEqual(body, f.read())
+        for path in ("build/three.module.js", "examples/jsm/controls/OrbitControls.js"):
+            status, _, body = self.get("/three/" + path, token=None)
+            self.assertEqual(status, 200, path)
+            with open("/usr/share/javascript/three/" + path, "rb") as f:
+                self.assertEqual(body, f.read(), path)
 
     def test_cli_prints_the_page_address(self):
         run = subprocess.run([VSCAN, "--token", "a b/c", "view", self.scene.scene_id, "--web", self.web],
@@ -222,7 +222,7 @@ class WebViewTest(ServerTestCase):
         # Offline: everything the page loads comes from vscand (page, app.js, three.js, the API).
         origin = f"http://{self.web}/"
         self.assertEqual([r for r in seen["requests"] if not r.startswith(origin)], [])
-        self.assertIn(origin + "three.module.js", seen["requests"])
+        self.assertIn(origin + "three/build/three.module.js", seen["requests"])
         self.assertIn(f"{origin}api/meshes/{self.mesh.mesh_id}", seen["requests"])
         self.assertEqual(seen["errorText"], "")
         self.assertIn(self.object.object_id, seen["text"])  # the object table
@@ -308,9 +308,9 @@ class WebViewRefusalTest(unittest.TestCase):
                                   capture_output=True, text=True, timeout=60)
 
     def test_missing_three_js(self):
-        run = self.run_vscand("--web-listen", f"127.0.0.1:{free_port()}", "--web-three-js", "/nonexistent/three.js")
+        run = self.run_vscand("--web-listen", f"127.0.0.1:{free_port()}", "--web-three-dir", "/nonexistent")
         self.assertEqual(run.returncode, 1)
-        self.assertIn("cannot read three.js at '/nonexistent/three.js'", run.stdout + run.stderr)
+        self.assertIn("cannot read '/nonexistent/build/three.module.js'", run.stdout + run.stderr)
 
     def test_address_in_use(self):
         with socket.socket() as busy:

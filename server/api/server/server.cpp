@@ -223,6 +223,11 @@ Status WritePortFile(const std::string& path, int port) {
 }
 
 scenes::SceneRegistry& Server::scene_registry() { return *impl_->registry; }
+JobTracker& Server::job_tracker() { return *impl_->job_tracker; }
+store::CloudCatalogue& Server::cloud_catalogue() { return *impl_->cloud_catalogue; }
+store::BlobStore& Server::blobs() { return *impl_->blobs; }
+robot_registry::RobotRegistry& Server::robots() { return *impl_->robots; }
+service::DatasetDirectories& Server::dataset_directories() { return *impl_->dataset_directories; }
 
 StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& options) {
   auto impl = std::make_unique<Impl>();

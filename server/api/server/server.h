@@ -10,8 +10,20 @@
 namespace vscan::scenes {
 class SceneRegistry;
 }
+namespace vscan::store {
+class BlobStore;
+class CloudCatalogue;
+}
+namespace vscan::robot_registry {
+class RobotRegistry;
+}
+namespace vscan::service {
+class DatasetDirectories;
+}
 
 namespace vscan::api {
+
+class JobTracker;
 
 class Server {
  public:
@@ -19,8 +31,13 @@ class Server {
   // Opens the data directory and starts listening; the bound port is in port().
   static StatusOr<std::unique_ptr<Server>> Start(const service::ServerOptions& options);
   int port() const;
-  // The scenes and meshes the services read (for the web view, which reads them too).
+  // What the services read, for the web view, which reads them too.
   scenes::SceneRegistry& scene_registry();
+  JobTracker& job_tracker();
+  store::CloudCatalogue& cloud_catalogue();
+  store::BlobStore& blobs();
+  robot_registry::RobotRegistry& robots();
+  service::DatasetDirectories& dataset_directories();
   // Stops accepting calls, cancels running ones after grace_seconds, and waits for them.
   void Shutdown(double grace_seconds);
 

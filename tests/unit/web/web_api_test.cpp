@@ -47,7 +47,7 @@ class WebApiTest : public ::testing::Test {
   }
 
   WebApi Api(uint64_t max_triangles = 1000) {
-    return WebApi(*registry_, WebApiOptions{.token = "s3cret", .max_mesh_triangles = max_triangles});
+    return WebApi(WebSources{.scenes = registry_.get()}, WebApiOptions{.token = "s3cret", .max_mesh_triangles = max_triangles});
   }
 
   test::TempDir dir_;
@@ -61,23 +61,23 @@ TEST_F(WebApiTest, OnlyTheBearerTokenGetsData) {
   const WebApi api = Api();
   for (const char* header : {"", "s3cret", "Bearer", "Bearer ", "Bearer s3cre", "Bearer s3cretx", "Basic s3cret",
                              "Bearer  s3cret"}) {
-    const WebReply reply = api.Handle("GET", "/api/scenes", header);
+    const WebReply reply = api.Handle("GET", "/api/scenes", "", header);
     EXPECT_EQ(reply.status, 401) << header;
     EXPECT_EQ(reply.body.find(scene_id_), std::string::npos) << header;
   }
   // The scheme is case-insensitive (RFC 9110); the token is not.
-  EXPECT_EQ(api.Handle("GET", "/api/scenes", "Bearer s3cret").status, 200);
-  EXPECT_EQ(api.Handle("GET", "/api/scenes", "bearer s3cret").status, 200);
-  EXPECT_EQ(api.Handle("GET", "/api/scenes", "Bearer S3CRET").status, 401);
+  EXPECT_EQ(api.Handle("GET", "/api/scenes", "", "Bearer s3cret").status, 200);
+  EXPECT_EQ(api.Handle("GET", "/api/scenes", "", "bearer s3cret").status, 200);
+  EXPECT_EQ(api.Handle("GET", "/api/scenes", "", "Bearer S3CRET").status, 401);
   // A server without a token serves anyone.
-  const WebApi open(*registry_, WebApiOptions{});
-  EXPECT_EQ(open.Handle("GET", "/api/scenes", "").status, 200);
+  const WebApi open(WebSources{.scenes = registry_.get()}, WebApiOptions{});
+  EXPECT_EQ(open.Handle("GET", "/api/scenes", "", "").status, 200);
 }
 
 TEST_F(WebApiTest, OnlyGetIsServed) {
   const WebApi api = Api();
   for (const char* method : {"POST", "PUT", "DELETE", "PATCH", "HEAD"}) {
-    EXPECT_EQ(api.Handle(method, "/api/scenes", "Bearer s3cret").status, 405) << method;
+    EXPECT_EQ(api.Handle(method, "/api/scenes", "", "Bearer s3cret").status, 405) << method;
   }
 }
 
@@ -85,12 +85,12 @@ TEST_F(WebApiTest, UnknownIdsAndPathsAreNotFound) {
   const WebApi api = Api();
   for (const std::string path : {"/api/scenes/scn_0000000000000000", "/api/meshes/msh_0000000000000000",
                                  "/api/scenes/../meshes", "/api/scenes/a/b", "/api/meshes/", "/api/other"}) {
-    EXPECT_EQ(api.Handle("GET", path, "Bearer s3cret").status, 404) << path;
+    EXPECT_EQ(api.Handle("GET", path, "", "Bearer s3cret").status, 404) << path;
   }
 }
 
 TEST_F(WebApiTest, SceneJsonHoldsTheObjectPoseAndEffectiveMaterial) {
-  const WebReply reply = Api().Handle("GET", "/api/scenes/" + scene_id_, "Bearer s3cret");
+  const WebReply reply = Api().Handle("GET", "/api/scenes/" + scene_id_, "", "Bearer s3cret");
   ASSERT_EQ(reply.status, 200) << reply.body;
   EXPECT_EQ(reply.content_type, "application/json");
   // The name escaped for JSON (and '<' so that it cannot close a script element).
@@ -103,7 +103,7 @@ TEST_F(WebApiTest, SceneJsonHoldsTheObjectPoseAndEffectiveMaterial) {
   const sensor::MaterialPreset& fallback = sensor::MaterialPresets().front();
   EXPECT_NE(reply.body.find("\"material\":{\"preset\":\"" + fallback.name + "\""), std::string::npos) << reply.body;
 
-  const WebReply list = Api().Handle("GET", "/api/scenes", "Bearer s3cret");
+  const WebReply list = Api().Handle("GET", "/api/scenes", "", "Bearer s3cret");
   ASSERT_EQ(list.status, 200);
   EXPECT_NE(list.body.find("\"scene_id\":\"" + scene_id_ + "\""), std::string::npos);
   EXPECT_NE(list.body.find("\"object_count\":1"), std::string::npos);
@@ -120,7 +120,7 @@ TEST_F(WebApiTest, ObjectsOnTheTableTurnWithIt) {
   object.pose(0, 3) = 1.5;
   object.on_table = true;
   ASSERT_TRUE(catalogue_->AddObject(object).ok());
-  const WebReply reply = Api().Handle("GET", "/api/scenes/" + scene_id_, "Bearer s3cret");
+  const WebReply reply = Api().Handle("GET", "/api/scenes/" + scene_id_, "", "Bearer s3cret");
   ASSERT_EQ(reply.status, 200);
   // The first object stays put; the second turned a quarter (cos 90 degrees prints as 6.1e-17).
   EXPECT_NE(reply.body.find(R"("world_from_object":[[1,0,0,1.5],[0,1,0,0],[0,0,1,0],[0,0,0,1]])"),
@@ -134,7 +134,7 @@ TEST_F(WebApiTest, ObjectsOnTheTableTurnWithIt) {
 }
 
 TEST_F(WebApiTest, MeshBytesFollowTheLayout) {
-  const WebReply reply = Api().Handle("GET", "/api/meshes/" + mesh_id_, "Bearer s3cret");
+  const WebReply reply = Api().Handle("GET", "/api/meshes/" + mesh_id_, "", "Bearer s3cret");
   ASSERT_EQ(reply.status, 200) << reply.body;
   ASSERT_EQ(reply.body.size(), 16u + 3 * 12 + 1 * 12);
   EXPECT_EQ(reply.body.substr(0, 4), "VSMH");
@@ -158,10 +158,40 @@ TEST_F(WebApiTest, MeshBytesFollowTheLayout) {
 }
 
 TEST_F(WebApiTest, MeshesAboveTheBoundAreRefused) {
-  const WebReply reply = Api(0).Handle("GET", "/api/meshes/" + mesh_id_, "Bearer s3cret");
+  const WebReply reply = Api(0).Handle("GET", "/api/meshes/" + mesh_id_, "", "Bearer s3cret");
   EXPECT_EQ(reply.status, 422);
   EXPECT_NE(reply.body.find("1 triangles"), std::string::npos) << reply.body;
   EXPECT_NE(reply.body.find("at most 0"), std::string::npos) << reply.body;
+}
+
+}  // namespace
+}  // namespace vscan::web
+
+namespace vscan::web {
+namespace {
+
+TEST(WebRequestTest, QueryValuesAreDecoded) {
+  const WebRequest request{"GET", {"clouds"}, "max_points=1000&name=a%20b+c&flag&bad=%zz"};
+  EXPECT_EQ(request.Query("max_points"), "1000");
+  EXPECT_EQ(request.Query("name"), "a b c");
+  EXPECT_EQ(request.Query("flag"), "");
+  EXPECT_EQ(request.Query("bad"), "%zz");
+  EXPECT_EQ(request.Query("missing"), std::nullopt);
+}
+
+TEST(WebRequestTest, QueryIntegersAreBoundedAndNamed) {
+  const auto value = [](std::string_view query) {
+    return QueryInteger(WebRequest{"GET", {"clouds"}, query}, "max_points", 7, 1, 1000);
+  };
+  EXPECT_EQ(*value(""), 7);
+  EXPECT_EQ(*value("max_points=1000"), 1000);
+  for (const char* bad : {"max_points=0", "max_points=1001", "max_points=1e3", "max_points=", "max_points=-1",
+                          "max_points=99999999999999999999", "max_points=12x"}) {
+    const auto refused = value(bad);
+    ASSERT_FALSE(refused.ok()) << bad;
+    EXPECT_EQ(refused.status().code(), StatusCode::kInvalidArgument) << bad;
+    EXPECT_NE(refused.status().message().find("max_points"), std::string::npos) << bad;
+  }
 }
 
 }  // namespace

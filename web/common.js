@@ -1,0 +1,141 @@
+// What every view of the page shares: the API with the token, three.js set up for vscan's z-up
+// scenes with orbit controls, the mesh layout, the instance palette and the picked-item panel.
+import * as THREE from './three/build/three.module.js';
+import { OrbitControls } from './three/examples/jsm/controls/OrbitControls.js';
+
+export { THREE };
+export const BACKGROUND = 0x202020;
+// Colours by instance id (what the page draws and what the tests look for).
+export const PALETTE = [0xe6194b, 0x3cb44b, 0x4363d8, 0xf58231, 0x911eb4, 0x42d4f4, 0xf032e6, 0xbfef45, 0xfabed4,
+  0x469990];
+
+const token = new URLSearchParams(location.hash.slice(1)).get('token') || '';
+
+export function authHeaders() {
+  return token ? { Authorization: `Bearer ${token}` } : {};
+}
+
+export async function get(path, as) {
+  const response = await fetch(path, { headers: authHeaders() });
+  if (!response.ok) throw new Error(`${path}: HTTP ${response.status}: ${(await response.text()).trim()}`);
+  return as === 'binary' ? response.arrayBuffer() : response.json();
+}
+
+export function showError(message) {
+  document.getElementById('error').textContent = message;
+  console.error(message);
+}
+
+export function setTitle(text) {
+  document.getElementById('title').textContent = text;
+}
+
+export function instanceColour(instanceId) {
+  return new THREE.Color(PALETTE[instanceId % PALETTE.length]);
+}
+
+// The API's mesh layout: "VSMH", version, vertex count, triangle count (uint32 LE), then float32
+// xyz per vertex and uint32 abc per triangle.
+export function parseMesh(buffer) {
+  const header = new DataView(buffer, 0, 16);
+  const magic = String.fromCharCode(...new Uint8Array(buffer, 0, 4));
+  if (magic !== 'VSMH' || header.getUint32(4, true) !== 1) throw new Error('mesh: unknown layout');
+  const vertices = header.getUint32(8, true);
+  const triangles = header.getUint32(12, true);
+  const geometry = new THREE.BufferGeometry();
+  geometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(buffer, 16, vertices * 3), 3));
+  geometry.setIndex(new THREE.BufferAttribute(new Uint32Array(buffer, 16 + vertices * 12, triangles * 3), 1));
+  geometry.computeVertexNormals();
+  return geometry;
+}
+
+// A row-major 4x4 from the API (4 rows of 4) as a three.js matrix.
+export function matrixFromRows(rows) {
+  return new THREE.Matrix4().set(...rows[0], ...rows[1], ...rows[2], ...rows[3]);
+}
+
+// Fills #picked with name/value rows (null: "nothing picked").
+export function showPickedRows(rows) {
+  const panel = document.getElementById('picked');
+  panel.textContent = '';
+  if (!rows) {
+    panel.textContent = 'nothing picked';
+    return;
+  }
+  for (const [name, value] of rows) {
+    const line = document.createElement('div');
+    const key = document.createElement('b');
+    key.textContent = `${name}: `;
+    line.append(key, String(value));
+    panel.appendChild(line);
+  }
+}
+
+// A three.js view in #view: a z-up camera that frames what it is given, orbit controls (drag to turn,
+// wheel to zoom, right-drag to pan), a headlight that follows the camera, and drawing on demand.
+export class Viewer {
+  constructor() {
+    this.container = document.getElementById('view');
+    this.width = this.container.clientWidth;
+    this.height = this.container.clientHeight;
+    this.world = new THREE.Scene();
+    this.world.background = new THREE.Color(BACKGROUND);
+    this.camera = new THREE.PerspectiveCamera(45, this.width / this.height, 0.001, 1000);
+    this.camera.up.set(0, 0, 1);  // vscan scenes are z-up
+    this.world.add(new THREE.AmbientLight(0xffffff, 0.35));
+    this.headlight = new THREE.DirectionalLight(0xffffff, 0.65);
+    this.world.add(this.headlight, this.headlight.target);
+    this.renderer = new THREE.WebGLRenderer({ antialias: false, preserveDrawingBuffer: true });
+    this.renderer.setPixelRatio(1);
+    this.renderer.setSize(this.width, this.height);
+    this.container.appendChild(this.renderer.domElement);
+    this.controls = new OrbitControls(this.camera, this.renderer.domElement);
+    this.controls.addEventListener('change', () => this.render());
+    this.frames = 0;
+  }
+
+  // Points the camera at bounds (a THREE.Box3) from the front-right, above, at a distance that fits it.
+  frame(bounds) {
+    const centre = bounds.isEmpty() ? new THREE.Vector3() : bounds.getCenter(new THREE.Vector3());
+    const radius = bounds.isEmpty() ? 1 : Math.max(bounds.getSize(new THREE.Vector3()).length() / 2, 1e-3);
+    const distance = radius / Math.sin(this.camera.fov / 2 * Math.PI / 180) * 1.1;
+    this.camera.position.copy(centre).add(new THREE.Vector3(1, -1.5, 1).normalize().multiplyScalar(distance));
+    this.camera.near = distance / 100;
+    this.camera.far = distance * 10;
+    this.camera.lookAt(centre);
+    this.camera.updateProjectionMatrix();
+    this.controls.target.copy(centre);
+    this.controls.update();
+  }
+
+  render() {
+    this.headlight.position.copy(this.camera.position);
+    this.headlight.target.position.copy(this.controls.target);
+    this.world.updateMatrixWorld(true);
+    this.camera.updateMatrixWorld(true);
+    this.renderer.render(this.world, this.camera);
+    this.frames += 1;
+  }
+
+  // Calls handler with a Raycaster through the clicked pixel. A drag (the controls turning the view)
+  // is not a click.
+  onClick(handler) {
+    const raycaster = new THREE.Raycaster();
+    let down = null;
+    this.renderer.domElement.addEventListener('pointerdown', (event) => { down = [event.clientX, event.clientY]; });
+    this.renderer.domElement.addEventListener('click', (event) => {
+      if (down && Math.hypot(event.clientX - down[0], event.clientY - down[1]) > 4) return;
+      const rect = this.renderer.domElement.getBoundingClientRect();
+      const pointer = new THREE.Vector2((event.clientX - rect.left) / rect.width * 2 - 1,
+        -((event.clientY - rect.top) / rect.height) * 2 + 1);
+      raycaster.setFromCamera(pointer, this.camera);
+      handler(raycaster);
+    });
+  }
+
+  // Where a world point lands in the page, in CSS pixels.
+  pixelOf(point) {
+    const p = point.clone().project(this.camera);
+    return [Math.round((p.x + 1) / 2 * this.width), Math.round((1 - p.y) / 2 * this.height)];
+  }
+}
