@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "web/web_datasets.h"
 #include "web/web_scenes.h"
 
 namespace vscan::web {
@@ -55,6 +56,7 @@ WebReply WebApi::Handle(std::string_view method, std::string_view path, std::str
   const WebRequest request{method, Split(path.substr(kApi.size())), query};
   const std::string_view noun = request.segments[0];
   if (noun == "scenes" || noun == "meshes") return ServeScenes(sources_, options_, request);
+  if (noun == "datasets") return ServeDatasets(sources_, options_, request);
   return TextReply(404, fmt::format("no such resource: {}", path));
 }
 
