@@ -4,6 +4,7 @@ one view drawn by the page in headless chromium, compared with the dataset's own
 import http.client
 import json
 import os
+import re
 import shutil
 import socket
 import subprocess
@@ -31,6 +32,14 @@ def free_port():
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         return s.getsockname()[1]
+
+
+def palette():
+    """The page's instance colours, read from web/common.js (PALETTE)."""
+    with open(os.path.join(SOURCE_DIR, "web", "common.js")) as f:
+        text = f.read()
+    numbers = re.search(r"PALETTE = \[([^\]]*)\]", text).group(1)
+    return [[(v >> 16) & 255, (v >> 8) & 255, v & 255] for v in (int(n, 16) for n in re.findall(r"0x[0-9a-f]+", numbers))]
 
 
 def box_obj(half):
@@ -245,6 +254,7 @@ class WebDatasetsTest(unittest.TestCase):
 
         steps = [
             {"url": self.url(view_query + "&overlays=grey"), "screenshot": self.shot("grey.png")},
+            {"url": self.url(view_query + "&overlays=depth"), "screenshot": self.shot("depth.png")},
             {"url": self.url(view_query + "&overlays=boxes"), "screenshot": self.shot("boxes.png")},
             {"url": self.url(view_query), "screenshot": self.shot("all.png"),
              "clicks": [at(empty_u, empty_v), at(click_u, click_v)], "after_clicks_screenshot": self.shot("picked.png"),
@@ -253,8 +263,8 @@ class WebDatasetsTest(unittest.TestCase):
             {"url": self.url("")},
             {"url": self.url(f"dataset={self.job_id}")},
         ]
-        grey_page, boxes_page, full_page, wrong_page, index_page, dataset_page = self.browse(steps)
-        for page in (masks_page, grey_page, boxes_page, full_page, index_page, dataset_page):
+        grey_page, depth_page, boxes_page, full_page, wrong_page, index_page, dataset_page = self.browse(steps)
+        for page in (masks_page, grey_page, depth_page, boxes_page, full_page, index_page, dataset_page):
             self.assertEqual(page["consoleErrors"], [])
             self.assertEqual(page["errorText"], "")
             origin_prefix = f"http://{self.web}/"
@@ -268,8 +278,12 @@ class WebDatasetsTest(unittest.TestCase):
         alpha = view["maskAlpha"]
         drawn = view["objects"]
         self.assertEqual(len(drawn), len(masks))
+        colours = palette()
+        self.assertEqual(len(colours), 10)
         for i, mask in enumerate(masks):
             visible = mask > 0
+            # The instance palette of the scene view, by the part's instance id.
+            self.assertEqual(drawn[i]["colour"], colours[self.gt["0"][i]["instance_id"] % len(colours)])
             self.assertEqual(drawn[i]["obj_id"], self.gt["0"][i]["obj_id"])
             self.assertEqual(drawn[i]["mask_pixels"], int(visible.sum()))
             self.assertEqual(drawn[i]["mask_pixels"], self.gt_info["0"][i]["px_count_visib"])
@@ -282,11 +296,26 @@ class WebDatasetsTest(unittest.TestCase):
 
         # Grey alone: the grey image, scaled so that greyWhite is white.
         image = read_png(self.shot("grey.png"))
+        # White is the 99.5th percentile of the lit pixels.
+        lit = np.sort(grey[grey > 0])
         white = grey_page["view"]["greyWhite"]
+        self.assertEqual(white, lit[int(np.ceil(len(lit) * 0.995)) - 1])
         expected = np.minimum(255, np.floor(grey * 255 / white + 0.5))
         self.assertGreater(expected.max(), 200)
         shown = np.array([[self.pixel(grey_page, image, u, v)[0] for u in range(WIDTH)] for v in range(HEIGHT)])
         self.assertLessEqual(np.abs(shown - expected).max(), 1)
+
+        # Depth alone: measured pixels in false colour from blue (near) to red (far), the rest black.
+        image = read_png(self.shot("depth.png"))
+        measured = depth > 0
+        self.assertEqual(depth_page["view"]["depth"], {"near": int(depth[measured].min()), "far": int(depth[measured].max())})
+        shown = np.array([[self.pixel(depth_page, image, u, v) for u in range(WIDTH)] for v in range(HEIGHT)])
+        self.assertTrue((shown[~measured] == 0).all())
+        self.assertTrue((shown[measured].max(axis=1) > 0).all())
+        near_v, near_u = np.unravel_index(np.argmin(np.where(measured, depth, 1 << 20)), depth.shape)
+        far_v, far_u = np.unravel_index(np.argmax(depth), depth.shape)
+        self.assertGreater(shown[near_v, near_u][2], shown[near_v, near_u][0])
+        self.assertGreater(shown[far_v, far_u][0], shown[far_v, far_u][2])
 
         # Boxes alone: bbox_visib's pixels framed, in the object's colour.
         image = read_png(self.shot("boxes.png"))
