@@ -10,6 +10,7 @@ import socket
 import subprocess
 import sys
 import tempfile
+import time
 import unittest
 import urllib.error
 import urllib.request
@@ -148,6 +149,38 @@ class WebDatasetsTest(unittest.TestCase):
         self.assertEqual(self.get(f"/api/datasets/{self.job_id}/scenes/000000/views/2")[0], 404)
         self.assertEqual(self.get(f"/api/datasets/{self.job_id}/scenes/000001/views/0")[0], 404)
         self.assertEqual(self.get(f"/api/datasets/{self.job_id}/scenes/x/views/0")[0], 400)
+
+    def test_a_running_job_shows_its_complete_scenes_only(self):
+        plan = os.path.join(self.tmp.name, "running.yaml")
+        with open(os.path.join(self.tmp.name, "plan.yaml")) as f:
+            text = f.read().replace("seeds: [7]", "seeds: [1, 2, 3, 4]").replace("name: web-boxes", "name: running")
+        with open(plan, "w") as f:
+            f.write(text)
+        run = subprocess.run([VSCAN, "--server", self.server.address, "--token", TOKEN, "dataset", "run", plan],
+                             capture_output=True, text=True, timeout=60)
+        self.assertEqual(run.returncode, 0, run.stderr)
+        job_id = (run.stdout + run.stderr).split("started dataset job ")[1].split()[0]
+        root = os.path.join(self.tmp.name, "store", "datasets", job_id)
+        seen = []
+        deadline = time.time() + 120
+        while time.time() < deadline:
+            dataset = self.get_json(f"/api/datasets/{job_id}")
+            scenes = dataset["splits"][0]["scenes"] if dataset["splits"] else []
+            seen.append((dataset["state"], len(scenes)))
+            # Each listed scene is whole: its record written last is there, and its views answer.
+            for scene in scenes:
+                self.assertTrue(os.path.exists(os.path.join(root, "train_pbr", scene["scene_id"], "scene_files.json")))
+                self.assertEqual(scene["views"], [0, 1])
+                got = self.get_json(f"/api/datasets/{job_id}/scenes/{scene['scene_id']}/views/1")
+                status, _, _ = self.get(f"/api/datasets/{job_id}/files/{got['images']['instances']}")
+                self.assertEqual(status, 200)
+            self.assertEqual(dataset["scenes_complete"], len(scenes))
+            if dataset["state"] not in ("QUEUED", "RUNNING"):
+                break
+            time.sleep(0.05)
+        self.assertEqual(seen[-1], ("SUCCEEDED", 4))
+        # It was seen running with some scenes and not others.
+        self.assertTrue(any(state == "RUNNING" and 0 < n < 4 for state, n in seen), seen)
 
     def test_wrong_token_gets_nothing(self):
         files = f"/api/datasets/{self.job_id}/files/"
