@@ -4,6 +4,7 @@
 // window.vscanError), which is what the browser tests wait for.
 import { get, setTitle, showError } from './common.js';
 import { showScene } from './scene_view.js';
+import { listDatasets, showDataset } from './dataset_view.js';
 
 function link(query, text) {
   const item = document.createElement('li');
@@ -28,13 +29,15 @@ async function listScenes() {
 // Each view by the query parameter that names what it shows.
 const VIEWS = {
   scene: showScene,
+  dataset: showDataset,
 };
 
 async function main() {
   try {
     const query = new URLSearchParams(location.search);
-    const name = Object.keys(VIEWS).find((key) => query.has(key));
-    if (name) await VIEWS[name](query.get(name), query); else await listScenes();
+    // The query's first key that names a view: ?dataset=ID&scene=... is the dataset's view.
+    const name = [...query.keys()].find((key) => Object.hasOwn(VIEWS, key));
+    if (name) await VIEWS[name](query.get(name), query); else { await listScenes(); await listDatasets(); }
   } catch (error) {
     showError(error.message);
     window.vscanError = error.message;

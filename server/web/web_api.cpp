@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "web/web_datasets.h"
 #include "web/web_robots.h"
 #include "web/web_scenes.h"
 
@@ -57,6 +58,7 @@ WebReply WebApi::Handle(std::string_view method, std::string_view path, std::str
   const std::string_view noun = request.segments[0];
   if (noun == "scenes" || noun == "meshes") return ServeScenes(sources_, options_, request);
   if (noun == "mounts") return ServeMounts(sources_, request);
+  if (noun == "datasets") return ServeDatasets(sources_, options_, request);
   return TextReply(404, fmt::format("no such resource: {}", path));
 }
 
