@@ -2,6 +2,7 @@
 
 import json
 import os
+import shutil
 import ssl
 import stat
 import subprocess
@@ -12,7 +13,7 @@ import urllib.request
 
 import numpy as np
 
-from harness import SOURCE_DIR, VSCAN, Server, ServerTestCase, read_png
+from harness import SOURCE_DIR, VSCAN, Server, ServerTestCase, common_pb2, icosphere_ply, read_png
 from test_campaign_service import CampaignFixture, spec
 from test_robot_links import Q, upload_ur5_with_boxes
 from test_robots import matrix, to_pose, transform
@@ -48,6 +49,20 @@ class WebRobotTest(ServerTestCase):
         cls.mount_id = cls.robots.MountRobot(robot_pb2.MountRobotRequest(
             scene_id=cls.scene.scene_id, robot_id=cls.ur5.robot_id, base_pose=to_pose(cls.base)),
             metadata=auth, timeout=10).mount_id
+        # A ball on a rotary table in front of the arm.
+        data = icosphere_ply(0.08, (0, 0, 0), 3)
+
+        def requests():
+            yield scene_pb2.UploadMeshRequest(header=scene_pb2.MeshHeader(
+                name="ball.ply", unit=common_pb2.LENGTH_UNIT_METRE, size_bytes=len(data)))
+            yield scene_pb2.UploadMeshRequest(chunk=data)
+        mesh = cls.scenes.UploadMesh(requests(), metadata=auth, timeout=60).mesh
+        cls.scenes.SetRotaryTable(scene_pb2.SetRotaryTableRequest(scene_id=cls.scene.scene_id, table=scene_pb2.RotaryTable(
+            enabled=True, centre=common_pb2.Vector3(x=0.3, y=0.45), axis=common_pb2.Vector3(z=1), angle_deg=30)),
+            metadata=auth)
+        cls.scenes.AddObject(scene_pb2.AddObjectRequest(
+            scene_id=cls.scene.scene_id, mesh_id=mesh.mesh_id, label="ball", on_table=True,
+            pose=to_pose(transform(translation=(0.3, 0.45, 0.08)))), metadata=auth)
 
     @classmethod
     def tearDownClass(cls):
@@ -74,7 +89,7 @@ class WebRobotTest(ServerTestCase):
         self.assertEqual(status, 200, body)
         scene = json.loads(body)
         self.assertEqual(scene["mounts"], [{"mount_id": self.mount_id, "robot_id": self.ur5.robot_id}])
-        self.assertEqual(scene["table"]["enabled"], False)
+        self.assertEqual(scene["table"], {"enabled": True, "angle_deg": 30, "centre": [0.3, 0.45, 0], "axis": [0, 0, 1]})
 
     def test_sensor_and_links_stand_where_forward_kinematics_puts_them(self):
         for q in (None, Q):
@@ -124,7 +139,7 @@ class WebRobotTest(ServerTestCase):
             self.skipTest("chromium or puppeteer-core is missing (scripts/install-deps.sh)")
         url = f"http://{self.web}/?scene={self.scene.scene_id}#token={TOKEN}"
         shot = os.path.join(self.tmp.name, "robot.png")
-        run = subprocess.run(["node", PAGE_SCRIPT, PUPPETEER, CHROMIUM, url, shot, "320x240"],
+        run = subprocess.run(["node", PAGE_SCRIPT, PUPPETEER, CHROMIUM, url, shot, "640x480"],
                              capture_output=True, text=True, timeout=240)
         self.assertEqual(run.returncode, 0, run.stdout + run.stderr)
         seen = json.loads(run.stdout.strip().splitlines()[-1])
@@ -132,13 +147,16 @@ class WebRobotTest(ServerTestCase):
         self.assertEqual(seen["errorText"], "")
         [robot] = seen["view"]["robots"]
         self.assertEqual(robot["mount_id"], self.mount_id)
+        # Set VSCAN_WEB_SCREENSHOT to keep the picture (docs/images/web_robot.png is made so).
+        if os.environ.get("VSCAN_WEB_SCREENSHOT"):
+            shutil.copyfile(shot, os.environ["VSCAN_WEB_SCREENSHOT"])
         with open(shot, "rb") as f:
             image = read_png(f.read()).astype(int)
         # The arm fills the framed view: grey link pixels (equal channels), well off the background.
         grey = (np.abs(image - BACKGROUND).max(axis=2) > 40) & (np.ptp(image, axis=2) < 12)
         self.assertGreater(grey.mean(), 0.02)
         for x, y in robot["link_pixels"]:
-            if 2 <= x < 318 and 2 <= y < 238:
+            if 2 <= x < 638 and 2 <= y < 478:
                 self.assertTrue(grey[y - 2:y + 3, x - 2:x + 3].any(), (x, y))
 
 
