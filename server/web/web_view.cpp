@@ -133,6 +133,8 @@ StatusOr<std::unique_ptr<WebView>> WebView::Start(const WebViewOptions& options,
 
 void WebView::Stop() {
   if (server_ && server_->context) {
+    // Event streams follow jobs that may run for hours: end them so that mg_stop need not wait.
+    server_->api->StopStreams();
     mg_stop(server_->context);
     server_->context = nullptr;
   }
