@@ -170,7 +170,8 @@ export async function showCloud(id, query) {
   const bounds = points.geometry.boundingBox.clone().applyMatrix4(points.matrixWorld);
   viewer.frame(bounds);
   viewer.render();
-  window.vscanFirstFrame = performance.now();
+  // When the next frame starts, the first one is drawn (the cloud benchmark reads this).
+  requestAnimationFrame(() => { window.vscanFirstFrame = performance.now(); });
 
   const raycaster = { threshold: pickThreshold(viewer, bounds) };
   window.vscanPickCount = 0;

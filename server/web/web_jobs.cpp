@@ -7,6 +7,7 @@
 #include <google/protobuf/util/json_util.h>
 
 #include "api/job/job_tracker.h"
+#include "store/blob_reader.h"
 #include "store/sqlite_statement.h"
 #include "store/stored_enums.h"
 #include "vscan/common/json_quote.h"
@@ -75,9 +76,24 @@ WebReply Artifact(api::JobTracker& tracker, const std::string& job_id, const std
     return TextReply(422, fmt::format("artifact {} has {} bytes; the web view sends at most {}", record->name,
                                       record->size_bytes, kMaxArtifactBytes));
   }
+  if (!as) {
+    // Sent a chunk at a time, so that a large artifact is never whole in memory.
+    auto reader = tracker.blobs().OpenReader(record->sha256);
+    if (!reader.ok()) return FromStatus(reader.status());
+    auto shared = std::make_shared<store::BlobReader>(std::move(reader).value());
+    WebReply reply{200, record->media_type, {}, {}};
+    reply.stream_length = static_cast<long long>(shared->size());
+    reply.stream = [shared](const WebWrite& write) {
+      constexpr size_t kChunk = 1 << 20;
+      for (uint64_t offset = 0; offset < shared->size(); offset += kChunk) {
+        auto chunk = shared->Read(offset, kChunk);
+        if (!chunk.ok() || !write(*chunk)) return;
+      }
+    };
+    return reply;
+  }
   auto bytes = tracker.blobs().Get(record->sha256);
   if (!bytes.ok()) return FromStatus(bytes.status());
-  if (!as) return {200, record->media_type, std::move(bytes).value(), {}};
   auto cloud = PlyAsCloudBinary(*bytes, record->name, static_cast<uint64_t>(*max_points));
   if (!cloud.ok() && cloud.status().code() == StatusCode::kUnavailable) return TextReply(503, cloud.status().message());
   if (!cloud.ok()) return FromStatus(cloud.status());

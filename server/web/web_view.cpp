@@ -64,7 +64,7 @@ int Serve(mg_connection* connection, void* server_ptr) {
     const WebReply reply =
         server.api->Handle(method, path, request->query_string ? request->query_string : "", authorization ? authorization : "");
     if (reply.stream) {
-      SendHeaders(connection, reply.status, reply.content_type, -1);
+      SendHeaders(connection, reply.status, reply.content_type, reply.stream_length);
       reply.stream([connection](std::string_view bytes) {
         return mg_write(connection, bytes.data(), bytes.size()) == static_cast<int>(bytes.size());
       });

@@ -252,14 +252,26 @@ TEST_F(WebJobsCloudsTest, ArtifactsComeAsTheirBytesOrAsACloud) {
                                          Update(store::JobState::kRunning, 2));
   ASSERT_TRUE(report.ok());
   const std::string base = "/api/jobs/" + job + "/artifacts/";
-  WebReply reply = Get(api, base + report->artifact_id());
-  EXPECT_EQ(reply.status, 200);
-  EXPECT_EQ(reply.content_type, "application/json");
-  EXPECT_EQ(reply.body, "{\"a\":1}");
-  reply = Get(api, base + scan->artifact_id());
-  EXPECT_EQ(reply.content_type, "model/ply");
-  EXPECT_EQ(reply.body, *ply);
-  reply = Get(api, base + scan->artifact_id(), "as=cloud&max_points=2");
+  // The bytes are streamed a chunk at a time, with their length.
+  auto read = [&](const std::string& artifact_id, std::string* content_type) {
+    const WebReply reply = Get(api, base + artifact_id);
+    EXPECT_EQ(reply.status, 200);
+    *content_type = reply.content_type;
+    std::string body;
+    if (!reply.stream) return body;
+    reply.stream([&](std::string_view bytes) {
+      body.append(bytes);
+      return true;
+    });
+    EXPECT_EQ(reply.stream_length, static_cast<long long>(body.size()));
+    return body;
+  };
+  std::string type;
+  EXPECT_EQ(read(report->artifact_id(), &type), "{\"a\":1}");
+  EXPECT_EQ(type, "application/json");
+  EXPECT_EQ(read(scan->artifact_id(), &type), *ply);
+  EXPECT_EQ(type, "model/ply");
+  WebReply reply = Get(api, base + scan->artifact_id(), "as=cloud&max_points=2");
   ASSERT_EQ(reply.status, 200) << reply.body;
   EXPECT_EQ(reply.body.substr(0, 4), "VSCL");
   EXPECT_EQ(At<uint32_t>(reply.body, 12), 2u);
