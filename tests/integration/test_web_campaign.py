@@ -4,6 +4,7 @@ pages in headless chromium following a small aligning, reconstructing, evaluatin
 import json
 import os
 import shutil
+import signal
 import socket
 import struct
 import subprocess
@@ -138,9 +139,9 @@ class WebCampaignTest(unittest.TestCase):
             return e.code, e.headers["Content-Type"], e.read()
 
     def blocker(self):
-        """A long campaign that holds the only job slot until cancelled."""
+        """A long campaign (180 scans of 640 x 480) that holds the only job slot until cancelled."""
         return self.client.start_campaign(spec=spec(self.fx.scene.scene_id, self.fx.mount, viewpoints=VIEWPOINTS,
-                                                    rotations=90, step=4.0, sensor=camera(80, 60), name="blocker"))
+                                                    rotations=90, step=4.0, sensor=camera(640, 480), name="blocker"))
 
     def campaign_spec(self):
         s = spec(self.fx.scene.scene_id, self.fx.mount, viewpoints=VIEWPOINTS + [UNREACHABLE],
@@ -374,6 +375,13 @@ class WebCampaignTest(unittest.TestCase):
         self.check_cloud_page(job.job_id, scan, [a for a in captured if a.name == scan["name"]][0])
         self.check_model_page(job.job_id)
 
+        # The index page lists the jobs, newest first, each a link to its view.
+        seen, _, _ = self.open_page(f"http://{self.web}/#token={TOKEN}", "index")
+        self.assertEqual(seen["consoleErrors"], [])
+        self.assertIn(f"web campaign (campaign, SUCCEEDED, {done.steps_done} of {done.steps_total} steps, {job.job_id})",
+                      seen["text"])
+        self.assertLess(seen["text"].index("web model"), seen["text"].index("web campaign"))
+
     def check_mesh(self, job_id, job, view):
         """The page drew mesh.ply whole: its triangles and bounds are those of the file."""
         [mesh] = [a for a in job.artifacts if a.name == "mesh.ply"]
@@ -445,6 +453,49 @@ class WebCampaignTest(unittest.TestCase):
             self.assertIn(f"range: {p['range']} m", pick["panel"])
             self.assertIn(f"instance: {p['instance_id']}", pick["panel"])
         self.assertIsNone(seen["picks"][-1]["picked"])
+
+
+class WebStopTest(unittest.TestCase):
+    """vscand stopping while a page follows a running job: the stream ends at once, not with the job."""
+
+    def test_stop_ends_the_streams_without_waiting_for_the_job(self):
+        with tempfile.TemporaryDirectory(prefix="vscan-web-stop-") as tmp:
+            token_file = os.path.join(tmp, "token")
+            with open(token_file, "w") as f:
+                f.write(TOKEN + "\n")
+            port = free_port()
+            server = Server(extra_args=("--token-file", token_file, "--web-listen", f"127.0.0.1:{port}",
+                                        "--grace-seconds", "1")).start()
+            self.addCleanup(server.cleanup)
+            fx = CampaignFixture(_AuthedServer(server))
+            self.addCleanup(fx.close)
+            with Client(server.address, token=TOKEN) as client:
+                # Some 180 scans of 640 x 480: it runs far longer than the test.
+                job = client.start_campaign(spec=spec(fx.scene.scene_id, fx.mount, viewpoints=VIEWPOINTS,
+                                                      rotations=90, step=4.0, sensor=camera(640, 480)))
+                with socket.create_connection(("127.0.0.1", port)) as events:
+                    events.settimeout(10)
+                    events.sendall(f"GET /api/jobs/{job.job_id}/events HTTP/1.1\r\nHost: x\r\n"
+                                   f"Authorization: Bearer {TOKEN}\r\n\r\n".encode())
+                    received = b""
+                    while b"JOB_STATE_RUNNING" not in received:
+                        chunk = events.recv(65536)
+                        self.assertTrue(chunk, received)
+                        received += chunk
+                    server.process.send_signal(signal.SIGTERM)
+                    stopped = time.time()
+                    while True:
+                        chunk = events.recv(65536)
+                        if not chunk:
+                            break
+                        received += chunk
+                    closed_after = time.time() - stopped
+                self.assertEqual(server.process.wait(timeout=60), 0)
+            # The stream closed at once (the job still ran; it ends INTERRUPTED as vscand stops), and
+            # without the end event, which is for jobs that end.
+            self.assertLess(closed_after, 3)
+            self.assertNotIn(b"event: end", received)
+            self.assertIn("INTERRUPTED", server.log())
 
 
 if __name__ == "__main__":

@@ -6,6 +6,7 @@
 // usage: node campaign_page.js PUPPETEER_CORE_DIR CHROMIUM URL SCREENSHOT_PATH WIDTHxHEIGHT MODE
 //   MODE "job": samples until the stream closes, then clicks each next best view and a point.
 //   MODE "cloud": clicks each sample point the page lists, then the bottom-right corner.
+//   Any other MODE: only reports what the page shows.
 const [puppeteerDir, chromium, url, screenshot, size = '640x480', mode = 'job'] = process.argv.slice(2);
 const [width, height] = size.split('x').map(Number);
 const puppeteer = require(puppeteerDir);
