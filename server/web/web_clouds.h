@@ -44,7 +44,8 @@ std::string CloudRecordJson(const store::CloudRecord& cloud);
 WebReply ServeClouds(const WebSources& sources, const WebRequest& request);
 
 // The stored PLY artifact bytes as the cloud layout (a model's aligned.ply, uncovered.ply).
-// RESOURCE_EXHAUSTED past the view's bounds, INVALID_ARGUMENT for bytes that are no cloud.
+// RESOURCE_EXHAUSTED past the view's bounds, UNAVAILABLE while as many clouds as it decodes at once
+// are being decoded, and the PLY reader's errors for bytes that are no cloud.
 StatusOr<std::string> PlyAsCloudBinary(std::string_view ply, const std::string& name, uint64_t max_points);
 
 }  // namespace vscan::web

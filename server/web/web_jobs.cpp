@@ -1,6 +1,5 @@
 #include "web/web_jobs.h"
 
-#include <atomic>
 #include <string>
 
 #include <fmt/format.h>
