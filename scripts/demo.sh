@@ -12,7 +12,9 @@ BIN="$ROOT/build/${VSCAN_PRESET:-release}"
 
 rm -rf "$OUT/port"
 mkdir -p "$OUT"
-"$BIN/server/vscand" --listen 127.0.0.1:0 --port-file "$OUT/port" --data-dir "$OUT/data" \
+# The web view (docs/WEB.md) on loopback: a free port unless VSCAN_DEMO_WEB names one.
+WEB="${VSCAN_DEMO_WEB:-127.0.0.1:$(/usr/bin/python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')}"
+"$BIN/server/vscand" --listen 127.0.0.1:0 --port-file "$OUT/port" --data-dir "$OUT/data" --web-listen "$WEB" \
   2>"$OUT/vscand.log" &
 SERVER_PID=$!
 trap 'kill -TERM $SERVER_PID 2>/dev/null; wait $SERVER_PID 2>/dev/null || true' EXIT
@@ -80,3 +82,18 @@ PY
 echo "demo: PLY files in $OUT/campaign, the verdict in $OUT/campaign/model.json, summary in $OUT/summary.txt," \
   "pictures in $OUT/scan-r00-v00.png, $OUT/mesh.png, $OUT/campaign/coverage.png and $OUT/bin-scan.png;" \
   "the bin in $OUT/bin (bin.json, scan.ply, scan.gt.json)"
+
+# Where to look: the web view of the campaign (viewpoints, scans, union, mesh, coverage) and of the
+# bin (its parts settling, by instance).
+CAMPAIGN_JOB="$(/usr/bin/python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["jobId"])' "$OUT/campaign/job.json")"
+BIN_SCENE="$(/usr/bin/python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["scene_id"])' "$OUT/bin/bin.json")"
+echo "see it in a browser (the web view, docs/WEB.md):"
+echo "  the campaign: $(vscan view --no-open "$CAMPAIGN_JOB" --web "$WEB")"
+echo "  the bin fill: $(vscan view --no-open "$BIN_JOB" --web "$WEB")"
+echo "  its scene:    $(vscan view --no-open "$BIN_SCENE" --web "$WEB")"
+if [ -t 0 ] && [ -t 1 ]; then
+  read -r -p "vscand serves these until you press Enter. " _
+else
+  echo "vscand has stopped; serve them again with:"
+  echo "  $BIN/server/vscand --data-dir $OUT/data --web-listen $WEB"
+fi

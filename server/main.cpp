@@ -102,7 +102,7 @@ int main(int argc, char** argv) {
                  "Serve Prometheus metrics at http://HOST:PORT/metrics (numeric IPv4 host; off when not given)");
   app.add_option("--web-listen", web.address,
                  "Serve the read-only web view at http://HOST:PORT/ (numeric IPv4 host; off when not given; "
-                 "the --token-file token guards its data)");
+                 "the --token-file token guards its data; HTTPS with --tls-cert)");
   app.add_option("--web-three-dir", web.three_dir,
                  "Debian's libjs-three directory, whose three.js and orbit controls the web view's page loads")
       ->capture_default_str();
@@ -197,6 +197,9 @@ int main(int argc, char** argv) {
   std::unique_ptr<vscan::web::WebView> web_view;
   if (!web.address.empty()) {
     web.api.token = options.token;
+    web.tls_cert_file = options.tls_cert_file;
+    web.tls_key_file = options.tls_key_file;
+    web.tls_client_ca_file = options.tls_client_ca_file;
     vscan::api::Server& served = **server;
     const vscan::web::WebSources sources{&served.scene_registry(), &served.job_tracker(), &served.cloud_catalogue(),
                                          &served.blobs(), &served.robots(), &served.dataset_directories()};
@@ -206,7 +209,8 @@ int main(int argc, char** argv) {
       return 1;
     }
     web_view = std::move(view).value();
-    spdlog::info("web view served on http://{}/ (port {}), bearer token {}", web.address, web_view->port(),
+    spdlog::info("web view served on {}://{}/ (port {}), bearer token {}",
+                 web.tls_cert_file.empty() ? "http" : "https", web.address, web_view->port(),
                  options.token.empty() ? "not required" : "required");
     if (!port_file.empty()) {
       if (const vscan::Status written = vscan::api::WritePortFile(port_file, (*server)->port()); !written.ok()) {

@@ -4,6 +4,7 @@
 // window.vscanError), which is what the browser tests wait for.
 import { get, setTitle, showError } from './common.js';
 import { showScene } from './scene_view.js';
+import { listDatasets, showDataset } from './dataset_view.js';
 import { showJob } from './job_view.js';
 import { showCloud } from './cloud_view.js';
 
@@ -42,6 +43,7 @@ async function listJobs() {
 // Each view by the query parameter that names what it shows.
 const VIEWS = {
   scene: showScene,
+  dataset: showDataset,
   job: showJob,
   cloud: showCloud,
 };
@@ -49,8 +51,9 @@ const VIEWS = {
 async function main() {
   try {
     const query = new URLSearchParams(location.search);
-    const name = Object.keys(VIEWS).find((key) => query.has(key));
-    if (name) await VIEWS[name](query.get(name), query); else { await listScenes(); await listJobs(); }
+    // The query's first key that names a view: ?dataset=ID&scene=... is the dataset's view.
+    const name = [...query.keys()].find((key) => Object.hasOwn(VIEWS, key));
+    if (name) await VIEWS[name](query.get(name), query); else { await listScenes(); await listDatasets(); await listJobs(); }
   } catch (error) {
     showError(error.message);
     window.vscanError = error.message;

@@ -3,6 +3,7 @@
 // and the next best views. A model job shows its aligned clouds, mesh and verdict the same way.
 import { THREE, Viewer, authHeaders, get, setTitle, showPickedRows } from './common.js';
 import { addSceneObjects } from './scene_view.js';
+import { addMountedRobot } from './robot.js';
 import { cloudPoints, parseCloud, pickThreshold, pointFields, showPickedPoint, worldFromRecord } from './cloud_view.js';
 
 // Viewpoint colours by outcome (what the tests look for in the screenshot).
@@ -184,6 +185,17 @@ class JobView {
         this.note(`scene ${sceneId}: ${error.message}`);
       }
     }
+    // The campaign's arm, faint, at its home pose until the first scan puts it where that scan was taken.
+    if (this.spec && this.spec.mount_id) {
+      try {
+        this.robot = await addMountedRobot(this.viewer, this.spec.mount_id);
+        for (const mesh of this.robot.meshes) {
+          Object.assign(mesh.material, { transparent: true, opacity: 0.3, depthWrite: false });
+        }
+      } catch (error) {
+        this.note(`mount ${this.spec.mount_id}: ${error.message}`);
+      }
+    }
     // Glyphs a few percent of the scene's size (of the model's, for a job without a scene).
     this.glyphSize = bounds.isEmpty() ? 0.02 : Math.max(bounds.getSize(new THREE.Vector3()).length() * 0.04, 0.005);
     const spec = this.spec;
@@ -296,6 +308,11 @@ class JobView {
     const scan = { points, record, count: cloud.count };
     this.scans.set(artifact.name, scan);
     this.pickables.push(points);
+    const joints = artifact.scan && artifact.scan.achieved_joint_positions;
+    if (this.robot && joints && joints.length > 0) {
+      await this.robot.setJoints(joints);
+      this.robotJoints = joints;
+    }
     if (artifact.scan) {
       const steps = this.viewpoints.length;
       this.setStepOutcome((artifact.scan.rotation_index || 0) * steps + (artifact.scan.viewpoint_index || 0), 'reached');
@@ -468,6 +485,7 @@ class JobView {
       points: { scans: scanPoints, aligned: alignedPoints, union: count(this.union), uncovered: count(this.uncovered) },
       shown_points: scanPoints + alignedPoints + count(this.union) + count(this.uncovered),
       union_points: this.unionPoints,
+      robot: this.robot ? { mount_id: this.spec.mount_id, joints: this.robotJoints || null } : null,
       mesh_triangles: this.mesh ? this.mesh.geometry.index.count / 3 : 0,
       mesh_bounds: this.mesh ? (() => {
         this.mesh.geometry.computeBoundingBox();

@@ -1,5 +1,6 @@
 // A scene (?scene=ID): its objects in their instance colours, the table of objects, and picking.
 import { THREE, Viewer, get, instanceColour, matrixFromRows, parseMesh, setTitle, showPickedRows } from './common.js';
+import { addMountedRobot, tableDisc } from './robot.js';
 
 function cell(row, text) {
   const td = document.createElement('td');
@@ -76,6 +77,20 @@ export async function showScene(id) {
   const placed = await addSceneObjects(viewer, scene);
   const bounds = new THREE.Box3();
   for (const { mesh } of placed) bounds.expandByObject(mesh);
+  const objectBounds = bounds.clone();
+  // The scene's mounted robots at their home pose, each with its sensor's frame on the flange.
+  const robots = [];
+  for (const mount of scene.mounts || []) {
+    const robot = await addMountedRobot(viewer, mount.mount_id);
+    robot.group.updateMatrixWorld(true);
+    bounds.expandByObject(robot.group);
+    robots.push(robot);
+  }
+  if (scene.table && scene.table.enabled) {
+    const onTable = placed.filter(({ object }) => object.on_table);
+    const size = objectBounds.isEmpty() ? 0.1 : objectBounds.getSize(new THREE.Vector3()).length() / 2;
+    viewer.world.add(tableDisc(scene.table, onTable.length ? size : 0.1));
+  }
   viewer.frame(bounds);
   viewer.render();
 
@@ -92,6 +107,11 @@ export async function showScene(id) {
   window.vscanViewer = viewer;
   window.vscanView = {
     scene_id: scene.scene_id,
+    robots: robots.map(({ pose, meshes }) => ({
+      mount_id: pose.mount_id,
+      link_pixels: meshes.map((mesh) => viewer.pixelOf(new THREE.Box3().setFromObject(mesh).getCenter(new THREE.Vector3()))),
+      sensor_pixel: viewer.pixelOf(new THREE.Vector3().setFromMatrixPosition(matrixFromRows(pose.world_from_sensor))),
+    })),
     objects: placed.map(({ object, mesh }) => {
       const colour = instanceColour(object.instance_id);
       return {

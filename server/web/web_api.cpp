@@ -5,7 +5,9 @@
 #include <fmt/format.h>
 
 #include "web/web_clouds.h"
+#include "web/web_datasets.h"
 #include "web/web_jobs.h"
+#include "web/web_robots.h"
 #include "web/web_scenes.h"
 
 namespace vscan::web {
@@ -60,6 +62,8 @@ WebReply WebApi::Handle(std::string_view method, std::string_view path, std::str
   const WebRequest request{method, Split(path.substr(kApi.size())), query};
   const std::string_view noun = request.segments[0];
   if (noun == "scenes" || noun == "meshes") return ServeScenes(sources_, options_, request);
+  if (noun == "mounts") return ServeMounts(sources_, request);
+  if (noun == "datasets") return ServeDatasets(sources_, options_, request);
   if (noun == "jobs") return ServeJobs(sources_, streams_, request);
   if (noun == "clouds") return ServeClouds(sources_, request);
   return TextReply(404, fmt::format("no such resource: {}", path));

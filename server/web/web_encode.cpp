@@ -33,6 +33,15 @@ void AppendMaterial(std::string& out, const std::string& preset, const sensor::M
   out += '}';
 }
 
+void AppendVector(std::string& out, const Eigen::Vector3d& v) {
+  out += '[';
+  for (int k = 0; k < 3; ++k) {
+    if (k) out += ',';
+    AppendNumber(out, v[k]);
+  }
+  out += ']';
+}
+
 void AppendMatrix(std::string& out, const Eigen::Matrix4d& m) {
   out += '[';
   for (int r = 0; r < 4; ++r) {
@@ -69,12 +78,29 @@ std::string ScenesJson(const std::vector<store::SceneRecord>& scenes) {
   return out;
 }
 
-std::string SceneJson(const store::SceneRecord& scene, const std::vector<PlacedObject>& objects) {
+std::string SceneJson(const store::SceneRecord& scene, const std::vector<PlacedObject>& objects,
+                      const std::vector<store::MountRecord>& mounts) {
   std::string out = "{\"scene_id\":";
   AppendString(out, scene.scene_id);
   out += ",\"name\":";
   AppendString(out, scene.name);
-  out += fmt::format(",\"revision\":{},\"objects\":[", scene.revision);
+  out += fmt::format(",\"revision\":{},\"table\":{{\"enabled\":{},\"angle_deg\":", scene.revision,
+                     scene.table.enabled);
+  AppendNumber(out, scene.table.angle_deg);
+  out += ",\"centre\":";
+  AppendVector(out, scene.table.centre);
+  out += ",\"axis\":";
+  AppendVector(out, scene.table.axis);
+  out += "},\"mounts\":[";
+  for (size_t i = 0; i < mounts.size(); ++i) {
+    out += i ? "," : "";
+    out += "{\"mount_id\":";
+    AppendString(out, mounts[i].mount_id);
+    out += ",\"robot_id\":";
+    AppendString(out, mounts[i].robot_id);
+    out += '}';
+  }
+  out += "],\"objects\":[";
   for (size_t i = 0; i < objects.size(); ++i) {
     const store::ObjectRecord& object = objects[i].object;
     if (i) out += ',';
@@ -90,6 +116,34 @@ std::string SceneJson(const store::SceneRecord& scene, const std::vector<PlacedO
     AppendMatrix(out, objects[i].world_from_object);
     out += ",\"material\":";
     AppendMaterial(out, objects[i].material_preset, objects[i].material);
+    out += '}';
+  }
+  out += "]}";
+  return out;
+}
+
+std::string MountJson(const MountPose& pose, const std::vector<MountShape>& shapes) {
+  std::string out = "{\"mount_id\":";
+  AppendString(out, pose.mount.mount_id);
+  out += ",\"robot_id\":";
+  AppendString(out, pose.mount.robot_id);
+  out += ",\"scene_id\":";
+  AppendString(out, pose.mount.scene_id);
+  out += ",\"joints\":[";
+  for (Eigen::Index i = 0; i < pose.joints.size(); ++i) {
+    out += i ? "," : "";
+    AppendNumber(out, pose.joints[i]);
+  }
+  out += "],\"world_from_base\":";
+  AppendMatrix(out, pose.mount.base_pose);
+  out += ",\"world_from_sensor\":";
+  AppendMatrix(out, pose.world_from_sensor);
+  out += ",\"shapes\":[";
+  for (size_t i = 0; i < shapes.size(); ++i) {
+    out += i ? ",{\"link\":" : "{\"link\":";
+    AppendString(out, shapes[i].link);
+    out += fmt::format(",\"triangles\":{},\"world_from_shape\":", shapes[i].mesh->triangles.size());
+    AppendMatrix(out, shapes[i].world_from_shape);
     out += '}';
   }
   out += "]}";

@@ -56,7 +56,8 @@ WebReply JsonReply(std::string json) { return {200, kJsonType, std::move(json), 
 WebReply FromStatus(const Status& status) {
   switch (status.code()) {
     case StatusCode::kNotFound: return TextReply(404, status.ToString());
-    case StatusCode::kInvalidArgument: return TextReply(400, status.ToString());
+    case StatusCode::kInvalidArgument:
+    case StatusCode::kOutOfRange: return TextReply(400, status.ToString());
     case StatusCode::kFailedPrecondition: return TextReply(409, status.ToString());
     case StatusCode::kResourceExhausted: return TextReply(422, status.ToString());
     default: break;

@@ -42,7 +42,7 @@ inline constexpr const char* kBinaryType = "application/octet-stream";
 
 WebReply TextReply(int status, std::string message);
 WebReply JsonReply(std::string json);
-// A service status as HTTP: NOT_FOUND 404, INVALID_ARGUMENT 400, FAILED_PRECONDITION 409,
+// A service status as HTTP: NOT_FOUND 404, INVALID_ARGUMENT and OUT_OF_RANGE 400, FAILED_PRECONDITION 409,
 // RESOURCE_EXHAUSTED 422; anything else is logged and answered 500 without its detail.
 WebReply FromStatus(const Status& status);
 

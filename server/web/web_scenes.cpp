@@ -7,6 +7,7 @@
 
 #include "scenes/object_material.h"
 #include "scenes/scene_registry.h"
+#include "service/robot/robot_links.h"
 #include "web/web_api.h"
 #include "web/web_encode.h"
 
@@ -19,7 +20,7 @@ WebReply Scenes(scenes::SceneRegistry& registry, const WebApiOptions& options) {
   return JsonReply(ScenesJson(*scenes));
 }
 
-WebReply Scene(scenes::SceneRegistry& registry, const std::string& scene_id) {
+WebReply Scene(scenes::SceneRegistry& registry, robot_registry::RobotRegistry* robots, const std::string& scene_id) {
   auto scene = registry.catalogue().GetScene(scene_id);
   if (!scene.ok()) return FromStatus(scene.status());
   std::vector<PlacedObject> placed;
@@ -33,7 +34,13 @@ WebReply Scene(scenes::SceneRegistry& registry, const std::string& scene_id) {
     placed.push_back({object, scenes::SceneRegistry::WorldFromObject(*scene, object, scene->table.angle_deg).matrix(),
                       chosen ? chosen->preset : sensor::MaterialPresets().front().name, *material});
   }
-  return JsonReply(SceneJson(*scene, placed));
+  std::vector<store::MountRecord> mounts;
+  if (robots) {
+    auto listed = service::SceneMounts(*robots, scene_id);
+    if (!listed.ok()) return FromStatus(listed.status());
+    mounts = std::move(listed).value();
+  }
+  return JsonReply(SceneJson(*scene, placed, mounts));
 }
 
 WebReply Mesh(scenes::SceneRegistry& registry, const WebApiOptions& options, const std::string& mesh_id) {
@@ -61,7 +68,7 @@ WebReply ServeScenes(const WebSources& sources, const WebApiOptions& options, co
     return TextReply(404, fmt::format("no {} '{}'", scenes ? "scene" : "mesh", segments.size() > 1 ? segments[1] : ""));
   }
   const std::string id(segments[1]);
-  return scenes ? Scene(*sources.scenes, id) : Mesh(*sources.scenes, options, id);
+  return scenes ? Scene(*sources.scenes, sources.robots, id) : Mesh(*sources.scenes, options, id);
 }
 
 }  // namespace vscan::web

@@ -4,9 +4,11 @@
 #include <map>
 #include <sstream>
 #include <string_view>
+#include <thread>
 
 #include <civetweb.h>
 
+#include "web/tls_front.h"
 #include "web/web_assets.h"
 
 namespace vscan::web {
@@ -50,12 +52,12 @@ struct WebView::Server {
   mg_context* context = nullptr;
   std::unique_ptr<WebApi> api;
   std::map<std::string, std::string, std::less<>> three_files;
+  std::unique_ptr<TlsFront> tls;  // HTTPS: civetweb then listens on loopback behind it
 };
 
 namespace {
 
-int Serve(mg_connection* connection, void* server_ptr) {
-  const auto& server = *static_cast<const WebView::Server*>(server_ptr);
+int ServeOnThisThread(mg_connection* connection, const WebView::Server& server) {
   const mg_request_info* request = mg_get_request_info(connection);
   const std::string_view method = request->request_method;
   const std::string_view path = request->local_uri ? request->local_uri : "";
@@ -90,6 +92,15 @@ int Serve(mg_connection* connection, void* server_ptr) {
   return 404;
 }
 
+// civetweb's workers run on small stacks (Debian's build: about 100 KiB), too small for the API's
+// handlers, which read blobs and parse meshes; each request runs on a thread with the usual stack.
+int Serve(mg_connection* connection, void* server_ptr) {
+  const auto& server = *static_cast<const WebView::Server*>(server_ptr);
+  int status = 500;
+  std::thread([&] { status = ServeOnThisThread(connection, server); }).join();
+  return status;
+}
+
 }  // namespace
 
 WebView::WebView(std::unique_ptr<Server> server, int port) : server_(std::move(server)), port_(port) {}
@@ -113,7 +124,9 @@ StatusOr<std::unique_ptr<WebView>> WebView::Start(const WebViewOptions& options,
   // No document root: only what Serve answers is served.
   // A thread per connection: enough threads, and a short wait on each read or write, that clients
   // which send half a request or stop reading hold a few threads for seconds, not the whole view.
-  const char* civet_options[] = {"listening_ports", options.address.c_str(), "num_threads", "32",
+  const bool tls = !options.tls_cert_file.empty() && !options.tls_key_file.empty();
+  const std::string listening = tls ? "127.0.0.1:0" : options.address;
+  const char* civet_options[] = {"listening_ports", listening.c_str(), "num_threads", "32",
                                  "request_timeout_ms", "5000", nullptr};
   mg_callbacks callbacks{};
   mg_init_data init{&callbacks, nullptr, civet_options};
@@ -122,19 +135,33 @@ StatusOr<std::unique_ptr<WebView>> WebView::Start(const WebViewOptions& options,
   mg_error_data error{&error_code, error_text, sizeof(error_text)};
   server->context = mg_start2(&init, &error);
   if (!server->context) {
-    return Unavailable("--web-listen: cannot listen on '" + options.address + "': " + error_text);
+    return Unavailable("--web-listen: cannot listen on '" + listening + "': " + error_text);
   }
   mg_set_request_handler(server->context, "/", Serve, server.get());
   mg_server_port ports[1]{};
   const int bound = mg_get_server_ports(server->context, 1, ports);
-  const int port = bound > 0 ? ports[0].port : 0;
+  int port = bound > 0 ? ports[0].port : 0;
+  if (tls) {
+    auto front = TlsFront::Start({.address = options.address,
+                                  .cert_file = options.tls_cert_file,
+                                  .key_file = options.tls_key_file,
+                                  .client_ca_file = options.tls_client_ca_file,
+                                  .backend_port = port});
+    if (!front.ok()) {
+      mg_stop(server->context);
+      return front.status();
+    }
+    server->tls = std::move(front).value();
+    port = server->tls->port();
+  }
   return std::unique_ptr<WebView>(new WebView(std::move(server), port));
 }
 
 void WebView::Stop() {
+  // Event streams follow jobs that may run for hours: end them so that mg_stop need not wait.
+  if (server_ && server_->context) server_->api->StopStreams();
+  if (server_ && server_->tls) server_->tls->Stop();
   if (server_ && server_->context) {
-    // Event streams follow jobs that may run for hours: end them so that mg_stop need not wait.
-    server_->api->StopStreams();
     mg_stop(server_->context);
     server_->context = nullptr;
   }

@@ -1,5 +1,5 @@
 #pragma once
-// Serves the read-only web view over HTTP (civetweb): the page at /, three.js and its orbit
+// Serves the read-only web view over HTTP or HTTPS (civetweb): the page at /, three.js and its orbit
 // controls under /three/ (from Debian's libjs-three), and the API under /api/ (web_api.h).
 
 #include <memory>
@@ -16,6 +16,11 @@ struct WebViewOptions {
   // Debian's libjs-three: build/three.module.js and examples/jsm/controls/OrbitControls.js are served.
   std::string three_dir = "/usr/share/javascript/three";
   WebApiOptions api;
+  // PEM files, as gRPC takes them: HTTPS when cert and key are set; client certificates are then
+  // required when client_ca is set too.
+  std::string tls_cert_file;
+  std::string tls_key_file;
+  std::string tls_client_ca_file;
 };
 
 class WebView {

@@ -343,6 +343,11 @@ class WebCampaignTest(unittest.TestCase):
         self.assertEqual(view["aligned_shown"], aligned)
         self.assertGreater(view["union_points"], 0)
 
+        # The arm drawn where it stood for the last scan the page added.
+        last = max(captured, key=lambda a: (a.scan.rotation_index, a.scan.viewpoint_index))
+        self.assertEqual(view["robot"]["mount_id"], self.fx.mount)
+        np.testing.assert_allclose(view["robot"]["joints"], list(last.scan.achieved_joint_positions), atol=1e-12)
+
         # Viewpoints coloured by outcome, where the page says it drew them.
         outcomes = [v["outcome"] for v in view["viewpoints"]]
         self.assertEqual(outcomes, ["reached", "reached", "unreachable"])

@@ -189,7 +189,7 @@ class WebViewTest(ServerTestCase):
         run = subprocess.run([VSCAN, "--json", "view"], capture_output=True, text=True, timeout=30,
                              env={**os.environ, "VSCAN_WEB": self.web, "VSCAN_TOKEN": ""})
         self.assertEqual(run.returncode, 0, run.stderr)
-        self.assertEqual(json.loads(run.stdout), {"url": f"http://{self.web}/"})
+        self.assertEqual(json.loads(run.stdout), {"url": f"http://{self.web}/", "opened": False})
         run = subprocess.run([VSCAN, "view"], capture_output=True, text=True, timeout=30,
                              env={k: v for k, v in os.environ.items() if k != "VSCAN_WEB"})
         self.assertEqual(run.returncode, 2)
