@@ -5,6 +5,8 @@
 import { get, setTitle, showError } from './common.js';
 import { showScene } from './scene_view.js';
 import { listDatasets, showDataset } from './dataset_view.js';
+import { showJob } from './job_view.js';
+import { showCloud } from './cloud_view.js';
 
 function link(query, text) {
   const item = document.createElement('li');
@@ -26,10 +28,24 @@ async function listScenes() {
   document.getElementById('content').appendChild(list);
 }
 
+async function listJobs() {
+  const { jobs } = await get('api/jobs?limit=20');
+  const heading = document.createElement('div');
+  heading.textContent = `${jobs.length} recent jobs`;
+  const list = document.createElement('ul');
+  for (const job of jobs) {
+    list.appendChild(link(`job=${encodeURIComponent(job.job_id)}`, `${job.name || job.job_id} (${job.kind}, ` +
+      `${job.state}, ${job.steps_done} of ${job.steps_total} steps, ${job.job_id})`));
+  }
+  document.getElementById('content').append(heading, list);
+}
+
 // Each view by the query parameter that names what it shows.
 const VIEWS = {
   scene: showScene,
   dataset: showDataset,
+  job: showJob,
+  cloud: showCloud,
 };
 
 async function main() {
@@ -37,7 +53,7 @@ async function main() {
     const query = new URLSearchParams(location.search);
     // The query's first key that names a view: ?dataset=ID&scene=... is the dataset's view.
     const name = [...query.keys()].find((key) => Object.hasOwn(VIEWS, key));
-    if (name) await VIEWS[name](query.get(name), query); else { await listScenes(); await listDatasets(); }
+    if (name) await VIEWS[name](query.get(name), query); else { await listScenes(); await listDatasets(); await listJobs(); }
   } catch (error) {
     showError(error.message);
     window.vscanError = error.message;

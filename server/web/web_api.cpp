@@ -4,7 +4,9 @@
 
 #include <fmt/format.h>
 
+#include "web/web_clouds.h"
 #include "web/web_datasets.h"
+#include "web/web_jobs.h"
 #include "web/web_robots.h"
 #include "web/web_scenes.h"
 
@@ -44,7 +46,10 @@ std::vector<std::string_view> Split(std::string_view path) {
 
 }  // namespace
 
-WebApi::WebApi(WebSources sources, WebApiOptions options) : sources_(sources), options_(std::move(options)) {}
+WebApi::WebApi(WebSources sources, WebApiOptions options)
+    : sources_(sources), options_(std::move(options)), streams_(std::make_shared<JobStreams>()) {}
+
+void WebApi::StopStreams() { streams_->Stop(); }
 
 WebReply WebApi::Handle(std::string_view method, std::string_view path, std::string_view query,
                         std::string_view authorization) const {
@@ -59,6 +64,8 @@ WebReply WebApi::Handle(std::string_view method, std::string_view path, std::str
   if (noun == "scenes" || noun == "meshes") return ServeScenes(sources_, options_, request);
   if (noun == "mounts") return ServeMounts(sources_, request);
   if (noun == "datasets") return ServeDatasets(sources_, options_, request);
+  if (noun == "jobs") return ServeJobs(sources_, streams_, request);
+  if (noun == "clouds") return ServeClouds(sources_, request);
   return TextReply(404, fmt::format("no such resource: {}", path));
 }
 

@@ -4,6 +4,7 @@
 // (web_scenes.h, ...), each reading the stores the gRPC services use (web_sources.h).
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <string_view>
 
@@ -11,6 +12,8 @@
 #include "web/web_sources.h"
 
 namespace vscan::web {
+
+class JobStreams;
 
 struct WebApiOptions {
   // Requests must send "Authorization: Bearer <token>" when set (the gRPC token).
@@ -29,10 +32,13 @@ class WebApi {
   // '?', if anything.
   WebReply Handle(std::string_view method, std::string_view path, std::string_view query,
                   std::string_view authorization) const;
+  // Ends the open event streams and refuses new ones (the view is stopping).
+  void StopStreams();
 
  private:
   WebSources sources_;
   WebApiOptions options_;
+  std::shared_ptr<JobStreams> streams_;
 };
 
 }  // namespace vscan::web

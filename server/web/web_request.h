@@ -33,6 +33,8 @@ struct WebReply {
   // A streamed reply (server-sent events): when set, the headers go out without a length and this
   // is called to write the body piece by piece; body is then unused.
   std::function<void(const WebWrite& write)> stream;
+  // The streamed body's size when known in advance (sent as Content-Length); -1: unknown.
+  long long stream_length = -1;
 };
 
 inline constexpr const char* kJsonType = "application/json";

@@ -66,7 +66,7 @@ int ServeOnThisThread(mg_connection* connection, const WebView::Server& server) 
     const WebReply reply =
         server.api->Handle(method, path, request->query_string ? request->query_string : "", authorization ? authorization : "");
     if (reply.stream) {
-      SendHeaders(connection, reply.status, reply.content_type, -1);
+      SendHeaders(connection, reply.status, reply.content_type, reply.stream_length);
       reply.stream([connection](std::string_view bytes) {
         return mg_write(connection, bytes.data(), bytes.size()) == static_cast<int>(bytes.size());
       });
@@ -158,6 +158,8 @@ StatusOr<std::unique_ptr<WebView>> WebView::Start(const WebViewOptions& options,
 }
 
 void WebView::Stop() {
+  // Event streams follow jobs that may run for hours: end them so that mg_stop need not wait.
+  if (server_ && server_->context) server_->api->StopStreams();
   if (server_ && server_->tls) server_->tls->Stop();
   if (server_ && server_->context) {
     mg_stop(server_->context);
