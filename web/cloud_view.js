@@ -1,6 +1,6 @@
 // A stored cloud (?cloud=ID): its points, coloured by instance id when it has them, else by
 // intensity, and picking. Also the API's cloud layout and point drawing the job view uses.
-import { THREE, Viewer, get, instanceColour, matrixFromRows, setTitle, showPickedRows } from './common.js';
+import { THREE, Viewer, get, instanceColour, matrixFromRows, setTitle, showPickedRows, subsampleOrder } from './common.js';
 
 // PointFields bits (what the layout's header says the cloud carries).
 export const FIELD = {
@@ -77,6 +77,7 @@ function colours(cloud) {
 export function cloudPoints(cloud, worldFromCloud, size = 2, colour = null) {
   const geometry = new THREE.BufferGeometry();
   geometry.setAttribute('position', new THREE.BufferAttribute(cloud.positions, 3));
+  geometry.setIndex(new THREE.BufferAttribute(subsampleOrder(cloud.count), 1));
   const material = colour === null
     ? new THREE.PointsMaterial({ size, sizeAttenuation: false, vertexColors: true })
     : new THREE.PointsMaterial({ size, sizeAttenuation: false, color: colour });

@@ -71,6 +71,19 @@ export function showPickedRows(rows) {
   }
 }
 
+// An order of count points in which every prefix is spread over all of them: the points i with
+// i % 16 equal to 0, then 8, 4, 12, 2, ... (bit-reversed), each in stored order. Drawn as an index
+// buffer with a draw range, a prefix is a thinned cloud, and picking still reports stored indices.
+export function subsampleOrder(count) {
+  const order = new Uint32Array(count);
+  const offsets = [0, 8, 4, 12, 2, 10, 6, 14, 1, 9, 5, 13, 3, 11, 7, 15];
+  let k = 0;
+  for (const offset of offsets) {
+    for (let i = offset; i < count; i += 16) order[k++] = i;
+  }
+  return order;
+}
+
 // A three.js view in #view: a z-up camera that frames what it is given, orbit controls (drag to turn,
 // wheel to zoom, right-drag to pan), a headlight that follows the camera, and drawing on demand.
 export class Viewer {
@@ -91,7 +104,30 @@ export class Viewer {
     this.container.appendChild(this.renderer.domElement);
     this.controls = new OrbitControls(this.camera, this.renderer.domElement);
     this.controls.addEventListener('change', () => this.render());
+    // While the view turns, the clouds together draw at most this many points (a uniform subsample:
+    // see subsampleOrder), and all of them again once it stops.
+    this.pointsWhileTurning = 100000;
+    this.turning = false;
+    this.controls.addEventListener('start', () => { this.turning = true; });
+    this.controls.addEventListener('end', () => {
+      this.turning = false;
+      this.render();
+    });
     this.frames = 0;
+  }
+
+  // Limits every indexed THREE.Points to its share of pointsWhileTurning while the view turns.
+  limitPoints() {
+    const clouds = [];
+    this.world.traverseVisible((object) => {
+      if (object.isPoints && object.geometry.index) clouds.push(object.geometry);
+    });
+    const total = clouds.reduce((sum, geometry) => sum + geometry.index.count, 0);
+    const share = this.turning && total > this.pointsWhileTurning ? this.pointsWhileTurning / total : 1;
+    for (const geometry of clouds) {
+      geometry.setDrawRange(0, share < 1 ? Math.ceil(geometry.index.count * share) : Infinity);
+    }
+    return share < 1 ? Math.ceil(total * share) : total;
   }
 
   // Points the camera at bounds (a THREE.Box3) from the front-right, above, at a distance that fits it.
@@ -109,6 +145,7 @@ export class Viewer {
   }
 
   render() {
+    this.pointsDrawn = this.limitPoints();
     this.headlight.position.copy(this.camera.position);
     this.headlight.target.position.copy(this.controls.target);
     this.world.updateMatrixWorld(true);
