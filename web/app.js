@@ -7,6 +7,7 @@ import { showScene } from './scene_view.js';
 import { listDatasets, showDataset } from './dataset_view.js';
 import { showJob } from './job_view.js';
 import { showCloud } from './cloud_view.js';
+import { showBin } from './bin_view.js';
 
 function link(query, text) {
   const item = document.createElement('li');
@@ -46,6 +47,7 @@ const VIEWS = {
   dataset: showDataset,
   job: showJob,
   cloud: showCloud,
+  bin: showBin,
 };
 
 async function main() {
