@@ -205,7 +205,8 @@ export async function showBin(id) {
   if (!replay) clock.textContent = ' no replay recorded for this fill';
 
   let playing = false;
-  let started = 0;
+  let clockAt = 0;  // performance.now() of the last tick
+  let playTime = 0;  // simulated seconds shown, advanced by the wall clock while playing
   function show(f) {
     frame = Math.max(0, Math.min(f, replay ? replay.times.length - 1 : 0));
     pose(frame);
@@ -218,10 +219,10 @@ export async function showBin(id) {
   // Plays in simulated time (one simulated second a second), from the start when at the end.
   function tick(now) {
     if (!playing) return;
-    const t = replay.times[frame] + (now - started) / 1000;
-    started = now;
+    playTime += Math.max(0, now - clockAt) / 1000;
+    clockAt = now;
     let f = frame;
-    while (f + 1 < replay.times.length && replay.times[f + 1] <= t) f += 1;
+    while (f + 1 < replay.times.length && replay.times[f + 1] <= playTime) f += 1;
     if (f + 1 >= replay.times.length) playing = false;
     show(f);
     if (playing) requestAnimationFrame(tick);
@@ -230,7 +231,8 @@ export async function showBin(id) {
     playing = !playing;
     if (playing) {
       if (frame >= replay.times.length - 1) frame = 0;
-      started = performance.now();
+      playTime = replay.times[frame];
+      clockAt = performance.now();
       requestAnimationFrame(tick);
     }
     show(frame);
