@@ -183,7 +183,7 @@ WebReply ServeBins(const WebSources& sources, const WebRequest& request) {
   auto job = sources.jobs->catalogue().GetJob(job_id);
   if (!job.ok()) return FromStatus(job.status());
   if (job->kind != service::JobKindName(service::JobKind::kBinFill)) {
-    return TextReply(409, fmt::format("job {} is a {} job, not a bin fill", job_id, job->kind));
+    return TextReply(404, fmt::format("job '{}' is a {} job, not a bin fill", job_id, job->kind));
   }
   store::BlobStore& blobs = sources.jobs->blobs();
   if (replay) {
