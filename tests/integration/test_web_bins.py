@@ -13,7 +13,7 @@ import urllib.request
 
 import numpy as np
 
-from harness import SOURCE_DIR, ServerTestCase, read_png
+from harness import SOURCE_DIR, VSCAN, ServerTestCase, read_png
 from test_web_view import BACKGROUND, CHROMIUM, PUPPETEER, free_port
 from vscan.v1 import job_pb2
 
@@ -181,7 +181,12 @@ class WebBinsTest(ServerTestCase):
             self.skipTest("puppeteer-core is not in .tools/ (scripts/install-deps.sh)")
         if not shutil.which("node"):
             self.skipTest("node is not installed")
-        url = f"http://{self.web}/?bin={self.job.job_id}#token={TOKEN}"
+        # The address `vscan view` gives for a bin fill job (it asks the server for the job's kind).
+        run = subprocess.run([VSCAN, "--server", self.server.address, "--token", TOKEN, "view", self.job.job_id,
+                              "--web", self.web, "--no-open"], capture_output=True, text=True, timeout=30)
+        self.assertEqual(run.returncode, 0, run.stderr)
+        url = run.stdout.strip()
+        self.assertEqual(url, f"http://{self.web}/?bin={self.job.job_id}#token={TOKEN}")
         shot = os.path.join(self.tmp.name, "bin.png")
         picked = os.path.join(self.tmp.name, "bin-picked.png")
         run = subprocess.run(["node", PAGE_SCRIPT, PUPPETEER, CHROMIUM, url, shot, picked, "960x540"],
