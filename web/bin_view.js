@@ -129,7 +129,9 @@ export async function showBin(id) {
   content.appendChild(summary);
   if (!bin.report) {
     const note = document.createElement('div');
-    note.textContent = `${bin.steps_done} of ${bin.steps_total} parts dropped; the pile is shown once the fill ends`;
+    note.textContent = ['QUEUED', 'RUNNING'].includes(bin.state)
+      ? `${bin.steps_done} of ${bin.steps_total} parts dropped; the pile is shown once the fill ends (reload)`
+      : 'the fill ended before its physics ran: there is no pile';
     content.appendChild(note);
     window.vscanView = { job_id: bin.job_id, state: bin.state, parts: [], frames: 0, frame: 0 };
     return;

@@ -21,6 +21,7 @@ from vscan import Client, bin_part
 
 TOKEN = "web-bins-token"
 PAGE_SCRIPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "web", "bin_page.js")
+VIEW_PAGE_SCRIPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "web", "view_page.js")
 PARTS = 4
 INNER_SIZE = (0.30, 0.20, 0.06)
 
@@ -174,13 +175,16 @@ class WebBinsTest(ServerTestCase):
 
     # In a browser.
 
-    def open_page(self):
+    def need_browser(self):
         if not os.access(CHROMIUM, os.X_OK):
             self.skipTest(f"{CHROMIUM} is not installed (Debian package chromium; scripts/install-deps.sh)")
         if not os.path.isdir(PUPPETEER):
             self.skipTest("puppeteer-core is not in .tools/ (scripts/install-deps.sh)")
         if not shutil.which("node"):
             self.skipTest("node is not installed")
+
+    def open_page(self):
+        self.need_browser()
         # The address `vscan view` gives for a bin fill job (it asks the server for the job's kind).
         run = subprocess.run([VSCAN, "--server", self.server.address, "--token", TOKEN, "view", self.job.job_id,
                               "--web", self.web, "--no-open"], capture_output=True, text=True, timeout=30)
@@ -196,6 +200,19 @@ class WebBinsTest(ServerTestCase):
         with open(shot, "rb") as f:
             image = read_png(f.read())
         return seen, image, picked
+
+    def test_browser_says_a_fill_that_never_ran_has_no_pile(self):
+        self.need_browser()
+        shot = os.path.join(self.tmp.name, "unrun.png")
+        url = f"http://{self.web}/?bin={self.unrun.job_id}#token={TOKEN}"
+        run = subprocess.run(["node", VIEW_PAGE_SCRIPT, PUPPETEER, CHROMIUM, url, shot, "640x360"],
+                             capture_output=True, text=True, timeout=240)
+        self.assertEqual(run.returncode, 0, run.stdout + run.stderr)
+        seen = json.loads(run.stdout.strip().splitlines()[-1])
+        self.assertEqual(seen["consoleErrors"], [])
+        self.assertIn("CANCELLED", seen["title"])
+        self.assertIn("the fill ended before its physics ran", seen["text"])
+        self.assertEqual((seen["view"]["parts"], seen["view"]["frames"]), ([], 0))
 
     def test_browser_plays_the_fill_and_picks_each_part(self):
         seen, image, picked = self.open_page()
