@@ -35,7 +35,8 @@ async function listJobs() {
   heading.textContent = `${jobs.length} recent jobs`;
   const list = document.createElement('ul');
   for (const job of jobs) {
-    list.appendChild(link(`job=${encodeURIComponent(job.job_id)}`, `${job.name || job.job_id} (${job.kind}, ` +
+    const view = job.kind === 'bin_fill' ? 'bin' : 'job';  // as `vscan view JOB` chooses
+    list.appendChild(link(`${view}=${encodeURIComponent(job.job_id)}`, `${job.name || job.job_id} (${job.kind}, ` +
       `${job.state}, ${job.steps_done} of ${job.steps_total} steps, ${job.job_id})`));
   }
   document.getElementById('content').append(heading, list);
