@@ -8,6 +8,7 @@ import struct
 import subprocess
 import tempfile
 import time
+import unittest
 import urllib.error
 import urllib.request
 
@@ -273,5 +274,4 @@ class WebBinsTest(ServerTestCase):
 
 
 if __name__ == "__main__":
-    import unittest
     unittest.main()
