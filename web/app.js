@@ -7,6 +7,7 @@ import { showScene } from './scene_view.js';
 import { listDatasets, showDataset } from './dataset_view.js';
 import { showJob } from './job_view.js';
 import { showCloud } from './cloud_view.js';
+import { showBin } from './bin_view.js';
 
 function link(query, text) {
   const item = document.createElement('li');
@@ -34,7 +35,8 @@ async function listJobs() {
   heading.textContent = `${jobs.length} recent jobs`;
   const list = document.createElement('ul');
   for (const job of jobs) {
-    list.appendChild(link(`job=${encodeURIComponent(job.job_id)}`, `${job.name || job.job_id} (${job.kind}, ` +
+    const view = job.kind === 'bin_fill' ? 'bin' : 'job';  // as `vscan view JOB` chooses
+    list.appendChild(link(`${view}=${encodeURIComponent(job.job_id)}`, `${job.name || job.job_id} (${job.kind}, ` +
       `${job.state}, ${job.steps_done} of ${job.steps_total} steps, ${job.job_id})`));
   }
   document.getElementById('content').append(heading, list);
@@ -46,6 +48,7 @@ const VIEWS = {
   dataset: showDataset,
   job: showJob,
   cloud: showCloud,
+  bin: showBin,
 };
 
 async function main() {

@@ -4,6 +4,7 @@
 
 #include <fmt/format.h>
 
+#include "web/web_bins.h"
 #include "web/web_clouds.h"
 #include "web/web_datasets.h"
 #include "web/web_jobs.h"
@@ -66,6 +67,7 @@ WebReply WebApi::Handle(std::string_view method, std::string_view path, std::str
   if (noun == "datasets") return ServeDatasets(sources_, options_, request);
   if (noun == "jobs") return ServeJobs(sources_, streams_, request);
   if (noun == "clouds") return ServeClouds(sources_, request);
+  if (noun == "bins") return ServeBins(sources_, request);
   return TextReply(404, fmt::format("no such resource: {}", path));
 }
 

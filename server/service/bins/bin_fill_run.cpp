@@ -15,6 +15,7 @@ namespace vscan::service {
 namespace {
 
 constexpr const char* kJsonMediaType = "application/json";
+constexpr const char* kBinaryMediaType = "application/octet-stream";
 
 class BinFillRun {
  public:
@@ -46,7 +47,7 @@ class BinFillRun {
       observed = Event(Rounded(progress.simulated_s) + " s simulated: " + std::to_string(progress.dropped) + " of " +
                        std::to_string(total_) + " parts dropped, " + std::to_string(progress.slow) + " resting, " +
                        std::to_string(progress.removed) + " out of the bin");
-    });
+    }, &replay_);
     RETURN_IF_ERROR(observed);
     steps_done_ = static_cast<uint32_t>(report_.result->spawned);
     // A stop asked after the physics ended still wins: nothing has touched the scene yet.
@@ -75,6 +76,12 @@ class BinFillRun {
       report_.state = store::JobState::kFailed;
       report_.message = status.ok() ? "the fill ended without placing its parts" : status.message();
     }
+    // The replay goes with bin.json's parts: whenever the physics ran, however the fill ended.
+    if (report_.result) {
+      const auto replay = recorder_.RecordArtifact("bin_replay.bin", kBinaryMediaType, EncodeBinReplay(replay_), nullptr,
+                                                   nullptr, Update("bin_replay.bin written"));
+      if (!replay.ok()) spdlog::warn("job {}: bin_replay.bin not stored: {}", report_.job_id, replay.status().ToString());
+    }
     const std::string json = recorder_.reports().BinFillJson(plan_, report_);
     const auto stored = recorder_.RecordArtifact("bin.json", kJsonMediaType, json, nullptr, nullptr,
                                                  Update("bin.json written"));
@@ -99,6 +106,7 @@ class BinFillRun {
   const size_t total_;
   uint32_t steps_done_ = 0;
   BinFillReport report_;
+  BinReplay replay_;
 };
 
 }  // namespace

@@ -1,7 +1,8 @@
 #pragma once
 // Runs a planned bin fill on a job-runner thread: an event per simulated second (parts dropped,
 // resting, out of the bin), the settled parts and the bin into the scene in one revision when the
-// fill ends by itself, and bin.json however it ends. A cancelled, stopped or failed fill leaves
+// fill ends by itself, and bin.json however it ends (with bin_replay.bin, the parts' poses through
+// the fill, whenever the physics ran). A cancelled, stopped or failed fill leaves
 // the scene as it was.
 
 #include <string>
