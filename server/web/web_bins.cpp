@@ -10,6 +10,7 @@
 #include "service/job/job_kind.h"
 #include "store/blob_store.h"
 #include "vscan/common/json_quote.h"
+#include "web/web_json.h"
 #include "vscan/common/report_json.h"
 #include "vscan/v1/job.pb.h"
 #include "vscan/v1/reports.pb.h"
@@ -19,8 +20,6 @@ namespace {
 
 constexpr std::string_view kReport = "bin.json";
 constexpr std::string_view kReplay = "bin_replay.bin";
-
-void Number(std::string& out, double value) { out += std::isfinite(value) ? fmt::format("{}", value) : "null"; }
 
 void Key(std::string& out, std::string_view key) {
   if (out.back() != '{') out += ',';
@@ -35,7 +34,7 @@ void String(std::string& out, std::string_view key, std::string_view value) {
 
 void Real(std::string& out, std::string_view key, double value) {
   Key(out, key);
-  Number(out, value);
+  AppendJsonNumber(out, value);
 }
 
 // 16 row-major numbers as 4 rows of 4 (the scene API's matrices); null unless there are 16.
@@ -50,7 +49,7 @@ void Matrix(std::string& out, std::string_view key, const google::protobuf::Repe
     out += r ? ",[" : "[";
     for (int c = 0; c < 4; ++c) {
       if (c) out += ',';
-      Number(out, values[r * 4 + c]);
+      AppendJsonNumber(out, values[r * 4 + c]);
     }
     out += ']';
   }
@@ -62,7 +61,7 @@ void List(std::string& out, std::string_view key, const google::protobuf::ListVa
   out += '[';
   for (int i = 0; i < list.values_size(); ++i) {
     if (i) out += ',';
-    Number(out, list.values(i).number_value());
+    AppendJsonNumber(out, list.values(i).number_value());
   }
   out += ']';
 }
@@ -139,7 +138,7 @@ std::string BinJson(const store::JobRecord& job, const std::optional<v1::BinRepo
     String(out, "object_id", part.object_id());
     Key(out, "instance_id");
     if (part.has_instance_id()) {
-      Number(out, part.instance_id());
+      AppendJsonNumber(out, part.instance_id());
     } else {
       out += "null";
     }
