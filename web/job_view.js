@@ -1,9 +1,9 @@
 // A job (?job=ID): a campaign's scene and viewpoints coloured by outcome, its scans as they arrive
 // (server-sent events), the aligned union growing scan by scan, then the mesh, the uncovered surface
 // and the next best views. A model job shows its aligned clouds, mesh and verdict the same way.
-import { THREE, Viewer, authHeaders, get, setTitle, showPickedRows } from './common.js';
+import { THREE, Viewer, authHeaders, get, matrixFromRows, setTitle, showPickedRows } from './common.js';
 import { addSceneObjects } from './scene_view.js';
-import { addMountedRobot } from './robot.js';
+import { addMountedRobot, frustumLines } from './robot.js';
 import { cloudPoints, parseCloud, pickThreshold, pointFields, showPickedPoint, worldFromRecord } from './cloud_view.js';
 
 // Viewpoint colours by outcome (what the tests look for in the screenshot).
@@ -12,6 +12,8 @@ export const OUTCOME_COLOURS = {
 };
 const NEXT_BEST_VIEW_COLOUR = 0xffffff;
 const UNCOVERED_COLOUR = 0xff00ff;
+const SENSOR_FIELD_COLOUR = 0xffffff;
+const PROJECTOR_FIELD_COLOUR = 0xff9900;
 const UNION_COLOUR = 0x9ad0ff;
 const MESH_COLOUR = 0xc8c8c8;
 // A viewpoint's outcome over its steps (one per table angle): the worst one.
@@ -196,6 +198,14 @@ class JobView {
         this.note(`mount ${this.spec.mount_id}: ${error.message}`);
       }
     }
+    // The sensor's true field (its preset resolved by the server), drawn at each scan's pose as it arrives.
+    if (this.spec) {
+      try {
+        this.sensor = await get(api(`${jobPath(this.job.job_id)}/sensor`));
+      } catch (error) {
+        this.note(`sensor: ${error.message}`);
+      }
+    }
     // Glyphs a few percent of the scene's size (of the model's, for a job without a scene).
     this.glyphSize = bounds.isEmpty() ? 0.02 : Math.max(bounds.getSize(new THREE.Vector3()).length() * 0.04, 0.005);
     const spec = this.spec;
@@ -296,6 +306,27 @@ class JobView {
     return api(`${jobPath(this.job.job_id)}/artifacts/${encodeURIComponent(artifact.artifact_id)}${as ? `?as=${as}&max_points=${this.maxPointsPerCloud()}` : ''}`);
   }
 
+  // The camera's frustum (white) and, for structured light, the projector's (orange) at worldFromSensor,
+  // reaching a little past the scene's centre.
+  showSensorField(worldFromSensor) {
+    if (!this.sensor) return;
+    for (const old of this.sensorField || []) this.viewer.world.remove(old);
+    const { camera, projector } = this.sensor;
+    const position = new THREE.Vector3().setFromMatrixPosition(worldFromSensor);
+    const reach = position.distanceTo(this.bounds.getCenter(new THREE.Vector3())) * 1.15;
+    const far = Math.max(camera.near, Math.min(camera.far, reach));
+    this.sensorField = [frustumLines(worldFromSensor, camera, camera.near, far, SENSOR_FIELD_COLOUR)];
+    if (projector) {
+      const tx = Math.tan(projector.horizontal_fov_deg * Math.PI / 360);
+      const ty = Math.tan(projector.vertical_fov_deg * Math.PI / 360);
+      const unit = { width: 2 * tx, height: 2 * ty, fx: 1, fy: 1, cx: tx, cy: ty };
+      const worldFromProjector = worldFromSensor.clone().multiply(matrixFromRows(projector.sensor_from_projector));
+      this.sensorField.push(frustumLines(worldFromProjector, unit, camera.near, far, PROJECTOR_FIELD_COLOUR));
+    }
+    for (const lines of this.sensorField) this.viewer.world.add(lines);
+    this.sensorPose = worldFromSensor;
+  }
+
   async addScan(artifact) {
     if (this.scans.has(artifact.name)) return;
     const record = await this.cloudRecord(artifact.name);
@@ -313,6 +344,7 @@ class JobView {
       await this.robot.setJoints(joints);
       this.robotJoints = joints;
     }
+    if (record.world_from_sensor) this.showSensorField(matrixFromRows(record.world_from_sensor));
     if (artifact.scan) {
       const steps = this.viewpoints.length;
       this.setStepOutcome((artifact.scan.rotation_index || 0) * steps + (artifact.scan.viewpoint_index || 0), 'reached');
@@ -493,6 +525,11 @@ class JobView {
         return [min.toArray(), max.toArray()];
       })() : null,
       coverage: this.coverage,
+      sensor: this.sensor || null,
+      sensor_field: this.sensorPose ? {
+        world_from_sensor: this.sensorPose.clone().transpose().toArray(),
+        lines: (this.sensorField || []).length,
+      } : null,
       viewpoints: this.viewpoints.map(({ index, glyph, outcome }) => ({
         index, outcome, colour: rgb(OUTCOME_COLOURS[outcome]), pixel: this.viewer.pixelOf(glyph.userData.position),
       })),

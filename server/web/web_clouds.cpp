@@ -11,6 +11,7 @@
 #include "service/clouds/cloud_store.h"
 #include "vscan/common/cloud_io.h"
 #include "vscan/common/json_quote.h"
+#include "web/web_json.h"
 
 namespace vscan::web {
 namespace {
@@ -45,21 +46,6 @@ void AppendCloudBytes(std::string& out, const T& value) {
 template <typename T>
 void AppendPicked(std::string& out, const std::vector<T>& values, const std::vector<uint32_t>& keep) {
   for (const uint32_t i : keep) AppendCloudBytes(out, values[i]);
-}
-
-void AppendJsonNumber(std::string& out, double value) { out += std::isfinite(value) ? fmt::format("{}", value) : "null"; }
-
-void AppendJsonRows(std::string& out, const Eigen::Matrix4d& m) {
-  out += '[';
-  for (int r = 0; r < 4; ++r) {
-    out += r ? ",[" : "[";
-    for (int c = 0; c < 4; ++c) {
-      if (c) out += ',';
-      AppendJsonNumber(out, m(r, c));
-    }
-    out += ']';
-  }
-  out += ']';
 }
 
 std::string FieldList(uint32_t fields) {
@@ -156,7 +142,14 @@ std::string CloudRecordJson(const store::CloudRecord& cloud) {
   }
   out += ",\"camera\":";
   if (cloud.camera) {
-    out += fmt::format("{{\"width\":{},\"height\":{}}}", cloud.camera->width, cloud.camera->height);
+    const store::CloudCamera& camera = *cloud.camera;
+    out += fmt::format("{{\"width\":{},\"height\":{}", camera.width, camera.height);
+    for (const auto& [name, value] : {std::pair{"fx", camera.fx}, {"fy", camera.fy}, {"cx", camera.cx},
+                                      {"cy", camera.cy}, {"near", camera.near}, {"far", camera.far}}) {
+      out += fmt::format(",\"{}\":", name);
+      AppendJsonNumber(out, value);
+    }
+    out += '}';
   } else {
     out += "null";
   }

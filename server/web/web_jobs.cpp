@@ -11,6 +11,7 @@
 #include "store/stored_enums.h"
 #include "vscan/common/json_quote.h"
 #include "web/web_clouds.h"
+#include "web/web_job_sensor.h"
 
 namespace vscan::web {
 namespace {
@@ -232,6 +233,7 @@ WebReply ServeJobs(const WebSources& sources, const std::shared_ptr<JobStreams>&
     return JsonReply(ToJson(*job));
   }
   if (segments.size() == 3 && segments[2] == "events") return Events(tracker, streams, job_id);
+  if (segments.size() == 3 && segments[2] == "sensor") return JobSensor(tracker, job_id);
   if (segments.size() == 4 && segments[2] == "artifacts" && IsId(segments[3])) {
     return Artifact(tracker, job_id, std::string(segments[3]), request);
   }

@@ -2,6 +2,7 @@
 pages in headless chromium following a small aligning, reconstructing, evaluating campaign live."""
 
 import json
+import math
 import os
 import shutil
 import signal
@@ -20,7 +21,7 @@ import numpy as np
 
 from harness import SOURCE_DIR, Server, read_png
 from test_campaign_service import TARGET, VIEWPOINTS, CampaignFixture, camera, parse_ply, spec
-from vscan.v1 import job_pb2
+from vscan.v1 import job_pb2, sensor_pb2
 
 from vscan import Client
 
@@ -169,6 +170,23 @@ class WebCampaignTest(unittest.TestCase):
             status, _, body = self.get(f"/api/jobs/{queued.job_id}")
             self.assertEqual(status, 200)
             self.assertEqual(json.loads(body)["campaign"]["name"], "queued")
+            # The sensor as the page draws its frustum: the pinhole's intrinsics (45 degrees across 80 pixels).
+            status, _, body = self.get(f"/api/jobs/{queued.job_id}/sensor")
+            self.assertEqual(status, 200, body)
+            sensor = json.loads(body)
+            self.assertEqual((sensor["camera"]["width"], sensor["camera"]["height"]), (80, 60))
+            self.assertAlmostEqual(sensor["camera"]["fx"], 40 / math.tan(math.radians(22.5)), places=6)
+            self.assertIsNone(sensor["projector"])
+            # A structured-light preset, resolved by the server: the projector beside the camera.
+            light = self.client.start_campaign(spec=spec(self.fx.scene.scene_id, self.fx.mount,
+                                                         viewpoints=VIEWPOINTS[:1], rotations=1, name="light",
+                                                         sensor=sensor_pb2.SensorSpec(preset="phoxi-m-class")))
+            self.client.cancel_job(light.job_id)
+            status, _, body = self.get(f"/api/jobs/{light.job_id}/sensor")
+            self.assertEqual(status, 200, body)
+            projector = json.loads(body)["projector"]
+            self.assertGreater(projector["horizontal_fov_deg"], 10)
+            self.assertGreater(np.linalg.norm(np.array(projector["sensor_from_projector"])[:3, 3]), 0.05)
             for path in ("/api/jobs/job_0000000000000000", "/api/jobs/job_0000000000000000/events",
                          "/api/clouds/cld_0000000000000000", "/api/clouds?job=job_0000000000000000"):
                 self.assertEqual(self.get(path)[0], 404, path)
@@ -347,6 +365,11 @@ class WebCampaignTest(unittest.TestCase):
         last = max(captured, key=lambda a: (a.scan.rotation_index, a.scan.viewpoint_index))
         self.assertEqual(view["robot"]["mount_id"], self.fx.mount)
         np.testing.assert_allclose(view["robot"]["joints"], list(last.scan.achieved_joint_positions), atol=1e-12)
+        # The camera's field (a pinhole: no projector) drawn at that scan's pose.
+        record = next(c for c in clouds if c["name"] == last.name)
+        np.testing.assert_allclose(np.array(view["sensor_field"]["world_from_sensor"]).reshape(4, 4),
+                                   np.array(record["world_from_sensor"]), atol=1e-5)
+        self.assertEqual(view["sensor_field"]["lines"], 1)
 
         # Viewpoints coloured by outcome, where the page says it drew them.
         outcomes = [v["outcome"] for v in view["viewpoints"]]
