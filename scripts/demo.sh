@@ -87,13 +87,16 @@ echo "demo: PLY files in $OUT/campaign, the verdict in $OUT/campaign/model.json,
 # bin (its parts settling, by instance).
 CAMPAIGN_JOB="$(/usr/bin/python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["jobId"])' "$OUT/campaign/job.json")"
 BIN_SCENE="$(/usr/bin/python3 -c 'import json, sys; print(json.load(open(sys.argv[1]))["scene_id"])' "$OUT/bin/bin.json")"
+# The bin's scan as a stored cloud, so that the page can show each point's fields and ground truth.
+BIN_CLOUD="$(vscan -q cloud upload "$OUT/bin/scan.ply" --name bin-scan --scene "$BIN_SCENE")"
 echo "see it in a browser (the web view, docs/WEB.md):"
 echo "  the campaign: $(vscan view --no-open "$CAMPAIGN_JOB" --web "$WEB")"
 echo "  the bin fill: $(vscan view --no-open "$BIN_JOB" --web "$WEB")"
 echo "  its scene:    $(vscan view --no-open "$BIN_SCENE" --web "$WEB")"
+echo "  its scan:     $(vscan view --no-open "$BIN_CLOUD" --web "$WEB")"
 if [ -t 0 ] && [ -t 1 ]; then
   read -r -p "vscand serves these until you press Enter. " _
 else
-  echo "vscand has stopped; serve them again with:"
+  echo "vscand stops with this script; serve them again with:"
   echo "  $BIN/server/vscand --data-dir $OUT/data --web-listen $WEB"
 fi

@@ -445,7 +445,10 @@ class WebCampaignTest(unittest.TestCase):
                                                         for s in report["alignment"]["scans"] if s["aligned"]))
 
     def check_cloud_page(self, job_id, cloud, artifact):
-        seen, image, _ = self.open_page(self.page_url(f"cloud={cloud['cloud_id']}&max_points={MAX_POINTS}"), "cloud")
+        seen, image, shot = self.open_page(self.page_url(f"cloud={cloud['cloud_id']}&max_points={MAX_POINTS}"), "cloud")
+        # Set VSCAN_WEB_CLOUD_SCREENSHOT to keep the picture (docs/images/web_cloud.png is made so).
+        if os.environ.get("VSCAN_WEB_CLOUD_SCREENSHOT"):
+            shutil.copyfile(shot, os.environ["VSCAN_WEB_CLOUD_SCREENSHOT"])
         self.assertEqual(seen["consoleErrors"], [])
         view = seen["view"]
         self.assertEqual(view["shown_points"], min(cloud["points"], MAX_POINTS))
