@@ -3,10 +3,12 @@
 import json
 import os
 import shutil
+import socket
 import ssl
 import stat
 import subprocess
 import tempfile
+import time
 import unittest
 import urllib.error
 import urllib.request
@@ -280,6 +282,24 @@ class WebViewTlsTest(unittest.TestCase):
         # A client that does not trust the CA refuses the server.
         with self.assertRaises(urllib.error.URLError):
             urllib.request.urlopen(f"https://{web}/api/scenes", timeout=10, context=ssl.create_default_context())
+
+    def test_stalled_clients_leave_the_https_port_answering(self):
+        web = self.start(mutual=False)
+        host, port = web.split(":")
+        # Twelve connections that never start the handshake, and one that sends half a request.
+        stalled = [socket.create_connection((host, int(port)), timeout=10) for _ in range(12)]
+        context = ssl.create_default_context(cafile=self.cert("ca.crt"))
+        context.check_hostname = False
+        half = context.wrap_socket(socket.create_connection((host, int(port)), timeout=10))
+        half.sendall(b"GET /api/scenes HTTP/1.1\r\nHost: x\r\n")
+        stalled.append(half)
+        try:
+            started = time.monotonic()
+            self.assertEqual(self.fetch(f"https://{web}/api/scenes")[0], 200)
+            self.assertLess(time.monotonic() - started, 3)
+        finally:
+            for connection in stalled:
+                connection.close()
 
     def test_client_certificates_with_a_client_ca(self):
         web = self.start(mutual=True)
