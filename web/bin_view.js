@@ -1,7 +1,9 @@
 // A bin fill (?bin=JOB_ID): the bin, its parts in their instance colours, the fill played back from
 // its bin_replay.bin (play/pause and a time slider; it opens on the final pile), the table of parts,
 // a link to the bin's scene, and picking.
-import { THREE, Viewer, get, instanceColour, matrixFromRows, parseMesh, setTitle, showPickedRows } from './common.js';
+import {
+  THREE, Viewer, fillSwatchTable, get, instanceColour, matrixFromRows, parseMesh, setTitle, showPickedRows,
+} from './common.js';
 
 const OUTSIDE_COLOUR = 0xb0b0b0;  // parts that left the bin have no instance id
 const BIN_COLOUR = 0x707070;
@@ -34,32 +36,10 @@ export function parseReplay(buffer) {
   return { interval: header.getFloat32(16, true), parts, times, poses };
 }
 
-function cell(row, text) {
-  const td = document.createElement('td');
-  td.textContent = text;
-  row.appendChild(td);
-  return td;
-}
-
 function showTable(bin, content) {
-  const table = document.createElement('table');
-  const head = table.insertRow();
-  for (const name of ['', 'instance', 'type', 'object']) {
-    const th = document.createElement('th');
-    th.textContent = name;
-    head.appendChild(th);
-  }
-  for (const part of bin.parts) {
-    const row = table.insertRow();
-    const swatch = document.createElement('span');
-    swatch.className = 'swatch';
-    swatch.style.background = `#${instanceColour(part.instance_id ?? 0).getHexString()}`;
-    cell(row, '').appendChild(swatch);
-    cell(row, part.instance_id === null ? '' : String(part.instance_id));
-    cell(row, part.name);
-    cell(row, part.object_id);
-  }
-  content.appendChild(table);
+  content.appendChild(fillSwatchTable(document.createElement('table'), ['instance', 'type', 'object'], bin.parts,
+    (part) => `#${instanceColour(part.instance_id ?? 0).getHexString()}`,
+    (part) => [part.instance_id === null ? '' : part.instance_id, part.name, part.object_id]));
 }
 
 function showPicked(part) {

@@ -54,6 +54,27 @@ export function matrixFromRows(rows) {
   return new THREE.Matrix4().set(...rows[0], ...rows[1], ...rows[2], ...rows[3]);
 }
 
+// Fills table (emptied first) with a heading row and one row per item: a colour swatch (a CSS
+// colour) then the item's cells as text.
+export function fillSwatchTable(table, headings, items, swatchColour, cells) {
+  table.textContent = '';
+  const head = table.insertRow();
+  for (const name of ['', ...headings]) {
+    const th = document.createElement('th');
+    th.textContent = name;
+    head.appendChild(th);
+  }
+  for (const item of items) {
+    const row = table.insertRow();
+    const swatch = document.createElement('span');
+    swatch.className = 'swatch';
+    swatch.style.background = swatchColour(item);
+    row.insertCell().appendChild(swatch);
+    for (const value of cells(item)) row.insertCell().textContent = String(value);
+  }
+  return table;
+}
+
 // Fills #picked with name/value rows (null: "nothing picked").
 export function showPickedRows(rows) {
   const panel = document.getElementById('picked');

@@ -2,7 +2,7 @@
 // views, and one view drawn in 2D: the grey image with overlays to toggle (depth in false colour,
 // visible masks and ground-truth boxes in the instance palette, each pose as projected axes). A
 // click reports the pixel's depth and the object seen there.
-import { get, instanceColour, setTitle, showPickedRows } from './common.js';
+import { fillSwatchTable, get, instanceColour, setTitle, showPickedRows } from './common.js';
 
 const OVERLAYS = ['grey', 'depth', 'masks', 'boxes', 'axes'];
 const DEFAULT_OVERLAYS = ['grey', 'masks', 'boxes', 'axes'];
@@ -219,25 +219,10 @@ class DatasetPage {
   }
 
   showObjects() {
-    const table = this.table;
-    table.textContent = '';
-    const head = table.insertRow();
-    for (const name of ['', 'gt', 'obj_id', 'instance', 'visib_fract', 'bbox_visib']) {
-      const th = document.createElement('th');
-      th.textContent = name;
-      head.appendChild(th);
-    }
-    for (const object of this.shown.objects) {
-      const row = table.insertRow();
-      const swatch = document.createElement('span');
-      swatch.className = 'swatch';
-      swatch.style.background = `rgb(${colourOf(object).join(',')})`;
-      row.insertCell().appendChild(swatch);
-      for (const value of [object.gt_index, object.obj_id, object.instance_id,
-        Number(object.visib_fract).toFixed(3), JSON.stringify(object.bbox_visib)]) {
-        row.insertCell().textContent = String(value);
-      }
-    }
+    fillSwatchTable(this.table, ['gt', 'obj_id', 'instance', 'visib_fract', 'bbox_visib'], this.shown.objects,
+      (object) => `rgb(${colourOf(object).join(',')})`,
+      (object) => [object.gt_index, object.obj_id, object.instance_id, Number(object.visib_fract).toFixed(3),
+        JSON.stringify(object.bbox_visib)]);
   }
 
   // Draws the view at a whole-number scale that fits the right of the page (at most 4 times).

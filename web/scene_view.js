@@ -1,35 +1,15 @@
 // A scene (?scene=ID): its objects in their instance colours, the table of objects, and picking.
-import { THREE, Viewer, get, instanceColour, matrixFromRows, parseMesh, setTitle, showPickedRows } from './common.js';
+import {
+  THREE, Viewer, fillSwatchTable, get, instanceColour, matrixFromRows, parseMesh, setTitle, showPickedRows,
+} from './common.js';
 import { addMountedRobot, tableDisc } from './robot.js';
 
-function cell(row, text) {
-  const td = document.createElement('td');
-  td.textContent = text;
-  row.appendChild(td);
-  return td;
-}
-
 function showTable(scene) {
-  const table = document.createElement('table');
-  const head = table.insertRow();
-  for (const name of ['', 'object', 'label', 'mesh', 'instance', 'material', 'albedo']) {
-    const th = document.createElement('th');
-    th.textContent = name;
-    head.appendChild(th);
-  }
-  for (const object of scene.objects) {
-    const row = table.insertRow();
-    const swatch = document.createElement('span');
-    swatch.className = 'swatch';
-    swatch.style.background = `#${instanceColour(object.instance_id).getHexString()}`;
-    cell(row, '').appendChild(swatch);
-    cell(row, object.object_id);
-    cell(row, object.label);
-    cell(row, object.mesh_id);
-    cell(row, String(object.instance_id));
-    cell(row, object.material ? object.material.preset : '');
-    cell(row, object.material ? String(object.material.albedo) : '');
-  }
+  const table = fillSwatchTable(document.createElement('table'),
+    ['object', 'label', 'mesh', 'instance', 'material', 'albedo'], scene.objects,
+    (object) => `#${instanceColour(object.instance_id).getHexString()}`,
+    (object) => [object.object_id, object.label, object.mesh_id, object.instance_id,
+      object.material ? object.material.preset : '', object.material ? object.material.albedo : '']);
   document.getElementById('content').appendChild(table);
 }
 
