@@ -29,13 +29,29 @@ async function listScenes() {
   document.getElementById('content').appendChild(list);
 }
 
+// The view that shows a job of kind, as `vscan view JOB` chooses it.
+function viewOfJobKind(kind) {
+  return { bin_fill: 'bin', dataset: 'dataset' }[kind] || 'job';
+}
+
+// ?job=ID for any kind: bin fills and dataset jobs have views of their own.
+async function showAnyJob(id, query) {
+  const { kind } = await get(`api/jobs/${encodeURIComponent(id)}`);
+  const view = viewOfJobKind(kind);
+  if (view !== 'job') {
+    history.replaceState(null, '', `?${view}=${encodeURIComponent(id)}${location.hash}`);
+    return VIEWS[view](id, new URLSearchParams(location.search));
+  }
+  return showJob(id, query);
+}
+
 async function listJobs() {
   const { jobs } = await get('api/jobs?limit=20');
   const heading = document.createElement('div');
   heading.textContent = `${jobs.length} recent jobs`;
   const list = document.createElement('ul');
   for (const job of jobs) {
-    const view = job.kind === 'bin_fill' ? 'bin' : 'job';  // as `vscan view JOB` chooses
+    const view = viewOfJobKind(job.kind);
     list.appendChild(link(`${view}=${encodeURIComponent(job.job_id)}`, `${job.name || job.job_id} (${job.kind}, ` +
       `${job.state}, ${job.steps_done} of ${job.steps_total} steps, ${job.job_id})`));
   }
@@ -46,7 +62,7 @@ async function listJobs() {
 const VIEWS = {
   scene: showScene,
   dataset: showDataset,
-  job: showJob,
+  job: showAnyJob,
   cloud: showCloud,
   bin: showBin,
 };
