@@ -10,15 +10,10 @@
 // usage: node web_cloud_bench.js PUPPETEER_CORE_DIR CHROMIUM URL [RUNS [FRAMES [WIDTHxHEIGHT]]]
 const [puppeteerDir, chromium, url, runs = '5', frames = '60', size = '1280x720'] = process.argv.slice(2);
 const [width, height] = size.split('x').map(Number);
-const puppeteer = require(puppeteerDir);
+const { launch, openPage, runScript } = require('../tests/integration/web/browser.js');
 
-(async () => {
-  const browser = await puppeteer.launch({
-    executablePath: chromium,
-    headless: true,
-    args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist',
-      '--disable-dev-shm-usage'],
-  });
+runScript(async () => {
+  const browser = await launch(puppeteerDir, chromium);
   const result = {
     first_frame_ms: [], raf_after_first_render_ms: [], rotate_fps: [], rotate_fps_all_points: [], points: 0,
     points_while_turning: 0, errors: [],
@@ -26,14 +21,8 @@ const puppeteer = require(puppeteerDir);
   try {
     for (let run = 0; run < Number(runs); run += 1) {
       const context = await browser.createBrowserContext();
-      const page = await context.newPage();
-      await page.setViewport({ width, height, deviceScaleFactor: 1 });
-      page.on('console', (message) => {
-        if (message.type() === 'error') result.errors.push(message.text());
-      });
-      page.on('pageerror', (error) => result.errors.push(String(error)));
-      await page.goto(url, { waitUntil: 'load', timeout: 300000 });
-      await page.waitForFunction('window.vscanReady === true', { timeout: 300000, polling: 10 });
+      const { page } = await openPage(context, url, width, height,
+        { timeout: 300000, polling: 10, consoleErrors: result.errors });
       const first = await page.evaluate(() => {
         const gl = window.vscanViewer.renderer.getContext();
         gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, new Uint8Array(4));
@@ -79,7 +68,4 @@ const puppeteer = require(puppeteerDir);
     await browser.close();
   }
   console.log(JSON.stringify(result));
-})().catch((error) => {
-  console.error(error);
-  process.exit(1);
 });

@@ -6,28 +6,12 @@
 // usage: node bin_page.js PUPPETEER_CORE_DIR CHROMIUM URL SCREENSHOT_PATH PICKED_SCREENSHOT_PATH [WIDTHxHEIGHT]
 const [puppeteerDir, chromium, url, screenshot, pickedShot, size = '960x540'] = process.argv.slice(2);
 const [width, height] = size.split('x').map(Number);
-const puppeteer = require(puppeteerDir);
+const { launch, openPage, clickAndPick, runScript } = require('./browser.js');
 
-(async () => {
-  const browser = await puppeteer.launch({
-    executablePath: chromium,
-    headless: true,
-    // As view_page.js: WebGL on the CPU through SwiftShader, no sandbox, shared memory in /tmp.
-    args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist',
-      '--disable-dev-shm-usage'],
-  });
+runScript(async () => {
+  const browser = await launch(puppeteerDir, chromium);
   try {
-    const page = await browser.newPage();
-    await page.setViewport({ width, height, deviceScaleFactor: 1 });
-    const consoleErrors = [];
-    const requests = [];
-    page.on('request', (request) => requests.push(request.url()));
-    page.on('console', (message) => {
-      if (message.type() === 'error') consoleErrors.push(message.text());
-    });
-    page.on('pageerror', (error) => consoleErrors.push(String(error)));
-    await page.goto(url, { waitUntil: 'load', timeout: 60000 });
-    await page.waitForFunction('window.vscanReady === true', { timeout: 60000 });
+    const { page, consoleErrors, requests } = await openPage(browser, url, width, height);
     const seen = await page.evaluate(() => ({
       view: window.vscanView || null,
       errorText: document.getElementById('error').textContent,
@@ -36,12 +20,7 @@ const puppeteer = require(puppeteerDir);
       sceneLink: document.getElementById('scene-link') ? document.getElementById('scene-link').href : null,
     }));
     await page.screenshot({ path: screenshot });
-    const click = async (x, y) => {
-      const before = await page.evaluate(() => window.vscanPickCount);
-      await page.mouse.click(x, y);
-      await page.waitForFunction((n) => window.vscanPickCount > n, { timeout: 60000 }, before);
-      return page.evaluate(() => ({ picked: window.vscanPicked, panel: document.getElementById('picked').innerText }));
-    };
+    const click = (x, y) => clickAndPick(page, x, y);
     const picks = [];
     let first = null;
     let last = null;
@@ -79,7 +58,4 @@ const puppeteer = require(puppeteerDir);
   } finally {
     await browser.close();
   }
-})().catch((error) => {
-  console.error(error);
-  process.exit(1);
 });

@@ -9,27 +9,12 @@
 //   Any other MODE: only reports what the page shows.
 const [puppeteerDir, chromium, url, screenshot, size = '640x480', mode = 'job'] = process.argv.slice(2);
 const [width, height] = size.split('x').map(Number);
-const puppeteer = require(puppeteerDir);
+const { launch, openPage, clickAndPick, runScript } = require('./browser.js');
 
-(async () => {
-  const browser = await puppeteer.launch({
-    executablePath: chromium,
-    headless: true,
-    args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist',
-      '--disable-dev-shm-usage'],
-  });
+runScript(async () => {
+  const browser = await launch(puppeteerDir, chromium);
   try {
-    const page = await browser.newPage();
-    await page.setViewport({ width, height, deviceScaleFactor: 1 });
-    const consoleErrors = [];
-    const requests = [];
-    page.on('request', (request) => requests.push(request.url()));
-    page.on('console', (message) => {
-      if (message.type() === 'error') consoleErrors.push(message.text());
-    });
-    page.on('pageerror', (error) => consoleErrors.push(String(error)));
-    await page.goto(url, { waitUntil: 'load', timeout: 60000 });
-    await page.waitForFunction('window.vscanReady === true', { timeout: 60000 });
+    const { page, consoleErrors, requests } = await openPage(browser, url, width, height);
     console.log('READY');
     const samples = [];
     const view = () => page.evaluate(() => (window.vscanView ? JSON.parse(JSON.stringify(window.vscanView)) : null));
@@ -51,12 +36,7 @@ const puppeteer = require(puppeteerDir);
     // The screenshot shows the page as drawn, before any click changes the picked box.
     await page.screenshot({ path: screenshot });
     const picks = [];
-    const click = async (x, y) => {
-      const before = await page.evaluate(() => window.vscanPickCount);
-      await page.mouse.click(x, y);
-      await page.waitForFunction((n) => window.vscanPickCount > n, { timeout: 60000 }, before);
-      return page.evaluate(() => ({ picked: window.vscanPicked, panel: document.getElementById('picked').innerText }));
-    };
+    const click = (x, y) => clickAndPick(page, x, y);
     if (seen && mode === 'job') {
       for (const view of seen.next_best_views || []) picks.push({ at: view.pixel, ...(await click(...view.pixel)) });
     }
@@ -68,7 +48,4 @@ const puppeteer = require(puppeteerDir);
   } finally {
     await browser.close();
   }
-})().catch((error) => {
-  console.error(error);
-  process.exit(1);
 });

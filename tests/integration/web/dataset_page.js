@@ -9,30 +9,16 @@ const fs = require('fs');
 
 const [puppeteerDir, chromium, stepsPath] = process.argv.slice(2);
 const steps = JSON.parse(fs.readFileSync(stepsPath, 'utf8'));
-const puppeteer = require(puppeteerDir);
+const { launch, openPage, clickAndPick, runScript } = require('./browser.js');
 
-(async () => {
-  const browser = await puppeteer.launch({
-    executablePath: chromium,
-    headless: true,
-    // As view_page.js: no GPU is needed (a 2D canvas), no sandbox, shared memory in /tmp.
-    args: ['--no-sandbox', '--disable-dev-shm-usage'],
-  });
+runScript(async () => {
+  // No GPU is needed (a 2D canvas): no SwiftShader flags.
+  const browser = await launch(puppeteerDir, chromium, { webgl: false });
   const results = [];
   try {
     for (const step of steps) {
       const [width, height] = (step.size || '1024x600').split('x').map(Number);
-      const page = await browser.newPage();
-      await page.setViewport({ width, height, deviceScaleFactor: 1 });
-      const consoleErrors = [];
-      const requests = [];
-      page.on('request', (request) => requests.push(request.url()));
-      page.on('console', (message) => {
-        if (message.type() === 'error') consoleErrors.push(message.text());
-      });
-      page.on('pageerror', (error) => consoleErrors.push(String(error)));
-      await page.goto(step.url, { waitUntil: 'load', timeout: 30000 });
-      await page.waitForFunction('window.vscanReady === true', { timeout: 30000 });
+      const { page, consoleErrors, requests } = await openPage(browser, step.url, width, height, { timeout: 30000 });
       const look = () => page.evaluate(() => ({
         view: window.vscanView || null,
         errorText: document.getElementById('error').textContent,
@@ -44,15 +30,7 @@ const puppeteer = require(puppeteerDir);
       if (step.screenshot) await page.screenshot({ path: step.screenshot });
       const picks = [];
       for (const [x, y] of step.clicks || []) {
-        const before = await page.evaluate(() => window.vscanPickCount);
-        await page.mouse.click(x, y);
-        await page.waitForFunction((n) => window.vscanPickCount > n, { timeout: 10000 }, before);
-        picks.push({
-          at: [x, y],
-          ...(await page.evaluate(() => ({
-            picked: window.vscanPicked, panel: document.getElementById('picked').innerText,
-          }))),
-        });
+        picks.push({ at: [x, y], ...(await clickAndPick(page, x, y, 10000)) });
       }
       if (step.after_clicks_screenshot) await page.screenshot({ path: step.after_clicks_screenshot });
       let followed = null;
@@ -77,7 +55,4 @@ const puppeteer = require(puppeteerDir);
     await browser.close();
   }
   console.log(JSON.stringify(results));
-})().catch((error) => {
-  console.error(error);
-  process.exit(1);
 });
