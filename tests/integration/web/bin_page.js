@@ -6,56 +6,50 @@
 // usage: node bin_page.js PUPPETEER_CORE_DIR CHROMIUM URL SCREENSHOT_PATH PICKED_SCREENSHOT_PATH [WIDTHxHEIGHT]
 const [puppeteerDir, chromium, url, screenshot, pickedShot, size = '960x540'] = process.argv.slice(2);
 const [width, height] = size.split('x').map(Number);
-const { launch, openPage, clickAndPick, runScript } = require('./browser.js');
+const { clickAndPick, shown, withPage } = require('./browser.js');
 
-runScript(async () => {
-  const browser = await launch(puppeteerDir, chromium);
-  try {
-    const { page, consoleErrors, requests } = await openPage(browser, url, width, height);
-    const seen = await page.evaluate(() => ({
-      view: window.vscanView || null,
-      errorText: document.getElementById('error').textContent,
-      title: document.getElementById('title').textContent,
-      text: document.body.innerText,
-      sceneLink: document.getElementById('scene-link') ? document.getElementById('scene-link').href : null,
-    }));
-    await page.screenshot({ path: screenshot });
-    const click = (x, y) => clickAndPick(page, x, y);
-    const picks = [];
-    let first = null;
-    let last = null;
-    let slider = null;
-    let played = null;
-    if (seen.view && seen.view.parts) {
-      for (const part of seen.view.parts) {
-        if (part.pixel) picks.push({ at: part.pixel, ...(await click(...part.pixel)) });
-      }
-      if (seen.view.frames > 0) {
-        first = await page.evaluate(() => window.vscanSeek(0));
-        last = await page.evaluate((n) => window.vscanSeek(n - 1), seen.view.frames);
-        // The slider: the middle frame, as a person would drag it.
-        const middle = Math.floor(seen.view.frames / 2);
-        slider = await page.evaluate((f) => {
-          const input = document.getElementById('frame');
-          input.value = String(f);
-          input.dispatchEvent(new Event('input'));
-          return { asked: f, frame: window.vscanView.frame };
-        }, middle);
-        // Play from the start: the frames advance in simulated time up to the last, where it stops.
-        await page.evaluate(() => window.vscanSeek(0));
-        const started = Date.now();
-        await page.click('#play');
-        const playingText = await page.evaluate(() => document.getElementById('play').textContent);
-        await page.waitForFunction((n) => window.vscanView.frame === n - 1, { timeout: 60000 }, seen.view.frames);
-        played = { playingText, seconds: (Date.now() - started) / 1000,
-          endText: await page.evaluate(() => document.getElementById('play').textContent) };
-      }
-      const shown = seen.view.parts.find((p) => p.pixel);
-      if (shown) await click(...shown.pixel);
+withPage(puppeteerDir, chromium, url, width, height, async ({ page, consoleErrors, requests }) => {
+  const seen = {
+    ...(await shown(page)),
+    sceneLink: await page.evaluate(() => {
+      const link = document.getElementById('scene-link');
+      return link ? link.href : null;
+    }),
+  };
+  await page.screenshot({ path: screenshot });
+  const click = (x, y) => clickAndPick(page, x, y);
+  const picks = [];
+  let first = null;
+  let last = null;
+  let slider = null;
+  let played = null;
+  if (seen.view && seen.view.parts) {
+    for (const part of seen.view.parts) {
+      if (part.pixel) picks.push({ at: part.pixel, ...(await click(...part.pixel)) });
     }
-    await page.screenshot({ path: pickedShot });
-    console.log(JSON.stringify({ consoleErrors, requests, picks, first, last, slider, played, ...seen }));
-  } finally {
-    await browser.close();
+    if (seen.view.frames > 0) {
+      first = await page.evaluate(() => window.vscanSeek(0));
+      last = await page.evaluate((n) => window.vscanSeek(n - 1), seen.view.frames);
+      // The slider: the middle frame, as a person would drag it.
+      const middle = Math.floor(seen.view.frames / 2);
+      slider = await page.evaluate((f) => {
+        const input = document.getElementById('frame');
+        input.value = String(f);
+        input.dispatchEvent(new Event('input'));
+        return { asked: f, frame: window.vscanView.frame };
+      }, middle);
+      // Play from the start: the frames advance in simulated time up to the last, where it stops.
+      await page.evaluate(() => window.vscanSeek(0));
+      const started = Date.now();
+      await page.click('#play');
+      const playingText = await page.evaluate(() => document.getElementById('play').textContent);
+      await page.waitForFunction((n) => window.vscanView.frame === n - 1, { timeout: 60000 }, seen.view.frames);
+      played = { playingText, seconds: (Date.now() - started) / 1000,
+        endText: await page.evaluate(() => document.getElementById('play').textContent) };
+    }
+    const shown = seen.view.parts.find((p) => p.pixel);
+    if (shown) await click(...shown.pixel);
   }
+  await page.screenshot({ path: pickedShot });
+  console.log(JSON.stringify({ consoleErrors, requests, picks, first, last, slider, played, ...seen }));
 });

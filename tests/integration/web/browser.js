@@ -44,6 +44,17 @@ async function clickAndPick(page, x, y, timeout = 60000) {
   return page.evaluate(() => ({ picked: window.vscanPicked, panel: document.getElementById('picked').innerText }));
 }
 
+// What the page shows: window.vscanView (null before a view is drawn), the error line, the title and
+// the text of the whole page.
+function shown(page) {
+  return page.evaluate(() => ({
+    view: window.vscanView || null,
+    errorText: document.getElementById('error').textContent,
+    title: document.getElementById('title').textContent,
+    text: document.body.innerText,
+  }));
+}
+
 // Runs MAIN (an async function) and exits with status 1 on any error, which goes to stderr.
 function runScript(main) {
   main().catch((error) => {
@@ -52,4 +63,17 @@ function runScript(main) {
   });
 }
 
-module.exports = { launch, openPage, clickAndPick, runScript };
+// Runs BODY({ page, consoleErrors, requests }) on one page opened with openPage in a browser started
+// with launch, then closes the browser; exits with status 1 on any error.
+function withPage(puppeteerDir, chromium, url, width, height, body) {
+  runScript(async () => {
+    const browser = await launch(puppeteerDir, chromium);
+    try {
+      await body(await openPage(browser, url, width, height));
+    } finally {
+      await browser.close();
+    }
+  });
+}
+
+module.exports = { launch, openPage, clickAndPick, shown, runScript, withPage };

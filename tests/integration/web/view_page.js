@@ -5,28 +5,17 @@
 // usage: node view_page.js PUPPETEER_CORE_DIR CHROMIUM URL SCREENSHOT_PATH [WIDTHxHEIGHT [pick]]
 const [puppeteerDir, chromium, url, screenshot, size = '320x240', mode = ''] = process.argv.slice(2);
 const [width, height] = size.split('x').map(Number);
-const { launch, openPage, clickAndPick, runScript } = require('./browser.js');
+const { clickAndPick, shown, withPage } = require('./browser.js');
 
-runScript(async () => {
-  const browser = await launch(puppeteerDir, chromium);
-  try {
-    const { page, consoleErrors, requests } = await openPage(browser, url, width, height);
-    const seen = await page.evaluate(() => ({
-      view: window.vscanView || null,
-      errorText: document.getElementById('error').textContent,
-      title: document.getElementById('title').textContent,
-      text: document.body.innerText,
-    }));
-    const picks = [];
-    const click = (x, y) => clickAndPick(page, x, y);
-    if (mode === 'pick' && seen.view) {
-      for (const object of seen.view.objects) picks.push({ at: object.pixel, ...(await click(...object.pixel)) });
-      picks.push({ at: [width - 5, height - 5], ...(await click(width - 5, height - 5)) });
-      if (seen.view.objects.length > 0) await click(...seen.view.objects[0].pixel);
-    }
-    await page.screenshot({ path: screenshot });
-    console.log(JSON.stringify({ consoleErrors, requests, picks, ...seen }));
-  } finally {
-    await browser.close();
+withPage(puppeteerDir, chromium, url, width, height, async ({ page, consoleErrors, requests }) => {
+  const seen = await shown(page);
+  const picks = [];
+  const click = (x, y) => clickAndPick(page, x, y);
+  if (mode === 'pick' && seen.view) {
+    for (const object of seen.view.objects) picks.push({ at: object.pixel, ...(await click(...object.pixel)) });
+    picks.push({ at: [width - 5, height - 5], ...(await click(width - 5, height - 5)) });
+    if (seen.view.objects.length > 0) await click(...seen.view.objects[0].pixel);
   }
+  await page.screenshot({ path: screenshot });
+  console.log(JSON.stringify({ consoleErrors, requests, picks, ...seen }));
 });
