@@ -6,23 +6,18 @@ import os
 import shutil
 import struct
 import subprocess
-import tempfile
 import time
 import unittest
-import urllib.error
-import urllib.request
 
 import numpy as np
 
-from harness import SOURCE_DIR, VSCAN, ServerTestCase, read_png
-from test_web_view import BACKGROUND, CHROMIUM, PUPPETEER, free_port
+from harness import SOURCE_DIR, VSCAN, read_png
+from web_harness import BACKGROUND, WebServerTestCase, http_get, need_browser, run_page
 from vscan.v1 import job_pb2
 
 from vscan import Client, bin_part
 
 TOKEN = "web-bins-token"
-PAGE_SCRIPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "web", "bin_page.js")
-VIEW_PAGE_SCRIPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "web", "view_page.js")
 PARTS = 4
 INNER_SIZE = (0.30, 0.20, 0.06)
 
@@ -43,15 +38,11 @@ def rotate(q, v):
     return v + 2 * w * np.cross(u, v) + 2 * np.cross(u, np.cross(u, v))
 
 
-class WebBinsTest(ServerTestCase):
+class WebBinsTest(WebServerTestCase):
+    token = TOKEN
+
     @classmethod
     def setUpClass(cls):
-        cls.tmp = tempfile.TemporaryDirectory(prefix="vscan-web-bins-")
-        token_file = os.path.join(cls.tmp.name, "token")
-        with open(token_file, "w") as f:
-            f.write(TOKEN + "\n")
-        cls.web = f"127.0.0.1:{free_port()}"
-        cls.server_args = ("--token-file", token_file, "--web-listen", cls.web)
         super().setUpClass()
         cls.client = Client(cls.server.address, token=TOKEN, stream_timeout=120)
         c = cls.client
@@ -81,17 +72,9 @@ class WebBinsTest(ServerTestCase):
     def tearDownClass(cls):
         cls.client.close()
         super().tearDownClass()
-        cls.tmp.cleanup()
 
     def get(self, path, token=TOKEN):
-        request = urllib.request.Request(f"http://{self.web}{path}")
-        if token is not None:
-            request.add_header("Authorization", f"Bearer {token}")
-        try:
-            with urllib.request.urlopen(request, timeout=10) as response:
-                return response.status, response.headers["Content-Type"], response.read()
-        except urllib.error.HTTPError as e:
-            return e.code, e.headers["Content-Type"], e.read()
+        return http_get(self.web, path, token)
 
     def replay(self):
         status, content_type, body = self.get(f"/api/bins/{self.job.job_id}/replay")
@@ -176,16 +159,8 @@ class WebBinsTest(ServerTestCase):
 
     # In a browser.
 
-    def need_browser(self):
-        if not os.access(CHROMIUM, os.X_OK):
-            self.skipTest(f"{CHROMIUM} is not installed (Debian package chromium; scripts/install-deps.sh)")
-        if not os.path.isdir(PUPPETEER):
-            self.skipTest("puppeteer-core is not in .tools/ (scripts/install-deps.sh)")
-        if not shutil.which("node"):
-            self.skipTest("node is not installed")
-
     def open_page(self):
-        self.need_browser()
+        need_browser(self)
         # The address `vscan view` gives for a bin fill job (it asks the server for the job's kind).
         run = subprocess.run([VSCAN, "--server", self.server.address, "--token", TOKEN, "view", self.job.job_id,
                               "--web", self.web, "--no-open"], capture_output=True, text=True, timeout=30)
@@ -194,22 +169,15 @@ class WebBinsTest(ServerTestCase):
         self.assertEqual(url, f"http://{self.web}/?bin={self.job.job_id}#token={TOKEN}")
         shot = os.path.join(self.tmp.name, "bin.png")
         picked = os.path.join(self.tmp.name, "bin-picked.png")
-        run = subprocess.run(["node", PAGE_SCRIPT, PUPPETEER, CHROMIUM, url, shot, picked, "960x540"],
-                             capture_output=True, text=True, timeout=240)
-        self.assertEqual(run.returncode, 0, run.stdout + run.stderr)
-        seen = json.loads(run.stdout.strip().splitlines()[-1])
+        seen = run_page(self, "bin_page.js", url, shot, picked, "960x540")
         with open(shot, "rb") as f:
             image = read_png(f.read())
         return seen, image, picked
 
     def test_browser_says_a_fill_that_never_ran_has_no_pile(self):
-        self.need_browser()
         shot = os.path.join(self.tmp.name, "unrun.png")
         url = f"http://{self.web}/?bin={self.unrun.job_id}#token={TOKEN}"
-        run = subprocess.run(["node", VIEW_PAGE_SCRIPT, PUPPETEER, CHROMIUM, url, shot, "640x360"],
-                             capture_output=True, text=True, timeout=240)
-        self.assertEqual(run.returncode, 0, run.stdout + run.stderr)
-        seen = json.loads(run.stdout.strip().splitlines()[-1])
+        seen = run_page(self, "view_page.js", url, shot, "640x360")
         self.assertEqual(seen["consoleErrors"], [])
         self.assertIn("CANCELLED", seen["title"])
         self.assertIn("the fill ended before its physics ran", seen["text"])

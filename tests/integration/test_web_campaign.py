@@ -13,22 +13,18 @@ import tempfile
 import threading
 import time
 import unittest
-import urllib.error
-import urllib.request
 
 import grpc
 import numpy as np
 
-from harness import SOURCE_DIR, Server, read_png
+from harness import Server, read_png
 from test_campaign_service import TARGET, VIEWPOINTS, CampaignFixture, camera, parse_ply, spec
+from web_harness import http_get, need_browser, page_command, web_listen
 from vscan.v1 import job_pb2, sensor_pb2
 
 from vscan import Client
 
 TOKEN = "web-campaign-token"
-CHROMIUM = "/usr/bin/chromium"
-PUPPETEER = os.path.join(SOURCE_DIR, ".tools", "node_modules", "puppeteer-core")
-PAGE_SCRIPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "web", "campaign_page.js")
 # Some 1.1 m from the UR5's base, beyond its 0.85 m reach: every step there is unreachable.
 UNREACHABLE = ((-0.45, 0.0, 0.35), TARGET)
 MAX_POINTS = 1500  # per cloud, as the page is asked to thin
@@ -37,12 +33,6 @@ SCANS = 2 * ROTATIONS  # the two reachable viewpoints at each table angle
 # The page's viewpoint colours by outcome (web/job_view.js).
 COLOURS = {"reached": (0x00, 0xe0, 0x00), "unreachable": (0xff, 0x00, 0x00), "colliding": (0xff, 0xff, 0x00)}
 SCREENSHOT_SIZE = (640, 480)
-
-
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 class _Token(grpc.UnaryUnaryClientInterceptor, grpc.UnaryStreamClientInterceptor, grpc.StreamUnaryClientInterceptor,
@@ -114,14 +104,9 @@ class WebCampaignTest(unittest.TestCase):
     def setUpClass(cls):
         cls.tmp = tempfile.TemporaryDirectory(prefix="vscan-web-campaign-")
         cls.addClassCleanup(cls.tmp.cleanup)
-        token_file = os.path.join(cls.tmp.name, "token")
-        with open(token_file, "w") as f:
-            f.write(TOKEN + "\n")
-        cls.web_port = free_port()
-        cls.web = f"127.0.0.1:{cls.web_port}"
+        cls.web_port, cls.web, web_args = web_listen(cls.tmp.name, TOKEN)
         # One job at a time: a job started behind another waits QUEUED, so a page can open on it first.
-        cls.server = Server(extra_args=("--token-file", token_file, "--web-listen", cls.web,
-                                        "--max-concurrent-jobs", "1")).start()
+        cls.server = Server(extra_args=(*web_args, "--max-concurrent-jobs", "1")).start()
         cls.addClassCleanup(cls.server.cleanup)
         cls.fx = CampaignFixture(_AuthedServer(cls.server))
         cls.addClassCleanup(cls.fx.close)
@@ -130,14 +115,7 @@ class WebCampaignTest(unittest.TestCase):
 
     def get(self, path, token=TOKEN, timeout=10):
         """(status, content type, body) of one request to the web view."""
-        request = urllib.request.Request(f"http://{self.web}{path}")
-        if token is not None:
-            request.add_header("Authorization", f"Bearer {token}")
-        try:
-            with urllib.request.urlopen(request, timeout=timeout) as response:
-                return response.status, response.headers["Content-Type"], response.read()
-        except urllib.error.HTTPError as e:
-            return e.code, e.headers["Content-Type"], e.read()
+        return http_get(self.web, path, token, timeout=timeout)
 
     def blocker(self):
         """A long campaign (180 scans of 640 x 480) that holds the only job slot until cancelled."""
@@ -268,15 +246,9 @@ class WebCampaignTest(unittest.TestCase):
     # In a browser.
 
     def open_page(self, url, mode, on_ready=None):
-        if not os.access(CHROMIUM, os.X_OK):
-            self.skipTest(f"{CHROMIUM} is not installed (Debian package chromium; scripts/install-deps.sh)")
-        if not os.path.isdir(PUPPETEER):
-            self.skipTest("puppeteer-core is not in .tools/ (scripts/install-deps.sh)")
-        if not shutil.which("node"):
-            self.skipTest("node is not installed")
+        need_browser(self)
         shot = os.path.join(self.tmp.name, f"{mode}.png")
-        page = subprocess.Popen(["node", PAGE_SCRIPT, PUPPETEER, CHROMIUM, url, shot,
-                                 "x".join(map(str, SCREENSHOT_SIZE)), mode],
+        page = subprocess.Popen(page_command("campaign_page.js", url, shot, "x".join(map(str, SCREENSHOT_SIZE)), mode),
                                 stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
         timer = threading.Timer(240, page.kill)
         timer.start()
@@ -491,12 +463,8 @@ class WebStopTest(unittest.TestCase):
 
     def test_stop_ends_the_streams_without_waiting_for_the_job(self):
         with tempfile.TemporaryDirectory(prefix="vscan-web-stop-") as tmp:
-            token_file = os.path.join(tmp, "token")
-            with open(token_file, "w") as f:
-                f.write(TOKEN + "\n")
-            port = free_port()
-            server = Server(extra_args=("--token-file", token_file, "--web-listen", f"127.0.0.1:{port}",
-                                        "--grace-seconds", "1")).start()
+            port, _, web_args = web_listen(tmp, TOKEN)
+            server = Server(extra_args=(*web_args, "--grace-seconds", "1")).start()
             self.addCleanup(server.cleanup)
             fx = CampaignFixture(_AuthedServer(server))
             self.addCleanup(fx.close)

@@ -1,38 +1,26 @@
 """The web view's datasets (vscand --web-listen): a dataset job's scenes, views and files over HTTP, and
 one view drawn by the page in headless chromium, compared with the dataset's own files."""
 
-import http.client
 import json
 import os
 import re
 import shutil
-import socket
 import subprocess
 import sys
 import tempfile
 import time
 import unittest
-import urllib.error
-import urllib.request
 
 import numpy as np
 
 from harness import SOURCE_DIR, VSCAN, Server, read_png
+from web_harness import http_get, run_page, web_listen
 
 sys.path.insert(0, os.path.join(SOURCE_DIR, "tests", "unit", "service", "datasets", "format"))
 from dataset_layout_test import read_png as read_grey_png  # noqa: E402  (8- and 16-bit grey)
 
 TOKEN = "web-datasets-token"
-CHROMIUM = "/usr/bin/chromium"
-PUPPETEER = os.path.join(SOURCE_DIR, ".tools", "node_modules", "puppeteer-core")
-PAGE_SCRIPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "web", "dataset_page.js")
 WIDTH, HEIGHT = 200, 160
-
-
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
 
 
 def palette():
@@ -71,12 +59,8 @@ class WebDatasetsTest(unittest.TestCase):
     @classmethod
     def setUpClass(cls):
         cls.tmp = tempfile.TemporaryDirectory(prefix="vscan-web-ds-")
-        token_file = os.path.join(cls.tmp.name, "token")
-        with open(token_file, "w") as f:
-            f.write(TOKEN + "\n")
-        cls.web = f"127.0.0.1:{free_port()}"
-        cls.server = Server(data_dir=cls.tmp.name,
-                            extra_args=("--token-file", token_file, "--web-listen", cls.web)).start()
+        _, cls.web, web_args = web_listen(cls.tmp.name, TOKEN)
+        cls.server = Server(data_dir=cls.tmp.name, extra_args=web_args).start()
         mesh = os.path.join(cls.tmp.name, "box.obj")
         with open(mesh, "w") as f:
             f.write(box_obj((0.025, 0.018, 0.012)))
@@ -105,14 +89,7 @@ class WebDatasetsTest(unittest.TestCase):
 
     def get(self, path, token=TOKEN):
         """(status, content type, body) of one request, its path sent as it is."""
-        connection = http.client.HTTPConnection(self.web, timeout=10)
-        try:
-            headers = {} if token is None else {"Authorization": f"Bearer {token}"}
-            connection.request("GET", path, headers=headers)
-            response = connection.getresponse()
-            return response.status, response.getheader("Content-Type"), response.read()
-        finally:
-            connection.close()
+        return http_get(self.web, path, token)
 
     def get_json(self, path):
         status, content_type, body = self.get(path)
@@ -227,19 +204,10 @@ class WebDatasetsTest(unittest.TestCase):
     # In a browser.
 
     def browse(self, steps):
-        if not os.access(CHROMIUM, os.X_OK):
-            self.skipTest(f"{CHROMIUM} is not installed (Debian package chromium; scripts/install-deps.sh)")
-        if not os.path.isdir(PUPPETEER):
-            self.skipTest("puppeteer-core is not in .tools/ (scripts/install-deps.sh)")
-        if not shutil.which("node"):
-            self.skipTest("node is not installed")
         steps_path = os.path.join(self.tmp.name, "steps.json")
         with open(steps_path, "w") as f:
             json.dump(steps, f)
-        run = subprocess.run(["node", PAGE_SCRIPT, PUPPETEER, CHROMIUM, steps_path], capture_output=True, text=True,
-                             timeout=120)
-        self.assertEqual(run.returncode, 0, run.stdout + run.stderr)
-        return json.loads(run.stdout.strip().splitlines()[-1])
+        return run_page(self, "dataset_page.js", steps_path, timeout=120)
 
     def url(self, query, token=TOKEN):
         return f"http://{self.web}/?{query}#token={token}"

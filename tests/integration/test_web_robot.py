@@ -15,11 +15,11 @@ import urllib.request
 
 import numpy as np
 
-from harness import SOURCE_DIR, VSCAN, Server, ServerTestCase, common_pb2, icosphere_ply, read_png
+from harness import SOURCE_DIR, VSCAN, Server, common_pb2, icosphere_ply, read_png
 from test_campaign_service import CampaignFixture, spec
 from test_robot_links import Q, upload_ur5_with_boxes
 from test_robots import matrix, to_pose, transform
-from test_web_view import BACKGROUND, CHROMIUM, PAGE_SCRIPT, PUPPETEER, free_port
+from web_harness import BACKGROUND, WebServerTestCase, free_port, http_get, run_page
 from vscan.v1 import job_pb2, robot_pb2, robot_pb2_grpc, scene_pb2
 
 TOKEN = "web-robot-token"
@@ -31,15 +31,11 @@ def decode_mesh(body):
     return np.frombuffer(body, "<f4", vertices * 3, 16).reshape(-1, 3), int(triangles)
 
 
-class WebRobotTest(ServerTestCase):
+class WebRobotTest(WebServerTestCase):
+    token = TOKEN
+
     @classmethod
     def setUpClass(cls):
-        cls.tmp = tempfile.TemporaryDirectory(prefix="vscan-web-robot-")
-        token_file = os.path.join(cls.tmp.name, "token")
-        with open(token_file, "w") as f:
-            f.write(TOKEN + "\n")
-        cls.web = f"127.0.0.1:{free_port()}"
-        cls.server_args = ("--token-file", token_file, "--web-listen", cls.web)
         super().setUpClass()
         auth = [("authorization", f"Bearer {TOKEN}")]
         cls.auth = auth
@@ -66,20 +62,9 @@ class WebRobotTest(ServerTestCase):
             scene_id=cls.scene.scene_id, mesh_id=mesh.mesh_id, label="ball", on_table=True,
             pose=to_pose(transform(translation=(0.3, 0.45, 0.08)))), metadata=auth)
 
-    @classmethod
-    def tearDownClass(cls):
-        super().tearDownClass()
-        cls.tmp.cleanup()
-
     def get(self, path, token=TOKEN):
-        request = urllib.request.Request(f"http://{self.web}{path}")
-        if token is not None:
-            request.add_header("Authorization", f"Bearer {token}")
-        try:
-            with urllib.request.urlopen(request, timeout=30) as response:
-                return response.status, response.read()
-        except urllib.error.HTTPError as error:
-            return error.code, error.read()
+        status, _, body = http_get(self.web, path, token, timeout=30)
+        return status, body
 
     def fk(self, q):
         return self.robots.ForwardKinematics(robot_pb2.ForwardKinematicsRequest(mount_id=self.mount_id,
@@ -137,14 +122,9 @@ class WebRobotTest(ServerTestCase):
             self.assertNotIn(self.ur5.robot_id.encode(), body)
 
     def test_browser_draws_the_robot(self):
-        if not (os.access(CHROMIUM, os.X_OK) and os.path.isdir(PUPPETEER)):
-            self.skipTest("chromium or puppeteer-core is missing (scripts/install-deps.sh)")
         url = f"http://{self.web}/?scene={self.scene.scene_id}#token={TOKEN}"
         shot = os.path.join(self.tmp.name, "robot.png")
-        run = subprocess.run(["node", PAGE_SCRIPT, PUPPETEER, CHROMIUM, url, shot, "640x480"],
-                             capture_output=True, text=True, timeout=240)
-        self.assertEqual(run.returncode, 0, run.stdout + run.stderr)
-        seen = json.loads(run.stdout.strip().splitlines()[-1])
+        seen = run_page(self, "view_page.js", url, shot, "640x480")
         self.assertEqual(seen["consoleErrors"], [])
         self.assertEqual(seen["errorText"], "")
         [robot] = seen["view"]["robots"]

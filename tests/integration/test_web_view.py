@@ -8,36 +8,21 @@ import struct
 import subprocess
 import tempfile
 import unittest
-import urllib.error
 import urllib.request
 
 import numpy as np
 
-from harness import SOURCE_DIR, VSCAN, VSCAND, ServerTestCase, common_pb2, icosphere_ply, read_png, scene_pb2
+from harness import VSCAN, VSCAND, common_pb2, icosphere_ply, read_png, scene_pb2
+from web_harness import BACKGROUND, WebServerTestCase, free_port, http_get, run_page
 
 TOKEN = "web-view-token"
-CHROMIUM = "/usr/bin/chromium"
-PUPPETEER = os.path.join(SOURCE_DIR, ".tools", "node_modules", "puppeteer-core")
-PAGE_SCRIPT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "web", "view_page.js")
-BACKGROUND = (0x20, 0x20, 0x20)
 
 
-def free_port():
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
+class WebViewTest(WebServerTestCase):
+    token = TOKEN
 
-
-class WebViewTest(ServerTestCase):
     @classmethod
     def setUpClass(cls):
-        cls.tmp = tempfile.TemporaryDirectory(prefix="vscan-web-")
-        token_file = os.path.join(cls.tmp.name, "token")
-        with open(token_file, "w") as f:
-            f.write(TOKEN + "\n")
-        cls.web_port = free_port()
-        cls.web = f"127.0.0.1:{cls.web_port}"
-        cls.server_args = ("--token-file", token_file, "--web-listen", cls.web)
         super().setUpClass()
         # The port file is written once the web view serves too: no waiting for it here.
         auth = [("authorization", f"Bearer {TOKEN}")]
@@ -72,21 +57,9 @@ class WebViewTest(ServerTestCase):
                 scene_id=cls.row.scene_id, mesh_id=cls.mesh.mesh_id, pose=pose, label=label, scale=1.0,
                 material=material), metadata=auth).object)
 
-    @classmethod
-    def tearDownClass(cls):
-        super().tearDownClass()
-        cls.tmp.cleanup()
-
     def get(self, path, token=TOKEN, method="GET"):
         """(status, content type, body) of one request to the web view."""
-        request = urllib.request.Request(f"http://{self.web}{path}", method=method)
-        if token is not None:
-            request.add_header("Authorization", f"Bearer {token}")
-        try:
-            with urllib.request.urlopen(request, timeout=10) as response:
-                return response.status, response.headers["Content-Type"], response.read()
-        except urllib.error.HTTPError as e:
-            return e.code, e.headers["Content-Type"], e.read()
+        return http_get(self.web, path, token, method)
 
     def test_api_needs_the_token(self):
         for path in ("/api/scenes", f"/api/scenes/{self.scene.scene_id}", f"/api/meshes/{self.mesh.mesh_id}"):
@@ -198,17 +171,8 @@ class WebViewTest(ServerTestCase):
     # In a browser: what a person would see.
 
     def open_page(self, url, size="320x240", mode=""):
-        if not os.access(CHROMIUM, os.X_OK):
-            self.skipTest(f"{CHROMIUM} is not installed (Debian package chromium; scripts/install-deps.sh)")
-        if not os.path.isdir(PUPPETEER):
-            self.skipTest("puppeteer-core is not in .tools/ (scripts/install-deps.sh)")
-        if not shutil.which("node"):
-            self.skipTest("node is not installed")
         shot = os.path.join(self.tmp.name, "page.png")
-        run = subprocess.run(["node", PAGE_SCRIPT, PUPPETEER, CHROMIUM, url, shot, size, mode],
-                             capture_output=True, text=True, timeout=240)
-        self.assertEqual(run.returncode, 0, run.stdout + run.stderr)
-        seen = json.loads(run.stdout.strip().splitlines()[-1])
+        seen = run_page(self, "view_page.js", url, shot, size, mode)
         with open(shot, "rb") as f:
             return seen, read_png(f.read())
 
