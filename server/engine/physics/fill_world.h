@@ -3,6 +3,8 @@
 // and the deepest contacts after a final collision pass. The bin is part of the world.
 
 #include <cstddef>
+#include <memory>
+#include <utility>
 
 #include <Eigen/Core>
 
@@ -32,6 +34,26 @@ class FillWorld {
   virtual void SetDamping(double damping) = 0;
   virtual BodyState State(size_t body) const = 0;
   virtual ContactDepths DeepestContacts() = 0;
+};
+
+// A FillWorld that passes every call on to another; a decorator overrides what it watches and calls
+// the inner world through inner().
+class ForwardingFillWorld : public FillWorld {
+ public:
+  explicit ForwardingFillWorld(std::unique_ptr<FillWorld> world) : world_(std::move(world)) {}
+  size_t AddPart(size_t type, const Pose3& world_from_body) override { return world_->AddPart(type, world_from_body); }
+  void RemovePart(size_t body) override { world_->RemovePart(body); }
+  void Step() override { world_->Step(); }
+  void SetDamping(double damping) override { world_->SetDamping(damping); }
+  BodyState State(size_t body) const override { return world_->State(body); }
+  ContactDepths DeepestContacts() override { return world_->DeepestContacts(); }
+
+ protected:
+  FillWorld& inner() { return *world_; }
+  const FillWorld& inner() const { return *world_; }
+
+ private:
+  std::unique_ptr<FillWorld> world_;
 };
 
 }  // namespace vscan::physics

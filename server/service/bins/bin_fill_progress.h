@@ -18,7 +18,7 @@ struct FillProgress {
   uint64_t slow = 0;     // parts in the bin now moving slower than the speeds at which Bullet lets them sleep
 };
 
-class ProgressFillWorld final : public physics::FillWorld {
+class ProgressFillWorld final : public physics::ForwardingFillWorld {
  public:
   using Observer = std::function<void(const FillProgress&)>;
   ProgressFillWorld(std::unique_ptr<physics::FillWorld> world, double time_step_s, double slow_linear_m_per_s,
@@ -27,14 +27,10 @@ class ProgressFillWorld final : public physics::FillWorld {
   size_t AddPart(size_t type, const Pose3& world_from_body) override;
   void RemovePart(size_t body) override;
   void Step() override;
-  void SetDamping(double damping) override { world_->SetDamping(damping); }
-  physics::BodyState State(size_t body) const override { return world_->State(body); }
-  physics::ContactDepths DeepestContacts() override { return world_->DeepestContacts(); }
 
   FillProgress Progress() const;
 
  private:
-  std::unique_ptr<physics::FillWorld> world_;
   double time_step_s_;
   double slow_linear_;
   double slow_angular_;

@@ -175,22 +175,22 @@ BinReplay BinReplayRecorder::Replay() const {
 }
 
 size_t RecordingFillWorld::AddPart(size_t type, const Pose3& world_from_body) {
-  const size_t body = world_->AddPart(type, world_from_body);
+  const size_t body = inner().AddPart(type, world_from_body);
   recorder_.Added(body, type);
   return body;
 }
 
 void RecordingFillWorld::RemovePart(size_t body) {
-  world_->RemovePart(body);
+  inner().RemovePart(body);
   recorder_.Removed(body);
 }
 
 void RecordingFillWorld::Step() {
   // Step 0: the first drop where it starts, above the bin.
-  if (steps_ == 0) recorder_.Sample(0, *world_);
-  world_->Step();
+  if (steps_ == 0) recorder_.Sample(0, inner());
+  inner().Step();
   ++steps_;
-  recorder_.Sample(steps_, *world_);
+  recorder_.Sample(steps_, inner());
 }
 
 }  // namespace vscan::service

@@ -97,20 +97,16 @@ class BinReplayRecorder {
 
 // A FillWorld that passes every call on and shows the recorder each part added and removed and the
 // world after each step it is due.
-class RecordingFillWorld final : public physics::FillWorld {
+class RecordingFillWorld final : public physics::ForwardingFillWorld {
  public:
   RecordingFillWorld(std::unique_ptr<physics::FillWorld> world, BinReplayRecorder& recorder)
-      : world_(std::move(world)), recorder_(recorder) {}
+      : ForwardingFillWorld(std::move(world)), recorder_(recorder) {}
 
   size_t AddPart(size_t type, const Pose3& world_from_body) override;
   void RemovePart(size_t body) override;
   void Step() override;
-  void SetDamping(double damping) override { world_->SetDamping(damping); }
-  physics::BodyState State(size_t body) const override { return world_->State(body); }
-  physics::ContactDepths DeepestContacts() override { return world_->DeepestContacts(); }
 
  private:
-  std::unique_ptr<physics::FillWorld> world_;
   BinReplayRecorder& recorder_;
   uint64_t steps_ = 0;
 };
