@@ -235,6 +235,7 @@ export async function showBin(id) {
   viewer.onClick((raycaster) => {
     const [hit] = raycaster.intersectObjects(meshes.filter((m) => m.visible));
     showPicked(hit ? drawn[meshes.indexOf(hit.object)].part : null);
+    viewer.markPicked(hit || null);
     window.vscanPickCount += 1;
   });
 

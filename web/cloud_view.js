@@ -182,6 +182,7 @@ export async function showCloud(id, query) {
     const [hit] = ray.intersectObject(points);
     window.vscanPicked = hit ? { cloud_id: record.cloud_id, ...pointFields(points, hit.index) } : null;
     showPickedPoint(window.vscanPicked, record.name);
+    viewer.markPicked(hit || null);
     window.vscanPickCount += 1;
   });
   window.vscanViewer = viewer;

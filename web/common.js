@@ -5,6 +5,7 @@ import { OrbitControls } from './three/examples/jsm/controls/OrbitControls.js';
 
 export { THREE };
 export const BACKGROUND = 0x202020;
+const PICK_COLOUR = 0xffff00;
 // Colours by instance id (what the page draws and what the tests look for).
 export const PALETTE = [0xe6194b, 0x3cb44b, 0x4363d8, 0xf58231, 0x911eb4, 0x42d4f4, 0xf032e6, 0xbfef45, 0xfabed4,
   0x469990];
@@ -189,6 +190,30 @@ export class Viewer {
       raycaster.setFromCamera(pointer, this.camera);
       handler(raycaster);
     });
+  }
+
+  // Marks what a click picked (a raycast hit, or null for nothing): a box around a picked mesh, a dot
+  // on a picked point; then draws.
+  markPicked(hit) {
+    if (!this.pickMarks) {
+      const dot = new THREE.Points(new THREE.BufferGeometry().setFromPoints([new THREE.Vector3()]),
+        new THREE.PointsMaterial({ color: PICK_COLOUR, size: 9, sizeAttenuation: false, depthTest: false }));
+      const box = new THREE.Box3Helper(new THREE.Box3(), PICK_COLOUR);
+      dot.renderOrder = box.renderOrder = 20;
+      this.pickMarks = { dot, box };
+      this.world.add(dot, box);
+    }
+    const { dot, box } = this.pickMarks;
+    dot.visible = box.visible = false;
+    if (hit && hit.object.isPoints) {
+      dot.position.fromBufferAttribute(hit.object.geometry.attributes.position, hit.index)
+        .applyMatrix4(hit.object.matrixWorld);
+      dot.visible = true;
+    } else if (hit && hit.object.isMesh) {
+      box.box.setFromObject(hit.object);
+      box.visible = true;
+    }
+    this.render();
   }
 
   // Where a world point lands in the page, in CSS pixels.

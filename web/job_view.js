@@ -460,6 +460,7 @@ class JobView {
     }
     ray.params.Points.threshold = this.threshold;
     const [hit] = ray.intersectObjects(this.pickables);
+    this.viewer.markPicked(hit || null);
     if (!hit) {
       window.vscanPicked = null;
       showPickedRows(null);

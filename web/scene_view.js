@@ -80,6 +80,7 @@ export async function showScene(id) {
   viewer.onClick((raycaster) => {
     const [hit] = raycaster.intersectObjects(meshes);
     showPicked(hit ? placed[meshes.indexOf(hit.object)].object : null);
+    viewer.markPicked(hit || null);
     window.vscanPickCount += 1;
   });
 

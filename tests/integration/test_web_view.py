@@ -237,6 +237,12 @@ class WebViewTest(WebServerTestCase):
             self.assertIn(f"object: {object.object_id}", pick["panel"])
         # Side by side along x: left, middle, right on the page too.
         self.assertEqual(xs, sorted(xs))
+        # The screenshot follows a last click on the left sphere: a yellow box marks it, and only it.
+        yellow_y, yellow_x = np.nonzero((image[:, :, 0] > 200) & (image[:, :, 1] > 200) & (image[:, :, 2] < 80))
+        self.assertGreater(len(yellow_x), 20)
+        self.assertLess(yellow_x.min(), xs[0])
+        self.assertGreater(yellow_x.max(), xs[0])
+        self.assertLess(yellow_x.max(), xs[1])
         left, middle, right = (p["picked"]["material"] for p in seen["picks"][:3])
         self.assertEqual(left["preset"], "cardboard")
         self.assertIn("material: cardboard (albedo", seen["picks"][0]["panel"])
