@@ -54,6 +54,12 @@ PpfModel::PpfModel(std::span<const Eigen::Vector3f> points, std::span<const Eige
     }
   }
   std::sort(entries_.begin(), entries_.end(), [](const Entry& a, const Entry& b) { return a.key < b.key; });
+  for (size_t begin = 0; begin < entries_.size();) {
+    size_t end = begin + 1;
+    while (end < entries_.size() && entries_[end].key == entries_[begin].key) ++end;
+    runs_.emplace(entries_[begin].key, std::make_pair(static_cast<uint32_t>(begin), static_cast<uint32_t>(end)));
+    begin = end;
+  }
 }
 
 std::optional<uint64_t> PpfModel::Key(const Eigen::Vector3f& p1, const Eigen::Vector3f& n1, const Eigen::Vector3f& p2,
@@ -90,10 +96,11 @@ std::vector<PoseCandidate> PpfModel::Vote(std::span<const Eigen::Vector3f> point
         if (j == s || (points[j] - points[s]).squaredNorm() > max_sq) continue;
         const auto key = Key(points[s], normals[s], points[j], normals[j]);
         if (!key) continue;
+        const auto run = runs_.find(*key);
+        if (run == runs_.end()) continue;
         const float alpha_scene = AlphaOf(frame * points[j]);
-        auto it = std::lower_bound(entries_.begin(), entries_.end(), *key,
-                                   [](const Entry& e, uint64_t k) { return e.key < k; });
-        for (; it != entries_.end() && it->key == *key; ++it) {
+        for (uint32_t e = run->second.first; e < run->second.second; ++e) {
+          const Entry* it = &entries_[e];
           double alpha = it->alpha - alpha_scene;
           if (alpha < 0) alpha += kTwoPi;
           const auto bin = std::min(alpha_bins - 1, static_cast<size_t>(alpha / settings_.angle_step_rad));
