@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <limits>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -65,7 +66,8 @@ TEST(BaselineLocalizer, FindsThreeCopiesOnAPlate) {
 }
 
 // Localizes every kind of part the floor holds and scores all of them together.
-ScanScore LocalizeFloor(const std::vector<PlacedPart>& placed, const PointCloud& scan) {
+ScanScore LocalizeFloor(const std::vector<PlacedPart>& placed, const PointCloud& scan,
+                        const LocalizerOptions& options = {}) {
   std::vector<PartDefinition> parts;
   std::vector<TrueInstance> truth;
   std::vector<EstimatedInstance> estimates;
@@ -74,7 +76,7 @@ ScanScore LocalizeFloor(const std::vector<PlacedPart>& placed, const PointCloud&
     truth.push_back({id, p.world_from_part, 1.0});
     if (std::any_of(parts.begin(), parts.end(), [&](const PartDefinition& d) { return d.part_id == id; })) continue;
     parts.push_back({id, LoadPart(p.part)->vertices, SymmetriesOf(p.part)});
-    auto found = LocalizeInstances(*LoadPart(p.part), scan);
+    auto found = LocalizeInstances(*LoadPart(p.part), scan, options);
     EXPECT_TRUE(found.ok()) << found.status().ToString();
     if (!found.ok()) continue;
     for (const auto& instance : found->instances) estimates.push_back({id, instance.world_from_part, instance.score});
@@ -112,6 +114,40 @@ TEST(BaselineLocalizer, FindsNoTubeAmongPlates) {
                                         << found->instances.front().score;
 }
 
+// The same scenes with the sensor's position given: candidates ranked and checked by what it saw.
+LocalizerOptions WithSensorOf(double floor_side) {
+  LocalizerOptions options;
+  options.sensor_position = testing::FloorSensorPose(floor_side).translation();
+  return options;
+}
+
+TEST(BaselineLocalizer, FindsAngleBlocksLyingOnAFloorWithTheSensorsView) {
+  const std::vector<PlacedPart> placed = LyingParts({{FixturePart::kAngleBlock, 5}}, 0.2, 1);
+  const ScanScore score = LocalizeFloor(placed, ScanFloor(placed, 0.2, 640, 480), WithSensorOf(0.2));
+  ASSERT_TRUE(score.add_recall.has_value());
+  EXPECT_GE(*score.add_recall, 0.8);
+  EXPECT_GE(*score.mssd_average_recall, 0.7);
+}
+
+TEST(BaselineLocalizer, FindsTubesAmongAngleBlocksWithTheSensorsView) {
+  const std::vector<PlacedPart> placed =
+      LyingParts({{FixturePart::kRound, 3}, {FixturePart::kAngleBlock, 6}}, 1.0, 2);
+  const ScanScore score = LocalizeFloor(placed, ScanFloor(placed, 1.0, 640, 480), WithSensorOf(1.0));
+  ASSERT_EQ(score.parts.size(), 2u);
+  for (const PartScore& part : score.parts) {
+    if (!part.uses_add_s) continue;
+    ASSERT_TRUE(part.add_recall.has_value());
+    EXPECT_GE(*part.add_recall, 0.6);
+  }
+}
+
+TEST(BaselineLocalizer, FindsNoTubeAmongPlatesWithTheSensorsView) {
+  const std::vector<PlacedPart> plates = LyingParts({{FixturePart::kPlateHoles, 3}}, 1.0, 3);
+  auto found = LocalizeInstances(*LoadPart(FixturePart::kRound), ScanFloor(plates, 1.0, 640, 480), WithSensorOf(1.0));
+  ASSERT_TRUE(found.ok()) << found.status().ToString();
+  EXPECT_TRUE(found->instances.empty()) << found->instances.size() << " tubes found";
+}
+
 TEST(BaselineLocalizer, FindsNothingOnAnEmptyPlate) {
   const PointCloud scan = ScanParts({}, 0.2);
   auto found = LocalizeInstances(*AngleBlock(), scan.positions, scan.normals);
@@ -140,6 +176,13 @@ TEST(BaselineLocalizer, RejectsBadInputsAndHonoursCancel) {
   options = {};
   options.ppf_step_voxels = 0.5;
   EXPECT_EQ(LocalizeInstances(*AngleBlock(), points, {}, options).status().field(), "localizer.ppf_step_voxels");
+  options = {};
+  options.sensor_position = Eigen::Vector3d(0, 0, std::numeric_limits<double>::quiet_NaN());
+  EXPECT_EQ(LocalizeInstances(*AngleBlock(), points, {}, options).status().field(), "localizer.sensor_position");
+  options = {};
+  options.max_seen_through_share = 1.5;
+  EXPECT_EQ(LocalizeInstances(*AngleBlock(), points, {}, options).status().field(),
+            "localizer.max_seen_through_share");
   std::atomic<bool> cancel{true};
   EXPECT_EQ(LocalizeInstances(*AngleBlock(), points, {}, {}, &cancel).status().code(), StatusCode::kCancelled);
 }
