@@ -13,10 +13,6 @@ namespace {
 
 constexpr double kTwoPi = 2 * std::numbers::pi;
 
-float AngleBetween(const Eigen::Vector3f& a, const Eigen::Vector3f& b) {
-  return std::atan2(a.cross(b).norm(), a.dot(b));
-}
-
 // The rigid transform that moves p to the origin and turns n onto +x.
 Eigen::Isometry3f LocalFrame(const Eigen::Vector3f& p, const Eigen::Vector3f& n) {
   Eigen::Isometry3f frame = Eigen::Isometry3f::Identity();
@@ -68,11 +64,14 @@ std::optional<uint64_t> PpfModel::Key(const Eigen::Vector3f& p1, const Eigen::Ve
   const float distance = d.norm();
   if (distance <= 0 || distance > max_distance_) return std::nullopt;
   const auto step = static_cast<float>(settings_.angle_step_rad);
-  const float normals_angle = AngleBetween(n1, n2);
+  // The normals are unit: acos of the clamped dot is the angle, at a fraction of atan2's cost.
+  const auto angle = [](float cosine) { return std::acos(std::clamp(cosine, -1.0f, 1.0f)); };
+  const float normals_angle = angle(n1.dot(n2));
   if (normals_angle < step) return std::nullopt;
-  const auto bin = [&](float angle) { return static_cast<uint64_t>(angle / step); };
+  const Eigen::Vector3f direction = d / distance;
+  const auto bin = [&](float a) { return static_cast<uint64_t>(a / step); };
   const auto distance_bin = static_cast<uint64_t>(distance / static_cast<float>(settings_.distance_step));
-  return (distance_bin << 48) | (bin(AngleBetween(n1, d)) << 32) | (bin(AngleBetween(n2, d)) << 16) |
+  return (distance_bin << 48) | (bin(angle(n1.dot(direction))) << 32) | (bin(angle(n2.dot(direction))) << 16) |
          bin(normals_angle);
 }
 
