@@ -308,7 +308,7 @@ StatusOr<Pose3> Refine(const OrientedPoints& model, const OrientedPoints& scan, 
 
 // Puts the best-voted candidates in the order of what the sensor saw of them placed as voted (within
 // one PPF step: a voted pose is within about one bin of the truth): the points on the scan's
-// surface, times the square root of the votes, less for points the sensor saw past. Votes alone
+// surface, times the votes, less for points the sensor saw past. Votes alone
 // rank a small part (the pin) below hundreds of fits onto clutter.
 void RankByView(const DepthGrid& seen, const OrientedPoints& model, double ppf_step, size_t count,
                 std::vector<PoseCandidate>& candidates) {
@@ -318,7 +318,7 @@ void RankByView(const DepthGrid& seen, const OrientedPoints& model, double ppf_s
     const DepthGrid::Tally view = seen.Check(model, candidates[c].scene_from_part, ppf_step);
     const double through = static_cast<double>(view.seen_through) /
                            static_cast<double>(std::max<size_t>(1, view.on_surface + view.seen_through));
-    ranked[c] = {static_cast<double>(view.on_surface) * std::sqrt(static_cast<double>(candidates[c].votes)) *
+    ranked[c] = {static_cast<double>(view.on_surface) * static_cast<double>(candidates[c].votes) *
                      std::max(0.0, 1 - kSeenThroughWeight * through),
                  c};
   }
