@@ -40,6 +40,10 @@ constexpr uint64_t kSeed = 1;
 constexpr size_t kCandidatesTried = 5;
 // A candidate with more of its surface than this on a found instance's is that instance again.
 constexpr double kMaxSharedSurface = 0.3;
+// A part's point faces the sensor when its normal is within about 72 degrees of the ray back.
+constexpr double kMinFacingCos = 0.3;
+// In the view ranking, a candidate with a fifth of its facing points seen through drops to nothing.
+constexpr double kSeenThroughWeight = 5;
 // Searches that only clear leftovers of found instances are bounded by this many per instance.
 constexpr size_t kSearchesPerInstance = 3;
 
@@ -75,6 +79,13 @@ Status Validate(const LocalizerOptions& o, size_t points, size_t normals) {
   if (!(o.min_score >= 0 && o.min_score <= 1)) return InvalidArgument("localizer.min_score", "must be in [0, 1]");
   if (o.max_instances < 1) return InvalidArgument("localizer.max_instances", "must be >= 1");
   if (!o.viewpoint.allFinite()) return InvalidArgument("localizer.viewpoint", "must be finite");
+  if (o.sensor_position && !o.sensor_position->allFinite()) {
+    return InvalidArgument("localizer.sensor_position", "must be finite");
+  }
+  if (o.view_candidates < 1) return InvalidArgument("localizer.view_candidates", "must be >= 1");
+  if (!(o.max_seen_through_share >= 0 && o.max_seen_through_share <= 1)) {
+    return InvalidArgument("localizer.max_seen_through_share", "must be in [0, 1]");
+  }
   return Status::Ok();
 }
 
@@ -189,6 +200,91 @@ double ExplainedShare(const OrientedPoints& model, const Pose3& pose, const Orie
   return static_cast<double>(inliers) / static_cast<double>(model.points.size());
 }
 
+// What the sensor saw: per cell of a grid over the plane perpendicular to the view direction (at
+// unit depth), the nearest depth of a scan point in it.
+class DepthGrid {
+ public:
+  DepthGrid(std::span<const Eigen::Vector3f> points, const Eigen::Vector3d& sensor, double cell_at_depth) : sensor_(sensor) {
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (const auto& p : points) mean += p.cast<double>();
+    if (points.empty() || (mean / static_cast<double>(points.size()) - sensor).norm() <= 0) return;
+    axis_z_ = (mean / static_cast<double>(points.size()) - sensor).normalized();
+    axis_x_ = axis_z_.unitOrthogonal();
+    axis_y_ = axis_z_.cross(axis_x_);
+    double median_depth = 0;
+    std::vector<double> depths;
+    double lo_u = 1e9, lo_v = 1e9, hi_u = -1e9, hi_v = -1e9;
+    for (const auto& p : points) {
+      const Eigen::Vector3d d = p.cast<double>() - sensor;
+      const double z = d.dot(axis_z_);
+      if (z <= 0) continue;
+      depths.push_back(z);
+      lo_u = std::min(lo_u, d.dot(axis_x_) / z), hi_u = std::max(hi_u, d.dot(axis_x_) / z);
+      lo_v = std::min(lo_v, d.dot(axis_y_) / z), hi_v = std::max(hi_v, d.dot(axis_y_) / z);
+    }
+    if (depths.empty()) return;
+    std::nth_element(depths.begin(), depths.begin() + static_cast<long>(depths.size() / 2), depths.end());
+    median_depth = depths[depths.size() / 2];
+    cell_ = cell_at_depth / median_depth;
+    // A bounded grid: a wide field of view coarsens the cell rather than growing without limit.
+    constexpr double kMaxCells = 4e6;
+    while ((hi_u - lo_u) / cell_ * (hi_v - lo_v) / cell_ > kMaxCells) cell_ *= 1.5;
+    lo_u_ = lo_u, lo_v_ = lo_v;
+    width_ = static_cast<size_t>((hi_u - lo_u) / cell_) + 1;
+    height_ = static_cast<size_t>((hi_v - lo_v) / cell_) + 1;
+    depth_.assign(width_ * height_, std::numeric_limits<float>::infinity());
+    for (const auto& p : points) {
+      const Eigen::Vector3d d = p.cast<double>() - sensor;
+      const double z = d.dot(axis_z_);
+      if (z <= 0) continue;
+      const auto cell = Cell(d, z);
+      if (cell) depth_[*cell] = std::min(depth_[*cell], static_cast<float>(z));
+    }
+  }
+
+  struct Tally {
+    size_t on_surface = 0;    // facing the sensor, on the scan's surface
+    size_t seen_through = 0;  // facing the sensor, in front of what it saw there
+  };
+
+  // The part's points (model, placed by pose) facing the sensor: on the scan's surface (depth within
+  // tolerance), seen through (the sensor saw further), or hidden or unseen (neither).
+  Tally Check(const OrientedPoints& model, const Pose3& pose, double tolerance) const {
+    Tally tally;
+    if (depth_.empty()) return tally;
+    for (size_t i = 0; i < model.points.size(); ++i) {
+      const Eigen::Vector3d p = pose * model.points[i].cast<double>();
+      const Eigen::Vector3d d = p - sensor_;
+      // Points seen at a grazing angle are left out: their depth changes fastest across a cell.
+      if ((pose.linear() * model.normals[i].cast<double>()).dot(d) > -kMinFacingCos * d.norm()) continue;
+      const double z = d.dot(axis_z_);
+      if (z <= 0) continue;
+      const auto cell = Cell(d, z);
+      if (!cell || !std::isfinite(depth_[*cell])) continue;
+      const double seen = depth_[*cell];
+      if (std::abs(seen - z) <= tolerance) {
+        ++tally.on_surface;
+      } else if (seen > z + tolerance) {
+        ++tally.seen_through;
+      }
+    }
+    return tally;
+  }
+
+ private:
+  std::optional<size_t> Cell(const Eigen::Vector3d& d, double z) const {
+    const double u = (d.dot(axis_x_) / z - lo_u_) / cell_, v = (d.dot(axis_y_) / z - lo_v_) / cell_;
+    if (!(u >= 0 && v >= 0 && u < static_cast<double>(width_) && v < static_cast<double>(height_))) return std::nullopt;
+    return static_cast<size_t>(v) * width_ + static_cast<size_t>(u);
+  }
+
+  Eigen::Vector3d sensor_, axis_x_ = Eigen::Vector3d::UnitX(), axis_y_ = Eigen::Vector3d::UnitY(),
+                           axis_z_ = Eigen::Vector3d::UnitZ();
+  double cell_ = 1, lo_u_ = 0, lo_v_ = 0;
+  size_t width_ = 0, height_ = 0;
+  std::vector<float> depth_;
+};
+
 // Point-to-plane ICP of the scan points within reach of the part placed at `start` onto the part's
 // surface.
 StatusOr<Pose3> Refine(const OrientedPoints& model, const OrientedPoints& scan, const Pose3& start, double reach) {
@@ -208,6 +304,30 @@ StatusOr<Pose3> Refine(const OrientedPoints& model, const OrientedPoints& scan, 
   // A degenerate stop keeps the pose reached so far: the directions the view leaves free (a face
   // seen alone can slide within itself) stay as voted, the others are refined.
   return fit.stop == registration::IcpStop::kTooFewCorrespondences ? start : fit.target_from_source.inverse();
+}
+
+// Puts the best-voted candidates in the order of what the sensor saw of them placed as voted (within
+// one PPF step: a voted pose is within about one bin of the truth): the points on the scan's
+// surface, times the votes, less for points the sensor saw past. Votes alone
+// rank a small part (the pin) below hundreds of fits onto clutter.
+void RankByView(const DepthGrid& seen, const OrientedPoints& model, double ppf_step, size_t count,
+                std::vector<PoseCandidate>& candidates) {
+  count = std::min(count, candidates.size());
+  std::vector<std::pair<double, size_t>> ranked(count);
+  for (size_t c = 0; c < count; ++c) {
+    const DepthGrid::Tally view = seen.Check(model, candidates[c].scene_from_part, ppf_step);
+    const double through = static_cast<double>(view.seen_through) /
+                           static_cast<double>(std::max<size_t>(1, view.on_surface + view.seen_through));
+    ranked[c] = {static_cast<double>(view.on_surface) * static_cast<double>(candidates[c].votes) *
+                     std::max(0.0, 1 - kSeenThroughWeight * through),
+                 c};
+  }
+  std::stable_sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
+  std::vector<PoseCandidate> reordered;
+  reordered.reserve(candidates.size());
+  for (const auto& [score, c] : ranked) reordered.push_back(candidates[c]);
+  for (size_t c = count; c < candidates.size(); ++c) reordered.push_back(candidates[c]);
+  candidates = std::move(reordered);
 }
 
 // A wide pass from the voted pose, then a tight one that leaves out the scan points of neighbours
@@ -288,6 +408,8 @@ StatusOr<LocalizationResult> LocalizeInstances(const TriangleMesh& part, std::sp
 
 
   ASSIGN_OR_RETURN(OrientedPoints scan, WithNormals(scan_points, scan_normals, voxel, options, cancel));
+  std::optional<DepthGrid> seen;
+  if (options.sensor_position) seen.emplace(scan.points, *options.sensor_position, voxel);
   if (options.remove_support_plane) {
     const double distance = options.plane_distance_voxels * voxel;
     if (auto plane = FindDominantPlane(scan.points, distance, options.min_plane_share, kSeed)) {
@@ -320,7 +442,8 @@ StatusOr<LocalizationResult> LocalizeInstances(const TriangleMesh& part, std::sp
       break;
     }
     const OrientedPoints scene = Thin(scan, ppf_step);
-    const std::vector<PoseCandidate> candidates = ppf.Vote(scene.points, scene.normals, cancel);
+    std::vector<PoseCandidate> candidates = ppf.Vote(scene.points, scene.normals, cancel);
+    if (seen) RankByView(*seen, ppf_model_points, ppf_step, options.view_candidates, candidates);
     if (IsCancelled(cancel)) return Cancelled("localization cancelled");
     std::optional<LocalizedInstance> accepted;
     bool absorbed = false;
@@ -337,6 +460,17 @@ StatusOr<LocalizationResult> LocalizeInstances(const TriangleMesh& part, std::sp
         // A found instance again, on scan points its removal left behind: they are its, not new.
         absorbed = instance.explained_points > 0;
         continue;
+      }
+      if (seen) {
+        const DepthGrid::Tally view = seen->Check(model, refined, explained_distance);
+        if (static_cast<double>(view.seen_through) >
+            options.max_seen_through_share * static_cast<double>(view.on_surface + view.seen_through)) {
+          if (rejected.empty()) {
+            rejected = "the best candidate lies where the sensor saw past " + std::to_string(view.seen_through) +
+                       " of its " + std::to_string(view.on_surface + view.seen_through) + " points facing it";
+          }
+          continue;
+        }
       }
       instance.score = ExplainedShare(model, refined, parts_scan, parts_tree, options.inlier_distance_voxels * voxel,
                                       min_cos);

@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <cstddef>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -53,6 +54,14 @@ struct LocalizerOptions {
   // Only for a scan without normals: estimated normals are turned towards this point (the
   // sensor's position; the origin for a scan in the sensor frame).
   Eigen::Vector3d viewpoint = Eigen::Vector3d::Zero();
+  // The sensor's position, when known: candidates are then ranked and checked against what it saw
+  // (a placed part's points facing it must lie on the scan's surface, not in front of the scan
+  // where the sensor saw through them). Up to view_candidates best-voted candidates are ranked.
+  std::optional<Eigen::Vector3d> sensor_position;
+  size_t view_candidates = 10000;
+  // Of the placed part's points facing the sensor and not hidden, at most this share may lie where
+  // the sensor saw past them.
+  double max_seen_through_share = 0.1;
 };
 
 struct LocalizedInstance {

@@ -8,6 +8,8 @@
 #include <cstdint>
 #include <optional>
 #include <span>
+#include <unordered_map>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -62,6 +64,9 @@ class PpfModel {
   std::vector<Eigen::Vector3f> points_, normals_;
   float max_distance_ = 0;
   std::vector<Entry> entries_;  // sorted by key
+  // Each key's run [begin, end) in entries_: one hash probe per scene pair instead of a binary
+  // search over the whole table.
+  std::unordered_map<uint64_t, std::pair<uint32_t, uint32_t>> runs_;
 };
 
 }  // namespace vscan::localization

@@ -79,6 +79,7 @@ StatusOr<LocalizeOutcome> RunLocalize(scenes::SceneRegistry& registry, const Sto
   ASSIGN_OR_RETURN(const auto normals, ChooseNormals(searched.cloud, plan.normal_source));
   localization::LocalizerOptions options = plan.options;
   options.viewpoint = plan.viewpoint.value_or(searched.sensor_position.value_or(Eigen::Vector3d::Zero()));
+  if (plan.viewpoint || searched.sensor_position) options.sensor_position = options.viewpoint;
 
   LocalizeOutcome outcome;
   ASSIGN_OR_RETURN(outcome.result,
