@@ -14,6 +14,7 @@
 #include <cstring>
 #include <condition_variable>
 #include <mutex>
+#include <system_error>
 #include <thread>
 
 #include <spdlog/spdlog.h>
@@ -147,11 +148,20 @@ void Accept(std::shared_ptr<TlsFront::State> state) {
       }
       ++state->relays;
     }
-    std::thread([state, client] {
-      Relay(*state, client);
+    const auto done = [state] {
       std::lock_guard lock(state->mutex);
       if (--state->relays == 0) state->relays_done.notify_all();
-    }).detach();
+    };
+    try {
+      std::thread([state, client, done] {
+        Relay(*state, client);
+        done();
+      }).detach();
+    } catch (const std::system_error&) {
+      // No thread to be had: this client is turned away, as one past the limit is.
+      close(client);
+      done();
+    }
   }
 }
 

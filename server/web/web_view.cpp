@@ -4,6 +4,7 @@
 #include <map>
 #include <sstream>
 #include <string_view>
+#include <system_error>
 #include <thread>
 
 #include <civetweb.h>
@@ -97,7 +98,13 @@ int ServeOnThisThread(mg_connection* connection, const WebView::Server& server) 
 int Serve(mg_connection* connection, void* server_ptr) {
   const auto& server = *static_cast<const WebView::Server*>(server_ptr);
   int status = 500;
-  std::thread([&] { status = ServeOnThisThread(connection, server); }).join();
+  try {
+    std::thread([&] { status = ServeOnThisThread(connection, server); }).join();
+  } catch (const std::system_error&) {
+    // No thread to be had (the process is at its limit): say so rather than let the exception out.
+    Send(connection, 503, "text/plain; charset=utf-8", "the web view is out of threads; try again\n", false);
+    return 503;
+  }
   return status;
 }
 
