@@ -11,12 +11,11 @@
 #include "service/clouds/cloud_store.h"
 #include "vscan/common/cloud_io.h"
 #include "vscan/common/json_quote.h"
+#include "web/web_bytes.h"
 #include "web/web_json.h"
 
 namespace vscan::web {
 namespace {
-
-static_assert(std::endian::native == std::endian::little, "the cloud layout is written as the host stores it");
 
 // Stored clouds bigger than this are refused (422) rather than parsed for a browser.
 constexpr uint64_t kMaxCloudBytes = 1ull << 30;
@@ -37,15 +36,8 @@ class CloudSlot {
 };
 
 template <typename T>
-void AppendCloudBytes(std::string& out, const T& value) {
-  char bytes[sizeof(T)];
-  std::memcpy(bytes, &value, sizeof(T));
-  out.append(bytes, sizeof(T));
-}
-
-template <typename T>
 void AppendPicked(std::string& out, const std::vector<T>& values, const std::vector<uint32_t>& keep) {
-  for (const uint32_t i : keep) AppendCloudBytes(out, values[i]);
+  for (const uint32_t i : keep) AppendBytesOf(out, values[i]);
 }
 
 std::string FieldList(uint32_t fields) {
@@ -100,12 +92,12 @@ std::string CloudBinary(const PointCloud& cloud, uint64_t max_points, uint32_t i
   sizes.fields = fields;
   out.reserve(kCloudHeaderBytes + keep.size() * (sizes.BytesPerPoint() + 4));
   out.append(kCloudMagic, 4);
-  AppendCloudBytes(out, kCloudLayoutVersion);
-  AppendCloudBytes(out, fields);
-  AppendCloudBytes(out, static_cast<uint32_t>(keep.size()));
-  AppendCloudBytes(out, static_cast<uint64_t>(cloud.size()));
-  AppendCloudBytes(out, image_width);
-  AppendCloudBytes(out, image_height);
+  AppendBytesOf(out, kCloudLayoutVersion);
+  AppendBytesOf(out, fields);
+  AppendBytesOf(out, static_cast<uint32_t>(keep.size()));
+  AppendBytesOf(out, static_cast<uint64_t>(cloud.size()));
+  AppendBytesOf(out, image_width);
+  AppendBytesOf(out, image_height);
   AppendPicked(out, cloud.positions, keep);
   if (cloud.Has(kFieldNormal)) AppendPicked(out, cloud.normals, keep);
   if (cloud.Has(kFieldRange)) AppendPicked(out, cloud.ranges, keep);

@@ -6,12 +6,11 @@
 
 #include <fmt/format.h>
 
+#include "web/web_bytes.h"
 #include "web/web_json.h"
 
 namespace vscan::web {
 namespace {
-
-static_assert(std::endian::native == std::endian::little, "the mesh layout is written as the host stores it");
 
 void AppendMaterial(std::string& out, const std::string& preset, const sensor::Material& material) {
   out += "{\"preset\":";
@@ -25,13 +24,6 @@ void AppendMaterial(std::string& out, const std::string& preset, const sensor::M
   out += ",\"specular_reflectance\":";
   AppendJsonNumber(out, material.specular_reflectance);
   out += '}';
-}
-
-template <typename T>
-void AppendRaw(std::string& out, const T& value) {
-  char bytes[sizeof(T)];
-  std::memcpy(bytes, &value, sizeof(T));
-  out.append(bytes, sizeof(T));
 }
 
 }  // namespace
@@ -126,14 +118,14 @@ std::string MeshBinary(const TriangleMesh& mesh) {
   std::string out;
   out.reserve(16 + mesh.vertices.size() * 12 + mesh.triangles.size() * 12);
   out.append(kMeshMagic, sizeof(kMeshMagic));
-  AppendRaw(out, kMeshLayoutVersion);
-  AppendRaw(out, static_cast<uint32_t>(mesh.vertices.size()));
-  AppendRaw(out, static_cast<uint32_t>(mesh.triangles.size()));
+  AppendBytesOf(out, kMeshLayoutVersion);
+  AppendBytesOf(out, static_cast<uint32_t>(mesh.vertices.size()));
+  AppendBytesOf(out, static_cast<uint32_t>(mesh.triangles.size()));
   for (const Eigen::Vector3f& v : mesh.vertices) {
-    for (int k = 0; k < 3; ++k) AppendRaw(out, v[k]);
+    for (int k = 0; k < 3; ++k) AppendBytesOf(out, v[k]);
   }
   for (const auto& t : mesh.triangles) {
-    for (const uint32_t index : t) AppendRaw(out, index);
+    for (const uint32_t index : t) AppendBytesOf(out, index);
   }
   return out;
 }
