@@ -17,8 +17,11 @@ void ToResponse(const service::LocalizeOutcome& outcome, v1::LocalizeResponse* r
   response->set_frame(outcome.frame == store::CloudFrame::kSensor ? v1::FRAME_SENSOR : v1::FRAME_WORLD);
   response->set_points(outcome.points);
   response->set_support_plane_points(outcome.result.support_plane_points);
-  response->set_voxel_size(outcome.result.voxel_size);
-  response->set_stop_reason(outcome.result.stop_reason);
+  // One part per request: its search's figures.
+  if (!outcome.result.parts.empty()) {
+    response->set_voxel_size(outcome.result.parts.front().voxel_size);
+    response->set_stop_reason(outcome.result.parts.front().stop_reason);
+  }
   response->set_localize_ms(outcome.localize_ms);
 }
 

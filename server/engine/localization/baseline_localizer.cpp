@@ -366,79 +366,104 @@ double DefaultVoxel(const TriangleMesh& part) {
                   static_cast<double>(extents[1]) / kVoxelsPerMiddleExtent);
 }
 
-}  // namespace
+// A part as the search uses it: its samples at three densities and its pair table.
+struct PartModel {
+  OrientedPoints samples;     // all of them
+  OrientedPoints model;       // thinned to the voxel
+  OrientedPoints ppf_points;  // thinned to the PPF step
+  double voxel = 0, ppf_step = 0;
+  std::unique_ptr<PpfModel> ppf;
+  size_t max_instances = 0;
+};
 
-StatusOr<LocalizationResult> LocalizeInstances(const TriangleMesh& part, std::span<const Eigen::Vector3f> scan_points,
-                                               std::span<const Eigen::Vector3f> scan_normals,
-                                               const LocalizerOptions& options, const std::atomic<bool>* cancel) {
-  RETURN_IF_ERROR(Validate(options, scan_points.size(), scan_normals.size()));
+StatusOr<PartModel> BuildPartModel(const TriangleMesh& part, const std::string& field, const LocalizerOptions& options) {
   const ModelSamples samples = SampleModel(part, options.model_samples, kSeed);
-  if (samples.points.empty()) return InvalidArgument("part", "has no surface");
-  if (IsCancelled(cancel)) return Cancelled("localization cancelled");
-
-  LocalizationResult result;
-  const double voxel = options.voxel_size > 0 ? options.voxel_size : DefaultVoxel(part);
-  result.voxel_size = voxel;
-  double ppf_step = options.ppf_step_voxels * voxel;
-  const OrientedPoints all_samples{samples.points, samples.normals};
-  const OrientedPoints model = Thin(all_samples, voxel);
-  OrientedPoints ppf_model_points = Thin(all_samples, ppf_step);
+  if (samples.points.empty()) return InvalidArgument(field, "has no surface");
+  PartModel m;
+  m.voxel = options.voxel_size > 0 ? options.voxel_size : DefaultVoxel(part);
+  m.ppf_step = options.ppf_step_voxels * m.voxel;
+  m.samples = {samples.points, samples.normals};
+  m.model = Thin(m.samples, m.voxel);
+  m.ppf_points = Thin(m.samples, m.ppf_step);
   // The pair table grows with the square of these points: 3000 make 9 million pairs (144 MiB). A
   // voxel of the localizer's own choosing (a long thin part's) coarsens the table's step to fit.
-  while (options.voxel_size == 0 && ppf_model_points.points.size() > kMaxPpfModelPoints) {
-    ppf_step *= 1.05 * std::sqrt(static_cast<double>(ppf_model_points.points.size()) / kMaxPpfModelPoints);
-    ppf_model_points = Thin(all_samples, ppf_step);
+  while (options.voxel_size == 0 && m.ppf_points.points.size() > kMaxPpfModelPoints) {
+    m.ppf_step *= 1.05 * std::sqrt(static_cast<double>(m.ppf_points.points.size()) / kMaxPpfModelPoints);
+    m.ppf_points = Thin(m.samples, m.ppf_step);
   }
-  if (ppf_model_points.points.size() > kMaxPpfModelPoints) {
+  if (m.ppf_points.points.size() > kMaxPpfModelPoints) {
     return ResourceExhausted("options.voxel_size",
-                             "a voxel of " + std::to_string(voxel * 1e3) + " mm leaves " +
-                                 std::to_string(ppf_model_points.points.size()) +
+                             "a voxel of " + std::to_string(m.voxel * 1e3) + " mm leaves " +
+                                 std::to_string(m.ppf_points.points.size()) +
                                  " points on the part for its pair table, more than the " +
                                  std::to_string(kMaxPpfModelPoints) +
                                  " it may hold; use a larger voxel (0 picks one from the part's size)");
   }
-  if (IsCancelled(cancel)) return Cancelled("localization cancelled");
   PpfSettings settings;
-  settings.distance_step = ppf_step;
+  settings.distance_step = m.ppf_step;
   settings.angle_step_rad = options.ppf_angle_step_deg * std::numbers::pi / 180;
   settings.scene_reference_stride = options.scene_reference_stride;
-  settings.cluster_distance = kClusterDistanceInSteps * ppf_step;
+  settings.cluster_distance = kClusterDistanceInSteps * m.ppf_step;
   settings.cluster_angle_rad = kClusterAngleInSteps * settings.angle_step_rad;
-  const PpfModel ppf(ppf_model_points.points, ppf_model_points.normals, settings);
+  m.ppf = std::make_unique<PpfModel>(m.ppf_points.points, m.ppf_points.normals, settings);
+  return m;
+}
 
-
-  ASSIGN_OR_RETURN(OrientedPoints scan, WithNormals(scan_points, scan_normals, voxel, options, cancel));
+// The scan as every part's search sees it: normals, what the sensor saw, the plate removed.
+struct PreparedScan {
+  OrientedPoints parts;  // the plate's points removed
   std::optional<DepthGrid> seen;
-  if (options.sensor_position) seen.emplace(scan.points, *options.sensor_position, voxel);
+  size_t support_plane_points = 0;
+};
+
+StatusOr<PreparedScan> PrepareScan(std::span<const Eigen::Vector3f> scan_points, std::span<const Eigen::Vector3f> scan_normals,
+                                   double voxel, const LocalizerOptions& options, const std::atomic<bool>* cancel) {
+  PreparedScan prepared;
+  ASSIGN_OR_RETURN(OrientedPoints scan, WithNormals(scan_points, scan_normals, voxel, options, cancel));
+  if (options.sensor_position) prepared.seen.emplace(scan.points, *options.sensor_position, voxel);
   if (options.remove_support_plane) {
     const double distance = options.plane_distance_voxels * voxel;
     if (auto plane = FindDominantPlane(scan.points, distance, options.min_plane_share, kSeed)) {
       std::vector<bool> on_plane(scan.points.size());
       for (size_t i = 0; i < scan.points.size(); ++i) on_plane[i] = plane->Distance(scan.points[i]) <= distance;
       RemoveMarked(on_plane, scan);
-      result.support_plane_points = plane->inliers;
+      prepared.support_plane_points = plane->inliers;
     }
   }
+  prepared.parts = std::move(scan);
+  return prepared;
+}
 
-  // Instances are verified against every scan point but the plate's, whichever instance they are
-  // removed with.
-  const OrientedPoints parts_scan = scan;
+// One part's instances, one search after another; appends them to instances (tagged part_index).
+StatusOr<PartSearch> SearchPart(const PartModel& part, size_t part_index, const PreparedScan& prepared,
+                                const LocalizerOptions& options, const std::atomic<bool>* cancel,
+                                std::vector<LocalizedInstance>& instances) {
+  PartSearch outcome;
+  outcome.voxel_size = part.voxel;
+  const double voxel = part.voxel, ppf_step = part.ppf_step;
+  const OrientedPoints& all_samples = part.samples;
+  const OrientedPoints& model = part.model;
+  const OrientedPoints& ppf_model_points = part.ppf_points;
+  const PpfModel& ppf = *part.ppf;
+  const std::optional<DepthGrid>& seen = prepared.seen;
+  OrientedPoints scan = prepared.parts;
+  const OrientedPoints& parts_scan = prepared.parts;
   const spatial::KdTree parts_tree(parts_scan.points);
   const double min_cos = std::cos(options.max_normal_angle_deg * std::numbers::pi / 180);
   const double explained_distance = options.explained_distance_voxels * voxel;
   AcceptedSurface accepted_surface;
   for (size_t search = 0;; ++search) {
     if (IsCancelled(cancel)) return Cancelled("localization cancelled");
-    if (result.instances.size() >= options.max_instances) {
-      result.stop_reason = "max_instances reached";
+    if (outcome.found >= part.max_instances) {
+      outcome.stop_reason = "max_instances reached";
       break;
     }
     if (scan.points.size() < kMinSearchPoints) {
-      result.stop_reason = "too few scan points left";
+      outcome.stop_reason = "too few scan points left";
       break;
     }
-    if (search >= kSearchesPerInstance * options.max_instances) {
-      result.stop_reason = "search limit reached";
+    if (search >= kSearchesPerInstance * part.max_instances) {
+      outcome.stop_reason = "search limit reached";
       break;
     }
     const OrientedPoints scene = Thin(scan, ppf_step);
@@ -486,16 +511,60 @@ StatusOr<LocalizationResult> LocalizeInstances(const TriangleMesh& part, std::sp
       continue;
     }
     if (!accepted) {
-      result.stop_reason = candidates.empty() ? "no pose candidates"
+      outcome.stop_reason = candidates.empty() ? "no pose candidates"
                            : rejected.empty() ? "every candidate repeats a found instance"
                                               : rejected;
       break;
     }
     RemoveMarked(explained, scan);
     accepted_surface.Add(model, accepted->world_from_part);
-    result.instances.push_back(*accepted);
+    accepted->part = part_index;
+    instances.push_back(*accepted);
+    ++outcome.found;
+  }
+  return outcome;
+}
+
+}  // namespace
+
+StatusOr<LocalizationResult> LocalizeParts(std::span<const PartQuery> parts, std::span<const Eigen::Vector3f> scan_points,
+                                           std::span<const Eigen::Vector3f> scan_normals,
+                                           const LocalizerOptions& options, const std::atomic<bool>* cancel,
+                                           const LocalizeProgressCallback& progress) {
+  RETURN_IF_ERROR(Validate(options, scan_points.size(), scan_normals.size()));
+  if (parts.empty()) return InvalidArgument("parts", "must name at least one part");
+  std::vector<PartModel> models;
+  double scan_voxel = std::numeric_limits<double>::infinity();
+  for (size_t p = 0; p < parts.size(); ++p) {
+    const std::string field = "parts[" + std::to_string(p) + "]";
+    if (parts[p].mesh == nullptr) return InvalidArgument(field, "has no mesh");
+    ASSIGN_OR_RETURN(PartModel model, BuildPartModel(*parts[p].mesh, field, options));
+    model.max_instances = parts[p].max_instances > 0 ? parts[p].max_instances : options.max_instances;
+    scan_voxel = std::min(scan_voxel, model.voxel);
+    models.push_back(std::move(model));
+    if (IsCancelled(cancel)) return Cancelled("localization cancelled");
+  }
+  const auto report = [&](double fraction, size_t found, const std::string& stage) {
+    if (progress) progress(LocalizeProgress{fraction, found, stage});
+  };
+  ASSIGN_OR_RETURN(const PreparedScan prepared, PrepareScan(scan_points, scan_normals, scan_voxel, options, cancel));
+  report(0.05, 0, "scan prepared");
+  LocalizationResult result;
+  result.support_plane_points = prepared.support_plane_points;
+  for (size_t p = 0; p < models.size(); ++p) {
+    ASSIGN_OR_RETURN(PartSearch searched, SearchPart(models[p], p, prepared, options, cancel, result.instances));
+    result.parts.push_back(std::move(searched));
+    report(0.05 + 0.95 * static_cast<double>(p + 1) / static_cast<double>(models.size()), result.instances.size(),
+           "part " + std::to_string(p) + " searched");
   }
   return result;
+}
+
+StatusOr<LocalizationResult> LocalizeInstances(const TriangleMesh& part, std::span<const Eigen::Vector3f> scan_points,
+                                               std::span<const Eigen::Vector3f> scan_normals,
+                                               const LocalizerOptions& options, const std::atomic<bool>* cancel) {
+  const PartQuery query{&part, options.max_instances};
+  return LocalizeParts(std::span<const PartQuery>(&query, 1), scan_points, scan_normals, options, cancel);
 }
 
 StatusOr<LocalizationResult> LocalizeInstances(const TriangleMesh& part, const PointCloud& scan,

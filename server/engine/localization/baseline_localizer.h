@@ -7,6 +7,7 @@
 
 #include <atomic>
 #include <cstddef>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -64,22 +65,52 @@ struct LocalizerOptions {
   double max_seen_through_share = 0.1;
 };
 
+// One part to look for: its mesh (metres, its own frame) and how many instances at most.
+struct PartQuery {
+  const TriangleMesh* mesh = nullptr;
+  size_t max_instances = 0;  // 0: LocalizerOptions::max_instances
+};
+
 struct LocalizedInstance {
+  size_t part = 0;  // index into the parts searched
   Pose3 world_from_part = Pose3::Identity();
   double score = 0;  // see LocalizerOptions::inlier_distance_voxels
   size_t explained_points = 0;
 };
 
-struct LocalizationResult {
-  std::vector<LocalizedInstance> instances;  // in the order found
-  double voxel_size = 0;                     // the one used
-  size_t support_plane_points = 0;           // removed as the plate's
-  std::string stop_reason;                   // why the search ended
+// How the search for one part went.
+struct PartSearch {
+  double voxel_size = 0;    // the one used
+  size_t found = 0;         // instances of this part in LocalizationResult::instances
+  std::string stop_reason;  // why its search ended
 };
 
-// scan_points in the world frame; scan_normals empty or one per point, facing the sensor.
-// InvalidArgument for a part without area, normals of the wrong count or options out of range
-// (naming "localizer.<option>"); Cancelled when cancel turns true (polled between searches).
+struct LocalizationResult {
+  std::vector<LocalizedInstance> instances;  // in the order found
+  std::vector<PartSearch> parts;             // one per part searched, in the order given
+  size_t support_plane_points = 0;           // removed as the plate's
+};
+
+// Where a search stands, reported between its stages: the share done (0 to 1) and the
+// instances found so far.
+struct LocalizeProgress {
+  double fraction = 0;
+  size_t found = 0;
+  std::string stage;
+};
+using LocalizeProgressCallback = std::function<void(const LocalizeProgress&)>;
+
+// Every part of `parts` in one scan. scan_points in the world frame; scan_normals empty or one per
+// point, facing the sensor. InvalidArgument for no parts, a part without a mesh or area ("parts[i]"),
+// normals of the wrong count or options out of range (naming "localizer.<option>"); Cancelled when
+// cancel turns true. progress, when set, is called on the calling thread.
+StatusOr<LocalizationResult> LocalizeParts(std::span<const PartQuery> parts, std::span<const Eigen::Vector3f> scan_points,
+                                           std::span<const Eigen::Vector3f> scan_normals,
+                                           const LocalizerOptions& options = {},
+                                           const std::atomic<bool>* cancel = nullptr,
+                                           const LocalizeProgressCallback& progress = {});
+
+// One part (up to options.max_instances instances).
 StatusOr<LocalizationResult> LocalizeInstances(const TriangleMesh& part, std::span<const Eigen::Vector3f> scan_points,
                                                std::span<const Eigen::Vector3f> scan_normals,
                                                const LocalizerOptions& options = {},

@@ -52,7 +52,7 @@ Scored LocalizeAndScore(const std::vector<Pose3>& truth_poses) {
 TEST(BaselineLocalizer, FindsThreeCopiesOnAPlate) {
   const std::vector<Pose3> truth = StandingPoses(3);
   const Scored result = LocalizeAndScore(truth);
-  EXPECT_EQ(result.found.instances.size(), 3u) << result.found.stop_reason;
+  EXPECT_EQ(result.found.instances.size(), 3u) << result.found.parts.front().stop_reason;
   ASSERT_EQ(result.score.parts.size(), 1u);
   const PartScore& part = result.score.parts[0];
   EXPECT_EQ(part.add_recall, 1.0);
@@ -147,46 +147,99 @@ TEST(BaselineLocalizer, FindsTubesAmongAngleBlocksWithTheSensorsView) {
 // Three pins (the tube at 0.127: 77 mm long, 6.5 mm across) lying on a floor beside six angle
 // blocks, seen from 0.45 m at 1280 x 960 as in a filled bin. Votes alone rank the pins' poses below
 // hundreds of fits onto the blocks and the floor's edges.
-TEST(BaselineLocalizer, FindsPinsBesideAngleBlocksWithTheSensorsView) {
-  constexpr double kFloor = 0.3, kPinScale = 0.127;
-  auto pin = std::make_shared<TriangleMesh>(*LoadPart(FixturePart::kRound));
-  for (auto& v : pin->vertices) v *= static_cast<float>(kPinScale);
+constexpr double kPinFloor = 0.3, kPinScale = 0.127;
+
+struct PinsAndBlocks {
+  std::shared_ptr<TriangleMesh> pin;
+  std::vector<Pose3> pins, blocks;
+  PointCloud scan;
+};
+
+PinsAndBlocks ScanPinsAndBlocks() {
+  PinsAndBlocks scene;
+  scene.pin = std::make_shared<TriangleMesh>(*LoadPart(FixturePart::kRound));
+  for (auto& v : scene.pin->vertices) v *= static_cast<float>(kPinScale);
   const double radius = 0.0254 * kPinScale;
-  std::vector<raycast::SceneInstance> instances =
-      testing::FloorInstances(LyingParts({{FixturePart::kAngleBlock, 6}}, 0.2, 4), kFloor);
-  std::vector<Pose3> pins;
+  const std::vector<PlacedPart> blocks = LyingParts({{FixturePart::kAngleBlock, 6}}, 0.2, 4);
+  std::vector<raycast::SceneInstance> instances = testing::FloorInstances(blocks, kPinFloor);
+  for (const PlacedPart& block : blocks) scene.blocks.push_back(block.world_from_part);
   for (const Eigen::Vector2d& at : {Eigen::Vector2d(-0.12, 0.125), Eigen::Vector2d(0.03, 0.125),
                                     Eigen::Vector2d(-0.04, -0.13)}) {
     Pose3 pose = Pose3::Identity();
     pose.linear() = Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitY()).toRotationMatrix();
     pose.translation() = Eigen::Vector3d(at.x(), at.y(), radius);
-    pins.push_back(pose);
-    instances.push_back({pin, pose, 1.0, static_cast<uint32_t>(100 + pins.size())});
+    scene.pins.push_back(pose);
+    instances.push_back({scene.pin, pose, 1.0, static_cast<uint32_t>(100 + scene.pins.size())});
   }
-  auto scene = raycast::RaycastScene::Build(instances);
-  ASSERT_TRUE(scene.ok()) << scene.status().ToString();
+  auto built = raycast::RaycastScene::Build(instances);
+  EXPECT_TRUE(built.ok()) << built.status().ToString();
+  if (!built.ok()) return scene;
   raycast::ScanOptions scan_options;
   scan_options.fields = kFieldPosition | kFieldNormal;
-  auto scan = raycast::Scan(**scene, sensor::CameraFromFov(1280, 960, 50, 0.05, 4 * kFloor),
-                            testing::FloorSensorPose(kFloor), scan_options);
-  ASSERT_TRUE(scan.ok()) << scan.status().ToString();
+  auto scan = raycast::Scan(**built, sensor::CameraFromFov(1280, 960, 50, 0.05, 4 * kPinFloor),
+                            testing::FloorSensorPose(kPinFloor), scan_options);
+  EXPECT_TRUE(scan.ok()) << scan.status().ToString();
+  if (scan.ok()) scene.scan = std::move(*scan);
+  return scene;
+}
 
-  LocalizerOptions options = WithSensorOf(kFloor);
-  options.max_instances = 3;
-  auto found = LocalizeInstances(*pin, *scan, options);
-  ASSERT_TRUE(found.ok()) << found.status().ToString();
+PartDefinition PinDefinition(const TriangleMesh& pin, uint32_t id) {
   PartSymmetries symmetries = SymmetriesOf(FixturePart::kRound);
   for (Pose3& flip : symmetries.discrete) flip.translation() *= kPinScale;
   for (auto& axis : symmetries.continuous) axis.point *= kPinScale;
-  std::vector<PartDefinition> parts{{1, pin->vertices, symmetries}};
+  return {id, pin.vertices, symmetries};
+}
+
+TEST(BaselineLocalizer, FindsPinsBesideAngleBlocksWithTheSensorsView) {
+  const PinsAndBlocks scene = ScanPinsAndBlocks();
+  ASSERT_GT(scene.scan.size(), 100000u);
+  LocalizerOptions options = WithSensorOf(kPinFloor);
+  options.max_instances = 3;
+  auto found = LocalizeInstances(*scene.pin, scene.scan, options);
+  ASSERT_TRUE(found.ok()) << found.status().ToString();
+  std::vector<PartDefinition> parts{PinDefinition(*scene.pin, 1)};
   std::vector<TrueInstance> truth;
-  for (const Pose3& pose : pins) truth.push_back({1, pose, 1.0});
+  for (const Pose3& pose : scene.pins) truth.push_back({1, pose, 1.0});
   std::vector<EstimatedInstance> estimates;
   for (const auto& instance : found->instances) estimates.push_back({1, instance.world_from_part, instance.score});
   auto score = ScoreScan(parts, truth, estimates);
   ASSERT_TRUE(score.ok()) << score.status().ToString();
   ASSERT_TRUE(score->add_recall.has_value());
-  EXPECT_GE(*score->add_recall, 2.0 / 3) << found->instances.size() << " found; " << found->stop_reason;
+  EXPECT_GE(*score->add_recall, 2.0 / 3) << found->instances.size() << " found; " << found->parts.front().stop_reason;
+}
+
+// Both part types in one call: every instance carries the index of its part, and each part's
+// instances are scored against that part's truth only.
+TEST(BaselineLocalizer, FindsSeveralPartTypesInOneCall) {
+  const PinsAndBlocks scene = ScanPinsAndBlocks();
+  const std::vector<PartQuery> queries{{AngleBlock().get(), 6}, {scene.pin.get(), 3}};
+  std::vector<LocalizeProgress> reports;
+  auto found = LocalizeParts(queries, scene.scan.positions, scene.scan.normals, WithSensorOf(kPinFloor), nullptr,
+                             [&](const LocalizeProgress& p) { reports.push_back(p); });
+  ASSERT_TRUE(found.ok()) << found.status().ToString();
+  ASSERT_EQ(found->parts.size(), 2u);
+  std::vector<PartDefinition> parts{{0, AngleBlock()->vertices, {}}, PinDefinition(*scene.pin, 1)};
+  std::vector<TrueInstance> truth;
+  for (const Pose3& pose : scene.blocks) truth.push_back({0, pose, 1.0});
+  for (const Pose3& pose : scene.pins) truth.push_back({1, pose, 1.0});
+  std::vector<EstimatedInstance> estimates;
+  std::vector<size_t> per_part(2, 0);
+  for (const auto& instance : found->instances) {
+    ASSERT_LT(instance.part, 2u);
+    ++per_part[instance.part];
+    estimates.push_back({static_cast<uint32_t>(instance.part), instance.world_from_part, instance.score});
+  }
+  EXPECT_EQ(per_part[0], found->parts[0].found);
+  EXPECT_EQ(per_part[1], found->parts[1].found);
+  auto score = ScoreScan(parts, truth, estimates);
+  ASSERT_TRUE(score.ok()) << score.status().ToString();
+  ASSERT_EQ(score->parts.size(), 2u);
+  EXPECT_GE(score->parts[0].add_recall.value_or(0), 0.8) << found->parts[0].stop_reason;
+  EXPECT_GE(score->parts[1].add_recall.value_or(0), 2.0 / 3) << found->parts[1].stop_reason;
+  ASSERT_FALSE(reports.empty());
+  for (size_t i = 1; i < reports.size(); ++i) EXPECT_GE(reports[i].fraction, reports[i - 1].fraction);
+  EXPECT_DOUBLE_EQ(reports.back().fraction, 1.0);
+  EXPECT_EQ(reports.back().found, found->instances.size());
 }
 
 TEST(BaselineLocalizer, FindsNoTubeAmongPlatesWithTheSensorsView) {
@@ -201,7 +254,7 @@ TEST(BaselineLocalizer, FindsNothingOnAnEmptyPlate) {
   auto found = LocalizeInstances(*AngleBlock(), scan.positions, scan.normals);
   ASSERT_TRUE(found.ok()) << found.status().ToString();
   EXPECT_TRUE(found->instances.empty());
-  EXPECT_FALSE(found->stop_reason.empty());
+  EXPECT_FALSE(found->parts.front().stop_reason.empty());
 }
 
 TEST(BaselineLocalizer, StopsAtMaxInstances) {
@@ -211,7 +264,7 @@ TEST(BaselineLocalizer, StopsAtMaxInstances) {
   auto found = LocalizeInstances(*AngleBlock(), scan.positions, {}, options);
   ASSERT_TRUE(found.ok()) << found.status().ToString();
   EXPECT_EQ(found->instances.size(), 1u);
-  EXPECT_EQ(found->stop_reason, "max_instances reached");
+  EXPECT_EQ(found->parts.front().stop_reason, "max_instances reached");
 }
 
 TEST(BaselineLocalizer, RejectsBadInputsAndHonoursCancel) {
@@ -233,6 +286,9 @@ TEST(BaselineLocalizer, RejectsBadInputsAndHonoursCancel) {
             "localizer.max_seen_through_share");
   std::atomic<bool> cancel{true};
   EXPECT_EQ(LocalizeInstances(*AngleBlock(), points, {}, {}, &cancel).status().code(), StatusCode::kCancelled);
+  EXPECT_EQ(LocalizeParts({}, points, {}).status().field(), "parts");
+  const std::vector<PartQuery> without_mesh{{AngleBlock().get(), 1}, {nullptr, 1}};
+  EXPECT_EQ(LocalizeParts(without_mesh, points, {}).status().field(), "parts[1]");
 }
 
 // A long thin pin at the localizer's own voxel would leave thousands of points for the pair table:
