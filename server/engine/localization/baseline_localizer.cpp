@@ -10,42 +10,40 @@
 #include <string>
 #include <utility>
 
-#include "localization/model_samples.h"
+#include <tbb/parallel_for.h>
+
+#include "localization/large_planes.h"
+#include "localization/oriented_points.h"
+#include "localization/part_model.h"
 #include "localization/ppf_voting.h"
+#include "localization/scan_grid.h"
+#include "localization/scan_view.h"
 #include "localization/support_plane.h"
 #include "normals/normal_estimation.h"
 #include "registration/point_to_plane_icp.h"
-#include "registration/voxel_thinning.h"
 #include "spatial/kd_tree.h"
 
 namespace vscan::localization {
 namespace {
 
-// The most part points the point-pair table is built over (it holds every ordered pair).
-constexpr size_t kMaxPpfModelPoints = 3000;
-// Fewer remaining scan points than this cannot hold another instance worth a search.
-constexpr size_t kMinSearchPoints = 100;
-// Parts are compared at this many voxels across their bounding box's diagonal by default.
-constexpr double kVoxelsPerDiagonal = 50;
-// ... and at least this many across its middle extent, so that a long thin part (a rod) is not
-// reduced to a line.
-constexpr double kVoxelsPerMiddleExtent = 10;
 // A voted pose is within about one bin of the truth; ICP pairs points up to two bins apart.
 constexpr double kIcpReachInPpfSteps = 2;
-// Votes for poses within this many PPF steps and angle steps are pooled.
-constexpr double kClusterDistanceInSteps = 2;
-constexpr double kClusterAngleInSteps = 2.5;
-constexpr uint64_t kSeed = 1;
-// Candidates refined and checked per search, best-voted first, before the search gives up.
-constexpr size_t kCandidatesTried = 5;
-// A candidate with more of its surface than this on a found instance's is that instance again.
+constexpr uint64_t kPlaneSeed = 1;
+// Candidates refined and verified per instance still wanted, best first, in each round.
+constexpr size_t kCandidatesPerInstance = 8;
+constexpr size_t kMinCandidates = 24;
+// A hypothesis with more of its explained scan points than this already taken by an accepted
+// instance is that instance again (or a fit onto it).
 constexpr double kMaxSharedSurface = 0.3;
-// A part's point faces the sensor when its normal is within about 72 degrees of the ray back.
-constexpr double kMinFacingCos = 0.3;
 // In the view ranking, a candidate with a fifth of its facing points seen through drops to nothing.
 constexpr double kSeenThroughWeight = 5;
-// Searches that only clear leftovers of found instances are bounded by this many per instance.
-constexpr size_t kSearchesPerInstance = 3;
+// Planar pieces wider than this many times the largest part are bin walls, rims or tables; their
+// points are connected when within kLinkVoxels voxels; planes with fewer points are not looked for.
+constexpr double kLargePlaneExtent = 1.5;
+constexpr double kLinkVoxels = 3;
+constexpr size_t kMinLargePlanePoints = 500;
+// Rounds of voting on the scan points no instance has taken.
+constexpr size_t kMaxRounds = 3;
 
 bool Positive(double v) { return std::isfinite(v) && v > 0; }
 
@@ -89,40 +87,9 @@ Status Validate(const LocalizerOptions& o, size_t points, size_t normals) {
   return Status::Ok();
 }
 
+
 bool IsCancelled(const std::atomic<bool>* cancel) {
   return cancel != nullptr && cancel->load(std::memory_order_relaxed);
-}
-
-struct OrientedPoints {
-  std::vector<Eigen::Vector3f> points;
-  std::vector<Eigen::Vector3f> normals;
-};
-
-// The voxel centroids, each with the normal of its nearest original point.
-OrientedPoints Thin(const OrientedPoints& cloud, double voxel) {
-  OrientedPoints thin;
-  thin.points = registration::ThinToVoxelCentroids(cloud.points, voxel);
-  const spatial::KdTree tree(cloud.points);
-  std::array<spatial::Neighbor, 1> nearest{};
-  thin.normals.reserve(thin.points.size());
-  for (const auto& p : thin.points) {
-    tree.Knn(p, std::numeric_limits<float>::infinity(), nearest);
-    thin.normals.push_back(cloud.normals[tree.original_index(nearest[0].slot)]);
-  }
-  return thin;
-}
-
-// Keeps the points (and their normals) not marked.
-void RemoveMarked(const std::vector<bool>& marked, OrientedPoints& cloud) {
-  size_t kept = 0;
-  for (size_t i = 0; i < cloud.points.size(); ++i) {
-    if (marked[i]) continue;
-    cloud.points[kept] = cloud.points[i];
-    cloud.normals[kept] = cloud.normals[i];
-    ++kept;
-  }
-  cloud.points.resize(kept);
-  cloud.normals.resize(kept);
 }
 
 // The scan with a unit normal per point facing the sensor: its own, or estimated and turned
@@ -153,175 +120,179 @@ StatusOr<OrientedPoints> WithNormals(std::span<const Eigen::Vector3f> points, st
 }
 
 // Marks the points near the part placed by world_from_part and, with max_normal_cos > -1, facing
-// the same way as its surface there.
-std::vector<bool> NearPart(const OrientedPoints& model, const Pose3& world_from_part, const OrientedPoints& scan,
-                           double distance, double min_cos) {
-  std::vector<Eigen::Vector3f> placed(model.points.size());
-  for (size_t i = 0; i < placed.size(); ++i) {
-    placed[i] = (world_from_part * model.points[i].cast<double>()).cast<float>();
-  }
-  const spatial::KdTree tree(placed);
-  const Eigen::Matrix3f rotation = world_from_part.linear().cast<float>();
-  const auto max_sq = static_cast<float>(distance * distance);
-  std::array<spatial::Neighbor, 1> nearest{};
-  std::vector<bool> near(scan.points.size(), false);
-  for (size_t i = 0; i < scan.points.size(); ++i) {
-    if (tree.Knn(scan.points[i], max_sq, nearest) == 0) continue;
-    const Eigen::Vector3f part_normal = rotation * model.normals[tree.original_index(nearest[0].slot)];
-    near[i] = part_normal.dot(scan.normals[i]) >= min_cos;
-  }
-  return near;
-}
 
-// The share of the part's samples, placed, with a point of `cloud` within distance.
-double InlierShare(const OrientedPoints& model, const Pose3& pose, const spatial::KdTree& cloud, double distance) {
-  const auto max_sq = static_cast<float>(distance * distance);
-  std::array<spatial::Neighbor, 1> nearest{};
-  size_t inliers = 0;
-  for (const auto& p : model.points) {
-    if (cloud.Knn((pose * p.cast<double>()).cast<float>(), max_sq, nearest) == 1) ++inliers;
-  }
-  return static_cast<double>(inliers) / static_cast<double>(model.points.size());
-}
+// The scan as every part's search sees it: thinned to the finest part's voxel, the plate removed,
+// and what the sensor saw.
+struct PreparedScan {
+  OrientedPoints points;
+  std::optional<ScanView> view;
+  size_t support_plane_points = 0;
+};
 
-// The share of the part's samples, placed, with a scan point within distance whose normal is
-// within acos(min_cos) of the part's there: the verification score.
-double ExplainedShare(const OrientedPoints& model, const Pose3& pose, const OrientedPoints& scan,
-                      const spatial::KdTree& scan_tree, double distance, double min_cos) {
-  const auto max_sq = static_cast<float>(distance * distance);
-  const Eigen::Matrix3f rotation = pose.linear().cast<float>();
-  std::array<spatial::Neighbor, 1> nearest{};
-  size_t inliers = 0;
-  for (size_t i = 0; i < model.points.size(); ++i) {
-    if (scan_tree.Knn((pose * model.points[i].cast<double>()).cast<float>(), max_sq, nearest) == 0) continue;
-    const Eigen::Vector3f& scan_normal = scan.normals[scan_tree.original_index(nearest[0].slot)];
-    if ((rotation * model.normals[i]).dot(scan_normal) >= min_cos) ++inliers;
-  }
-  return static_cast<double>(inliers) / static_cast<double>(model.points.size());
-}
-
-// What the sensor saw: per cell of a grid over the plane perpendicular to the view direction (at
-// unit depth), the nearest depth of a scan point in it.
-class DepthGrid {
- public:
-  DepthGrid(std::span<const Eigen::Vector3f> points, const Eigen::Vector3d& sensor, double cell_at_depth) : sensor_(sensor) {
-    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-    for (const auto& p : points) mean += p.cast<double>();
-    if (points.empty() || (mean / static_cast<double>(points.size()) - sensor).norm() <= 0) return;
-    axis_z_ = (mean / static_cast<double>(points.size()) - sensor).normalized();
-    axis_x_ = axis_z_.unitOrthogonal();
-    axis_y_ = axis_z_.cross(axis_x_);
-    double median_depth = 0;
-    std::vector<double> depths;
-    double lo_u = 1e9, lo_v = 1e9, hi_u = -1e9, hi_v = -1e9;
-    for (const auto& p : points) {
-      const Eigen::Vector3d d = p.cast<double>() - sensor;
-      const double z = d.dot(axis_z_);
-      if (z <= 0) continue;
-      depths.push_back(z);
-      lo_u = std::min(lo_u, d.dot(axis_x_) / z), hi_u = std::max(hi_u, d.dot(axis_x_) / z);
-      lo_v = std::min(lo_v, d.dot(axis_y_) / z), hi_v = std::max(hi_v, d.dot(axis_y_) / z);
-    }
-    if (depths.empty()) return;
-    std::nth_element(depths.begin(), depths.begin() + static_cast<long>(depths.size() / 2), depths.end());
-    median_depth = depths[depths.size() / 2];
-    cell_ = cell_at_depth / median_depth;
-    // A bounded grid: a wide field of view coarsens the cell rather than growing without limit.
-    constexpr double kMaxCells = 4e6;
-    while ((hi_u - lo_u) / cell_ * (hi_v - lo_v) / cell_ > kMaxCells) cell_ *= 1.5;
-    lo_u_ = lo_u, lo_v_ = lo_v;
-    width_ = static_cast<size_t>((hi_u - lo_u) / cell_) + 1;
-    height_ = static_cast<size_t>((hi_v - lo_v) / cell_) + 1;
-    depth_.assign(width_ * height_, std::numeric_limits<float>::infinity());
-    for (const auto& p : points) {
-      const Eigen::Vector3d d = p.cast<double>() - sensor;
-      const double z = d.dot(axis_z_);
-      if (z <= 0) continue;
-      const auto cell = Cell(d, z);
-      if (cell) depth_[*cell] = std::min(depth_[*cell], static_cast<float>(z));
-    }
-  }
-
-  struct Tally {
-    size_t on_surface = 0;    // facing the sensor, on the scan's surface
-    size_t seen_through = 0;  // facing the sensor, in front of what it saw there
-  };
-
-  // The part's points (model, placed by pose) facing the sensor: on the scan's surface (depth within
-  // tolerance), seen through (the sensor saw further), or hidden or unseen (neither).
-  Tally Check(const OrientedPoints& model, const Pose3& pose, double tolerance) const {
-    Tally tally;
-    if (depth_.empty()) return tally;
-    for (size_t i = 0; i < model.points.size(); ++i) {
-      const Eigen::Vector3d p = pose * model.points[i].cast<double>();
-      const Eigen::Vector3d d = p - sensor_;
-      // Points seen at a grazing angle are left out: their depth changes fastest across a cell.
-      if ((pose.linear() * model.normals[i].cast<double>()).dot(d) > -kMinFacingCos * d.norm()) continue;
-      const double z = d.dot(axis_z_);
-      if (z <= 0) continue;
-      const auto cell = Cell(d, z);
-      if (!cell || !std::isfinite(depth_[*cell])) continue;
-      const double seen = depth_[*cell];
-      if (std::abs(seen - z) <= tolerance) {
-        ++tally.on_surface;
-      } else if (seen > z + tolerance) {
-        ++tally.seen_through;
+StatusOr<PreparedScan> PrepareScan(std::span<const Eigen::Vector3f> scan_points, std::span<const Eigen::Vector3f> scan_normals,
+                                   double voxel, double largest_part, const LocalizerOptions& options,
+                                   const std::atomic<bool>* cancel) {
+  PreparedScan prepared;
+  ASSIGN_OR_RETURN(const OrientedPoints scan, WithNormals(scan_points, scan_normals, voxel, options, cancel));
+  if (options.sensor_position) prepared.view.emplace(scan.points, *options.sensor_position, voxel);
+  OrientedPoints thin = ThinOriented(scan, voxel, kFaceSplitAngleRad);
+  if (options.remove_support_plane) {
+    const double distance = options.plane_distance_voxels * voxel;
+    if (auto plane = FindDominantPlane(thin.points, distance, options.min_plane_share, kPlaneSeed)) {
+      OrientedPoints kept;
+      for (size_t i = 0; i < thin.points.size(); ++i) {
+        if (plane->Distance(thin.points[i]) <= distance) continue;
+        kept.points.push_back(thin.points[i]);
+        kept.normals.push_back(thin.normals[i]);
       }
+      for (const auto& p : scan.points) prepared.support_plane_points += plane->Distance(p) <= distance ? 1 : 0;
+      thin = std::move(kept);
     }
-    return tally;
+    LargePlaneSettings large;
+    large.distance = distance;
+    large.link = kLinkVoxels * voxel;
+    large.min_extent = kLargePlaneExtent * largest_part;
+    large.min_points = kMinLargePlanePoints;
+    large.seed = kPlaneSeed;
+    const std::vector<bool> on_large = MarkLargePlanes(thin, large);
+    OrientedPoints kept;
+    for (size_t i = 0; i < thin.points.size(); ++i) {
+      if (on_large[i]) continue;
+      kept.points.push_back(thin.points[i]);
+      kept.normals.push_back(thin.normals[i]);
+    }
+    thin = std::move(kept);
+  }
+  prepared.points = std::move(thin);
+  return prepared;
+}
+
+// One part placed somewhere, refined and checked against the scan.
+struct Hypothesis {
+  size_t part = 0;
+  Pose3 pose = Pose3::Identity();
+  double score = 0;
+  ScanView::Tally view;
+  std::vector<uint32_t> explained;  // prepared scan points it accounts for
+  double Quality() const { return score * std::max(0.0, 1 - kSeenThroughWeight * view.SeenThroughShare()); }
+};
+
+// A part's search state over the rounds.
+struct PartState {
+  const PartModel* model = nullptr;
+  size_t max_instances = 0;
+  std::unique_ptr<ScanGrid> grid;
+  PartSearch summary;
+};
+
+// Checks candidate poses of one part against the prepared scan.
+class Verifier {
+ public:
+  Verifier(const PartModel& part, const ScanGrid& grid, const PreparedScan& scan, const LocalizerOptions& options)
+      : part_(part), grid_(grid), scan_(scan), options_(options),
+        min_cos_(std::cos(options.max_normal_angle_deg * std::numbers::pi / 180)) {}
+
+  StatusOr<Hypothesis> Verify(const Pose3& voted) const {
+    const double wide = kIcpReachInPpfSteps * part_.ppf_step;
+    const double tight = options_.explained_distance_voxels * part_.voxel;
+    ASSIGN_OR_RETURN(const Pose3 coarse, Refine(voted, wide));
+    ASSIGN_OR_RETURN(const Pose3 refined, Refine(coarse, tight));
+    Hypothesis h;
+    h.pose = refined;
+    h.explained = Near(refined, tight, min_cos_);
+    h.score = ExplainedShare(refined, h.explained);
+    if (scan_.view) h.view = scan_.view->Check(part_.model, refined, tight);
+    return h;
   }
 
  private:
-  std::optional<size_t> Cell(const Eigen::Vector3d& d, double z) const {
-    const double u = (d.dot(axis_x_) / z - lo_u_) / cell_, v = (d.dot(axis_y_) / z - lo_v_) / cell_;
-    if (!(u >= 0 && v >= 0 && u < static_cast<double>(width_) && v < static_cast<double>(height_))) return std::nullopt;
-    return static_cast<size_t>(v) * width_ + static_cast<size_t>(u);
+  // The prepared scan points within reach of the placed part's surface (and, with min_cos > -1,
+  // facing as it does there).
+  std::vector<uint32_t> Near(const Pose3& world_from_part, double reach, double min_cos) const {
+    std::vector<Eigen::Vector3f> placed(part_.ppf_points.points.size());
+    for (size_t i = 0; i < placed.size(); ++i) {
+      placed[i] = (world_from_part * part_.ppf_points.points[i].cast<double>()).cast<float>();
+    }
+    std::vector<uint32_t> gathered;
+    grid_.Gather(placed, gathered);
+    const Eigen::Isometry3f part_from_world = world_from_part.inverse().cast<float>();
+    const auto max_sq = static_cast<float>(reach * reach);
+    std::array<spatial::Neighbor, 1> nearest{};
+    std::vector<uint32_t> near;
+    for (const uint32_t i : gathered) {
+      if (part_.model_tree->Knn(part_from_world * scan_.points.points[i], max_sq, nearest) == 0) continue;
+      if (min_cos > -1) {
+        const Eigen::Vector3f& normal = part_.model.normals[part_.model_tree->original_index(nearest[0].slot)];
+        if (normal.dot(part_from_world.linear() * scan_.points.normals[i]) < min_cos) continue;
+      }
+      near.push_back(i);
+    }
+    std::sort(near.begin(), near.end());
+    return near;
   }
 
-  Eigen::Vector3d sensor_, axis_x_ = Eigen::Vector3d::UnitX(), axis_y_ = Eigen::Vector3d::UnitY(),
-                           axis_z_ = Eigen::Vector3d::UnitZ();
-  double cell_ = 1, lo_u_ = 0, lo_v_ = 0;
-  size_t width_ = 0, height_ = 0;
-  std::vector<float> depth_;
+  // Point-to-plane ICP of the scan points within reach of the part placed at start onto the part's
+  // surface. A degenerate stop keeps the pose reached so far: the directions the view leaves free
+  // (a face seen alone can slide within itself) stay as voted, the others are refined.
+  StatusOr<Pose3> Refine(const Pose3& start, double reach) const {
+    const std::vector<uint32_t> near = Near(start, reach, -1);
+    registration::IcpOptions icp;
+    icp.max_correspondence_distance = reach;
+    if (near.size() < icp.min_correspondences) return start;
+    std::vector<Eigen::Vector3f> points, normals;
+    points.reserve(near.size());
+    normals.reserve(near.size());
+    for (const uint32_t i : near) {
+      points.push_back(scan_.points.points[i]);
+      normals.push_back(scan_.points.normals[i]);
+    }
+    ASSIGN_OR_RETURN(const registration::IcpResult fit,
+                     registration::PointToPlaneIcp(points, part_.model.points, part_.model.normals, start.inverse(),
+                                                   icp, normals));
+    return fit.stop == registration::IcpStop::kTooFewCorrespondences ? start : fit.target_from_source.inverse();
+  }
+
+  // The share of the part's points, placed, with an explained scan point within the inlier
+  // distance whose normal is within max_normal_angle_deg of the part's there.
+  double ExplainedShare(const Pose3& world_from_part, const std::vector<uint32_t>& explained) const {
+    if (explained.empty()) return 0;
+    const Eigen::Isometry3f part_from_world = world_from_part.inverse().cast<float>();
+    std::vector<Eigen::Vector3f> local(explained.size());
+    for (size_t k = 0; k < explained.size(); ++k) local[k] = part_from_world * scan_.points.points[explained[k]];
+    const spatial::KdTree tree(local);
+    const double distance = options_.inlier_distance_voxels * part_.voxel;
+    const auto max_sq = static_cast<float>(distance * distance);
+    std::array<spatial::Neighbor, 1> nearest{};
+    size_t inliers = 0;
+    for (size_t i = 0; i < part_.model.points.size(); ++i) {
+      if (tree.Knn(part_.model.points[i], max_sq, nearest) == 0) continue;
+      const Eigen::Vector3f normal =
+          part_from_world.linear() * scan_.points.normals[explained[tree.original_index(nearest[0].slot)]];
+      if (part_.model.normals[i].dot(normal) >= min_cos_) ++inliers;
+    }
+    return static_cast<double>(inliers) / static_cast<double>(part_.model.points.size());
+  }
+
+  const PartModel& part_;
+  const ScanGrid& grid_;
+  const PreparedScan& scan_;
+  const LocalizerOptions& options_;
+  double min_cos_;
 };
-
-// Point-to-plane ICP of the scan points within reach of the part placed at `start` onto the part's
-// surface.
-StatusOr<Pose3> Refine(const OrientedPoints& model, const OrientedPoints& scan, const Pose3& start, double reach) {
-  const std::vector<bool> near = NearPart(model, start, scan, reach, -1);
-  OrientedPoints source;
-  for (size_t i = 0; i < near.size(); ++i) {
-    if (!near[i]) continue;
-    source.points.push_back(scan.points[i]);
-    source.normals.push_back(scan.normals[i]);
-  }
-  registration::IcpOptions icp;
-  icp.max_correspondence_distance = reach;
-  if (source.points.size() < icp.min_correspondences) return start;
-  ASSIGN_OR_RETURN(const registration::IcpResult fit,
-                   registration::PointToPlaneIcp(source.points, model.points, model.normals, start.inverse(), icp,
-                                                 source.normals));
-  // A degenerate stop keeps the pose reached so far: the directions the view leaves free (a face
-  // seen alone can slide within itself) stay as voted, the others are refined.
-  return fit.stop == registration::IcpStop::kTooFewCorrespondences ? start : fit.target_from_source.inverse();
-}
 
 // Puts the best-voted candidates in the order of what the sensor saw of them placed as voted (within
 // one PPF step: a voted pose is within about one bin of the truth): the points on the scan's
-// surface, times the votes, less for points the sensor saw past. Votes alone
-// rank a small part (the pin) below hundreds of fits onto clutter.
-void RankByView(const DepthGrid& seen, const OrientedPoints& model, double ppf_step, size_t count,
-                std::vector<PoseCandidate>& candidates) {
+// surface, times the votes, less for points the sensor saw past. Votes alone rank a small part (the
+// pin) below hundreds of fits onto clutter.
+void RankByView(const ScanView& view, const PartModel& part, size_t count, std::vector<PoseCandidate>& candidates) {
   count = std::min(count, candidates.size());
   std::vector<std::pair<double, size_t>> ranked(count);
-  for (size_t c = 0; c < count; ++c) {
-    const DepthGrid::Tally view = seen.Check(model, candidates[c].scene_from_part, ppf_step);
-    const double through = static_cast<double>(view.seen_through) /
-                           static_cast<double>(std::max<size_t>(1, view.on_surface + view.seen_through));
-    ranked[c] = {static_cast<double>(view.on_surface) * static_cast<double>(candidates[c].votes) *
-                     std::max(0.0, 1 - kSeenThroughWeight * through),
+  tbb::parallel_for(size_t{0}, count, [&](size_t c) {
+    const ScanView::Tally seen = view.Check(part.ppf_points, candidates[c].scene_from_part, part.ppf_step);
+    ranked[c] = {static_cast<double>(seen.on_surface) * static_cast<double>(candidates[c].votes) *
+                     std::max(0.0, 1 - kSeenThroughWeight * seen.SeenThroughShare()),
                  c};
-  }
+  });
   std::stable_sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
   std::vector<PoseCandidate> reordered;
   reordered.reserve(candidates.size());
@@ -330,199 +301,15 @@ void RankByView(const DepthGrid& seen, const OrientedPoints& model, double ppf_s
   candidates = std::move(reordered);
 }
 
-// A wide pass from the voted pose, then a tight one that leaves out the scan points of neighbours
-// the wide pass may have drawn in.
-StatusOr<Pose3> RefineVoted(const OrientedPoints& model, const OrientedPoints& scan, const Pose3& voted,
-                            double wide_reach, double tight_reach) {
-  ASSIGN_OR_RETURN(const Pose3 coarse, Refine(model, scan, voted, wide_reach));
-  return Refine(model, scan, coarse, tight_reach);
-}
-
-// The surface of the instances accepted so far, for telling a new candidate from one of them.
-class AcceptedSurface {
- public:
-  void Add(const OrientedPoints& model, const Pose3& world_from_part) {
-    for (const auto& p : model.points) points_.push_back((world_from_part * p.cast<double>()).cast<float>());
-    tree_ = std::make_unique<spatial::KdTree>(points_);
+// The prepared scan's points no accepted instance has taken, thinned to the part's PPF step.
+OrientedPoints Unclaimed(const PreparedScan& scan, const std::vector<bool>& claimed, double step) {
+  OrientedPoints left;
+  for (size_t i = 0; i < scan.points.points.size(); ++i) {
+    if (claimed[i]) continue;
+    left.points.push_back(scan.points.points[i]);
+    left.normals.push_back(scan.points.normals[i]);
   }
-
-  // The share of the model's points, placed, within distance of an accepted instance's surface.
-  double SharedShare(const OrientedPoints& model, const Pose3& world_from_part, double distance) const {
-    if (!tree_) return 0;
-    return InlierShare(model, world_from_part, *tree_, distance);
-  }
-
- private:
-  std::vector<Eigen::Vector3f> points_;
-  std::unique_ptr<spatial::KdTree> tree_;
-};
-
-double DefaultVoxel(const TriangleMesh& part) {
-  Eigen::Vector3f lo, hi;
-  part.Bounds(lo, hi);
-  Eigen::Vector3f extents = hi - lo;
-  std::sort(extents.data(), extents.data() + 3);
-  return std::min(static_cast<double>(extents.norm()) / kVoxelsPerDiagonal,
-                  static_cast<double>(extents[1]) / kVoxelsPerMiddleExtent);
-}
-
-// A part as the search uses it: its samples at three densities and its pair table.
-struct PartModel {
-  OrientedPoints samples;     // all of them
-  OrientedPoints model;       // thinned to the voxel
-  OrientedPoints ppf_points;  // thinned to the PPF step
-  double voxel = 0, ppf_step = 0;
-  std::unique_ptr<PpfModel> ppf;
-  size_t max_instances = 0;
-};
-
-StatusOr<PartModel> BuildPartModel(const TriangleMesh& part, const std::string& field, const LocalizerOptions& options) {
-  const ModelSamples samples = SampleModel(part, options.model_samples, kSeed);
-  if (samples.points.empty()) return InvalidArgument(field, "has no surface");
-  PartModel m;
-  m.voxel = options.voxel_size > 0 ? options.voxel_size : DefaultVoxel(part);
-  m.ppf_step = options.ppf_step_voxels * m.voxel;
-  m.samples = {samples.points, samples.normals};
-  m.model = Thin(m.samples, m.voxel);
-  m.ppf_points = Thin(m.samples, m.ppf_step);
-  // The pair table grows with the square of these points: 3000 make 9 million pairs (144 MiB). A
-  // voxel of the localizer's own choosing (a long thin part's) coarsens the table's step to fit.
-  while (options.voxel_size == 0 && m.ppf_points.points.size() > kMaxPpfModelPoints) {
-    m.ppf_step *= 1.05 * std::sqrt(static_cast<double>(m.ppf_points.points.size()) / kMaxPpfModelPoints);
-    m.ppf_points = Thin(m.samples, m.ppf_step);
-  }
-  if (m.ppf_points.points.size() > kMaxPpfModelPoints) {
-    return ResourceExhausted("options.voxel_size",
-                             "a voxel of " + std::to_string(m.voxel * 1e3) + " mm leaves " +
-                                 std::to_string(m.ppf_points.points.size()) +
-                                 " points on the part for its pair table, more than the " +
-                                 std::to_string(kMaxPpfModelPoints) +
-                                 " it may hold; use a larger voxel (0 picks one from the part's size)");
-  }
-  PpfSettings settings;
-  settings.distance_step = m.ppf_step;
-  settings.angle_step_rad = options.ppf_angle_step_deg * std::numbers::pi / 180;
-  settings.scene_reference_stride = options.scene_reference_stride;
-  settings.cluster_distance = kClusterDistanceInSteps * m.ppf_step;
-  settings.cluster_angle_rad = kClusterAngleInSteps * settings.angle_step_rad;
-  m.ppf = std::make_unique<PpfModel>(m.ppf_points.points, m.ppf_points.normals, settings);
-  return m;
-}
-
-// The scan as every part's search sees it: normals, what the sensor saw, the plate removed.
-struct PreparedScan {
-  OrientedPoints parts;  // the plate's points removed
-  std::optional<DepthGrid> seen;
-  size_t support_plane_points = 0;
-};
-
-StatusOr<PreparedScan> PrepareScan(std::span<const Eigen::Vector3f> scan_points, std::span<const Eigen::Vector3f> scan_normals,
-                                   double voxel, const LocalizerOptions& options, const std::atomic<bool>* cancel) {
-  PreparedScan prepared;
-  ASSIGN_OR_RETURN(OrientedPoints scan, WithNormals(scan_points, scan_normals, voxel, options, cancel));
-  if (options.sensor_position) prepared.seen.emplace(scan.points, *options.sensor_position, voxel);
-  if (options.remove_support_plane) {
-    const double distance = options.plane_distance_voxels * voxel;
-    if (auto plane = FindDominantPlane(scan.points, distance, options.min_plane_share, kSeed)) {
-      std::vector<bool> on_plane(scan.points.size());
-      for (size_t i = 0; i < scan.points.size(); ++i) on_plane[i] = plane->Distance(scan.points[i]) <= distance;
-      RemoveMarked(on_plane, scan);
-      prepared.support_plane_points = plane->inliers;
-    }
-  }
-  prepared.parts = std::move(scan);
-  return prepared;
-}
-
-// One part's instances, one search after another; appends them to instances (tagged part_index).
-StatusOr<PartSearch> SearchPart(const PartModel& part, size_t part_index, const PreparedScan& prepared,
-                                const LocalizerOptions& options, const std::atomic<bool>* cancel,
-                                std::vector<LocalizedInstance>& instances) {
-  PartSearch outcome;
-  outcome.voxel_size = part.voxel;
-  const double voxel = part.voxel, ppf_step = part.ppf_step;
-  const OrientedPoints& all_samples = part.samples;
-  const OrientedPoints& model = part.model;
-  const OrientedPoints& ppf_model_points = part.ppf_points;
-  const PpfModel& ppf = *part.ppf;
-  const std::optional<DepthGrid>& seen = prepared.seen;
-  OrientedPoints scan = prepared.parts;
-  const OrientedPoints& parts_scan = prepared.parts;
-  const spatial::KdTree parts_tree(parts_scan.points);
-  const double min_cos = std::cos(options.max_normal_angle_deg * std::numbers::pi / 180);
-  const double explained_distance = options.explained_distance_voxels * voxel;
-  AcceptedSurface accepted_surface;
-  for (size_t search = 0;; ++search) {
-    if (IsCancelled(cancel)) return Cancelled("localization cancelled");
-    if (outcome.found >= part.max_instances) {
-      outcome.stop_reason = "max_instances reached";
-      break;
-    }
-    if (scan.points.size() < kMinSearchPoints) {
-      outcome.stop_reason = "too few scan points left";
-      break;
-    }
-    if (search >= kSearchesPerInstance * part.max_instances) {
-      outcome.stop_reason = "search limit reached";
-      break;
-    }
-    const OrientedPoints scene = Thin(scan, ppf_step);
-    std::vector<PoseCandidate> candidates = ppf.Vote(scene.points, scene.normals, cancel);
-    if (seen) RankByView(*seen, ppf_model_points, ppf_step, options.view_candidates, candidates);
-    if (IsCancelled(cancel)) return Cancelled("localization cancelled");
-    std::optional<LocalizedInstance> accepted;
-    bool absorbed = false;
-    std::vector<bool> explained;
-    std::string rejected;
-    for (size_t c = 0; c < candidates.size() && c < kCandidatesTried && !accepted && !absorbed; ++c) {
-      ASSIGN_OR_RETURN(const Pose3 refined, RefineVoted(all_samples, scan, candidates[c].scene_from_part,
-                                                        kIcpReachInPpfSteps * ppf_step, explained_distance));
-      LocalizedInstance instance;
-      instance.world_from_part = refined;
-      explained = NearPart(all_samples, refined, scan, explained_distance, min_cos);
-      for (const bool e : explained) instance.explained_points += e ? 1 : 0;
-      if (accepted_surface.SharedShare(model, refined, explained_distance) > kMaxSharedSurface) {
-        // A found instance again, on scan points its removal left behind: they are its, not new.
-        absorbed = instance.explained_points > 0;
-        continue;
-      }
-      if (seen) {
-        const DepthGrid::Tally view = seen->Check(model, refined, explained_distance);
-        if (static_cast<double>(view.seen_through) >
-            options.max_seen_through_share * static_cast<double>(view.on_surface + view.seen_through)) {
-          if (rejected.empty()) {
-            rejected = "the best candidate lies where the sensor saw past " + std::to_string(view.seen_through) +
-                       " of its " + std::to_string(view.on_surface + view.seen_through) + " points facing it";
-          }
-          continue;
-        }
-      }
-      instance.score = ExplainedShare(model, refined, parts_scan, parts_tree, options.inlier_distance_voxels * voxel,
-                                      min_cos);
-      if (instance.explained_points >= options.min_explained_points && instance.score >= options.min_score) {
-        accepted = instance;
-      } else if (rejected.empty()) {
-        rejected = "the best candidate explains " + std::to_string(instance.explained_points) +
-                   " points with score " + std::to_string(instance.score);
-      }
-    }
-    if (absorbed) {
-      RemoveMarked(explained, scan);
-      continue;
-    }
-    if (!accepted) {
-      outcome.stop_reason = candidates.empty() ? "no pose candidates"
-                           : rejected.empty() ? "every candidate repeats a found instance"
-                                              : rejected;
-      break;
-    }
-    RemoveMarked(explained, scan);
-    accepted_surface.Add(model, accepted->world_from_part);
-    accepted->part = part_index;
-    instances.push_back(*accepted);
-    ++outcome.found;
-  }
-  return outcome;
+  return ThinOriented(left, step, kFaceSplitAngleRad);
 }
 
 }  // namespace
@@ -533,30 +320,127 @@ StatusOr<LocalizationResult> LocalizeParts(std::span<const PartQuery> parts, std
                                            const LocalizeProgressCallback& progress) {
   RETURN_IF_ERROR(Validate(options, scan_points.size(), scan_normals.size()));
   if (parts.empty()) return InvalidArgument("parts", "must name at least one part");
+  PartModelSettings settings;
+  settings.voxel_size = options.voxel_size;
+  settings.samples = options.model_samples;
+  settings.ppf_step_voxels = options.ppf_step_voxels;
+  settings.angle_step_rad = options.ppf_angle_step_deg * std::numbers::pi / 180;
+  settings.scene_reference_stride = options.scene_reference_stride;
   std::vector<PartModel> models;
-  double scan_voxel = std::numeric_limits<double>::infinity();
+  double scan_voxel = std::numeric_limits<double>::infinity(), largest_part = 0;
   for (size_t p = 0; p < parts.size(); ++p) {
     const std::string field = "parts[" + std::to_string(p) + "]";
     if (parts[p].mesh == nullptr) return InvalidArgument(field, "has no mesh");
-    ASSIGN_OR_RETURN(PartModel model, BuildPartModel(*parts[p].mesh, field, options));
-    model.max_instances = parts[p].max_instances > 0 ? parts[p].max_instances : options.max_instances;
+    ASSIGN_OR_RETURN(PartModel model, BuildPartModel(*parts[p].mesh, field, settings));
     scan_voxel = std::min(scan_voxel, model.voxel);
+    largest_part = std::max(largest_part, model.extent);
     models.push_back(std::move(model));
     if (IsCancelled(cancel)) return Cancelled("localization cancelled");
   }
   const auto report = [&](double fraction, size_t found, const std::string& stage) {
     if (progress) progress(LocalizeProgress{fraction, found, stage});
   };
-  ASSIGN_OR_RETURN(const PreparedScan prepared, PrepareScan(scan_points, scan_normals, scan_voxel, options, cancel));
+  ASSIGN_OR_RETURN(const PreparedScan scan, PrepareScan(scan_points, scan_normals, scan_voxel, largest_part, options, cancel));
+  if (IsCancelled(cancel)) return Cancelled("localization cancelled");
   report(0.05, 0, "scan prepared");
+
   LocalizationResult result;
-  result.support_plane_points = prepared.support_plane_points;
+  result.support_plane_points = scan.support_plane_points;
+  std::vector<PartState> states(models.size());
   for (size_t p = 0; p < models.size(); ++p) {
-    ASSIGN_OR_RETURN(PartSearch searched, SearchPart(models[p], p, prepared, options, cancel, result.instances));
-    result.parts.push_back(std::move(searched));
-    report(0.05 + 0.95 * static_cast<double>(p + 1) / static_cast<double>(models.size()), result.instances.size(),
-           "part " + std::to_string(p) + " searched");
+    states[p].model = &models[p];
+    states[p].max_instances = parts[p].max_instances > 0 ? parts[p].max_instances : options.max_instances;
+    states[p].grid = std::make_unique<ScanGrid>(scan.points.points, kIcpReachInPpfSteps * models[p].ppf_step);
+    states[p].summary.voxel_size = models[p].voxel;
   }
+  std::vector<bool> claimed(scan.points.points.size(), false);
+  const double steps = static_cast<double>(kMaxRounds * models.size());
+  for (size_t round = 0; round < kMaxRounds; ++round) {
+    std::vector<Hypothesis> hypotheses;
+    for (size_t p = 0; p < models.size(); ++p) {
+      PartState& state = states[p];
+      const PartModel& part = models[p];
+      if (state.summary.found >= state.max_instances || !state.summary.stop_reason.empty()) continue;
+      const OrientedPoints scene = Unclaimed(scan, claimed, part.ppf_step);
+      if (scene.points.size() < 10) {
+        state.summary.stop_reason = "too few scan points left";
+        continue;
+      }
+      std::vector<PoseCandidate> candidates = part.ppf->Vote(scene.points, scene.normals, cancel);
+      if (IsCancelled(cancel)) return Cancelled("localization cancelled");
+      if (candidates.empty()) {
+        state.summary.stop_reason = "no pose candidates";
+        continue;
+      }
+      if (scan.view) RankByView(*scan.view, part, options.view_candidates, candidates);
+      const size_t wanted = state.max_instances - state.summary.found;
+      const size_t tried = std::min(candidates.size(), std::max(kMinCandidates, kCandidatesPerInstance * wanted));
+      std::vector<StatusOr<Hypothesis>> verified(tried, Hypothesis{});
+      const Verifier verifier(part, *state.grid, scan, options);
+      tbb::parallel_for(size_t{0}, tried, [&](size_t c) {
+        if (IsCancelled(cancel)) return;
+        verified[c] = verifier.Verify(candidates[c].scene_from_part);
+      });
+      if (IsCancelled(cancel)) return Cancelled("localization cancelled");
+      for (auto& h : verified) {
+        if (!h.ok()) return h.status();
+        h->part = p;
+        hypotheses.push_back(std::move(*h));
+      }
+      report(0.05 + 0.9 * static_cast<double>(round * models.size() + p + 1) / steps, result.instances.size(),
+             "round " + std::to_string(round + 1) + ": part " + std::to_string(p) + " voted and verified");
+    }
+    if (hypotheses.empty()) break;
+    // Best first across every part: an instance takes its scan points, and a later hypothesis that
+    // explains mostly taken points is a repeat or a fit onto another part.
+    std::stable_sort(hypotheses.begin(), hypotheses.end(),
+                     [](const Hypothesis& a, const Hypothesis& b) { return a.Quality() > b.Quality(); });
+    size_t accepted = 0;
+    std::vector<std::string> rejected(models.size());
+    for (const Hypothesis& h : hypotheses) {
+      PartState& state = states[h.part];
+      if (state.summary.found >= state.max_instances) continue;
+      std::string why;
+      if (h.view.SeenThroughShare() > options.max_seen_through_share) {
+        why = "the best candidate lies where the sensor saw past " + std::to_string(h.view.seen_through) + " of its " +
+              std::to_string(h.view.on_surface + h.view.seen_through) + " points facing it";
+      } else if (h.explained.size() < options.min_explained_points || h.score < options.min_score) {
+        why = "the best candidate explains " + std::to_string(h.explained.size()) + " points with score " +
+              std::to_string(h.score);
+      } else {
+        size_t taken = 0;
+        for (const uint32_t i : h.explained) taken += claimed[i] ? 1 : 0;
+        if (static_cast<double>(taken) > kMaxSharedSurface * static_cast<double>(h.explained.size())) continue;
+      }
+      if (!why.empty()) {
+        if (rejected[h.part].empty()) rejected[h.part] = why;
+        continue;
+      }
+      for (const uint32_t i : h.explained) claimed[i] = true;
+      result.instances.push_back({h.part, h.pose, h.score, h.explained.size()});
+      ++state.summary.found;
+      ++accepted;
+    }
+    for (size_t p = 0; p < models.size(); ++p) {
+      PartSearch& summary = states[p].summary;
+      if (summary.found >= states[p].max_instances && summary.stop_reason.empty()) {
+        summary.stop_reason = "max_instances reached";
+      }
+    }
+    if (accepted == 0) {
+      for (size_t p = 0; p < models.size(); ++p) {
+        if (states[p].summary.stop_reason.empty()) {
+          states[p].summary.stop_reason = rejected[p].empty() ? "every candidate repeats a found instance" : rejected[p];
+        }
+      }
+      break;
+    }
+  }
+  for (PartState& state : states) {
+    if (state.summary.stop_reason.empty()) state.summary.stop_reason = "search rounds exhausted";
+    result.parts.push_back(std::move(state.summary));
+  }
+  report(1.0, result.instances.size(), "done");
   return result;
 }
 
