@@ -13,6 +13,7 @@ namespace {
 constexpr size_t kMaxPpfModelPoints = 3000;
 constexpr double kVoxelsPerDiagonal = 50;
 constexpr double kVoxelsPerMiddleExtent = 10;
+constexpr double kMinPpfStepOfExtent = 0.04;
 // Votes for poses within this many PPF steps and angle steps are pooled.
 constexpr double kClusterDistanceInSteps = 2;
 constexpr double kClusterAngleInSteps = 2.5;
@@ -38,6 +39,9 @@ StatusOr<PartModel> BuildPartModel(const TriangleMesh& part, const std::string& 
   Eigen::Vector3f lo, hi;
   part.Bounds(lo, hi);
   m.extent = static_cast<double>((hi - lo).norm());
+  // A long thin part's fine voxel would make its pair step a small share of its length, and the
+  // pairs a scan point votes with grow with the square of that ratio.
+  if (settings.voxel_size == 0) m.ppf_step = std::max(m.ppf_step, kMinPpfStepOfExtent * m.extent);
   const OrientedPoints all{samples.points, samples.normals};
   m.model = ThinOriented(all, m.voxel, kFaceSplitAngleRad);
   m.ppf_points = ThinOriented(all, m.ppf_step, kFaceSplitAngleRad);
