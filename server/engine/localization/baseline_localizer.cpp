@@ -10,8 +10,10 @@
 #include <string>
 #include <utility>
 
+#include <Eigen/Geometry>
 #include <tbb/parallel_for.h>
 
+#include "localization/boundary_points.h"
 #include "localization/large_planes.h"
 #include "localization/oriented_points.h"
 #include "localization/part_model.h"
@@ -42,6 +44,9 @@ constexpr double kSeenThroughWeight = 5;
 constexpr double kLargePlaneExtent = 1.5;
 constexpr double kLinkVoxels = 3;
 constexpr size_t kMinLargePlanePoints = 500;
+constexpr double kScanVoxelsPerExtent = 80;
+// The most scan points a candidate's ICP runs on.
+constexpr size_t kMaxIcpPoints = 2000;
 // Rounds of voting on the scan points no instance has taken.
 constexpr size_t kMaxRounds = 3;
 
@@ -219,8 +224,11 @@ class Verifier {
     const auto max_sq = static_cast<float>(reach * reach);
     std::array<spatial::Neighbor, 1> nearest{};
     std::vector<uint32_t> near;
+    const Eigen::AlignedBox3f reach_box(part_.bounds.min().array() - static_cast<float>(reach),
+                                        part_.bounds.max().array() + static_cast<float>(reach));
     for (const uint32_t i : gathered) {
-      if (part_.model_tree->Knn(part_from_world * scan_.points.points[i], max_sq, nearest) == 0) continue;
+      const Eigen::Vector3f local = part_from_world * scan_.points.points[i];
+      if (!reach_box.contains(local) || part_.model_tree->Knn(local, max_sq, nearest) == 0) continue;
       if (min_cos > -1) {
         const Eigen::Vector3f& normal = part_.model.normals[part_.model_tree->original_index(nearest[0].slot)];
         if (normal.dot(part_from_world.linear() * scan_.points.normals[i]) < min_cos) continue;
@@ -239,12 +247,14 @@ class Verifier {
     registration::IcpOptions icp;
     icp.max_correspondence_distance = reach;
     if (near.size() < icp.min_correspondences) return start;
+    // An even share of the points is enough to pull a pose within reach onto the surface.
+    const size_t stride = (near.size() + kMaxIcpPoints - 1) / kMaxIcpPoints;
     std::vector<Eigen::Vector3f> points, normals;
-    points.reserve(near.size());
-    normals.reserve(near.size());
-    for (const uint32_t i : near) {
-      points.push_back(scan_.points.points[i]);
-      normals.push_back(scan_.points.normals[i]);
+    points.reserve(near.size() / stride + 1);
+    normals.reserve(near.size() / stride + 1);
+    for (size_t k = 0; k < near.size(); k += stride) {
+      points.push_back(scan_.points.points[near[k]]);
+      normals.push_back(scan_.points.normals[near[k]]);
     }
     ASSIGN_OR_RETURN(const registration::IcpResult fit,
                      registration::PointToPlaneIcp(points, part_.model.points, part_.model.normals, start.inverse(),
@@ -312,6 +322,7 @@ OrientedPoints Unclaimed(const PreparedScan& scan, const std::vector<bool>& clai
   return ThinOriented(left, step, kFaceSplitAngleRad);
 }
 
+
 }  // namespace
 
 StatusOr<LocalizationResult> LocalizeParts(std::span<const PartQuery> parts, std::span<const Eigen::Vector3f> scan_points,
@@ -332,7 +343,10 @@ StatusOr<LocalizationResult> LocalizeParts(std::span<const PartQuery> parts, std
     const std::string field = "parts[" + std::to_string(p) + "]";
     if (parts[p].mesh == nullptr) return InvalidArgument(field, "has no mesh");
     ASSIGN_OR_RETURN(PartModel model, BuildPartModel(*parts[p].mesh, field, settings));
-    scan_voxel = std::min(scan_voxel, model.voxel);
+    // The scan is checked at the finest part's voxel, but no finer than its extent / 80: a long
+    // thin part's voxel (a share of its width) would multiply the points every check visits.
+    scan_voxel = std::min(scan_voxel, options.voxel_size > 0 ? model.voxel
+                                                              : std::max(model.voxel, model.extent / kScanVoxelsPerExtent));
     largest_part = std::max(largest_part, model.extent);
     models.push_back(std::move(model));
     if (IsCancelled(cancel)) return Cancelled("localization cancelled");
@@ -366,7 +380,8 @@ StatusOr<LocalizationResult> LocalizeParts(std::span<const PartQuery> parts, std
         state.summary.stop_reason = "too few scan points left";
         continue;
       }
-      std::vector<PoseCandidate> candidates = part.ppf->Vote(scene.points, scene.normals, cancel);
+      const std::vector<Eigen::Vector3f> rims = RimDirections(scene, kRimRadiusInPpfSteps * part.ppf_step);
+      std::vector<PoseCandidate> candidates = part.ppf->Vote(scene.points, scene.normals, rims, cancel);
       if (IsCancelled(cancel)) return Cancelled("localization cancelled");
       if (candidates.empty()) {
         state.summary.stop_reason = "no pose candidates";

@@ -50,7 +50,7 @@ struct LocalizerOptions {
   // An instance must explain at least this many scan points and score at least min_score, or the
   // search stops.
   size_t min_explained_points = 100;
-  double min_score = 0.15;
+  double min_score = 0.08;
   size_t max_instances = 10;
   // Only for a scan without normals: estimated normals are turned towards this point (the
   // sensor's position; the origin for a scan in the sensor frame).

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "localization/boundary_points.h"
 #include "localization/model_samples.h"
 
 namespace vscan::localization {
@@ -38,6 +39,7 @@ StatusOr<PartModel> BuildPartModel(const TriangleMesh& part, const std::string& 
   m.ppf_step = settings.ppf_step_voxels * m.voxel;
   Eigen::Vector3f lo, hi;
   part.Bounds(lo, hi);
+  m.bounds = Eigen::AlignedBox3f(lo, hi);
   m.extent = static_cast<double>((hi - lo).norm());
   // A long thin part's fine voxel would make its pair step a small share of its length, and the
   // pairs a scan point votes with grow with the square of that ratio.
@@ -66,7 +68,8 @@ StatusOr<PartModel> BuildPartModel(const TriangleMesh& part, const std::string& 
   ppf.scene_reference_stride = settings.scene_reference_stride;
   ppf.cluster_distance = kClusterDistanceInSteps * m.ppf_step;
   ppf.cluster_angle_rad = kClusterAngleInSteps * ppf.angle_step_rad;
-  m.ppf = std::make_unique<PpfModel>(m.ppf_points.points, m.ppf_points.normals, ppf);
+  m.ppf_rims = RimDirections(m.ppf_points, kRimRadiusInPpfSteps * m.ppf_step);
+  m.ppf = std::make_unique<PpfModel>(m.ppf_points.points, m.ppf_points.normals, m.ppf_rims, ppf);
   return m;
 }
 

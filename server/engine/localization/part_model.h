@@ -4,8 +4,10 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 #include "localization/oriented_points.h"
 #include "localization/ppf_voting.h"
@@ -26,8 +28,10 @@ struct PartModelSettings {
 struct PartModel {
   OrientedPoints model;       // thinned to the voxel
   OrientedPoints ppf_points;  // thinned to the PPF step
+  std::vector<Eigen::Vector3f> ppf_rims;  // RimDirections of ppf_points
   double voxel = 0, ppf_step = 0;
-  double extent = 0;  // the bounding box's diagonal
+  Eigen::AlignedBox3f bounds;  // part frame
+  double extent = 0;           // the bounding box's diagonal
   std::unique_ptr<spatial::KdTree> model_tree;  // over model.points, part frame
   std::unique_ptr<PpfModel> ppf;
 };
@@ -35,6 +39,9 @@ struct PartModel {
 // The part's bounding-box diagonal / 50, or its middle extent / 10 when that is smaller (a long
 // thin part is not reduced to a line).
 double DefaultVoxel(const TriangleMesh& part);
+
+// Rims (boundary_points.h) are looked for within this many PPF steps, in the part and the scan alike.
+inline constexpr double kRimRadiusInPpfSteps = 2;
 
 // InvalidArgument naming field for a part without area; ResourceExhausted naming
 // "options.voxel_size" when a voxel the caller chose leaves too many points for the pair table.

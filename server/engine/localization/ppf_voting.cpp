@@ -12,6 +12,8 @@ namespace vscan::localization {
 namespace {
 
 constexpr double kTwoPi = 2 * std::numbers::pi;
+// Rim pairs' keys have the top bit set; a surface pair's distance bin stays below 2^15.
+constexpr uint64_t kRimKeyFlag = uint64_t{1} << 63;
 
 // The rigid transform that moves p to the origin and turns n onto +x.
 Eigen::Isometry3f LocalFrame(const Eigen::Vector3f& p, const Eigen::Vector3f& n) {
@@ -36,7 +38,7 @@ double RotationAngle(const Pose3& a, const Pose3& b) {
 }  // namespace
 
 PpfModel::PpfModel(std::span<const Eigen::Vector3f> points, std::span<const Eigen::Vector3f> normals,
-                   const PpfSettings& settings)
+                   std::span<const Eigen::Vector3f> rims, const PpfSettings& settings)
     : settings_(settings), points_(points.begin(), points.end()), normals_(normals.begin(), normals.end()) {
   for (size_t i = 0; i < points_.size(); ++i) {
     for (size_t j = i + 1; j < points_.size(); ++j) max_distance_ = std::max(max_distance_, (points_[j] - points_[i]).norm());
@@ -45,8 +47,14 @@ PpfModel::PpfModel(std::span<const Eigen::Vector3f> points, std::span<const Eige
     const Eigen::Isometry3f frame = LocalFrame(points_[i], normals_[i]);
     for (size_t j = 0; j < points_.size(); ++j) {
       if (i == j) continue;
-      const auto key = Key(points_[i], normals_[i], points_[j], normals_[j]);
-      if (key) entries_.push_back({*key, static_cast<uint32_t>(i), AlphaOf(frame * points_[j])});
+      const float alpha = AlphaOf(frame * points_[j]);
+      if (const auto key = Key(points_[i], normals_[i], points_[j], normals_[j])) {
+        entries_.push_back({*key, static_cast<uint32_t>(i), alpha});
+      }
+      if (rims.empty() || rims[j].isZero()) continue;
+      if (const auto key = RimKey(points_[i], normals_[i], points_[j], normals_[j], rims[j])) {
+        entries_.push_back({*key, static_cast<uint32_t>(i), alpha});
+      }
     }
   }
   std::sort(entries_.begin(), entries_.end(), [](const Entry& a, const Entry& b) { return a.key < b.key; });
@@ -75,8 +83,23 @@ std::optional<uint64_t> PpfModel::Key(const Eigen::Vector3f& p1, const Eigen::Ve
          bin(normals_angle);
 }
 
+std::optional<uint64_t> PpfModel::RimKey(const Eigen::Vector3f& p1, const Eigen::Vector3f& n1,
+                                         const Eigen::Vector3f& p2, const Eigen::Vector3f& n2,
+                                         const Eigen::Vector3f& rim2) const {
+  const Eigen::Vector3f d = p2 - p1;
+  const float distance = d.norm();
+  if (distance <= 0 || distance > max_distance_) return std::nullopt;
+  const auto step = static_cast<float>(settings_.angle_step_rad);
+  const auto bin = [&](float cosine) { return static_cast<uint64_t>(std::acos(std::clamp(cosine, -1.0f, 1.0f)) / step); };
+  const Eigen::Vector3f direction = d / distance;
+  const auto distance_bin = static_cast<uint64_t>(distance / static_cast<float>(settings_.distance_step));
+  return kRimKeyFlag | (distance_bin << 48) | (bin(n1.dot(direction)) << 36) | (bin(rim2.dot(direction)) << 24) |
+         (bin(n1.dot(rim2)) << 12) | bin(n1.dot(n2));
+}
+
 std::vector<PoseCandidate> PpfModel::Vote(std::span<const Eigen::Vector3f> points,
                                           std::span<const Eigen::Vector3f> normals,
+                                          std::span<const Eigen::Vector3f> rims,
                                           const std::atomic<bool>* cancel) const {
   const auto alpha_bins = static_cast<size_t>(std::ceil(kTwoPi / settings_.angle_step_rad));
   const size_t stride = std::max(1u, settings_.scene_reference_stride);
@@ -93,18 +116,21 @@ std::vector<PoseCandidate> PpfModel::Vote(std::span<const Eigen::Vector3f> point
       std::fill(accumulator.begin(), accumulator.end(), 0u);
       for (size_t j = 0; j < points.size(); ++j) {
         if (j == s || (points[j] - points[s]).squaredNorm() > max_sq) continue;
-        const auto key = Key(points[s], normals[s], points[j], normals[j]);
-        if (!key) continue;
-        const auto run = runs_.find(*key);
-        if (run == runs_.end()) continue;
         const float alpha_scene = AlphaOf(frame * points[j]);
-        for (uint32_t e = run->second.first; e < run->second.second; ++e) {
-          const Entry* it = &entries_[e];
-          double alpha = it->alpha - alpha_scene;
-          if (alpha < 0) alpha += kTwoPi;
-          const auto bin = std::min(alpha_bins - 1, static_cast<size_t>(alpha / settings_.angle_step_rad));
-          ++accumulator[it->reference * alpha_bins + bin];
-        }
+        const auto vote = [&](std::optional<uint64_t> key) {
+          if (!key) return;
+          const auto run = runs_.find(*key);
+          if (run == runs_.end()) return;
+          for (uint32_t e = run->second.first; e < run->second.second; ++e) {
+            const Entry* it = &entries_[e];
+            double alpha = it->alpha - alpha_scene;
+            if (alpha < 0) alpha += kTwoPi;
+            const auto bin = std::min(alpha_bins - 1, static_cast<size_t>(alpha / settings_.angle_step_rad));
+            ++accumulator[it->reference * alpha_bins + bin];
+          }
+        };
+        vote(Key(points[s], normals[s], points[j], normals[j]));
+        if (!rims.empty() && !rims[j].isZero()) vote(RimKey(points[s], normals[s], points[j], normals[j], rims[j]));
       }
       const auto peak = std::max_element(accumulator.begin(), accumulator.end());
       if (*peak == 0) continue;
@@ -119,27 +145,47 @@ std::vector<PoseCandidate> PpfModel::Vote(std::span<const Eigen::Vector3f> point
   });
   if (cancel != nullptr && cancel->load(std::memory_order_relaxed)) return {};
 
-  // Clusters seeded by the strongest poses; a pose joins the first cluster it lies close to.
+  // Clusters seeded by the strongest poses; a pose joins the first cluster whose seed it lies close
+  // to, and each cluster's pose is the vote-weighted mean of its members (Vidal et al. 2018).
   std::vector<size_t> order(references);
   for (size_t r = 0; r < references; ++r) order[r] = r;
   std::stable_sort(order.begin(), order.end(), [&](size_t a, size_t b) { return best[a].votes > best[b].votes; });
-  std::vector<PoseCandidate> clusters;
+  struct Cluster {
+    Pose3 seed;
+    uint32_t votes;
+    Eigen::Vector4d rotation_sum;  // quaternion coefficients, on the seed's side
+    Eigen::Vector3d translation_sum;
+  };
+  std::vector<Cluster> clusters;
   for (const size_t r : order) {
     if (best[r].votes == 0) break;
-    bool joined = false;
-    for (auto& c : clusters) {
-      if ((c.scene_from_part.translation() - best[r].pose.translation()).norm() <= settings_.cluster_distance &&
-          RotationAngle(c.scene_from_part, best[r].pose) <= settings_.cluster_angle_rad) {
-        c.votes += best[r].votes;
-        joined = true;
-        break;
-      }
+    const Pose3& pose = best[r].pose;
+    const double weight = best[r].votes;
+    Eigen::Vector4d q = Eigen::Quaterniond(pose.linear()).coeffs();
+    auto joined = std::find_if(clusters.begin(), clusters.end(), [&](const Cluster& c) {
+      return (c.seed.translation() - pose.translation()).norm() <= settings_.cluster_distance &&
+             RotationAngle(c.seed, pose) <= settings_.cluster_angle_rad;
+    });
+    if (joined == clusters.end()) {
+      clusters.push_back({pose, best[r].votes, weight * q, weight * pose.translation()});
+      continue;
     }
-    if (!joined) clusters.push_back({best[r].pose, best[r].votes});
+    if (q.dot(joined->rotation_sum) < 0) q = -q;
+    joined->votes += best[r].votes;
+    joined->rotation_sum += weight * q;
+    joined->translation_sum += weight * pose.translation();
   }
-  std::stable_sort(clusters.begin(), clusters.end(),
+  std::vector<PoseCandidate> candidates;
+  candidates.reserve(clusters.size());
+  for (const Cluster& c : clusters) {
+    Pose3 mean = Pose3::Identity();
+    mean.linear() = Eigen::Quaterniond(c.rotation_sum.normalized()).toRotationMatrix();
+    mean.translation() = c.translation_sum / static_cast<double>(c.votes);
+    candidates.push_back({mean, c.votes});
+  }
+  std::stable_sort(candidates.begin(), candidates.end(),
                    [](const PoseCandidate& a, const PoseCandidate& b) { return a.votes > b.votes; });
-  return clusters;
+  return candidates;
 }
 
 }  // namespace vscan::localization

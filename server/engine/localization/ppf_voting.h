@@ -38,16 +38,22 @@ struct PoseCandidate {
 // The model's pair table, built once (quadratic in the model's points) and searched per scene.
 // Pairs whose normals are parallel to within one angle step are left out, in the model and the
 // scene alike: on a flat face every such pair looks the same and they would swamp the table.
+// Rim pairs take their place there: any point paired with a point on a surface's rim
+// (boundary_points.h), keyed by the distance, the angles of the reference's normal and the rim's
+// outward direction to the line between them, and the angles between the reference's normal and
+// the rim's direction and normal (after Drost and Ilic's pairs of edge points, 3DIMPVT 2012).
 class PpfModel {
  public:
-  // Points and unit outward normals in the part frame, of equal length.
+  // Points and unit outward normals in the part frame, of equal length; rims empty, or one
+  // direction per point (zero off the rim).
   PpfModel(std::span<const Eigen::Vector3f> points, std::span<const Eigen::Vector3f> normals,
-           const PpfSettings& settings);
+           std::span<const Eigen::Vector3f> rims, const PpfSettings& settings);
 
-  // Candidates by decreasing votes. The scene's normals must face out of its surfaces as the
-  // model's do. Polls cancel between reference points (an empty list when it is set).
+  // Candidates by decreasing votes, each the vote-weighted mean of the poses pooled into it. The
+  // scene's normals must face out of its surfaces as the model's do; rims as the model's. Polls
+  // cancel between reference points (an empty list when it is set).
   std::vector<PoseCandidate> Vote(std::span<const Eigen::Vector3f> points, std::span<const Eigen::Vector3f> normals,
-                                  const std::atomic<bool>* cancel = nullptr) const;
+                                  std::span<const Eigen::Vector3f> rims, const std::atomic<bool>* cancel = nullptr) const;
 
   size_t pair_count() const { return entries_.size(); }
 
@@ -59,6 +65,8 @@ class PpfModel {
   };
   std::optional<uint64_t> Key(const Eigen::Vector3f& p1, const Eigen::Vector3f& n1, const Eigen::Vector3f& p2,
                               const Eigen::Vector3f& n2) const;
+  std::optional<uint64_t> RimKey(const Eigen::Vector3f& p1, const Eigen::Vector3f& n1, const Eigen::Vector3f& p2,
+                                 const Eigen::Vector3f& n2, const Eigen::Vector3f& rim2) const;
 
   PpfSettings settings_;
   std::vector<Eigen::Vector3f> points_, normals_;

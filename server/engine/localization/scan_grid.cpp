@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <unordered_set>
 
 namespace vscan::localization {
 namespace {
@@ -37,22 +36,26 @@ ScanGrid::ScanGrid(std::span<const Eigen::Vector3f> points, double cell) : inver
 }
 
 void ScanGrid::Gather(std::span<const Eigen::Vector3f> around, std::vector<uint32_t>& out) const {
-  std::unordered_set<uint64_t> visited;
+  std::vector<uint64_t> keys;
+  keys.reserve(around.size() * 27);
   for (const auto& p : around) {
     if (!p.allFinite()) continue;
     const Eigen::Vector3d c = (p.cast<double>() * inverse_cell_).array().floor();
     for (int dx = -1; dx <= 1; ++dx) {
       for (int dy = -1; dy <= 1; ++dy) {
         for (int dz = -1; dz <= 1; ++dz) {
-          const uint64_t key = Key(static_cast<int64_t>(c.x()) + dx, static_cast<int64_t>(c.y()) + dy,
-                                   static_cast<int64_t>(c.z()) + dz);
-          if (!visited.insert(key).second) continue;
-          const auto cell = cells_.find(key);
-          if (cell == cells_.end()) continue;
-          out.insert(out.end(), order_.begin() + cell->second.first, order_.begin() + cell->second.second);
+          keys.push_back(Key(static_cast<int64_t>(c.x()) + dx, static_cast<int64_t>(c.y()) + dy,
+                             static_cast<int64_t>(c.z()) + dz));
         }
       }
     }
+  }
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+  for (const uint64_t key : keys) {
+    const auto cell = cells_.find(key);
+    if (cell == cells_.end()) continue;
+    out.insert(out.end(), order_.begin() + cell->second.first, order_.begin() + cell->second.second);
   }
 }
 
