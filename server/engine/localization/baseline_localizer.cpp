@@ -246,6 +246,10 @@ class Verifier {
     const std::vector<uint32_t> near = Near(start, reach, -1);
     registration::IcpOptions icp;
     icp.max_correspondence_distance = reach;
+    // A hundredth of a millimetre and a tenth of a milliradian are finer than any check after it.
+    icp.translation_tolerance = 1e-5;
+    icp.rotation_tolerance = 1e-4;
+    icp.max_iterations = 30;
     if (near.size() < icp.min_correspondences) return start;
     // An even share of the points is enough to pull a pose within reach onto the surface.
     const size_t stride = (near.size() + kMaxIcpPoints - 1) / kMaxIcpPoints;

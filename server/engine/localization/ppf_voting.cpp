@@ -12,6 +12,15 @@ namespace vscan::localization {
 namespace {
 
 constexpr double kTwoPi = 2 * std::numbers::pi;
+// Spreads a packed key's bits over the table's slots (the finaliser of MurmurHash3).
+uint64_t MixKey(uint64_t k) {
+  k ^= k >> 33;
+  k *= 0xff51afd7ed558ccdULL;
+  k ^= k >> 33;
+  k *= 0xc4ceb9fe1a85ec53ULL;
+  return k ^ (k >> 33);
+}
+
 // Rim pairs' keys have the top bit set; a surface pair's distance bin stays below 2^15.
 constexpr uint64_t kRimKeyFlag = uint64_t{1} << 63;
 
@@ -23,8 +32,12 @@ Eigen::Isometry3f LocalFrame(const Eigen::Vector3f& p, const Eigen::Vector3f& n)
   return frame;
 }
 
-// The angle of q (in a reference's local frame) about +x, measured from +y.
-float AlphaOf(const Eigen::Vector3f& q) { return std::atan2(q.z(), q.y()); }
+// The angle of q (in a reference's local frame) about +x, measured from +y, in 2^-16 turns: the
+// difference of two wraps round by itself.
+uint16_t AlphaOf(const Eigen::Vector3f& q) {
+  const float turns = std::atan2(q.z(), q.y()) / static_cast<float>(kTwoPi);
+  return static_cast<uint16_t>(static_cast<int32_t>(std::lround(turns * 65536.0f)) & 0xffff);
+}
 
 struct ReferenceVote {
   Pose3 pose = Pose3::Identity();
@@ -39,7 +52,8 @@ double RotationAngle(const Pose3& a, const Pose3& b) {
 
 PpfModel::PpfModel(std::span<const Eigen::Vector3f> points, std::span<const Eigen::Vector3f> normals,
                    std::span<const Eigen::Vector3f> rims, const PpfSettings& settings)
-    : settings_(settings), points_(points.begin(), points.end()), normals_(normals.begin(), normals.end()) {
+    : settings_(settings), points_(points.begin(), points.end()), normals_(normals.begin(), normals.end()),
+      alpha_bins_(static_cast<uint32_t>(std::ceil(kTwoPi / settings.angle_step_rad))) {
   for (size_t i = 0; i < points_.size(); ++i) {
     for (size_t j = i + 1; j < points_.size(); ++j) max_distance_ = std::max(max_distance_, (points_[j] - points_[i]).norm());
   }
@@ -47,22 +61,39 @@ PpfModel::PpfModel(std::span<const Eigen::Vector3f> points, std::span<const Eige
     const Eigen::Isometry3f frame = LocalFrame(points_[i], normals_[i]);
     for (size_t j = 0; j < points_.size(); ++j) {
       if (i == j) continue;
-      const float alpha = AlphaOf(frame * points_[j]);
+      const uint16_t alpha = AlphaOf(frame * points_[j]);
+      const auto slot = static_cast<uint32_t>(i) * alpha_bins_;
       if (const auto key = Key(points_[i], normals_[i], points_[j], normals_[j])) {
-        entries_.push_back({*key, static_cast<uint32_t>(i), alpha});
+        entries_.push_back({*key, slot, alpha});
       }
       if (rims.empty() || rims[j].isZero()) continue;
       if (const auto key = RimKey(points_[i], normals_[i], points_[j], normals_[j], rims[j])) {
-        entries_.push_back({*key, static_cast<uint32_t>(i), alpha});
+        entries_.push_back({*key, slot, alpha});
       }
     }
   }
   std::sort(entries_.begin(), entries_.end(), [](const Entry& a, const Entry& b) { return a.key < b.key; });
+  size_t keys = 0;
+  for (size_t e = 0; e < entries_.size(); ++e) keys += e == 0 || entries_[e].key != entries_[e - 1].key ? 1 : 0;
+  size_t slots = 16;
+  while (slots < 2 * keys) slots *= 2;
+  runs_.assign(slots, Run{0, 0, 0});
+  run_mask_ = slots - 1;
   for (size_t begin = 0; begin < entries_.size();) {
     size_t end = begin + 1;
     while (end < entries_.size() && entries_[end].key == entries_[begin].key) ++end;
-    runs_.emplace(entries_[begin].key, std::make_pair(static_cast<uint32_t>(begin), static_cast<uint32_t>(end)));
+    uint64_t slot = MixKey(entries_[begin].key) & run_mask_;
+    while (runs_[slot].end != 0) slot = (slot + 1) & run_mask_;
+    runs_[slot] = {entries_[begin].key, static_cast<uint32_t>(begin), static_cast<uint32_t>(end)};
     begin = end;
+  }
+}
+
+const PpfModel::Run* PpfModel::FindRun(uint64_t key) const {
+  for (uint64_t slot = MixKey(key) & run_mask_;; slot = (slot + 1) & run_mask_) {
+    const Run& run = runs_[slot];
+    if (run.end == 0) return nullptr;
+    if (run.key == key) return &run;
   }
 }
 
@@ -101,7 +132,7 @@ std::vector<PoseCandidate> PpfModel::Vote(std::span<const Eigen::Vector3f> point
                                           std::span<const Eigen::Vector3f> normals,
                                           std::span<const Eigen::Vector3f> rims,
                                           const std::atomic<bool>* cancel) const {
-  const auto alpha_bins = static_cast<size_t>(std::ceil(kTwoPi / settings_.angle_step_rad));
+  const size_t alpha_bins = alpha_bins_;
   const size_t stride = std::max(1u, settings_.scene_reference_stride);
   const size_t references = (points.size() + stride - 1) / stride;
   const float max_sq = max_distance_ * max_distance_;
@@ -116,17 +147,15 @@ std::vector<PoseCandidate> PpfModel::Vote(std::span<const Eigen::Vector3f> point
       std::fill(accumulator.begin(), accumulator.end(), 0u);
       for (size_t j = 0; j < points.size(); ++j) {
         if (j == s || (points[j] - points[s]).squaredNorm() > max_sq) continue;
-        const float alpha_scene = AlphaOf(frame * points[j]);
+        const uint16_t alpha_scene = AlphaOf(frame * points[j]);
         const auto vote = [&](std::optional<uint64_t> key) {
           if (!key) return;
-          const auto run = runs_.find(*key);
-          if (run == runs_.end()) return;
-          for (uint32_t e = run->second.first; e < run->second.second; ++e) {
-            const Entry* it = &entries_[e];
-            double alpha = it->alpha - alpha_scene;
-            if (alpha < 0) alpha += kTwoPi;
-            const auto bin = std::min(alpha_bins - 1, static_cast<size_t>(alpha / settings_.angle_step_rad));
-            ++accumulator[it->reference * alpha_bins + bin];
+          const Run* run = FindRun(*key);
+          if (run == nullptr) return;
+          for (uint32_t e = run->begin; e < run->end; ++e) {
+            const Entry& entry = entries_[e];
+            const auto turn = static_cast<uint16_t>(entry.alpha - alpha_scene);
+            ++accumulator[entry.slot + ((static_cast<uint32_t>(turn) * alpha_bins_) >> 16)];
           }
         };
         vote(Key(points[s], normals[s], points[j], normals[j]));
@@ -136,7 +165,7 @@ std::vector<PoseCandidate> PpfModel::Vote(std::span<const Eigen::Vector3f> point
       if (*peak == 0) continue;
       const auto index = static_cast<size_t>(peak - accumulator.begin());
       const size_t model_reference = index / alpha_bins;
-      const double alpha = (static_cast<double>(index % alpha_bins) + 0.5) * settings_.angle_step_rad;
+      const double alpha = (static_cast<double>(index % alpha_bins) + 0.5) * kTwoPi / static_cast<double>(alpha_bins);
       // Scene point = frame^-1 * Rx(-alpha) * model frame * model point.
       const Eigen::Isometry3d model_frame = LocalFrame(points_[model_reference], normals_[model_reference]).cast<double>();
       Pose3 pose = frame.cast<double>().inverse() * Eigen::AngleAxisd(-alpha, Eigen::Vector3d::UnitX()) * model_frame;

@@ -8,7 +8,6 @@
 #include <cstdint>
 #include <optional>
 #include <span>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -60,8 +59,8 @@ class PpfModel {
  private:
   struct Entry {
     uint64_t key;
-    uint32_t reference;
-    float alpha;  // the pair's angle about the reference normal, in the reference's local frame
+    uint32_t slot;   // reference * alpha_bins_: the reference's first accumulator slot
+    uint16_t alpha;  // the pair's angle about the reference normal, in the reference's local frame, in 2^-16 turns
   };
   std::optional<uint64_t> Key(const Eigen::Vector3f& p1, const Eigen::Vector3f& n1, const Eigen::Vector3f& p2,
                               const Eigen::Vector3f& n2) const;
@@ -72,9 +71,16 @@ class PpfModel {
   std::vector<Eigen::Vector3f> points_, normals_;
   float max_distance_ = 0;
   std::vector<Entry> entries_;  // sorted by key
-  // Each key's run [begin, end) in entries_: one hash probe per scene pair instead of a binary
-  // search over the whole table.
-  std::unordered_map<uint64_t, std::pair<uint32_t, uint32_t>> runs_;
+  // Each key's run [begin, end) in entries_, in an open-addressed table (linear probing, a power
+  // of two at most half full): one probe per scene pair, mostly within one cache line.
+  struct Run {
+    uint64_t key;
+    uint32_t begin, end;  // end == 0: an empty slot
+  };
+  const Run* FindRun(uint64_t key) const;
+  std::vector<Run> runs_;
+  uint64_t run_mask_ = 0;
+  uint32_t alpha_bins_ = 1;
 };
 
 }  // namespace vscan::localization

@@ -1,6 +1,7 @@
 #include "localization/scan_grid.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 
 namespace vscan::localization {
@@ -36,17 +37,22 @@ ScanGrid::ScanGrid(std::span<const Eigen::Vector3f> points, double cell) : inver
 }
 
 void ScanGrid::Gather(std::span<const Eigen::Vector3f> around, std::vector<uint32_t>& out) const {
-  std::vector<uint64_t> keys;
-  keys.reserve(around.size() * 27);
+  // The cells the points fall in first (several points share one), then their neighbours.
+  std::vector<std::array<int64_t, 3>> centres;
+  centres.reserve(around.size());
   for (const auto& p : around) {
     if (!p.allFinite()) continue;
     const Eigen::Vector3d c = (p.cast<double>() * inverse_cell_).array().floor();
+    centres.push_back({static_cast<int64_t>(c.x()), static_cast<int64_t>(c.y()), static_cast<int64_t>(c.z())});
+  }
+  std::sort(centres.begin(), centres.end());
+  centres.erase(std::unique(centres.begin(), centres.end()), centres.end());
+  std::vector<uint64_t> keys;
+  keys.reserve(centres.size() * 27);
+  for (const auto& c : centres) {
     for (int dx = -1; dx <= 1; ++dx) {
       for (int dy = -1; dy <= 1; ++dy) {
-        for (int dz = -1; dz <= 1; ++dz) {
-          keys.push_back(Key(static_cast<int64_t>(c.x()) + dx, static_cast<int64_t>(c.y()) + dy,
-                             static_cast<int64_t>(c.z()) + dz));
-        }
+        for (int dz = -1; dz <= 1; ++dz) keys.push_back(Key(c[0] + dx, c[1] + dy, c[2] + dz));
       }
     }
   }
