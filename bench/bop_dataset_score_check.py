@@ -10,9 +10,9 @@ made from the ground truth: per true instance an estimate that is exact, a littl
 turned, turned about the tube's axis (symmetric-equivalent), or missing, some duplicated with other
 scores (ties too), estimates of part types an image does not hold, and rows for images the dataset
 lacks. It is scored by `vscan dataset score --json` and by bop_toolkit_lib with the steps of its
-evaluation scripts (eval_calc_errors, eval_calc_scores): inout.load_bop_results, load_scene_gt,
-load_ply; per image and object the estimates sorted by score and cut to the valid instances
-(visib_fract >= 0.1, n_top = -1); pose_error.add or adi (adi when models_info declares a symmetry)
+evaluation scripts (eval_calc_errors, eval_calc_scores; not in the reference copy) written here:
+inout.load_bop_results, load_scene_gt, load_ply; per image and object the estimates sorted by
+score and cut to the valid instances (visib_fract >= 0.1, n_top = -1); pose_error.add or adi (adi when models_info declares a symmetry)
 and mssd over misc.get_symmetry_transformations(info, 0.01); errors divided by models_info's
 diameter; pose_matching.match_poses_scene; score.calc_localization_scores at 0.1 and at each of
 np.arange(0.05, 0.51, 0.05), the MSSD recalls averaged. Exits 1 when a recall or count differs.
