@@ -12,10 +12,11 @@ scores (ties too), estimates of part types an image does not hold, and rows for 
 lacks. It is scored by `vscan dataset score --json` and by bop_toolkit_lib with the steps of its
 evaluation scripts (eval_calc_errors, eval_calc_scores; not in the reference copy) written here:
 inout.load_bop_results, load_scene_gt, load_ply; per image and object the estimates sorted by
-score and cut to the valid instances (visib_fract >= 0.1, n_top = -1); pose_error.add or adi (adi when models_info declares a symmetry)
-and mssd over misc.get_symmetry_transformations(info, 0.01); errors divided by models_info's
-diameter; pose_matching.match_poses_scene; score.calc_localization_scores at 0.1 and at each of
-np.arange(0.05, 0.51, 0.05), the MSSD recalls averaged. Exits 1 when a recall or count differs.
+score and cut to the valid instances (visib_fract >= 0.1, n_top = -1); pose_error.add or adi (adi
+when models_info declares a symmetry) and mssd over misc.get_symmetry_transformations(info, 0.01);
+errors divided by models_info's diameter; pose_matching.match_poses_scene;
+score.calc_localization_scores at 0.1 and at each of np.arange(0.05, 0.51, 0.05), the MSSD
+recalls averaged. Exits 1 when a recall or count differs.
 
   /usr/bin/python3 bench/bop_dataset_score_check.py [--seeds 2] [--views 2] [--seed 1]
 """
@@ -332,7 +333,7 @@ def run_check(vscan, address, job_id, root, seed=1, workdir=None, bop=None):
     theirs = bop_scores(bop, models, scenes, csv_path)
     bop_s = time.perf_counter() - start
     # vscan's thresholds are fractions of the diameter of the vertices; BOP's of models_info's.
-    gap = max(abs(max_distance(m["pts"].astype(np.float32).astype(np.float64)) - m["diameter"]) for m in models.values())
+    gap = max(abs(max_distance(m["pts"]) - m["diameter"]) for m in models.values())
     return {"ours": ours, "theirs": theirs, "diffs": compare(ours, theirs), "kinds": kinds, "csv": csv_path,
             "vscan_s": vscan_s, "bop_s": bop_s, "diameter_gap_mm": gap}
 
