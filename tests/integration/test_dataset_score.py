@@ -124,8 +124,8 @@ class DatasetScoreTest(unittest.TestCase):
             (good + "0,0,1,0.5\n", "results_csv", "line 2: 4 comma-separated fields"),
             (good + good + f"0,0,1,nan,{IDENTITY},0 0 500,-1\n", "line 3, column 4 (score)"),
             (f"0,0,1,0.5,{IDENTITY},0 0 1e19,-1\n", "line 1, column 6 (t)"),
-            (f"0,0,1,0.5,NaN 0 0 0 1 0 0 0 1,0 0 500,-1\n", "line 1, column 5 (R)"),
-            (f"0,0,1,0.5,2 0 0 0 1 0 0 0 1,0 0 500,-1\n", "line 1, column 5 (R): not a rotation"),
+            ("0,0,1,0.5,NaN 0 0 0 1 0 0 0 1,0 0 500,-1\n", "line 1, column 5 (R)"),
+            ("0,0,1,0.5,2 0 0 0 1 0 0 0 1,0 0 500,-1\n", "line 1, column 5 (R): not a rotation"),
             (f"-1,0,1,0.5,{IDENTITY},0 0 500,-1\n", "line 1, column 1 (scene_id)"),
             (good + f"0,0,7,0.5,{IDENTITY},0 0 500,-1\n", "line 2, column 3 (obj_id): obj_id 7 is not a part type"),
         ]
