@@ -34,7 +34,6 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 SOURCE = os.path.dirname(HERE)
-TOOLKIT = os.environ.get("VSCAN_BOP_TOOLKIT", "/work/shared/tools/bop_toolkit")
 PARTS = os.path.join(SOURCE, "data", "parts")
 TUBE_OBJ = 2  # part types are numbered in the plan's order: angle block 1, tube 2
 
@@ -62,7 +61,22 @@ sensors:
     return text
 
 
-def load_toolkit(path=TOOLKIT):
+def find_toolkit():
+    """$VSCAN_BOP_TOOLKIT, else shared/tools/bop_toolkit in a folder above the repository; None
+    when there is none."""
+    given = os.environ.get("VSCAN_BOP_TOOLKIT")
+    if given:
+        return given if os.path.isdir(os.path.join(given, "bop_toolkit_lib")) else None
+    folder = SOURCE
+    while os.path.dirname(folder) != folder:
+        folder = os.path.dirname(folder)
+        candidate = os.path.join(folder, "shared", "tools", "bop_toolkit")
+        if os.path.isdir(os.path.join(candidate, "bop_toolkit_lib")):
+            return candidate
+    return None
+
+
+def load_toolkit(path=None):
     """bop_toolkit_lib's inout, misc, pose_error, pose_matching and score; stand-ins for the image
     modules inout imports and nothing here uses (Debian 12 ships neither imageio.v2 nor png)."""
     try:
@@ -79,6 +93,10 @@ def load_toolkit(path=TOOLKIT):
         import scipy.spatial  # noqa: F401
     except ImportError:
         stand_in_scipy()
+    path = path or find_toolkit()
+    if path is None:
+        raise ImportError("no bop_toolkit: set VSCAN_BOP_TOOLKIT or put it at shared/tools/bop_toolkit above the "
+                          "repository")
     sys.path.insert(0, path)
     from bop_toolkit_lib import inout, misc, pose_error, pose_matching, score
     return types.SimpleNamespace(inout=inout, misc=misc, pose_error=pose_error, pose_matching=pose_matching,
