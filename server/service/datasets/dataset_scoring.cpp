@@ -109,6 +109,8 @@ StatusOr<DatasetScore> ScoreDatasetResults(const std::filesystem::path& root,
           scored.part.part_id = obj_id;
           ASSIGN_OR_RETURN(scored.part.vertices, ReadModelVertices(root, obj_id));
           scored.part.symmetries = out.models.at(obj_id).symmetries;
+          // BOP's scripts divide the errors by models_info.json's diameter.
+          scored.part.known_diameter = out.models.at(obj_id).diameter_mm;
           scored.pair_work = PairWork(scored.part);
           model = loaded.emplace(obj_id, std::move(scored)).first;
         }

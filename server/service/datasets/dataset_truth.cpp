@@ -83,6 +83,7 @@ StatusOr<std::map<uint32_t, DatasetModel>> ReadDatasetModels(const fs::path& roo
       model.obj_id = Id(entry.first.as<std::string>());
       const YAML::Node& fields = entry.second;
       model.diameter_mm = Number(fields["diameter"]);
+      if (!(model.diameter_mm > 0)) throw YAML::Exception(fields.Mark(), "diameter must be positive");
       if (const YAML::Node discrete = fields["symmetries_discrete"]) {
         for (const YAML::Node& m : discrete) {
           if (!m.IsSequence() || m.size() != 16) throw YAML::Exception(m.Mark(), "expected 16 numbers");

@@ -110,6 +110,17 @@ TEST(DatasetScoring, WithoutTheCutTheLowerScoredEstimateWouldCount) {
   EXPECT_EQ(score->tally.overall().mssd_correct, (std::vector<uint64_t>{0, 0, 0, 1, 1, 1, 1, 1, 1, 1}));
 }
 
+TEST(DatasetScoring, ThresholdsAreFractionsOfModelsInfoDiameter) {
+  // 30 mm is past 10% of the cube's 173 mm but within 10% of the 400 mm models_info.json gives.
+  test::TempDir dir;
+  WriteDataset(dir.path());
+  Write(dir.path() / "models/models_info.json", R"({"1": {"diameter": 400}})");
+  const auto score = Score(dir.path(), Row(0, 0, 1, 0.8, 230));
+  ASSERT_TRUE(score.ok()) << score.status().ToString();
+  EXPECT_EQ(score->tally.overall().add_correct, 1u);
+  EXPECT_EQ(score->tally.overall().mssd_correct, (std::vector<uint64_t>{0, 1, 1, 1, 1, 1, 1, 1, 1, 1}));
+}
+
 TEST(DatasetScoring, TallyLeavesRecallUnsetWithoutValidInstances) {
   DatasetScoreTally tally(2);
   tally.AddObject(4);
