@@ -16,7 +16,6 @@ namespace {
 
 // Below the server's 4 MiB message bound, so that a larger file is refused here, naming the field.
 constexpr size_t kMaxResultsCsvBytes = 3 << 20;
-constexpr size_t kMaxSceneScores = 10000;
 
 void RecallToProto(const service::RecallCounts& counts, bool per_threshold, v1::DatasetRecall* out) {
   out->set_valid_instances(counts.valid_instances);
@@ -41,7 +40,6 @@ void DatasetScoreToResponse(const service::DatasetScore& score, v1::ScoreDataset
     RecallToProto(counts, true, object->mutable_recall());
   }
   for (const auto& [scene_id, counts] : score.tally.scenes()) {
-    if (static_cast<size_t>(response->scenes_size()) == kMaxSceneScores) break;
     v1::DatasetSceneScore* scene = response->add_scenes();
     scene->set_scene_id(scene_id);
     RecallToProto(counts, false, scene->mutable_recall());

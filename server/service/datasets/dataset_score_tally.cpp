@@ -33,10 +33,11 @@ RecallCounts& DatasetScoreTally::Entry(std::map<uint32_t, RecallCounts>& map, ui
 }
 
 void DatasetScoreTally::AddImage(uint32_t scene_id, const localization::ScanScore& image) {
-  RecallCounts& scene = Entry(scenes_, scene_id);
+  RecallCounts* scene = scene_id < max_scenes_ ? &Entry(scenes_, scene_id) : nullptr;
   for (const localization::PartScore& part : image.parts) {
     RecallCounts& object = Entry(objects_, part.part_id);
-    for (RecallCounts* counts : {&overall_, &object, &scene}) {
+    for (RecallCounts* counts : {&overall_, &object, scene}) {
+      if (counts == nullptr) continue;
       counts->valid_instances += part.valid_instances;
       counts->add_correct += part.add_correct;
       // ScoreScan gives the recall at each threshold; matched instances = recall x valid, exactly.
@@ -51,7 +52,7 @@ void DatasetScoreTally::AddImage(uint32_t scene_id, const localization::ScanScor
 void DatasetScoreTally::AddEstimates(uint32_t scene_id, uint32_t obj_id, uint64_t count) {
   overall_.estimates += count;
   Entry(objects_, obj_id).estimates += count;
-  Entry(scenes_, scene_id).estimates += count;
+  if (scene_id < max_scenes_) Entry(scenes_, scene_id).estimates += count;
 }
 
 }  // namespace vscan::service

@@ -27,7 +27,10 @@ struct RecallCounts {
 
 class DatasetScoreTally {
  public:
-  explicit DatasetScoreTally(size_t mssd_thresholds) : thresholds_(mssd_thresholds) {
+  // Scenes with ids from max_scenes on are pooled overall and per object only (a dataset may
+  // hold a million scenes; an answer lists a bounded number).
+  explicit DatasetScoreTally(size_t mssd_thresholds, uint32_t max_scenes = UINT32_MAX)
+      : thresholds_(mssd_thresholds), max_scenes_(max_scenes) {
     overall_.mssd_correct.assign(thresholds_, 0);
   }
 
@@ -38,7 +41,9 @@ class DatasetScoreTally {
   void AddEstimates(uint32_t scene_id, uint32_t obj_id, uint64_t count);
   // Makes the object and scene appear even when they hold nothing (BOP lists every obj_id).
   void AddObject(uint32_t obj_id) { Entry(objects_, obj_id); }
-  void AddScene(uint32_t scene_id) { Entry(scenes_, scene_id); }
+  void AddScene(uint32_t scene_id) {
+    if (scene_id < max_scenes_) Entry(scenes_, scene_id);
+  }
 
   const RecallCounts& overall() const { return overall_; }
   const std::map<uint32_t, RecallCounts>& objects() const { return objects_; }
@@ -48,6 +53,7 @@ class DatasetScoreTally {
   RecallCounts& Entry(std::map<uint32_t, RecallCounts>& map, uint32_t id);
 
   size_t thresholds_;
+  uint32_t max_scenes_;
   RecallCounts overall_;
   std::map<uint32_t, RecallCounts> objects_, scenes_;
 };

@@ -44,7 +44,7 @@ StatusOr<DatasetScore> ScoreDatasetResults(const std::filesystem::path& root,
   out.mssd_thresholds = localization::BopMssdThresholds();
   out.add_threshold = scoring.add_threshold;
   out.min_visible_fraction = scoring.min_visible_fraction;
-  out.tally = DatasetScoreTally(out.mssd_thresholds.size());
+  out.tally = DatasetScoreTally(out.mssd_thresholds.size(), options.max_scenes);
   out.rows = rows.size();
   ASSIGN_OR_RETURN(out.scene_count, ReadDatasetSceneCount(root));
   ASSIGN_OR_RETURN(out.models, ReadDatasetModels(root));

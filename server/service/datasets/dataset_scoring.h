@@ -27,10 +27,13 @@ namespace vscan::service {
 inline constexpr uint64_t kMaxDatasetScoringWork = 30'000'000'000;
 // Images without ground truth named in the answer (the count covers them all).
 inline constexpr size_t kMaxIgnoredImagesNamed = 10;
+// Scenes given figures of their own (those with the lowest ids); the rest count overall and per object.
+inline constexpr uint32_t kMaxScenesScored = 10000;
 
 struct DatasetScoringOptions {
   const std::atomic<bool>* cancel = nullptr;  // polled between images and pairs: CANCELLED
   uint64_t max_work = kMaxDatasetScoringWork;
+  uint32_t max_scenes = kMaxScenesScored;
 };
 
 struct DatasetScore {

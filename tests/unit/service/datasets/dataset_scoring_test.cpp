@@ -138,6 +138,19 @@ TEST(DatasetScoring, TallyLeavesRecallUnsetWithoutValidInstances) {
   EXPECT_EQ(tally.scenes().at(9).mssd_correct, (std::vector<uint64_t>{2, 6}));
   EXPECT_DOUBLE_EQ(*tally.overall().AddRecall(), 0.25);
   EXPECT_DOUBLE_EQ(*tally.overall().MssdAverageRecall(), 0.5);
+
+  // Past max_scenes a scene counts overall and per object only.
+  DatasetScoreTally bounded(2, 5);
+  bounded.AddScene(4);
+  bounded.AddScene(5);
+  bounded.AddImage(4, image);
+  bounded.AddImage(7, image);
+  bounded.AddEstimates(9, 3, 2);
+  EXPECT_EQ(bounded.scenes().size(), 1u);
+  EXPECT_EQ(bounded.scenes().at(4).valid_instances, 4u);
+  EXPECT_EQ(bounded.overall().valid_instances, 8u);
+  EXPECT_EQ(bounded.objects().at(3).valid_instances, 8u);
+  EXPECT_EQ(bounded.objects().at(3).estimates, 2u);
 }
 
 TEST(DatasetScoring, Refusals) {
