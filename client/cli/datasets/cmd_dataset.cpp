@@ -1,4 +1,4 @@
-// `vscan dataset run|watch|cancel|download|list|delete`: dataset jobs, which fill, scan and write
+// `vscan dataset run|watch|cancel|download|list|delete|score`: dataset jobs, which fill, scan and write
 // every scene of a plan file on the server (docs/DATASETS.md).
 
 #include <chrono>
@@ -11,6 +11,7 @@
 
 
 #include "campaign/campaign_report.h"
+#include "datasets/cmd_dataset_score.h"
 #include "job/job_commands.h"
 #include "job/job_watch.h"
 #include "session/commands.h"
@@ -188,6 +189,7 @@ void AddDatasetCommands(CLI::App& app, Context& ctx) {
   AddJobList(*group, ctx, "dataset", "List dataset jobs");
   AddJobDelete(*group, ctx, "Delete an ended dataset job and its artifacts from the server");
   AddDownload(*group, ctx);
+  AddDatasetScore(*group, ctx);
 }
 
 }  // namespace vscan::cli

@@ -23,7 +23,7 @@ void AddBinCommands(CLI::App& app, Context& ctx);
 void AddModelCommands(CLI::App& app, Context& ctx);
 // `localize` and `score` under group (cmd_localize.cpp).
 void AddLocalizationCommands(CLI::App& group, Context& ctx);
-// `vscan dataset run|watch|cancel|download|list|delete` (cmd_dataset.cpp).
+// `vscan dataset run|watch|cancel|download|list|delete|score` (cmd_dataset.cpp, cmd_dataset_score.cpp).
 void AddDatasetCommands(CLI::App& app, Context& ctx);
 // `vscan view [SCENE]`: the web view's address (cmd_view.cpp).
 void AddViewCommand(CLI::App& app, Context& ctx);

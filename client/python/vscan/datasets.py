@@ -13,6 +13,8 @@ from .errors import VscanError
 from vscan.v1 import job_pb2  # noqa: E402
 
 DATASET_TAR = "dataset.tar"
+# The server's bound on ScoreDatasetResultsRequest.results_csv.
+MAX_RESULTS_CSV_BYTES = 3 << 20
 
 
 class DatasetCalls:
@@ -60,6 +62,23 @@ class DatasetCalls:
                 _, data = self.read_artifact(job_id, artifact.artifact_id)
                 return _extract(data, directory)
         raise VscanError(grpc.StatusCode.FAILED_PRECONDITION, f"job {job_id} has no {DATASET_TAR}")
+
+    def score_dataset_results(self, job_id, results, timeout=600):
+        """Scores BOP results (scene_id,im_id,obj_id,score,R,t,time; R row-major, t in mm) against the
+        ground truth of the succeeded dataset job job_id, as bop_toolkit's evaluation does (ADD(-S)
+        recall at 10% of the diameter, MSSD average recall). results is the CSV's bytes, or the path
+        of the file (str or os.PathLike). Returns the ScoreDatasetResultsResponse: overall, objects
+        (per obj_id) and scenes, each a DatasetRecall (valid_instances, estimates, add_correct,
+        add_recall, mssd_average_recall, mssd_recalls)."""
+        if isinstance(results, (str, os.PathLike)):
+            with open(results, "rb") as f:
+                results = f.read()
+        if len(results) > MAX_RESULTS_CSV_BYTES:
+            raise VscanError(grpc.StatusCode.RESOURCE_EXHAUSTED,
+                             f"results_csv: {len(results)} bytes, more than the {MAX_RESULTS_CSV_BYTES >> 20} MiB "
+                             "the server takes in one call")
+        request = job_pb2.ScoreDatasetResultsRequest(job_id=job_id, results_csv=bytes(results))
+        return self._call(self._jobs.ScoreDatasetResults, request, timeout=timeout)
 
 
 def _extract(data, directory):

@@ -32,6 +32,10 @@ class JobService final : public v1::JobService::CallbackService {
   // In dataset_job_service.cpp.
   grpc::ServerUnaryReactor* StartDataset(grpc::CallbackServerContext* ctx, const v1::StartDatasetRequest* request,
                                          v1::StartDatasetResponse* response) override;
+  // In dataset_score_service.cpp.
+  grpc::ServerUnaryReactor* ScoreDatasetResults(grpc::CallbackServerContext* ctx,
+                                                const v1::ScoreDatasetResultsRequest* request,
+                                                v1::ScoreDatasetResultsResponse* response) override;
   grpc::ServerUnaryReactor* GetJob(grpc::CallbackServerContext* ctx, const v1::GetJobRequest* request,
                                    v1::GetJobResponse* response) override;
   grpc::ServerUnaryReactor* ListJobs(grpc::CallbackServerContext* ctx, const v1::ListJobsRequest* request,

@@ -24,6 +24,9 @@ Status CheckInputs(std::span<const PartDefinition> parts, std::span<const TrueIn
       return InvalidArgument(Indexed("parts", i, "part_id"), "appears twice");
     }
     if (parts[i].vertices.empty()) return InvalidArgument(Indexed("parts", i, "vertices"), "is empty");
+    if (!(parts[i].known_diameter >= 0 && std::isfinite(parts[i].known_diameter))) {
+      return InvalidArgument(Indexed("parts", i, "known_diameter"), "must be finite and not negative");
+    }
     for (const auto& v : parts[i].vertices) {
       if (!v.allFinite()) return InvalidArgument(Indexed("parts", i, "vertices"), "must be finite");
     }
@@ -68,7 +71,7 @@ PartScore ScorePart(const PartDefinition& part, std::span<const TrueInstance> tr
                     const std::vector<double>& mssd_thresholds) {
   PartScore score;
   score.part_id = part.part_id;
-  score.diameter = Diameter(part.vertices);
+  score.diameter = part.known_diameter > 0 ? part.known_diameter : Diameter(part.vertices);
   score.uses_add_s = part.symmetries.any();
   const std::vector<Pose3> symmetries = SymmetryTransforms(part.symmetries, options.symmetry_step);
 

@@ -22,6 +22,9 @@ struct PartDefinition {
   uint32_t part_id = 0;
   std::vector<Eigen::Vector3f> vertices;  // part frame, metres
   PartSymmetries symmetries;              // a part that declares any is scored with ADD-S
+  // Above 0: the diameter the thresholds are fractions of (BOP's models_info.json value), taken
+  // instead of computing it from the vertices for every call.
+  double known_diameter = 0;
 };
 
 struct TrueInstance {

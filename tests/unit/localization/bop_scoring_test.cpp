@@ -1,6 +1,7 @@
 #include "localization/bop_scoring.h"
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <vector>
 
@@ -73,6 +74,25 @@ TEST(ScoreScan, OffsetBetweenThresholdsCountsTheThresholdsAboveIt) {
   EXPECT_NEAR(*score->mssd_average_recall, 0.8, 1e-12);
   const std::vector<double> expected{0, 0, 1, 1, 1, 1, 1, 1, 1, 1};
   EXPECT_EQ(score->parts[0].mssd_recalls, expected);
+}
+
+TEST(ScoreScan, KnownDiameterSetsTheThresholds) {
+  // 0.12 of the vertices' diameter is 0.06 of a known diameter twice as large: right for ADD, and
+  // for MSSD from 0.1 on.
+  PartDefinition part = Asymmetric(1);
+  part.known_diameter = 2 * AsymmetricDiameter();
+  const std::vector<TrueInstance> truth{{1, At(0, 0), 1.0}};
+  const std::vector<EstimatedInstance> estimates{{1, Shifted(At(0, 0), 0.12 * AsymmetricDiameter()), 1.0}};
+  auto score = ScoreScan(std::vector<PartDefinition>{part}, truth, estimates);
+  ASSERT_TRUE(score.ok()) << score.status().ToString();
+  EXPECT_EQ(score->parts[0].diameter, part.known_diameter);
+  EXPECT_EQ(score->add_recall, 1.0);
+  EXPECT_EQ(score->parts[0].mssd_recalls, (std::vector<double>{0, 1, 1, 1, 1, 1, 1, 1, 1, 1}));
+  for (const double bad : {-1.0, std::nan(""), std::numeric_limits<double>::infinity()}) {
+    part.known_diameter = bad;
+    EXPECT_EQ(ScoreScan(std::vector<PartDefinition>{part}, truth, estimates).status().field(),
+              "parts[0].known_diameter");
+  }
 }
 
 TEST(ScoreScan, SymmetricPartIsScoredWithAddS) {
