@@ -9,6 +9,7 @@
 
 #include "localization/bop_scoring.h"
 #include "localization/pose_errors.h"
+#include "made_parts.h"
 #include "parts_scene.h"
 #include "raycast/raycast_scene.h"
 #include "raycast/scanner.h"
@@ -240,6 +241,118 @@ TEST(BaselineLocalizer, FindsSeveralPartTypesInOneCall) {
   for (size_t i = 1; i < reports.size(); ++i) EXPECT_GE(reports[i].fraction, reports[i - 1].fraction);
   EXPECT_DOUBLE_EQ(reports.back().fraction, 1.0);
   EXPECT_EQ(reports.back().found, found->instances.size());
+}
+
+// Parts (mesh, pose) on a floor of side floor_side, seen from FloorSensorPose at 1280 x 960 as in
+// a filled bin.
+PointCloud ScanOnFloor(const std::vector<std::pair<std::shared_ptr<const TriangleMesh>, Pose3>>& parts,
+                       double floor_side) {
+  std::vector<raycast::SceneInstance> instances;
+  for (size_t i = 0; i < parts.size(); ++i) {
+    instances.push_back({parts[i].first, parts[i].second, 1.0, static_cast<uint32_t>(i + 1)});
+  }
+  instances.push_back({test::Share(test::MakeSquare(Eigen::Vector3d::Zero(), Eigen::Vector3d::UnitZ(), floor_side / 2)),
+                       Pose3::Identity(), 1.0, 0});
+  auto scene = raycast::RaycastScene::Build(instances);
+  EXPECT_TRUE(scene.ok()) << scene.status().ToString();
+  if (!scene.ok()) return {};
+  raycast::ScanOptions scan_options;
+  scan_options.fields = kFieldPosition | kFieldNormal;
+  auto scan = raycast::Scan(**scene, sensor::CameraFromFov(1280, 960, 50, 0.05, 4 * floor_side),
+                            testing::FloorSensorPose(floor_side), scan_options);
+  EXPECT_TRUE(scan.ok()) << scan.status().ToString();
+  return scan.ok() ? std::move(*scan) : PointCloud{};
+}
+
+// Lying on the floor at (x, y), turned by yaw about z.
+Pose3 LyingAt(double x, double y, double yaw_deg) {
+  Pose3 pose = Pose3::Identity();
+  pose.linear() = Eigen::AngleAxisd(yaw_deg * std::numbers::pi / 180, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  pose.translation() = Eigen::Vector3d(x, y, 0);
+  return pose;
+}
+
+// The ADD(-S) recall of each part over the instances found, scored against the truth.
+std::vector<double> RecallPerPart(const std::vector<PartDefinition>& parts, const std::vector<TrueInstance>& truth,
+                                  const LocalizationResult& found) {
+  std::vector<EstimatedInstance> estimates;
+  for (const auto& i : found.instances) {
+    estimates.push_back({parts[i.part].part_id, i.world_from_part, i.score});
+  }
+  auto score = ScoreScan(parts, truth, estimates);
+  EXPECT_TRUE(score.ok()) << score.status().ToString();
+  std::vector<double> recalls;
+  if (!score.ok()) return recalls;
+  for (const PartScore& part : score->parts) recalls.push_back(part.add_recall.value_or(0));
+  return recalls;
+}
+
+// Parts the fixtures do not hold, four of each in one scan: a twelve-sided prism (a nut's hull), an
+// L-shaped bracket with flat machined faces lying flat, and a thin square pin (3 mm across).
+TEST(BaselineLocalizer, FindsMadePartsOfEveryKindInOneCall) {
+  const testing::MadePart prism = testing::Prism(12, 0.012, 0.008);
+  const testing::MadePart bracket = testing::Bracket(0.045, 0.03, 0.012, 0.004);
+  const testing::MadePart pin = testing::SquarePin(0.05, 0.003);
+  const std::vector<const testing::MadePart*> kinds = {&prism, &bracket, &pin};
+  std::vector<std::pair<std::shared_ptr<const TriangleMesh>, Pose3>> placed;
+  std::vector<TrueInstance> truth;
+  const double yaws[] = {10, 75, 140, 205, 260, 320, 35, 100, 170, 230, 290, 355};
+  for (int k = 0; k < 12; ++k) {
+    const size_t kind = static_cast<size_t>(k % 3);
+    const Pose3 pose = LyingAt(-0.105 + 0.07 * (k % 4), -0.07 + 0.07 * (k / 4), yaws[k]);
+    placed.push_back({kinds[kind]->mesh, pose});
+    truth.push_back({static_cast<uint32_t>(kind), pose, 1.0});
+  }
+  const PointCloud scan = ScanOnFloor(placed, 0.3);
+  ASSERT_GT(scan.size(), 100000u);
+  const std::vector<PartQuery> queries{{prism.mesh.get(), 4}, {bracket.mesh.get(), 4}, {pin.mesh.get(), 4}};
+  auto found = LocalizeParts(queries, scan.positions, scan.normals, WithSensorOf(0.3));
+  ASSERT_TRUE(found.ok()) << found.status().ToString();
+  std::vector<PartDefinition> parts;
+  for (size_t kind = 0; kind < kinds.size(); ++kind) {
+    parts.push_back({static_cast<uint32_t>(kind), kinds[kind]->mesh->vertices, kinds[kind]->symmetries});
+  }
+  const std::vector<double> recalls = RecallPerPart(parts, truth, *found);
+  ASSERT_EQ(recalls.size(), 3u);
+  EXPECT_GE(recalls[0], 0.75) << "prisms; " << found->parts[0].stop_reason;
+  EXPECT_GE(recalls[1], 0.75) << "brackets; " << found->parts[1].stop_reason;
+  EXPECT_GE(recalls[2], 0.75) << "pins; " << found->parts[2].stop_reason;
+}
+
+// The fixture plate (51 x 76 x 3.2 mm at 0.25) lying flat on the floor beside angle blocks: its top
+// face alone gives only parallel-normal pairs; its rim is what finds it.
+TEST(BaselineLocalizer, FindsPlatesLyingFlatBesideBlocks) {
+  auto plate = std::make_shared<TriangleMesh>(*LoadPart(FixturePart::kPlateHoles));
+  for (auto& v : plate->vertices) v *= 0.25f;
+  std::vector<std::pair<std::shared_ptr<const TriangleMesh>, Pose3>> placed;
+  std::vector<TrueInstance> truth;
+  const double plate_yaws[] = {20, 110, 250};
+  for (int k = 0; k < 3; ++k) {
+    const Pose3 pose = LyingAt(-0.1 + 0.075 * k, -0.06, plate_yaws[k]);
+    placed.push_back({plate, pose});
+    truth.push_back({0, pose, 1.0});
+  }
+  for (const PlacedPart& block : LyingParts({{FixturePart::kAngleBlock, 3}}, 0.2, 7)) {
+    if (block.world_from_part.translation().y() < 0.01) continue;  // the plates' half of the floor
+    placed.push_back({AngleBlock(), block.world_from_part});
+  }
+  const PointCloud scan = ScanOnFloor(placed, 0.3);
+  const std::vector<PartQuery> queries{{plate.get(), 3}, {AngleBlock().get(), 3}};
+  auto found = LocalizeParts(queries, scan.positions, scan.normals, WithSensorOf(0.3));
+  ASSERT_TRUE(found.ok()) << found.status().ToString();
+  // The plate's outline and holes turn onto themselves by half turns about its three central axes.
+  PartSymmetries plate_symmetries;
+  const Eigen::Vector3d centre = Eigen::Vector3d(0.2032, 0.3048, 0.0127) * 0.25 / 2;
+  for (const Eigen::Vector3d& diagonal : {Eigen::Vector3d(-1, -1, 1), Eigen::Vector3d(1, -1, -1), Eigen::Vector3d(-1, 1, -1)}) {
+    Pose3 turn = Pose3::Identity();
+    turn.linear() = diagonal.asDiagonal();
+    turn.translation() = centre - turn.linear() * centre;
+    plate_symmetries.discrete.push_back(turn);
+  }
+  const std::vector<PartDefinition> parts{{0, plate->vertices, plate_symmetries}, {1, AngleBlock()->vertices, {}}};
+  const std::vector<double> recalls = RecallPerPart(parts, truth, *found);
+  ASSERT_EQ(recalls.size(), 2u);
+  EXPECT_GE(recalls[0], 2.0 / 3) << found->parts[0].found << " plates found; " << found->parts[0].stop_reason;
 }
 
 TEST(BaselineLocalizer, FindsNoTubeAmongPlatesWithTheSensorsView) {
