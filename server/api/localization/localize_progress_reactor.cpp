@@ -1,6 +1,7 @@
 #include "api/localization/localize_progress_reactor.h"
 
 #include <exception>
+#include <string>
 #include <utility>
 
 #include <spdlog/spdlog.h>
@@ -70,15 +71,18 @@ void LocalizeProgressReactor::SearchEnded(Status status) {
 void LocalizeProgressReactor::Pump() {
   enum class Action { kNone, kWrite, kFinish } action = Action::kNone;
   grpc::Status finish = grpc::Status::OK;
+  std::string failure;  // for the log, as the unary calls write it
   {
     std::lock_guard lock(mutex_);
     if (writing_ || finished_) return;
     if (search_status_) {
       if (!search_status_->ok()) {
         finish = ToGrpc(*search_status_);
+        failure = search_status_->ToString();
         action = Action::kFinish;
       } else if (client_gone_) {
-        finish = grpc::Status(grpc::StatusCode::CANCELLED, "localization cancelled");
+        finish = grpc::Status(grpc::StatusCode::CANCELLED, "the client went away before the response");
+        failure = "CANCELLED: " + finish.error_message();
         action = Action::kFinish;
       } else if (!response_sent_) {
         message_.mutable_response()->Swap(&response_);
@@ -99,7 +103,7 @@ void LocalizeProgressReactor::Pump() {
     write_watch_.Started(kMethod);
     StartWrite(&message_);
   } else if (action == Action::kFinish) {
-    if (!finish.ok()) spdlog::info("{} -> {}", kMethod, finish.error_message());
+    if (!finish.ok()) spdlog::info("{} -> {}", kMethod, failure);
     Finish(finish);
   }
 }
