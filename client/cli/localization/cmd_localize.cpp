@@ -326,7 +326,8 @@ int RunScore(Context& ctx, const ScoreArgs& args) {
 
 void AddLocalizationCommands(CLI::App& group, Context& ctx) {
   auto largs = std::make_shared<LocalizeArgs>();
-  auto* localize = group.add_subcommand("localize", "Find instances of a part in a cloud with the server's localizer");
+  auto* localize =
+      group.add_subcommand("localize", "Find instances of one or several parts in a cloud with the server's localizer");
   localize->add_option("--cloud", largs->cloud, "A stored cloud's id, or a PLY/PCD file (world frame)")->required();
   localize
       ->add_option("--mesh", largs->meshes,

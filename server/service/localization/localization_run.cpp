@@ -13,7 +13,8 @@
 namespace vscan::service {
 namespace {
 
-StatusOr<std::shared_ptr<const TriangleMesh>> ScaledPart(scenes::SceneRegistry& registry, const LocalizePartPlan& part) {
+StatusOr<std::shared_ptr<const TriangleMesh>> ScaledPart(scenes::SceneRegistry& registry,
+                                                         const LocalizePartPlan& part) {
   auto mesh = registry.LoadMesh(part.mesh_id);
   if (!mesh.ok()) {
     if (mesh.status().code() == StatusCode::kNotFound) {

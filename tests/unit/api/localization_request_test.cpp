@@ -91,7 +91,8 @@ TEST(LocalizeRequestParts, RefusesEachBadFieldByName) {
     AddPart(request, kBlock, 0, std::numeric_limits<uint32_t>::max());
     ExpectRefused(request, StatusCode::kInvalidArgument, "parts[0].max_instances");
   }
-  for (const std::string& id : std::vector<std::string>{"", "msh with spaces", std::string(65, 'a'), std::string("msh_\0x", 6)}) {
+  const std::vector<std::string> bad_ids{"", "msh with spaces", std::string(65, 'a'), std::string("msh_\0x", 6)};
+  for (const std::string& id : bad_ids) {
     v1::LocalizeRequest request = WithPoints();
     AddPart(request, kBlock);
     AddPart(request, id);

@@ -63,7 +63,8 @@ PinsAndBlocks ScanPinsBesideBlocks() {
 }
 
 localization::PartSymmetries PinSymmetries() {
-  localization::PartSymmetries symmetries = localization::testing::SymmetriesOf(localization::testing::FixturePart::kRound);
+  using localization::testing::FixturePart;
+  localization::PartSymmetries symmetries = localization::testing::SymmetriesOf(FixturePart::kRound);
   for (Pose3& flip : symmetries.discrete) flip.translation() *= kPinScale;
   for (auto& axis : symmetries.continuous) axis.point *= kPinScale;
   return symmetries;
