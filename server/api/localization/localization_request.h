@@ -13,7 +13,7 @@ inline constexpr size_t kMaxInlinePoints = 131072;
 inline constexpr uint32_t kMaxLocalizeInstances = 100;
 // Each part's pair table may take up to 144 MiB while the search runs.
 inline constexpr size_t kMaxLocalizeParts = 16;
-// Over all parts of one request: each allowed instance may cost up to three searches of the scan.
+// Over all parts of one request: a search's work grows with the instances it may accept.
 inline constexpr size_t kMaxLocalizeTotalInstances = 200;
 inline constexpr int kMaxScoredParts = 64;
 inline constexpr int kMaxScoredPoses = 10000;
