@@ -143,7 +143,11 @@ void Localize(const vscan::v1::LocalizeRequest& request) {
   Check(plan->points.size() <= vscan::api::kMaxInlinePoints, "localize beyond kMaxInlinePoints");
   Check(plan->normals.empty() || plan->normals.size() == plan->points.size(), "localize normals do not match");
   for (const auto& p : plan->points) Check(p.allFinite(), "localize accepted a non-finite point");
-  Check(std::isfinite(plan->scale) && plan->scale > 0, "localize accepted a bad scale");
+  Check(!plan->parts.empty() && plan->parts.size() <= vscan::api::kMaxLocalizeParts, "localize part count");
+  for (const auto& part : plan->parts) {
+    Check(std::isfinite(part.scale) && part.scale > 0, "localize accepted a bad scale");
+    Check(part.max_instances <= vscan::api::kMaxLocalizeInstances, "localize accepted too many instances");
+  }
 }
 
 void Score(const vscan::v1::ScorePosesRequest& request) {

@@ -1,6 +1,7 @@
 """LocalizationService through a real vscand: a bin of angle blocks filled and scanned with ground
 truth, localized and scored with the CLI (vscan localize, vscan score, BOP results CSV) and the
-Python client; refusals named by field; a deadline stops a search.
+Python client; a bin of angle blocks and pins searched for both in one call (CLI, Python, progress
+streamed); refusals named by field; a deadline and a cancel stop a search.
 
 The localizer's recall on a filled bin is measured in BENCHMARKS.md (on this bin it finds 3 of the
 6 blocks); here a correct pipeline is told apart by poses that agree with the truth to a few
@@ -34,6 +35,8 @@ IDENTITY = [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]
 # of the block's 51 mm diameter).
 MIN_EXACT = 2
 EXACT = 0.0025
+# The bin of two part types.
+MIXED_BLOCKS, MIXED_PINS = 4, 3
 
 
 class LocalizationTest(ServerTestCase):
@@ -53,6 +56,19 @@ class LocalizationTest(ServerTestCase):
         write_ply(cls.cloud, cls.positions, cls.normals)
         write_ground_truth(cls.truth, cls.job.job_id, header, cls.stats, cls.cloud, len(cls.positions))
         cls.estimates = None
+        # Two part types: angle blocks and pins (the tube at 0.127, 6.5 mm across), seen at 640 x 480.
+        cls.pin_id, cls.pin_scale = upload_part(cls.scenes, "round")
+        mixed = cls.scenes.CreateScene(scene_pb2.CreateSceneRequest(name="mixed"), timeout=30).scene
+        mixed_job = fill_bin(cls.channel, mixed.scene_id, [(cls.mesh_id, 1.0, MIXED_BLOCKS),
+                                                           (cls.pin_id, cls.pin_scale, MIXED_PINS)],
+                             seed=5, inner_size=INNER)
+        cls.mixed_positions, cls.mixed_normals, mixed_header, cls.mixed_stats = scan_bin(
+            cls.scans, mixed.scene_id, 640, 480, height_for(INNER, 50, 640, 480), hfov_deg=50, inner_size=INNER)
+        cls.mixed_cloud = os.path.join(cls.tmp.name, "mixed.ply")
+        cls.mixed_truth = os.path.join(cls.tmp.name, "mixed.gt.json")
+        write_ply(cls.mixed_cloud, cls.mixed_positions, cls.mixed_normals)
+        write_ground_truth(cls.mixed_truth, mixed_job.job_id, mixed_header, cls.mixed_stats, cls.mixed_cloud,
+                           len(cls.mixed_positions))
 
     @classmethod
     def tearDownClass(cls):
@@ -255,3 +271,172 @@ class LocalizationTest(ServerTestCase):
                                estimates], capture_output=True, text=True, timeout=60)
         self.assertEqual(done.returncode, 2, done.stderr)
         self.assertIn("objects[0].world_from_object", done.stderr)
+
+
+    # Two part types in one search.
+
+    def mixed_parts(self):
+        return [(self.mesh_id, 1.0, MIXED_BLOCKS), (self.pin_id, self.pin_scale, MIXED_PINS)]
+
+    def assertMixedFound(self, estimates, parts, part_of):
+        """Every estimate names a part searched, no part beyond its max_instances; the count per part."""
+        per_part = [0, 0]
+        for e in estimates:
+            self.assertIn(part_of(e), (0, 1))
+            per_part[part_of(e)] += 1
+        self.assertEqual(len(parts), 2)
+        self.assertLessEqual(per_part[0], MIXED_BLOCKS)
+        self.assertLessEqual(per_part[1], MIXED_PINS)
+        return per_part
+
+    def test_cli_localizes_two_part_types_in_one_call_and_scores_each(self):
+        path = os.path.join(self.tmp.name, "mixed.json")
+        done = subprocess.run([VSCAN, "--server", self.server.address, "localize", "--cloud", self.mixed_cloud,
+                               "--mesh", self.mesh_id, "--mesh", self.pin_id, "--scale", "1",
+                               "--scale", str(self.pin_scale), "--max", str(MIXED_BLOCKS), "--max", str(MIXED_PINS),
+                               "--progress", "--out", path], capture_output=True, text=True, timeout=300)
+        self.assertEqual(done.returncode, 0, done.stderr + done.stdout)
+        # stderr is no terminal here: --progress prints a line per stage, ending at 100%.
+        progress = [line for line in done.stderr.splitlines() if line.startswith("localizing ")]
+        self.assertGreaterEqual(len(progress), 2, done.stderr)
+        self.assertIn("100.0%", progress[-1])
+        self.assertIn("part 1 " + self.pin_id, done.stdout)
+        with open(path) as f:
+            found = json.load(f)
+        self.assertEqual([(p["mesh_id"], p["scale"], p["max_instances"]) for p in found["parts"]],
+                         self.mixed_parts())
+        per_part = self.assertMixedFound(found["estimates"], found["parts"], lambda e: e["part"])
+        for e in found["estimates"]:
+            self.assertEqual(e["mesh_id"], found["parts"][e["part"]]["mesh_id"])
+            self.assertEqual(e["scale"], found["parts"][e["part"]]["scale"])
+        self.assertEqual([p["found"] for p in found["parts"]], per_part)
+        self.assertTrue(all(p["stop_reason"] and p["voxel_size"] > 0 for p in found["parts"]))
+
+        report = json.loads(self.cli("--json", "score", "--truth", self.mixed_truth, "--estimates", path))
+        self.assertEqual([p["meshId"] for p in report["parts"]], [self.mesh_id, self.pin_id])
+        blocks, pins = report["parts"]
+        self.assertEqual(int(blocks["validInstances"]), seen(self.mixed_stats, self.mesh_id))
+        self.assertEqual(int(pins["validInstances"]), seen(self.mixed_stats, self.pin_id))
+        self.assertGreater(int(pins["validInstances"]), 0)
+        self.assertExactMatches(blocks["matches"])
+
+    def test_python_client_localizes_several_parts_with_progress(self):
+        updates = []
+        with Client(self.server.address) as client:
+            with open(self.mixed_truth) as f:
+                world_from_sensor = np.array(json.load(f)["world_from_sensor"]).reshape(4, 4)
+            cloud_id = client.upload_cloud(self.mixed_cloud, sensor_pose=world_from_sensor).cloud_id
+            streamed = client.localize(parts=self.mixed_parts(), cloud_id=cloud_id, progress=updates.append)
+            unary = client.localize(parts=self.mixed_parts(), cloud_id=cloud_id)
+            client.delete_cloud(cloud_id)
+            parts = [(m, s) for m, s, _ in self.mixed_parts()]
+            truth = truth_from_objects(self.mixed_stats.objects, parts)
+            estimates = [(e.part, e.world_from_part.values, e.score) for e in streamed.estimates]
+            score = client.score_poses(parts, truth, estimates)
+        self.assertGreaterEqual(len(updates), 2)
+        fractions = [u.fraction for u in updates]
+        self.assertEqual(fractions, sorted(fractions))
+        self.assertEqual(fractions[0], 0.0)
+        self.assertLessEqual(fractions[-1], 1.0)
+        self.assertTrue(all(u.stage for u in updates))
+        self.assertLessEqual(updates[-1].found, len(streamed.estimates))
+        # The stream's response is what the unary call answers.
+        self.assertEqual([p.found for p in streamed.parts], [p.found for p in unary.parts])
+        self.assertEqual([p.part for p in streamed.parts], [0, 1])
+        self.assertEqual(streamed.voxel_size, streamed.parts[0].voxel_size)
+        self.assertEqual(streamed.stop_reason, streamed.parts[0].stop_reason)
+        for a, b in zip(streamed.estimates, unary.estimates):
+            self.assertEqual(a.part, b.part)
+            np.testing.assert_allclose(a.world_from_part.values, b.world_from_part.values, atol=1e-9)
+        per_part = self.assertMixedFound(streamed.estimates, streamed.parts, lambda e: e.part)
+        self.assertEqual([p.found for p in streamed.parts], per_part)
+        self.assertExactMatches(score.parts[0].matches, error=lambda m: m.add_error,
+                                matched=lambda m: m.HasField("estimate_index"))
+
+    def streamed(self, request, timeout=None):
+        return self.stub.LocalizeWithProgress(localization_pb2.LocalizeWithProgressRequest(localize=request),
+                                              timeout=timeout)
+
+    def big_search(self):
+        """Both parts in the first bin's 100,000 points: seconds of work on two cores."""
+        request = localization_pb2.LocalizeRequest(parts=[
+            localization_pb2.LocalizePart(mesh_id=self.mesh_id, max_instances=20),
+            localization_pb2.LocalizePart(mesh_id=self.pin_id, scale=self.pin_scale, max_instances=20)])
+        request.points.positions = self.positions[:100000].astype("<f4").tobytes()
+        request.options.viewpoint.z = 1
+        request.options.min_score = 0.01
+        return request
+
+    def test_a_cancelled_stream_stops_its_search_and_the_server_carries_on(self):
+        stream = self.streamed(self.big_search())
+        first = next(stream)
+        self.assertTrue(first.HasField("progress"), first)
+        cancelled_at = time.time()
+        stream.cancel()
+        with self.assertRaises(grpc.RpcError) as ctx:
+            for _ in stream:
+                pass
+        self.assertEqual(ctx.exception.code(), grpc.StatusCode.CANCELLED)
+        # The search itself returns CANCELLED (not the answer, thrown away) soon after.
+        while not any("LocalizeWithProgress -> " in line and "localization cancelled" in line
+                      for line in self.server.log().splitlines()):
+            self.assertLess(time.time() - cancelled_at, 30, self.server.log())
+            time.sleep(0.1)
+        score = self.stub.ScorePoses(localization_pb2.ScorePosesRequest(
+            parts=[localization_pb2.ScoredPart(mesh_id=self.mesh_id)]), timeout=10)
+        self.assertFalse(score.HasField("add_recall"))
+
+    def test_a_deadline_stops_a_streamed_search(self):
+        start = time.time()
+        with self.assertRaises(grpc.RpcError) as ctx:
+            for _ in self.streamed(self.big_search(), timeout=0.5):
+                pass
+        self.assertEqual(ctx.exception.code(), grpc.StatusCode.DEADLINE_EXCEEDED)
+        self.assertLess(time.time() - start, 5)
+
+    def test_a_reader_that_pauses_still_gets_the_answer_last(self):
+        # One message, then nothing read for a while: the server keeps only the latest progress and
+        # the stream still ends with the answer.
+        request = localization_pb2.LocalizeRequest(parts=[
+            localization_pb2.LocalizePart(mesh_id=m, scale=s, max_instances=n) for m, s, n in self.mixed_parts()])
+        request.points.positions = self.positions[:50000].astype("<f4").tobytes()
+        request.options.viewpoint.z = 1
+        stream = self.streamed(request)
+        next(stream)
+        time.sleep(2)
+        rest = list(stream)
+        self.assertTrue(rest and rest[-1].HasField("response"), rest[-1:] if rest else rest)
+        self.assertTrue(all(m.HasField("progress") for m in rest[:-1]))
+
+    def test_part_refusals_name_their_field(self):
+        invalid, not_found = grpc.StatusCode.INVALID_ARGUMENT, grpc.StatusCode.NOT_FOUND
+        points = localization_pb2.InlinePoints(positions=np.zeros((1, 3), "<f4").tobytes())
+
+        def request(*parts, **fields):
+            return localization_pb2.LocalizeRequest(points=points, parts=list(parts), **fields)
+
+        block = localization_pb2.LocalizePart(mesh_id=self.mesh_id)
+        part = localization_pb2.LocalizePart
+        cases = [
+            (invalid, request(block, mesh_id=self.mesh_id), "parts"),
+            (invalid, request(block, scale=2), "scale"),
+            (invalid, request(block, part(mesh_id=self.pin_id, scale=math.nan)), "parts[1].scale"),
+            (invalid, request(block, part(mesh_id=self.pin_id, scale=-1)), "parts[1].scale"),
+            (invalid, request(block, part(mesh_id=self.pin_id, scale=1e19)), "parts[1].scale"),
+            (invalid, request(part(mesh_id=self.mesh_id, max_instances=101)), "parts[0].max_instances"),
+            (invalid, request(block, part(mesh_id="")), "parts[1].mesh_id"),
+            (invalid, request(block, part(mesh_id=self.mesh_id, scale=1)), "parts[1]"),
+            (invalid, request(*[part(mesh_id=self.mesh_id, scale=1 + i) for i in range(17)]), "parts"),
+            (not_found, request(block, part(mesh_id="msh_0000000000000000")), "parts[1].mesh_id"),
+        ]
+        for code, bad, field in cases:
+            with self.subTest(field=field):
+                self.assertCode(code, lambda: self.stub.Localize(bad, timeout=30), field)
+                self.assertCode(code, lambda: self.streamed(bad, timeout=30), field)
+        with Client(self.server.address) as client:
+            with self.assertRaises(ValueError):
+                client.localize(self.mesh_id, parts=[self.mesh_id], points=np.zeros((1, 3)))
+
+
+def seen(stats, mesh_id):
+    return sum(1 for o in stats.objects if o.mesh_id == mesh_id and o.visible_fraction >= 0.1)

@@ -7,7 +7,10 @@
 #include <map>
 #include <memory>
 
+#include <unistd.h>
+
 #include "localization/localization_calls.h"
+#include "localization/localize_progress_line.h"
 #include "localization/pose_files.h"
 #include "session/args.h"
 #include "session/commands.h"
@@ -20,14 +23,16 @@ namespace {
 
 struct LocalizeArgs {
   std::string cloud;
-  std::string mesh;
+  std::vector<std::string> meshes;  // one per part
   std::string units;
-  double scale = 1;
-  uint32_t max_instances = 0;
+  std::vector<double> scales;           // none, one for every part, or one per part
+  std::vector<uint32_t> max_instances;  // likewise
   double min_score = 0;
   std::string normals = "auto";
   std::string viewpoint;
   std::string output;
+  bool progress = false;
+  bool no_progress = false;
 };
 
 struct ScoreArgs {
@@ -52,9 +57,9 @@ StatusOr<v1::NormalSource> ParseNormalSource(const std::string& text) {
 }
 
 // A mesh id, or a file uploaded with its unit.
-int ResolveMesh(Context& ctx, const LocalizeArgs& args, std::string* mesh_id) {
-  if (!IsFile(args.mesh)) {
-    *mesh_id = args.mesh;
+int ResolveMesh(Context& ctx, const LocalizeArgs& args, const std::string& mesh, std::string* mesh_id) {
+  if (!IsFile(mesh)) {
+    *mesh_id = mesh;
     return kExitOk;
   }
   if (args.units.empty()) return ctx.UsageError("--units: required with a mesh file (mm, cm, in or m)");
@@ -62,9 +67,9 @@ int ResolveMesh(Context& ctx, const LocalizeArgs& args, std::string* mesh_id) {
   if (!unit.ok()) return ctx.UsageError(unit.status().message());
   client::MeshUploadOptions options;
   options.unit = *unit;
-  v1::Mesh mesh;
-  if (const int rc = UploadMesh(ctx, args.mesh, options, &mesh); rc != kExitOk) return rc;
-  *mesh_id = mesh.mesh_id();
+  v1::Mesh uploaded;
+  if (const int rc = UploadMesh(ctx, mesh, options, &uploaded); rc != kExitOk) return rc;
+  *mesh_id = uploaded.mesh_id();
   return kExitOk;
 }
 
@@ -77,14 +82,51 @@ std::optional<Eigen::Vector3d> SensorBeside(const std::string& cloud_file) {
   return file->world_from_sensor->translation();
 }
 
+// --scale and --max: none, one for every part, or one per --mesh in the same order.
+template <typename T>
+StatusOr<std::vector<T>> PerPart(const std::vector<T>& given, size_t parts, T fallback, const std::string& flag) {
+  if (given.empty()) return std::vector<T>(parts, fallback);
+  if (given.size() == 1) return std::vector<T>(parts, given[0]);
+  if (given.size() == parts) return given;
+  return InvalidArgument(flag, "given " + std::to_string(given.size()) + " times for " + std::to_string(parts) +
+                                   " --mesh; give it once (every part) or once per --mesh, in the same order");
+}
+
+// One part: the single-part fields (any server understands them); several: the parts list.
+void SetParts(v1::LocalizeRequest& request, const std::vector<std::string>& mesh_ids, const std::vector<double>& scales,
+              const std::vector<uint32_t>& max_given) {
+  if (mesh_ids.size() == 1) {
+    request.set_mesh_id(mesh_ids[0]);
+    request.set_scale(scales[0]);
+    if (!max_given.empty()) request.mutable_options()->set_max_instances(max_given[0]);
+    return;
+  }
+  if (max_given.size() == 1) request.mutable_options()->set_max_instances(max_given[0]);
+  for (size_t i = 0; i < mesh_ids.size(); ++i) {
+    v1::LocalizePart* part = request.add_parts();
+    part->set_mesh_id(mesh_ids[i]);
+    part->set_scale(scales[i]);
+    if (max_given.size() == mesh_ids.size()) part->set_max_instances(max_given[i]);
+  }
+}
+
+// Progress on stderr: with --progress, else when stderr is a terminal and the output is for people.
+bool ShowProgress(const Context& ctx, const LocalizeArgs& args) {
+  if (args.no_progress) return false;
+  if (args.progress) return true;
+  return !ctx.json() && !ctx.quiet() && ::isatty(STDERR_FILENO) != 0;
+}
+
 int RunLocalize(Context& ctx, const LocalizeArgs& args) {
   v1::LocalizeRequest request;
   const auto normals = ParseNormalSource(args.normals);
   if (!normals.ok()) return ctx.UsageError(normals.status().message());
+  const auto scales = PerPart(args.scales, args.meshes.size(), 1.0, "--scale");
+  if (!scales.ok()) return ctx.UsageError(scales.status().message());
+  const auto max_instances = PerPart<uint32_t>(args.max_instances, args.meshes.size(), 0, "--max");
+  if (!max_instances.ok()) return ctx.UsageError(max_instances.status().message());
   request.mutable_options()->set_normal_source(*normals);
-  request.mutable_options()->set_max_instances(args.max_instances);
   request.mutable_options()->set_min_score(args.min_score);
-  request.set_scale(args.scale);
   std::optional<Eigen::Vector3d> viewpoint;
   if (!args.viewpoint.empty()) {
     const auto parsed = ParseVector3(args.viewpoint, "--viewpoint");
@@ -96,9 +138,11 @@ int RunLocalize(Context& ctx, const LocalizeArgs& args) {
   if (viewpoint) *request.mutable_options()->mutable_viewpoint() = ToProto(*viewpoint);
   auto* client = ctx.GetClient();
   if (!client) return ctx.last_exit();
-  std::string mesh_id;
-  if (const int rc = ResolveMesh(ctx, args, &mesh_id); rc != kExitOk) return rc;
-  request.set_mesh_id(mesh_id);
+  std::vector<std::string> mesh_ids(args.meshes.size());
+  for (size_t i = 0; i < args.meshes.size(); ++i) {
+    if (const int rc = ResolveMesh(ctx, args, args.meshes[i], &mesh_ids[i]); rc != kExitOk) return rc;
+  }
+  SetParts(request, mesh_ids, *scales, args.max_instances);
 
   // A file goes up as a stored cloud for the call and is deleted after it.
   std::string uploaded;
@@ -110,8 +154,16 @@ int RunLocalize(Context& ctx, const LocalizeArgs& args) {
   } else {
     request.set_cloud_id(args.cloud);
   }
-  ctx.Say("localizing " + mesh_id + " in " + (uploaded.empty() ? "cloud " + args.cloud : args.cloud) + " ...");
-  const auto response = CallLocalize(*client, request);
+  std::string names;
+  for (const std::string& id : mesh_ids) names += (names.empty() ? "" : ", ") + id;
+  ctx.Say("localizing " + names + " in " + (uploaded.empty() ? "cloud " + args.cloud : args.cloud) + " ...");
+  StatusOr<v1::LocalizeResponse> response = Internal("not called");
+  if (ShowProgress(ctx, args)) {
+    LocalizeProgressLine line(::isatty(STDERR_FILENO) != 0);
+    response = CallLocalizeWithProgress(*client, request, [&line](const v1::LocalizeProgress& p) { line.Update(p); });
+  } else {
+    response = CallLocalize(*client, request);
+  }
   if (!uploaded.empty()) (void)client->DeleteCloud(uploaded);
   if (!response.ok()) return ctx.ServerError(response.status());
 
@@ -119,28 +171,48 @@ int RunLocalize(Context& ctx, const LocalizeArgs& args) {
   file.cloud = args.cloud;
   file.frame = response->frame() == v1::FRAME_SENSOR ? "sensor" : "world";
   file.localize_ms = response->localize_ms();
+  for (size_t i = 0; i < mesh_ids.size(); ++i) {
+    SearchedPart part{mesh_ids[i], (*scales)[i], (*max_instances)[i], 0, "", 0};
+    if (static_cast<int>(i) < response->parts_size()) {
+      part.found = response->parts(static_cast<int>(i)).found();
+      part.stop_reason = response->parts(static_cast<int>(i)).stop_reason();
+      part.voxel_size = response->parts(static_cast<int>(i)).voxel_size();
+    }
+    file.parts.push_back(std::move(part));
+  }
   for (const v1::PoseEstimate& estimate : response->estimates()) {
     const auto pose = PoseFromProto(estimate.world_from_part(), "world_from_part");
     if (!pose.ok()) return ctx.ServerError(pose.status());
-    file.estimates.push_back({mesh_id, args.scale, *pose, estimate.score(), estimate.explained_points()});
+    if (estimate.part() >= mesh_ids.size()) {
+      return ctx.ServerError(DataLoss("estimate of part " + std::to_string(estimate.part()) + ", not asked for"));
+    }
+    file.estimates.push_back({estimate.part(), mesh_ids[estimate.part()], (*scales)[estimate.part()], *pose,
+                              estimate.score(), estimate.explained_points()});
   }
   std::ofstream out(args.output, std::ios::binary | std::ios::trunc);
   out << EstimatesJson(file);
   out.close();
   if (!out) return ctx.LocalError(DataLoss(args.output + ": write failed"));
   if (ctx.json()) {
-    ctx.EmitJson("{\"response\":" + ToJson(*response) + ",\"meshId\":" + JsonQuote(mesh_id) +
-                 ",\"output\":" + JsonQuote(args.output) + "}");
+    std::string ids;
+    for (const std::string& id : mesh_ids) ids += (ids.empty() ? "" : ",") + JsonQuote(id);
+    ctx.EmitJson("{\"response\":" + ToJson(*response) + ",\"meshId\":" + JsonQuote(mesh_ids[0]) + ",\"meshIds\":[" +
+                 ids + "],\"output\":" + JsonQuote(args.output) + "}");
     return kExitOk;
   }
-  ctx.Say("found " + std::to_string(response->estimates_size()) + " instances of " + mesh_id + " in " +
+  ctx.Say("found " + std::to_string(response->estimates_size()) + " instances in " +
           std::to_string(response->points()) + " points (" + std::to_string(response->support_plane_points()) +
-          " on the support plane) in " + Fixed(response->localize_ms() / 1000, 2) + " s; " + response->stop_reason());
+          " on the support plane) in " + Fixed(response->localize_ms() / 1000, 2) + " s");
+  for (const SearchedPart& part : file.parts) {
+    ctx.Say("  part " + std::to_string(&part - file.parts.data()) + " " + part.mesh_id + " at scale " +
+            Fixed(part.scale, 4) + ": " + std::to_string(part.found) + " found; " + part.stop_reason);
+  }
   for (int i = 0; i < response->estimates_size(); ++i) {
     const v1::PoseEstimate& e = response->estimates(i);
     const auto& v = e.world_from_part().values();
-    ctx.Say("  " + std::to_string(i) + ": score " + Fixed(e.score(), 3) + ", " + std::to_string(e.explained_points()) +
-            " points, at (" + Fixed(v[3], 4) + ", " + Fixed(v[7], 4) + ", " + Fixed(v[11], 4) + ")");
+    ctx.Say("  " + std::to_string(i) + ": part " + std::to_string(e.part()) + ", score " + Fixed(e.score(), 3) + ", " +
+            std::to_string(e.explained_points()) + " points, at (" + Fixed(v[3], 4) + ", " + Fixed(v[7], 4) + ", " +
+            Fixed(v[11], 4) + ")");
   }
   ctx.Say("wrote " + args.output);
   return kExitOk;
@@ -170,7 +242,9 @@ StatusOr<std::map<int, PoseRow>> ParseBopObjects(const std::vector<std::string>&
   return out;
 }
 
-StatusOr<std::vector<PoseRow>> ReadAllEstimates(const ScoreArgs& args, const GroundTruthFile& truth) {
+// The estimates of every file, and the parts the JSON files say were searched.
+StatusOr<std::vector<PoseRow>> ReadAllEstimates(const ScoreArgs& args, const GroundTruthFile& truth,
+                                                std::vector<SearchedPart>* searched) {
   ASSIGN_OR_RETURN(const auto bop_objects, ParseBopObjects(args.bop_objects));
   std::vector<PoseRow> rows;
   for (const std::string& path : args.estimates) {
@@ -181,6 +255,7 @@ StatusOr<std::vector<PoseRow>> ReadAllEstimates(const ScoreArgs& args, const Gro
     } else {
       ASSIGN_OR_RETURN(auto read, ReadEstimates(path));
       rows.insert(rows.end(), read.estimates.begin(), read.estimates.end());
+      searched->insert(searched->end(), read.parts.begin(), read.parts.end());
     }
   }
   return rows;
@@ -217,19 +292,22 @@ int RunScore(Context& ctx, const ScoreArgs& args) {
     return truth.status().code() == StatusCode::kNotFound ? ctx.LocalError(truth.status())
                                                           : ctx.UsageError(truth.status().message());
   }
-  const auto rows = ReadAllEstimates(args, *truth);
+  std::vector<SearchedPart> searched;
+  const auto rows = ReadAllEstimates(args, *truth, &searched);
   if (!rows.ok()) {
     return rows.status().code() == StatusCode::kNotFound ? ctx.LocalError(rows.status())
                                                          : ctx.UsageError(rows.status().message());
   }
-  if (rows->empty()) return ctx.UsageError("--estimates: no estimates in the files given, so no part to score");
+  if (rows->empty() && searched.empty()) {
+    return ctx.UsageError("--estimates: no estimates and no searched parts in the files given, so no part to score");
+  }
   std::map<std::string, v1::PartSymmetry> symmetries;
   if (!args.symmetries.empty()) {
     auto read = ReadSymmetries(args.symmetries);
     if (!read.ok()) return ctx.UsageError(read.status().message());
     symmetries = std::move(*read);
   }
-  v1::ScorePosesRequest request = BuildScoreRequest(*truth, *rows, symmetries);
+  v1::ScorePosesRequest request = BuildScoreRequest(*truth, *rows, symmetries, searched);
   if (args.add_threshold) request.mutable_options()->set_add_threshold(*args.add_threshold);
   if (args.min_visible) request.mutable_options()->set_min_visible_fraction(*args.min_visible);
   auto* client = ctx.GetClient();
@@ -248,18 +326,27 @@ int RunScore(Context& ctx, const ScoreArgs& args) {
 
 void AddLocalizationCommands(CLI::App& group, Context& ctx) {
   auto largs = std::make_shared<LocalizeArgs>();
-  auto* localize = group.add_subcommand("localize", "Find instances of a part in a cloud with the server's localizer");
+  auto* localize =
+      group.add_subcommand("localize", "Find instances of one or several parts in a cloud with the server's localizer");
   localize->add_option("--cloud", largs->cloud, "A stored cloud's id, or a PLY/PCD file (world frame)")->required();
-  localize->add_option("--mesh", largs->mesh, "The part: a mesh id, or a mesh file uploaded with --units")->required();
-  localize->add_option("--units", largs->units, "Unit of a mesh file: mm, cm, in or m");
-  localize->add_option("--scale", largs->scale, "Scale on the mesh, as the bin plan gives it")->capture_default_str();
-  localize->add_option("--max", largs->max_instances, "At most this many instances (0: 10)")->capture_default_str();
+  localize
+      ->add_option("--mesh", largs->meshes,
+                   "A part: a mesh id, or a mesh file uploaded with --units (repeatable: several parts in one search)")
+      ->required();
+  localize->add_option("--units", largs->units, "Unit of the mesh files: mm, cm, in or m");
+  localize->add_option("--scale", largs->scales,
+                       "Scale on the mesh, as the bin plan gives it (1; once for every part, or once per --mesh)");
+  localize->add_option("--max,--max-instances", largs->max_instances,
+                       "At most this many instances (0: 10; once for every part, or once per --mesh)");
   localize->add_option("--min-score", largs->min_score, "Lowest score accepted (0: 0.15)")->capture_default_str();
   localize->add_option("--normals", largs->normals, "auto (the cloud's estimated normals, else estimated), estimate or cloud")
       ->capture_default_str();
   localize->add_option("--viewpoint", largs->viewpoint,
                        "x,y,z estimated normals face (default: the cloud's sensor, or the sensor of FILE.gt.json)");
   localize->add_option("-o,--out", largs->output, "Estimates file to write (JSON)")->required();
+  localize->add_flag("--progress", largs->progress,
+                     "Show the search's progress on stderr (default: only when stderr is a terminal)");
+  localize->add_flag("--no-progress", largs->no_progress, "Never show progress");
   OnRun(localize, ctx, [&ctx, largs] { return RunLocalize(ctx, *largs); });
 
   auto sargs = std::make_shared<ScoreArgs>();

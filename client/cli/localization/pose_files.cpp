@@ -70,8 +70,31 @@ std::string Quote(const std::string& text) {
   return out + "\"";
 }
 
+StatusOr<SearchedPart> ReadSearchedPart(const YAML::Node& node, const std::string& field) {
+  SearchedPart part;
+  if (!node["mesh_id"] || !node["mesh_id"].IsScalar()) return InvalidArgument(field + ".mesh_id", "required");
+  part.mesh_id = node["mesh_id"].Scalar();
+  if (node["scale"]) {
+    ASSIGN_OR_RETURN(part.scale, Scalar<double>(node["scale"], field + ".scale"));
+  }
+  if (node["max_instances"]) {
+    ASSIGN_OR_RETURN(part.max_instances, Scalar<uint32_t>(node["max_instances"], field + ".max_instances"));
+  }
+  if (node["found"]) {
+    ASSIGN_OR_RETURN(part.found, Scalar<uint64_t>(node["found"], field + ".found"));
+  }
+  if (node["stop_reason"] && node["stop_reason"].IsScalar()) part.stop_reason = node["stop_reason"].Scalar();
+  if (node["voxel_size"]) {
+    ASSIGN_OR_RETURN(part.voxel_size, Scalar<double>(node["voxel_size"], field + ".voxel_size"));
+  }
+  return part;
+}
+
 StatusOr<PoseRow> ReadEstimate(const YAML::Node& node, const std::string& field) {
   PoseRow row;
+  if (node["part"]) {
+    ASSIGN_OR_RETURN(row.part, Scalar<uint32_t>(node["part"], field + ".part"));
+  }
   if (!node["mesh_id"] || !node["mesh_id"].IsScalar()) return InvalidArgument(field + ".mesh_id", "required");
   row.mesh_id = node["mesh_id"].Scalar();
   if (node["scale"]) {
@@ -163,11 +186,31 @@ StatusOr<EstimatesFile> ReadEstimates(const std::string& path) {
     if (!ms.ok()) return InvalidArgument(Prefixed(path, ms.status()));
     file.localize_ms = *ms;
   }
+  if (const YAML::Node parts = root["parts"]; parts) {
+    if (!parts.IsSequence()) return InvalidArgument(path + ": parts: must be a list");
+    for (size_t i = 0; i < parts.size(); ++i) {
+      auto part = ReadSearchedPart(parts[i], "parts[" + std::to_string(i) + "]");
+      if (!part.ok()) return InvalidArgument(Prefixed(path, part.status()));
+      file.parts.push_back(std::move(*part));
+    }
+  }
   const YAML::Node estimates = root["estimates"];
   if (!estimates || !estimates.IsSequence()) return InvalidArgument(path + ": estimates: required (a list)");
   for (size_t i = 0; i < estimates.size(); ++i) {
-    auto row = ReadEstimate(estimates[i], "estimates[" + std::to_string(i) + "]");
+    const std::string field = "estimates[" + std::to_string(i) + "]";
+    auto row = ReadEstimate(estimates[i], field);
     if (!row.ok()) return InvalidArgument(Prefixed(path, row.status()));
+    if (!file.parts.empty()) {
+      if (row->part >= file.parts.size()) {
+        return InvalidArgument(path + ": " + field + ".part: no part " + std::to_string(row->part) + " (" +
+                               std::to_string(file.parts.size()) + " parts)");
+      }
+      const SearchedPart& part = file.parts[row->part];
+      if (part.mesh_id != row->mesh_id || part.scale != row->scale) {
+        return InvalidArgument(path + ": " + field + ".part: parts[" + std::to_string(row->part) +
+                               "] is another mesh or scale than this estimate's");
+      }
+    }
     file.estimates.push_back(std::move(*row));
   }
   return file;
@@ -175,10 +218,20 @@ StatusOr<EstimatesFile> ReadEstimates(const std::string& path) {
 
 std::string EstimatesJson(const EstimatesFile& file) {
   std::string out = "{\"cloud\": " + Quote(file.cloud) + ", \"frame\": " + Quote(file.frame) +
-                    ", \"localize_ms\": " + Number(file.localize_ms) + ",\n \"estimates\": [";
+                    ", \"localize_ms\": " + Number(file.localize_ms) + ",\n \"parts\": [";
+  for (size_t i = 0; i < file.parts.size(); ++i) {
+    const SearchedPart& part = file.parts[i];
+    out += std::string(i ? "," : "") + "\n  {\"part\": " + std::to_string(i) + ", \"mesh_id\": " +
+           Quote(part.mesh_id) + ", \"scale\": " + Number(part.scale) +
+           ", \"max_instances\": " + std::to_string(part.max_instances) + ", \"found\": " +
+           std::to_string(part.found) + ", \"stop_reason\": " + Quote(part.stop_reason) +
+           ", \"voxel_size\": " + Number(part.voxel_size) + "}";
+  }
+  out += std::string(file.parts.empty() ? "" : "\n ") + "],\n \"estimates\": [";
   for (size_t i = 0; i < file.estimates.size(); ++i) {
     const PoseRow& row = file.estimates[i];
-    out += std::string(i ? "," : "") + "\n  {\"mesh_id\": " + Quote(row.mesh_id) + ", \"scale\": " + Number(row.scale) +
+    out += std::string(i ? "," : "") + "\n  {\"part\": " + std::to_string(row.part) + ", \"mesh_id\": " +
+           Quote(row.mesh_id) + ", \"scale\": " + Number(row.scale) +
            ", \"score\": " + Number(row.score) + ", \"explained_points\": " + std::to_string(row.explained_points) +
            ", \"world_from_part\": [";
     const Eigen::Matrix4d m = row.world_from_part.matrix();
@@ -256,7 +309,8 @@ StatusOr<std::map<std::string, v1::PartSymmetry>> ReadSymmetries(const std::stri
 }
 
 v1::ScorePosesRequest BuildScoreRequest(const GroundTruthFile& truth, const std::vector<PoseRow>& estimates,
-                                        const std::map<std::string, v1::PartSymmetry>& symmetries) {
+                                        const std::map<std::string, v1::PartSymmetry>& symmetries,
+                                        const std::vector<SearchedPart>& searched) {
   v1::ScorePosesRequest request;
   std::map<std::pair<std::string, double>, uint32_t> parts;
   const auto part_of = [&](const std::string& mesh_id, double scale) -> uint32_t {
@@ -269,6 +323,7 @@ v1::ScorePosesRequest BuildScoreRequest(const GroundTruthFile& truth, const std:
     }
     return it->second;
   };
+  for (const SearchedPart& part : searched) part_of(part.mesh_id, part.scale);
   for (const PoseRow& row : estimates) {
     v1::EstimatedPose* estimate = request.add_estimates();
     estimate->set_part(part_of(row.mesh_id, row.scale));

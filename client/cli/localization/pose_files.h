@@ -25,6 +25,7 @@ struct GroundTruthFile {
 
 // One pose of a part: a mesh at a scale.
 struct PoseRow {
+  uint32_t part = 0;  // index into EstimatesFile::parts (0 where the file lists none)
   std::string mesh_id;
   double scale = 1;
   Pose3 world_from_part = Pose3::Identity();
@@ -32,11 +33,23 @@ struct PoseRow {
   uint64_t explained_points = 0;
 };
 
-// What a Localize call found, as estimates.json holds it.
+// A part a Localize call searched for, and how its search went.
+struct SearchedPart {
+  std::string mesh_id;
+  double scale = 1;
+  uint32_t max_instances = 0;  // 0: the options' default
+  uint64_t found = 0;
+  std::string stop_reason;
+  double voxel_size = 0;
+};
+
+// What a Localize call found, as estimates.json holds it. Files written before parts were listed
+// hold estimates only; they still read.
 struct EstimatesFile {
   std::string cloud;  // the file or cloud id searched
   std::string frame = "world";
   double localize_ms = 0;
+  std::vector<SearchedPart> parts;
   std::vector<PoseRow> estimates;
 };
 
@@ -55,9 +68,11 @@ StatusOr<std::vector<PoseRow>> ReadBopResults(const std::string& path, const Pos
 // in the part's frame, metres.
 StatusOr<std::map<std::string, v1::PartSymmetry>> ReadSymmetries(const std::string& path);
 
-// The parts are the (mesh, scale) pairs the estimates name, in order of first appearance; the
+// The parts are the (mesh, scale) pairs searched (so a part searched for and never found still
+// counts its true instances), then those the estimates name, in order of first appearance; the
 // truth is every object of those parts (objects of other meshes, such as the bin, are left out).
 v1::ScorePosesRequest BuildScoreRequest(const GroundTruthFile& truth, const std::vector<PoseRow>& estimates,
-                                        const std::map<std::string, v1::PartSymmetry>& symmetries);
+                                        const std::map<std::string, v1::PartSymmetry>& symmetries,
+                                        const std::vector<SearchedPart>& searched = {});
 
 }  // namespace vscan::cli

@@ -37,10 +37,11 @@ from .bins import bin_fill_spec, bin_part  # noqa: E402
 from .client import Client  # noqa: E402
 from .clouds import CloudPoints, parse_ply  # noqa: E402
 from .errors import VscanError  # noqa: E402
-from .localization import part_symmetry, pose_matrix, scored_part, truth_from_objects  # noqa: E402
+from .localization import localize_part, part_symmetry, pose_matrix, scored_part, truth_from_objects  # noqa: E402
 from .models import alignment_options, evaluation_options, model_spec, reconstruction_options  # noqa: E402
 from .scan_result import ScanResult  # noqa: E402
 
 __all__ = ["Client", "bin_fill_spec", "bin_part", "CloudPoints", "ScanResult", "VscanError", "alignment_options",
-           "evaluation_options", "model_spec", "parse_ply", "part_symmetry", "pose_matrix", "reconstruction_options",
+           "evaluation_options", "localize_part", "model_spec", "parse_ply", "part_symmetry", "pose_matrix",
+           "reconstruction_options",
            "scored_part", "truth_from_objects"]

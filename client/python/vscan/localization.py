@@ -90,6 +90,21 @@ def truth_from_objects(objects, parts):
     return out
 
 
+def localize_part(mesh_id, scale=1.0, max_instances=0):
+    """A LocalizePart: a mesh at a scale (0: 1), at most max_instances instances (0: the call's)."""
+    return localization_pb2.LocalizePart(mesh_id=mesh_id, scale=float(scale), max_instances=int(max_instances))
+
+
+def _localize_part(item):
+    if isinstance(item, localization_pb2.LocalizePart):
+        return item
+    if isinstance(item, str):
+        return localize_part(item)
+    if isinstance(item, dict):
+        return localize_part(item["mesh_id"], item.get("scale", 1.0), item.get("max_instances", 0))
+    return localize_part(*item)
+
+
 def pose_matrix(matrix4):
     """A Matrix4 of a response as a 4x4 numpy array."""
     return np.asarray(matrix4.values, dtype=float).reshape(4, 4)
@@ -105,17 +120,28 @@ class LocalizationCalls:
             stub = self.__dict__["_localization_stub"] = localization_pb2_grpc.LocalizationServiceStub(self._channel)
         return stub
 
-    def localize(self, mesh_id, cloud_id=None, points=None, normals=None, scale=1.0, max_instances=0,
+    def localize(self, mesh_id=None, cloud_id=None, points=None, normals=None, scale=1.0, max_instances=0,
                  min_score=0.0, voxel_size=0.0, normal_source="auto", viewpoint=None, remove_support_plane=None,
-                 timeout=None):
-        """Finds instances of a part (mesh_id at scale) in a stored cloud (cloud_id) or in points
-        ((N, 3), at most 131072, with optional unit normals). Returns the LocalizeResponse: estimates
-        with world_from_part (the cloud's frame), score and explained_points, and localize_ms.
-        normal_source: "auto", "estimate" or "cloud". timeout: seconds (default: the client's
-        stream_timeout, no deadline unless set)."""
+                 timeout=None, parts=None, progress=None):
+        """Finds instances of one part (mesh_id at scale) or of several (parts) in a stored cloud
+        (cloud_id) or in points ((N, 3), at most 131072, with optional unit normals). Returns the
+        LocalizeResponse: estimates with part (the index into parts), world_from_part (the cloud's
+        frame), score and explained_points; per part its voxel, found count and stop reason; and
+        localize_ms.
+
+        parts: 1 to 16 of mesh ids, (mesh_id, scale[, max_instances]) tuples, dicts or LocalizeParts
+        (see localize_part), instead of mesh_id and scale; max_instances is then each part's default.
+        progress: a callable given each LocalizeProgress (fraction, found, stage) while the search
+        runs (the call then streams, LocalizeWithProgress). normal_source: "auto", "estimate" or
+        "cloud". timeout: seconds (default: the client's stream_timeout, no deadline unless set)."""
         if (cloud_id is None) == (points is None):
             raise ValueError("localize: give cloud_id or points")
-        request = localization_pb2.LocalizeRequest(mesh_id=mesh_id, scale=scale)
+        if (mesh_id is None) == (parts is None):
+            raise ValueError("localize: give mesh_id or parts")
+        if parts is None:
+            request = localization_pb2.LocalizeRequest(mesh_id=mesh_id, scale=scale)
+        else:
+            request = localization_pb2.LocalizeRequest(parts=[_localize_part(p) for p in parts])
         if cloud_id is not None:
             request.cloud_id = cloud_id
         else:
@@ -131,11 +157,29 @@ class LocalizationCalls:
             options.viewpoint.CopyFrom(convert.vector3(viewpoint, "viewpoint"))
         if remove_support_plane is not None:
             options.remove_support_plane = bool(remove_support_plane)
+        timeout = timeout or self._stream_timeout
         try:
-            return self._localization.Localize(request, timeout=timeout or self._stream_timeout,
-                                               metadata=self._metadata)
+            if progress is None:
+                return self._localization.Localize(request, timeout=timeout, metadata=self._metadata)
+            return self._localize_streamed(request, timeout, progress)
         except grpc.RpcError as err:
             raise from_rpc_error(err) from None
+
+    def _localize_streamed(self, request, timeout, progress):
+        stream = self._localization.LocalizeWithProgress(
+            localization_pb2.LocalizeWithProgressRequest(localize=request), timeout=timeout, metadata=self._metadata)
+        response = None
+        try:
+            for update in stream:
+                if update.HasField("progress"):
+                    progress(update.progress)
+                elif update.HasField("response"):
+                    response = update.response
+        finally:
+            stream.cancel()  # no-op once the stream ended; stops the search if the callback raised
+        if response is None:
+            raise RuntimeError("LocalizeWithProgress ended without a response")
+        return response
 
     def score_poses(self, parts, truth, estimates, min_visible_fraction=None, add_threshold=None,
                     mssd_thresholds=(), keep_all_estimates=False, timeout=None):

@@ -90,6 +90,56 @@ Status ParseLocalizeOptions(const v1::LocalizeOptions& options, service::Localiz
   return Status::Ok();
 }
 
+StatusOr<service::LocalizePartPlan> ParseLocalizePart(const v1::LocalizePart& part, const std::string& field) {
+  service::LocalizePartPlan out;
+  out.field = field + ".mesh_id";
+  RETURN_IF_ERROR(RequireId(part.mesh_id(), out.field));
+  out.mesh_id = part.mesh_id();
+  ASSIGN_OR_RETURN(out.scale, ScaleOrDefault(part.scale(), field + ".scale"));
+  if (part.max_instances() > kMaxLocalizeInstances) {
+    return InvalidArgument(field + ".max_instances", "at most " + std::to_string(kMaxLocalizeInstances));
+  }
+  out.max_instances = part.max_instances();
+  return out;
+}
+
+// Either the single part (mesh_id, scale) or the parts list; after the options, whose
+// max_instances a part's 0 stands for.
+Status ParseLocalizeParts(const v1::LocalizeRequest& request, service::LocalizePlan& plan) {
+  if (request.parts_size() == 0) {
+    service::LocalizePartPlan part;
+    RETURN_IF_ERROR(RequireId(request.mesh_id(), "mesh_id"));
+    part.mesh_id = request.mesh_id();
+    ASSIGN_OR_RETURN(part.scale, ScaleOrDefault(request.scale(), "scale"));
+    plan.parts.push_back(std::move(part));
+    return Status::Ok();
+  }
+  if (!request.mesh_id().empty()) return InvalidArgument("parts", "give mesh_id (one part) or parts, not both");
+  if (request.scale() != 0) return InvalidArgument("scale", "only with mesh_id; give each part's parts[i].scale");
+  if (static_cast<size_t>(request.parts_size()) > kMaxLocalizeParts) {
+    return InvalidArgument("parts", std::to_string(request.parts_size()) + " parts; at most " +
+                                        std::to_string(kMaxLocalizeParts));
+  }
+  size_t instances = 0;
+  for (int i = 0; i < request.parts_size(); ++i) {
+    const std::string field = Indexed("parts", i);
+    ASSIGN_OR_RETURN(service::LocalizePartPlan part, ParseLocalizePart(request.parts(i), field));
+    for (size_t j = 0; j < plan.parts.size(); ++j) {
+      if (plan.parts[j].mesh_id == part.mesh_id && plan.parts[j].scale == part.scale) {
+        return InvalidArgument(field, "the same mesh and scale as " + Indexed("parts", j) +
+                                          "; raise that part's max_instances instead");
+      }
+    }
+    instances += part.max_instances > 0 ? part.max_instances : plan.options.max_instances;
+    plan.parts.push_back(std::move(part));
+  }
+  if (instances > kMaxLocalizeTotalInstances) {
+    return InvalidArgument("parts", "their max_instances add up to " + std::to_string(instances) + "; at most " +
+                                        std::to_string(kMaxLocalizeTotalInstances));
+  }
+  return Status::Ok();
+}
+
 StatusOr<Pose3> RigidPose(const v1::Pose& pose, const std::string& field) {
   ASSIGN_OR_RETURN(const Pose3 parsed, PoseFromProto(pose, field));
   RETURN_IF_ERROR(CheckPosition(parsed.translation(), field + ".translation"));
@@ -164,10 +214,8 @@ StatusOr<service::LocalizePlan> ParseLocalizeRequest(const v1::LocalizeRequest& 
     case v1::LocalizeRequest::SOURCE_NOT_SET:
       return InvalidArgument("source", "required: cloud_id or points");
   }
-  RETURN_IF_ERROR(RequireId(request.mesh_id(), "mesh_id"));
-  plan.mesh_id = request.mesh_id();
-  ASSIGN_OR_RETURN(plan.scale, ScaleOrDefault(request.scale(), "scale"));
   RETURN_IF_ERROR(ParseLocalizeOptions(request.options(), plan));
+  RETURN_IF_ERROR(ParseLocalizeParts(request, plan));
   if (plan.normal_source == service::NormalSource::kCloud && request.has_points() && plan.normals.empty()) {
     return FailedPrecondition("options.normal_source", "NORMAL_SOURCE_CLOUD needs points.normals");
   }

@@ -1,7 +1,8 @@
 #include "api/localization/localization_service.h"
 
-#include "api/transport/cancellable_unary.h"
+#include "api/localization/localize_progress_reactor.h"
 #include "api/localization/localization_request.h"
+#include "api/transport/cancellable_unary.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::api {
@@ -13,16 +14,35 @@ void ToResponse(const service::LocalizeOutcome& outcome, v1::LocalizeResponse* r
     vscan::ToProto(instance.world_from_part, estimate->mutable_world_from_part());
     estimate->set_score(instance.score);
     estimate->set_explained_points(instance.explained_points);
+    estimate->set_part(static_cast<uint32_t>(instance.part));
   }
   response->set_frame(outcome.frame == store::CloudFrame::kSensor ? v1::FRAME_SENSOR : v1::FRAME_WORLD);
   response->set_points(outcome.points);
   response->set_support_plane_points(outcome.result.support_plane_points);
-  // One part per request: its search's figures.
+  for (size_t i = 0; i < outcome.result.parts.size(); ++i) {
+    const localization::PartSearch& search = outcome.result.parts[i];
+    v1::PartSearchSummary* summary = response->add_parts();
+    summary->set_part(static_cast<uint32_t>(i));
+    summary->set_voxel_size(search.voxel_size);
+    summary->set_found(search.found);
+    summary->set_stop_reason(search.stop_reason);
+  }
+  // The fields of the single-part form: the first part's figures.
   if (!outcome.result.parts.empty()) {
     response->set_voxel_size(outcome.result.parts.front().voxel_size);
     response->set_stop_reason(outcome.result.parts.front().stop_reason);
   }
   response->set_localize_ms(outcome.localize_ms);
+}
+
+Status RunLocalizeRequest(service::ServiceContext& context, const v1::LocalizeRequest& request,
+                          const std::atomic<bool>& cancel, const localization::LocalizeProgressCallback& progress,
+                          v1::LocalizeResponse* response) {
+  ASSIGN_OR_RETURN(const service::LocalizePlan plan, ParseLocalizeRequest(request));
+  ASSIGN_OR_RETURN(const service::LocalizeOutcome outcome,
+                   service::RunLocalize(context.registry, service::StoredCloudsOf(context), plan, &cancel, progress));
+  ToResponse(outcome, response);
+  return Status::Ok();
 }
 
 void ToResponse(const service::ScoringPlan& plan, const localization::ScanScore& score,
@@ -65,13 +85,18 @@ grpc::ServerUnaryReactor* LocalizationService::Localize(grpc::CallbackServerCont
   // Seconds of voting and ICP: on the workers that run scans, not on a gRPC thread.
   return RunCancellableUnary(ctx, context_.options.token, "Localize", context_.workers,
                              [=, this](const std::atomic<bool>& cancel) -> Status {
-                               ASSIGN_OR_RETURN(const service::LocalizePlan plan, ParseLocalizeRequest(*request));
-                               ASSIGN_OR_RETURN(const service::LocalizeOutcome outcome,
-                                                service::RunLocalize(context_.registry,
-                                                                     service::StoredCloudsOf(context_), plan, &cancel));
-                               ToResponse(outcome, response);
-                               return Status::Ok();
+                               return RunLocalizeRequest(context_, *request, cancel, {}, response);
                              });
+}
+
+grpc::ServerWriteReactor<v1::LocalizeWithProgressResponse>* LocalizationService::LocalizeWithProgress(
+    grpc::CallbackServerContext* ctx, const v1::LocalizeWithProgressRequest* request) {
+  return LocalizeProgressReactor::Start(
+      ctx, context_.options.token, context_.workers, stalled_readers_,
+      [=, this](const std::atomic<bool>& cancel, const localization::LocalizeProgressCallback& progress,
+                v1::LocalizeResponse* response) {
+        return RunLocalizeRequest(context_, request->localize(), cancel, progress, response);
+      });
 }
 
 grpc::ServerUnaryReactor* LocalizationService::ScorePoses(grpc::CallbackServerContext* ctx,

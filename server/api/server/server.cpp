@@ -287,7 +287,7 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& op
   impl->scan_service = std::make_unique<ScanService>(*impl->context, impl->stalled_readers.get());
   impl->robot_service = std::make_unique<RobotService>(*impl->context);
   impl->cloud_service = std::make_unique<CloudService>(*impl->context, impl->stalled_readers.get());
-  impl->localization_service = std::make_unique<LocalizationService>(*impl->context);
+  impl->localization_service = std::make_unique<LocalizationService>(*impl->context, impl->stalled_readers.get());
   impl->job_catalogue = std::make_unique<store::JobCatalogue>(impl->database);
   ASSIGN_OR_RETURN(const int interrupted, impl->job_catalogue->InterruptUnfinished("server stopped while the job ran"));
   if (interrupted > 0) spdlog::warn("{} jobs were left unfinished by the last run; marked INTERRUPTED", interrupted);

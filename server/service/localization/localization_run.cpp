@@ -2,8 +2,10 @@
 
 #include <chrono>
 #include <limits>
+#include <memory>
 #include <span>
 #include <utility>
+#include <vector>
 
 #include "service/clouds/cloud_store.h"
 #include "vscan/common/cloud_io.h"
@@ -11,16 +13,18 @@
 namespace vscan::service {
 namespace {
 
-StatusOr<std::shared_ptr<const TriangleMesh>> ScaledPart(scenes::SceneRegistry& registry, const std::string& mesh_id,
-                                                         double scale) {
-  auto mesh = registry.LoadMesh(mesh_id);
+StatusOr<std::shared_ptr<const TriangleMesh>> ScaledPart(scenes::SceneRegistry& registry,
+                                                         const LocalizePartPlan& part) {
+  auto mesh = registry.LoadMesh(part.mesh_id);
   if (!mesh.ok()) {
-    if (mesh.status().code() == StatusCode::kNotFound) return NotFound("mesh_id: no mesh '" + mesh_id + "'");
+    if (mesh.status().code() == StatusCode::kNotFound) {
+      return NotFound(part.field + ": no mesh '" + part.mesh_id + "'");
+    }
     return mesh.status();
   }
-  if (scale == 1) return *mesh;
+  if (part.scale == 1) return *mesh;
   auto scaled = std::make_shared<TriangleMesh>(**mesh);
-  for (Eigen::Vector3f& v : scaled->vertices) v *= static_cast<float>(scale);
+  for (Eigen::Vector3f& v : scaled->vertices) v *= static_cast<float>(part.scale);
   return std::shared_ptr<const TriangleMesh>(std::move(scaled));
 }
 
@@ -66,9 +70,18 @@ StatusOr<std::span<const Eigen::Vector3f>> ChooseNormals(const PointCloud& cloud
 }  // namespace
 
 StatusOr<LocalizeOutcome> RunLocalize(scenes::SceneRegistry& registry, const StoredClouds& clouds,
-                                      const LocalizePlan& plan, const std::atomic<bool>* cancel) {
+                                      const LocalizePlan& plan, const std::atomic<bool>* cancel,
+                                      const localization::LocalizeProgressCallback& progress) {
   const auto start = std::chrono::steady_clock::now();
-  ASSIGN_OR_RETURN(const auto part, ScaledPart(registry, plan.mesh_id, plan.scale));
+  if (plan.parts.empty()) return InvalidArgument("parts", "required (at least one part)");
+  if (progress) progress({0, 0, "reading the parts and the cloud"});
+  std::vector<std::shared_ptr<const TriangleMesh>> meshes;
+  std::vector<localization::PartQuery> queries;
+  for (const LocalizePartPlan& part : plan.parts) {
+    ASSIGN_OR_RETURN(auto mesh, ScaledPart(registry, part));
+    meshes.push_back(std::move(mesh));
+    queries.push_back({meshes.back().get(), part.max_instances});
+  }
   SearchedCloud searched;
   if (!plan.cloud_id.empty()) {
     ASSIGN_OR_RETURN(searched, ReadStoredCloud(clouds, plan.cloud_id));
@@ -82,8 +95,8 @@ StatusOr<LocalizeOutcome> RunLocalize(scenes::SceneRegistry& registry, const Sto
   if (plan.viewpoint || searched.sensor_position) options.sensor_position = options.viewpoint;
 
   LocalizeOutcome outcome;
-  ASSIGN_OR_RETURN(outcome.result,
-                   localization::LocalizeInstances(*part, searched.cloud.positions, normals, options, cancel));
+  ASSIGN_OR_RETURN(outcome.result, localization::LocalizeParts(queries, searched.cloud.positions, normals, options,
+                                                                cancel, progress));
   outcome.frame = searched.frame;
   outcome.points = searched.cloud.positions.size();
   outcome.localize_ms =

@@ -1,6 +1,6 @@
 #pragma once
-// Localize: the baseline localizer on a stored cloud or on points a client sent, for one part (a
-// stored mesh at a scale).
+// Localize: the baseline localizer on a stored cloud or on points a client sent, for one or several
+// parts (each a stored mesh at a scale) searched in one call.
 
 #include <atomic>
 #include <cstddef>
@@ -24,14 +24,20 @@ enum class NormalSource {
   kCloud,     // the cloud's (true) normals, or the inline ones
 };
 
+struct LocalizePartPlan {
+  std::string mesh_id;
+  double scale = 1;
+  size_t max_instances = 0;          // 0: options.max_instances
+  std::string field = "mesh_id";     // the request field that named the mesh, for NOT_FOUND
+};
+
 // A request checked against the contract: either cloud_id or points (with normals empty or one
-// per point).
+// per point), and at least one part.
 struct LocalizePlan {
   std::string cloud_id;
   std::vector<Eigen::Vector3f> points;
   std::vector<Eigen::Vector3f> normals;
-  std::string mesh_id;
-  double scale = 1;
+  std::vector<LocalizePartPlan> parts;
   localization::LocalizerOptions options;  // viewpoint filled in by RunLocalize when unset below
   NormalSource normal_source = NormalSource::kAuto;
   std::optional<Eigen::Vector3d> viewpoint;
@@ -44,9 +50,12 @@ struct LocalizeOutcome {
   double localize_ms = 0;
 };
 
-// NOT_FOUND naming cloud_id or mesh_id; FAILED_PRECONDITION (normal_source) when kCloud is asked
-// of points without normals; CANCELLED when cancel turns true.
+// Every part's scaled mesh is loaded, then one search covers them all (the scan prepared once).
+// NOT_FOUND naming cloud_id or the part's field (mesh_id, parts[1].mesh_id); FAILED_PRECONDITION
+// (normal_source) when kCloud is asked of points without normals; CANCELLED when cancel turns
+// true. progress, when set, is called on the calling thread between the search's stages.
 StatusOr<LocalizeOutcome> RunLocalize(scenes::SceneRegistry& registry, const StoredClouds& clouds,
-                                      const LocalizePlan& plan, const std::atomic<bool>* cancel);
+                                      const LocalizePlan& plan, const std::atomic<bool>* cancel,
+                                      const localization::LocalizeProgressCallback& progress = {});
 
 }  // namespace vscan::service

@@ -1,9 +1,10 @@
 // Localize in the service layer: noise-free ray-cast scans of fixture parts lying on a floor,
-// stored as uploaded clouds with their sensor pose, searched for a stored mesh through RunLocalize
-// and the estimates scored through ScorePoses against the poses the parts were placed at.
+// stored as uploaded clouds with their sensor pose, searched for one or two stored meshes through
+// RunLocalize and the estimates scored through ScorePoses against the poses the parts were placed at.
 
 #include <atomic>
 #include <optional>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -25,7 +26,8 @@ using localization::testing::ScanFloor;
 constexpr double kFloorSide = 0.2;
 
 // The scan stored as an upload would be, with the sensor's pose; its true normals kept or dropped.
-std::string StoreScan(testing::ServiceWorld& world, PointCloud scan, bool keep_normals) {
+std::string StoreScan(testing::ServiceWorld& world, PointCloud scan, bool keep_normals,
+                      double floor_side = kFloorSide) {
   if (!keep_normals) {
     scan.normals.clear();
     scan.fields &= ~kFieldNormal;
@@ -33,7 +35,7 @@ std::string StoreScan(testing::ServiceWorld& world, PointCloud scan, bool keep_n
   CloudUpload upload;
   upload.name = "floor";
   upload.format = CloudFileFormat::kPly;
-  upload.world_from_sensor = FloorSensorPose(kFloorSide);
+  upload.world_from_sensor = FloorSensorPose(floor_side);
   auto record = ImportCloud(world.context(), *EncodePly(scan), upload);
   EXPECT_TRUE(record.ok()) << record.status().ToString();
   return record.ok() ? record->cloud_id : "";
@@ -60,7 +62,7 @@ class LocalizationServiceRun : public ::testing::Test {
   LocalizePlan Plan(const std::string& cloud_id, NormalSource normals) const {
     LocalizePlan plan;
     plan.cloud_id = cloud_id;
-    plan.mesh_id = block_id();
+    plan.parts = {{block_id()}};
     plan.normal_source = normals;
     return plan;
   }
@@ -130,10 +132,74 @@ TEST_F(LocalizationServiceRun, RefusesUnknownMeshesAndCloudsAndMissingNormals) {
   EXPECT_TRUE(no_normals.status().message().starts_with("options.normal_source")) << no_normals.status().message();
 
   plan.normal_source = NormalSource::kAuto;
-  plan.mesh_id = "msh_0000000000000000";
+  plan.parts[0].mesh_id = "msh_0000000000000000";
   const auto no_mesh = RunLocalize(world_.context().registry, StoredCloudsOf(world_.context()), plan, nullptr);
   EXPECT_EQ(no_mesh.status().code(), StatusCode::kNotFound);
   EXPECT_TRUE(no_mesh.status().message().starts_with("mesh_id")) << no_mesh.status().message();
+
+  // In the list form the part's own field is named, and nothing is searched.
+  plan.parts = {{block_id(), 1, 0, "parts[0].mesh_id"}, {"msh_0000000000000000", 2, 0, "parts[1].mesh_id"}};
+  bool searched = false;
+  const auto second = RunLocalize(world_.context().registry, StoredCloudsOf(world_.context()), plan, nullptr,
+                                  [&](const localization::LocalizeProgress& p) { searched |= p.fraction > 0; });
+  EXPECT_EQ(second.status().code(), StatusCode::kNotFound);
+  EXPECT_TRUE(second.status().message().starts_with("parts[1].mesh_id")) << second.status().message();
+  EXPECT_FALSE(searched);
+}
+
+// A part's own max_instances bounds its search below the options' one.
+TEST_F(LocalizationServiceRun, StopsAPartAtItsOwnMaxInstances) {
+  const auto placed = LyingParts({{FixturePart::kAngleBlock, 5}}, kFloorSide, 1);
+  LocalizePlan plan = Plan(StoreScan(world_, ScanFloor(placed, kFloorSide, 320, 240), true), NormalSource::kCloud);
+  plan.options.max_instances = 10;
+  plan.parts[0].max_instances = 2;
+  const LocalizeOutcome found = Run(plan);
+  EXPECT_EQ(found.result.instances.size(), 2u);
+  ASSERT_EQ(found.result.parts.size(), 1u);
+  EXPECT_EQ(found.result.parts[0].found, 2u);
+}
+
+// Angle blocks and pins (the tube scaled to 0.127) in one call: each estimate carries its part's
+// index, each part's instances score against that part's truth, and progress rises to 1.
+TEST_F(LocalizationServiceRun, FindsTwoPartTypesInOneCall) {
+  const testing::PinsAndBlocks scene = testing::ScanPinsBesideBlocks();
+  ASSERT_GT(scene.scan.size(), 100000u);
+  LocalizePlan plan = Plan(StoreScan(world_, scene.scan, true, testing::kPinFloor), NormalSource::kCloud);
+  const std::string& round_id = mesh_ids_[static_cast<size_t>(FixturePart::kRound)];
+  plan.parts = {{block_id(), 1, 6, "parts[0].mesh_id"}, {round_id, testing::kPinScale, 3, "parts[1].mesh_id"}};
+  std::vector<localization::LocalizeProgress> reports;
+  auto outcome = RunLocalize(world_.context().registry, StoredCloudsOf(world_.context()), plan, nullptr,
+                             [&](const localization::LocalizeProgress& p) { reports.push_back(p); });
+  ASSERT_TRUE(outcome.ok()) << outcome.status().ToString();
+  const LocalizeOutcome& found = *outcome;
+  ASSERT_EQ(found.result.parts.size(), 2u);
+
+  ScoringPlan scoring;
+  scoring.parts.push_back({block_id(), 1, std::nullopt});
+  scoring.parts.push_back({round_id, testing::kPinScale, testing::PinSymmetries()});
+  for (const Pose3& pose : scene.blocks) scoring.truth.push_back({0, pose, 1.0});
+  for (const Pose3& pose : scene.pins) scoring.truth.push_back({1, pose, 1.0});
+  std::vector<size_t> per_part(2, 0);
+  for (const auto& instance : found.result.instances) {
+    ASSERT_LT(instance.part, 2u);
+    ++per_part[instance.part];
+    scoring.estimates.push_back({static_cast<uint32_t>(instance.part), instance.world_from_part, instance.score});
+  }
+  EXPECT_EQ(per_part[0], found.result.parts[0].found);
+  EXPECT_EQ(per_part[1], found.result.parts[1].found);
+  EXPECT_LE(per_part[0], 6u);
+  EXPECT_LE(per_part[1], 3u);
+  auto score = ScorePoses(world_.context().registry, scoring);
+  ASSERT_TRUE(score.ok()) << score.status().ToString();
+  ASSERT_EQ(score->parts.size(), 2u);
+  EXPECT_GE(score->parts[0].add_recall.value_or(0), 0.8) << found.result.parts[0].stop_reason;
+  EXPECT_GE(score->parts[1].add_recall.value_or(0), 2.0 / 3) << found.result.parts[1].stop_reason;
+
+  ASSERT_GE(reports.size(), 2u);
+  EXPECT_EQ(reports.front().fraction, 0.0);
+  for (size_t i = 1; i < reports.size(); ++i) EXPECT_GE(reports[i].fraction, reports[i - 1].fraction);
+  EXPECT_DOUBLE_EQ(reports.back().fraction, 1.0);
+  EXPECT_EQ(reports.back().found, found.result.instances.size());
 }
 
 TEST_F(LocalizationServiceRun, StopsWhenCancelled) {
