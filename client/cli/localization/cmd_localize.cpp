@@ -338,7 +338,7 @@ void AddLocalizationCommands(CLI::App& group, Context& ctx) {
                        "Scale on the mesh, as the bin plan gives it (1; once for every part, or once per --mesh)");
   localize->add_option("--max,--max-instances", largs->max_instances,
                        "At most this many instances (0: 10; once for every part, or once per --mesh)");
-  localize->add_option("--min-score", largs->min_score, "Lowest score accepted (0: 0.15)")->capture_default_str();
+  localize->add_option("--min-score", largs->min_score, "Lowest score accepted (0: 0.08)")->capture_default_str();
   localize->add_option("--normals", largs->normals, "auto (the cloud's estimated normals, else estimated), estimate or cloud")
       ->capture_default_str();
   localize->add_option("--viewpoint", largs->viewpoint,

@@ -59,7 +59,7 @@ Status ParseLocalizeOptions(const v1::LocalizeOptions& options, service::Localiz
   if (options.max_instances() > 0) out.max_instances = options.max_instances();
   const double min_score = options.min_score();
   if (!std::isfinite(min_score) || min_score < 0 || min_score > 1) {
-    return InvalidArgument("options.min_score", "must be within [0, 1] (0: the default 0.15)");
+    return InvalidArgument("options.min_score", "must be within [0, 1] (0: the default 0.08)");
   }
   if (min_score > 0) out.min_score = min_score;
   const double voxel = options.voxel_size();
