@@ -40,7 +40,8 @@ Status RunLocalizeRequest(service::ServiceContext& context, const v1::LocalizeRe
                           v1::LocalizeResponse* response) {
   ASSIGN_OR_RETURN(const service::LocalizePlan plan, ParseLocalizeRequest(request));
   ASSIGN_OR_RETURN(const service::LocalizeOutcome outcome,
-                   service::RunLocalize(context.registry, service::StoredCloudsOf(context), plan, &cancel, progress));
+                   service::RunLocalize(context.registry, service::StoredCloudsOf(context), plan, &cancel, progress,
+                                       context.part_models.get()));
   ToResponse(outcome, response);
   return Status::Ok();
 }

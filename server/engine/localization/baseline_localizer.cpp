@@ -9,9 +9,6 @@
 #include <optional>
 #include <string>
 #include <utility>
-#include <chrono>  // DEVTRACE
-#include <cstdio>  // DEVTRACE
-#include <cstdlib>  // DEVTRACE
 
 #include <Eigen/Geometry>
 #include <tbb/parallel_for.h>
@@ -330,22 +327,17 @@ OrientedPoints Unclaimed(const PreparedScan& scan, const std::vector<bool>& clai
 }
 
 
-// DEVTRACE
-static std::vector<std::pair<size_t, Pose3>> DevProbes() {  // DEVTRACE
-  std::vector<std::pair<size_t, Pose3>> probes;  // DEVTRACE
-  const char* path = std::getenv("VSCAN_DEV_PROBE");  // DEVTRACE
-  if (path == nullptr) return probes;  // DEVTRACE
-  FILE* f = std::fopen(path, "r");  // DEVTRACE
-  if (f == nullptr) return probes;  // DEVTRACE
-  size_t part; Eigen::Matrix4d m;  // DEVTRACE
-  while (std::fscanf(f, "%zu", &part) == 1) {  // DEVTRACE
-    for (int r = 0; r < 4; ++r) for (int c = 0; c < 4; ++c) if (std::fscanf(f, "%lf", &m(r, c)) != 1) return probes;  // DEVTRACE
-    probes.push_back({part, Pose3(m)});  // DEVTRACE
-  }  // DEVTRACE
-  std::fclose(f);  // DEVTRACE
-  return probes;  // DEVTRACE
-}  // DEVTRACE
 }  // namespace
+
+PartModelSettings ModelSettingsOf(const LocalizerOptions& options) {
+  PartModelSettings settings;
+  settings.voxel_size = options.voxel_size;
+  settings.samples = options.model_samples;
+  settings.ppf_step_voxels = options.ppf_step_voxels;
+  settings.angle_step_rad = options.ppf_angle_step_deg * std::numbers::pi / 180;
+  settings.scene_reference_stride = options.scene_reference_stride;
+  return settings;
+}
 
 StatusOr<LocalizationResult> LocalizeParts(std::span<const PartQuery> parts, std::span<const Eigen::Vector3f> scan_points,
                                            std::span<const Eigen::Vector3f> scan_normals,
@@ -353,31 +345,26 @@ StatusOr<LocalizationResult> LocalizeParts(std::span<const PartQuery> parts, std
                                            const LocalizeProgressCallback& progress) {
   RETURN_IF_ERROR(Validate(options, scan_points.size(), scan_normals.size()));
   if (parts.empty()) return InvalidArgument("parts", "must name at least one part");
-  PartModelSettings settings;
-  settings.voxel_size = options.voxel_size;
-  settings.samples = options.model_samples;
-  settings.ppf_step_voxels = options.ppf_step_voxels;
-  settings.angle_step_rad = options.ppf_angle_step_deg * std::numbers::pi / 180;
-  settings.scene_reference_stride = options.scene_reference_stride;
-  std::vector<PartModel> models;
+  const PartModelSettings settings = ModelSettingsOf(options);
+  std::vector<std::shared_ptr<const PartModel>> models;
   double scan_voxel = std::numeric_limits<double>::infinity(), largest_part = 0;
   for (size_t p = 0; p < parts.size(); ++p) {
     const std::string field = "parts[" + std::to_string(p) + "]";
     if (parts[p].mesh == nullptr) return InvalidArgument(field, "has no mesh");
-    ASSIGN_OR_RETURN(PartModel model, BuildPartModel(*parts[p].mesh, field, settings));
+    std::shared_ptr<const PartModel> model = parts[p].model;
+    if (!model) {
+      ASSIGN_OR_RETURN(PartModel built, BuildPartModel(*parts[p].mesh, field, settings));
+      model = std::make_shared<const PartModel>(std::move(built));
+    }
     // The scan is checked at the finest part's voxel, but no finer than its extent / 80: a long
     // thin part's voxel (a share of its width) would multiply the points every check visits.
-    scan_voxel = std::min(scan_voxel, options.voxel_size > 0 ? model.voxel
-                                                              : std::max(model.voxel, model.extent / kScanVoxelsPerExtent));
-    largest_part = std::max(largest_part, model.extent);
+    scan_voxel = std::min(scan_voxel, options.voxel_size > 0 ? model->voxel
+                                                              : std::max(model->voxel, model->extent / kScanVoxelsPerExtent));
+    largest_part = std::max(largest_part, model->extent);
     models.push_back(std::move(model));
     if (IsCancelled(cancel)) return Cancelled("localization cancelled");
   }
-  const auto t0 = std::chrono::steady_clock::now();  // DEVTRACE
-  const bool trace = std::getenv("VSCAN_DEV_TRACE") != nullptr;  // DEVTRACE
-  const auto devtrace = [&](size_t n, const std::string& stage) { if (trace) std::fprintf(stderr, "DEV %.0f ms %s n %zu\n", std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(), stage.c_str(), n); };  // DEVTRACE
   const auto report = [&](double fraction, size_t found, const std::string& stage) {
-    devtrace(found, stage);  // DEVTRACE
     if (progress) progress(LocalizeProgress{fraction, found, stage});
   };
   ASSIGN_OR_RETURN(const PreparedScan scan, PrepareScan(scan_points, scan_normals, scan_voxel, largest_part, options, cancel));
@@ -388,10 +375,10 @@ StatusOr<LocalizationResult> LocalizeParts(std::span<const PartQuery> parts, std
   result.support_plane_points = scan.support_plane_points;
   std::vector<PartState> states(models.size());
   for (size_t p = 0; p < models.size(); ++p) {
-    states[p].model = &models[p];
+    states[p].model = models[p].get();
     states[p].max_instances = parts[p].max_instances > 0 ? parts[p].max_instances : options.max_instances;
-    states[p].grid = std::make_unique<ScanGrid>(scan.points.points, kIcpReachInPpfSteps * models[p].ppf_step);
-    states[p].summary.voxel_size = models[p].voxel;
+    states[p].grid = std::make_unique<ScanGrid>(scan.points.points, kIcpReachInPpfSteps * models[p]->ppf_step);
+    states[p].summary.voxel_size = models[p]->voxel;
   }
   std::vector<bool> claimed(scan.points.points.size(), false);
   const double steps = static_cast<double>(kMaxRounds * models.size());
@@ -399,7 +386,7 @@ StatusOr<LocalizationResult> LocalizeParts(std::span<const PartQuery> parts, std
     std::vector<Hypothesis> hypotheses;
     for (size_t p = 0; p < models.size(); ++p) {
       PartState& state = states[p];
-      const PartModel& part = models[p];
+      const PartModel& part = *models[p];
       if (state.summary.found >= state.max_instances || !state.summary.stop_reason.empty()) continue;
       const OrientedPoints scene = Unclaimed(scan, claimed, part.ppf_step);
       if (scene.points.size() < 10) {
@@ -408,25 +395,15 @@ StatusOr<LocalizationResult> LocalizeParts(std::span<const PartQuery> parts, std
       }
       const std::vector<Eigen::Vector3f> rims = RimDirections(scene, kRimRadiusInPpfSteps * part.ppf_step);
       std::vector<PoseCandidate> candidates = part.ppf->Vote(scene.points, scene.normals, rims, cancel);
-      devtrace(scene.points.size(), "voted " + std::to_string(candidates.size()));  // DEVTRACE
       if (IsCancelled(cancel)) return Cancelled("localization cancelled");
       if (candidates.empty()) {
         state.summary.stop_reason = "no pose candidates";
         continue;
       }
       if (scan.view) RankByView(*scan.view, part, options.view_candidates, candidates);
-      for (const auto& [probe_part, probe_pose] : DevProbes()) {  // DEVTRACE
-        if (probe_part != p) continue;  // DEVTRACE
-        size_t rank = 0; for (; rank < candidates.size(); ++rank) { const Pose3& c = candidates[rank].scene_from_part; if ((c.translation() - probe_pose.translation()).norm() < 0.4 * part.extent && Eigen::AngleAxisd(c.linear().transpose() * probe_pose.linear()).angle() < 0.5) break; }  // DEVTRACE
-        auto h = Verifier(part, *state.grid, scan, options).Verify(probe_pose);  // DEVTRACE
-        size_t taken = 0; for (const uint32_t i : h->explained) taken += claimed[i] ? 1 : 0;  // DEVTRACE
-        const double moved = (h->pose.translation() - probe_pose.translation()).norm();  // DEVTRACE
-        std::fprintf(stderr, "PROBE round %zu part %zu at (%.0f %.0f %.0f): first close candidate rank %zu of %zu; verified score %.3f explained %zu taken %zu on %zu through %zu quality %.3f moved %.1f mm\n", round, p, probe_pose.translation().x()*1000, probe_pose.translation().y()*1000, probe_pose.translation().z()*1000, rank, candidates.size(), h->score, h->explained.size(), taken, h->view.on_surface, h->view.seen_through, h->Quality(), moved * 1000);  // DEVTRACE
-      }  // DEVTRACE
       const size_t wanted = state.max_instances - state.summary.found;
       const size_t tried = std::min(candidates.size(), std::max(kMinCandidates, kCandidatesPerInstance * wanted));
       std::vector<StatusOr<Hypothesis>> verified(tried, Hypothesis{});
-      devtrace(tried, "ranked");  // DEVTRACE
       const Verifier verifier(part, *state.grid, scan, options);
       tbb::parallel_for(size_t{0}, tried, [&](size_t c) {
         if (IsCancelled(cancel)) return;

@@ -8,6 +8,7 @@
 #include <atomic>
 #include <cstddef>
 #include <functional>
+#include <memory>
 #include <optional>
 #include <span>
 #include <string>
@@ -15,6 +16,7 @@
 
 #include <Eigen/Core>
 
+#include "localization/part_model.h"
 #include "vscan/common/mesh.h"
 #include "vscan/common/point_cloud.h"
 #include "vscan/common/pose.h"
@@ -69,7 +71,12 @@ struct LocalizerOptions {
 struct PartQuery {
   const TriangleMesh* mesh = nullptr;
   size_t max_instances = 0;  // 0: LocalizerOptions::max_instances
+  // The mesh's model built with ModelSettingsOf(options), when the caller keeps one; else built here.
+  std::shared_ptr<const PartModel> model;
 };
+
+// What a part's model is built with, from the localizer's options.
+PartModelSettings ModelSettingsOf(const LocalizerOptions& options);
 
 struct LocalizedInstance {
   size_t part = 0;  // index into the parts searched

@@ -1,11 +1,14 @@
 #include "service/context/service_context.h"
 
 #include "collision/collision_world.h"
+#include "localization/part_model_cache.h"
 
 namespace vscan::service {
 
 namespace {
 constexpr size_t kCachedShapes = 512;
+// Part models take up to about 150 MiB each (their pair tables); a cell works with a few parts.
+constexpr size_t kCachedPartModels = 8;
 }
 
 ServiceContext::ServiceContext(scenes::SceneRegistry& registry, jobs::WorkerPool& workers,
@@ -14,7 +17,8 @@ ServiceContext::ServiceContext(scenes::SceneRegistry& registry, jobs::WorkerPool
                                store::CloudCatalogue& clouds, store::BlobStore& blobs)
     : registry(registry), workers(workers), call_workers(call_workers), options(options), robots(robots), raster(raster),
       clouds(clouds), blobs(blobs), scans(options.limits.max_concurrent_scans),
-      shapes(std::make_shared<collision::ShapeCache>(kCachedShapes)) {}
+      shapes(std::make_shared<collision::ShapeCache>(kCachedShapes)),
+      part_models(std::make_shared<localization::PartModelCache>(kCachedPartModels)) {}
 
 ServiceContext::~ServiceContext() = default;
 

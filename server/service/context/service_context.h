@@ -1,7 +1,7 @@
 #pragma once
 // What every request of the service layer works with: the scene and robot registries, the stored
-// clouds and the blobs, the worker pools, the options, the renderer, scan admission and the Bullet
-// shapes of collision checks.
+// clouds and the blobs, the worker pools, the options, the renderer, scan admission, the Bullet
+// shapes of collision checks and the localizer's part models.
 
 #include <memory>
 
@@ -16,6 +16,9 @@
 
 namespace vscan::collision {
 class ShapeCache;
+}
+namespace vscan::localization {
+class PartModelCache;
 }
 
 namespace vscan::service {
@@ -39,6 +42,8 @@ struct ServiceContext {
   ScanAdmission scans;
   // Bullet shapes of scene meshes and links, shared by every collision check of the server.
   std::shared_ptr<collision::ShapeCache> shapes;
+  // The localizer's part models (samples and pair tables), kept between Localize calls.
+  std::shared_ptr<localization::PartModelCache> part_models;
   // The dataset jobs' directories; null where no server runs them (tests).
   DatasetDirectories* dataset_directories = nullptr;
 };

@@ -71,16 +71,23 @@ StatusOr<std::span<const Eigen::Vector3f>> ChooseNormals(const PointCloud& cloud
 
 StatusOr<LocalizeOutcome> RunLocalize(scenes::SceneRegistry& registry, const StoredClouds& clouds,
                                       const LocalizePlan& plan, const std::atomic<bool>* cancel,
-                                      const localization::LocalizeProgressCallback& progress) {
+                                      const localization::LocalizeProgressCallback& progress,
+                                      localization::PartModelCache* models) {
   const auto start = std::chrono::steady_clock::now();
   if (plan.parts.empty()) return InvalidArgument("parts", "required (at least one part)");
   if (progress) progress({0, 0, "reading the parts and the cloud"});
   std::vector<std::shared_ptr<const TriangleMesh>> meshes;
   std::vector<localization::PartQuery> queries;
+  const localization::PartModelSettings settings = localization::ModelSettingsOf(plan.options);
   for (const LocalizePartPlan& part : plan.parts) {
     ASSIGN_OR_RETURN(auto mesh, ScaledPart(registry, part));
     meshes.push_back(std::move(mesh));
-    queries.push_back({meshes.back().get(), part.max_instances});
+    queries.push_back({meshes.back().get(), part.max_instances, nullptr});
+    if (models == nullptr) continue;
+    const TriangleMesh& scaled = *meshes.back();
+    ASSIGN_OR_RETURN(queries.back().model,
+                     models->Get(localization::PartModelKey(part.mesh_id, part.scale, settings),
+                                 [&] { return localization::BuildPartModel(scaled, part.field, settings); }));
   }
   SearchedCloud searched;
   if (!plan.cloud_id.empty()) {

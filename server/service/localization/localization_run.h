@@ -11,6 +11,7 @@
 #include <Eigen/Core>
 
 #include "localization/baseline_localizer.h"
+#include "localization/part_model_cache.h"
 #include "scenes/scene_registry.h"
 #include "service/clouds/cloud_store.h"
 #include "store/cloud_catalogue.h"
@@ -53,9 +54,11 @@ struct LocalizeOutcome {
 // Every part's scaled mesh is loaded, then one search covers them all (the scan prepared once).
 // NOT_FOUND naming cloud_id or the part's field (mesh_id, parts[1].mesh_id); FAILED_PRECONDITION
 // (normal_source) when kCloud is asked of points without normals; CANCELLED when cancel turns
-// true. progress, when set, is called on the calling thread between the search's stages.
+// true. progress, when set, is called on the calling thread between the search's stages. models,
+// when given, keeps each part's model (by mesh id, scale and options) for the next call.
 StatusOr<LocalizeOutcome> RunLocalize(scenes::SceneRegistry& registry, const StoredClouds& clouds,
                                       const LocalizePlan& plan, const std::atomic<bool>* cancel,
-                                      const localization::LocalizeProgressCallback& progress = {});
+                                      const localization::LocalizeProgressCallback& progress = {},
+                                      localization::PartModelCache* models = nullptr);
 
 }  // namespace vscan::service

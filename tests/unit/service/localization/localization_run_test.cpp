@@ -210,5 +210,32 @@ TEST_F(LocalizationServiceRun, StopsWhenCancelled) {
   EXPECT_EQ(found.status().code(), StatusCode::kCancelled);
 }
 
+// A kept part model gives the same instances as one built for the call; it is kept per mesh, scale
+// and options, and the least recently used leaves first.
+TEST_F(LocalizationServiceRun, KeptPartModelsGiveTheSameInstances) {
+  const auto placed = LyingParts({{FixturePart::kAngleBlock, 3}}, kFloorSide, 2);
+  const LocalizePlan plan = Plan(StoreScan(world_, ScanFloor(placed, kFloorSide, 320, 240), true), NormalSource::kCloud);
+  localization::PartModelCache models(2);
+  const auto built = RunLocalize(world_.context().registry, StoredCloudsOf(world_.context()), plan, nullptr);
+  const auto first = RunLocalize(world_.context().registry, StoredCloudsOf(world_.context()), plan, nullptr, {}, &models);
+  const auto kept = RunLocalize(world_.context().registry, StoredCloudsOf(world_.context()), plan, nullptr, {}, &models);
+  ASSERT_TRUE(built.ok() && first.ok() && kept.ok()) << built.status().ToString() << first.status().ToString();
+  EXPECT_EQ(models.size(), 1u);
+  ASSERT_FALSE(built->result.instances.empty());
+  for (const auto* outcome : {&*first, &*kept}) {
+    ASSERT_EQ(outcome->result.instances.size(), built->result.instances.size());
+    for (size_t i = 0; i < built->result.instances.size(); ++i) {
+      EXPECT_TRUE(outcome->result.instances[i].world_from_part.isApprox(built->result.instances[i].world_from_part, 1e-9));
+    }
+  }
+  LocalizePlan other = plan;
+  other.parts[0].scale = 1.5;
+  ASSERT_TRUE(RunLocalize(world_.context().registry, StoredCloudsOf(world_.context()), other, nullptr, {}, &models).ok());
+  other.options.voxel_size = 0.002;
+  ASSERT_TRUE(RunLocalize(world_.context().registry, StoredCloudsOf(world_.context()), other, nullptr, {}, &models).ok());
+  EXPECT_EQ(models.size(), 2u);
+}
+
+
 }  // namespace
 }  // namespace vscan::service
