@@ -261,8 +261,7 @@ class Verifier {
       normals.push_back(scan_.points.normals[near[k]]);
     }
     ASSIGN_OR_RETURN(const registration::IcpResult fit,
-                     registration::PointToPlaneIcp(points, part_.model.points, part_.model.normals, start.inverse(),
-                                                   icp, normals));
+                     registration::PointToPlaneIcp(points, *part_.icp_target, start.inverse(), icp, normals));
     return fit.stop == registration::IcpStop::kTooFewCorrespondences ? start : fit.target_from_source.inverse();
   }
 

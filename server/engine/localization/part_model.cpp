@@ -62,6 +62,7 @@ StatusOr<PartModel> BuildPartModel(const TriangleMesh& part, const std::string& 
                                  " it may hold; use a larger voxel (0 picks one from the part's size)");
   }
   m.model_tree = std::make_unique<spatial::KdTree>(m.model.points);
+  m.icp_target = std::make_unique<registration::TargetIndex>(m.model.points, m.model.normals);
   PpfSettings ppf;
   ppf.distance_step = m.ppf_step;
   ppf.angle_step_rad = settings.angle_step_rad;

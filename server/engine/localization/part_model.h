@@ -11,6 +11,7 @@
 
 #include "localization/oriented_points.h"
 #include "localization/ppf_voting.h"
+#include "registration/target_index.h"
 #include "spatial/kd_tree.h"
 #include "vscan/common/mesh.h"
 #include "vscan/common/status.h"
@@ -33,6 +34,7 @@ struct PartModel {
   Eigen::AlignedBox3f bounds;  // part frame
   double extent = 0;           // the bounding box's diagonal
   std::unique_ptr<spatial::KdTree> model_tree;  // over model.points, part frame
+  std::unique_ptr<registration::TargetIndex> icp_target;  // model, for ICP onto it
   std::unique_ptr<PpfModel> ppf;
 };
 

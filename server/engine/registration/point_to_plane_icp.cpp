@@ -45,22 +45,27 @@ struct Inputs {
   const IcpOptions& options;
 };
 
-Status Validate(std::span<const Eigen::Vector3f> source, std::span<const Eigen::Vector3f> target,
-                std::span<const Eigen::Vector3f> target_normals, std::span<const Eigen::Vector3f> source_normals,
-                const Pose3& initial, const IcpOptions& o) {
-  const auto finite_non_negative = [](double v) { return std::isfinite(v) && v >= 0.0; };
+Status ValidateTarget(std::span<const Eigen::Vector3f> target, std::span<const Eigen::Vector3f> target_normals) {
   if (target_normals.size() != target.size()) {
     return InvalidArgument("target_normals", "needs one normal per target point, got " +
                                                  std::to_string(target_normals.size()) + " for " +
                                                  std::to_string(target.size()));
   }
+  constexpr size_t kMaxPoints = std::numeric_limits<uint32_t>::max() - 1;
+  if (target.size() > kMaxPoints) return InvalidArgument("icp", "at most 2^32-2 points per cloud");
+  return Status::Ok();
+}
+
+Status Validate(std::span<const Eigen::Vector3f> source, std::span<const Eigen::Vector3f> source_normals,
+                const Pose3& initial, const IcpOptions& o) {
+  const auto finite_non_negative = [](double v) { return std::isfinite(v) && v >= 0.0; };
   if (!source_normals.empty() && source_normals.size() != source.size()) {
     return InvalidArgument("source_normals", "must be empty or one per source point, got " +
                                                  std::to_string(source_normals.size()) + " for " +
                                                  std::to_string(source.size()));
   }
   constexpr size_t kMaxPoints = std::numeric_limits<uint32_t>::max() - 1;
-  if (source.size() > kMaxPoints || target.size() > kMaxPoints) {
+  if (source.size() > kMaxPoints) {
     return InvalidArgument("icp", "at most 2^32-2 points per cloud");
   }
   if (!initial.matrix().allFinite()) return InvalidArgument("initial_target_from_source", "must be finite");
@@ -226,8 +231,16 @@ StatusOr<IcpResult> PointToPlaneIcp(std::span<const Eigen::Vector3f> source,
                                     std::span<const Eigen::Vector3f> target_normals,
                                     const Pose3& initial_target_from_source, const IcpOptions& options,
                                     std::span<const Eigen::Vector3f> source_normals) {
-  RETURN_IF_ERROR(Validate(source, target, target_normals, source_normals, initial_target_from_source, options));
+  RETURN_IF_ERROR(ValidateTarget(target, target_normals));
+  RETURN_IF_ERROR(Validate(source, source_normals, initial_target_from_source, options));
   const TargetIndex index(target, target_normals);
+  return PointToPlaneIcp(source, index, initial_target_from_source, options, source_normals);
+}
+
+StatusOr<IcpResult> PointToPlaneIcp(std::span<const Eigen::Vector3f> source, const TargetIndex& index,
+                                    const Pose3& initial_target_from_source, const IcpOptions& options,
+                                    std::span<const Eigen::Vector3f> source_normals) {
+  RETURN_IF_ERROR(Validate(source, source_normals, initial_target_from_source, options));
   const Inputs in{source, source_normals, index, options};
   const std::vector<uint32_t> order = MortonOrder(source);
   const bool start_coarse = options.coarse_points > 0 && order.size() > 2 * options.coarse_points;

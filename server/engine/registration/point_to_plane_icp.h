@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 
 #include "registration/robust_kernel.h"
+#include "registration/target_index.h"
 #include "vscan/common/pose.h"
 #include "vscan/common/status.h"
 
@@ -75,6 +76,12 @@ struct IcpResult {
 StatusOr<IcpResult> PointToPlaneIcp(std::span<const Eigen::Vector3f> source,
                                     std::span<const Eigen::Vector3f> target,
                                     std::span<const Eigen::Vector3f> target_normals,
+                                    const Pose3& initial_target_from_source, const IcpOptions& options,
+                                    std::span<const Eigen::Vector3f> source_normals = {});
+
+// The same against a target indexed once for many runs (the source onto one model from many
+// starts).
+StatusOr<IcpResult> PointToPlaneIcp(std::span<const Eigen::Vector3f> source, const TargetIndex& target,
                                     const Pose3& initial_target_from_source, const IcpOptions& options,
                                     std::span<const Eigen::Vector3f> source_normals = {});
 
