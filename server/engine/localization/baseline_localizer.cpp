@@ -47,6 +47,9 @@ constexpr size_t kMinLargePlanePoints = 500;
 constexpr double kScanVoxelsPerExtent = 80;
 // The most scan points a candidate's ICP runs on.
 constexpr size_t kMaxIcpPoints = 2000;
+// A part cannot stand in the plate it lies on: a hypothesis with more of its points than this
+// behind the support plane is a fit through it.
+constexpr double kMaxBelowSupport = 0.05;
 // Rounds of voting on the scan points no instance has taken.
 constexpr size_t kMaxRounds = 3;
 
@@ -132,6 +135,8 @@ struct PreparedScan {
   OrientedPoints points;
   std::optional<ScanView> view;
   size_t support_plane_points = 0;
+  // The plane the parts stand on, its normal turned to the side most of the other points are on.
+  std::optional<Plane> support;
 };
 
 StatusOr<PreparedScan> PrepareScan(std::span<const Eigen::Vector3f> scan_points, std::span<const Eigen::Vector3f> scan_normals,
@@ -151,6 +156,10 @@ StatusOr<PreparedScan> PrepareScan(std::span<const Eigen::Vector3f> scan_points,
         kept.normals.push_back(thin.normals[i]);
       }
       for (const auto& p : scan.points) prepared.support_plane_points += plane->Distance(p) <= distance ? 1 : 0;
+      size_t above = 0;
+      for (const auto& p : kept.points) above += plane->normal.dot(p.cast<double>()) + plane->offset > 0 ? 1 : 0;
+      if (2 * above < kept.points.size()) plane->normal = -plane->normal, plane->offset = -plane->offset;
+      prepared.support = plane;
       thin = std::move(kept);
     }
     LargePlaneSettings large;
@@ -178,6 +187,7 @@ struct Hypothesis {
   Pose3 pose = Pose3::Identity();
   double score = 0;
   ScanView::Tally view;
+  double below_support = 0;  // share of its points inside what the parts stand on
   std::vector<uint32_t> explained;  // prepared scan points it accounts for
   double Quality() const { return score * std::max(0.0, 1 - kSeenThroughWeight * view.SeenThroughShare()); }
 };
@@ -207,6 +217,7 @@ class Verifier {
     h.explained = Near(refined, tight, min_cos_);
     h.score = ExplainedShare(refined, h.explained);
     if (scan_.view) h.view = scan_.view->Check(part_.model, refined, tight);
+    if (scan_.support) h.below_support = BelowSupport(refined, tight);
     return h;
   }
 
@@ -237,6 +248,16 @@ class Verifier {
     }
     std::sort(near.begin(), near.end());
     return near;
+  }
+
+  // The share of the part's points, placed, farther than depth behind the support plane.
+  double BelowSupport(const Pose3& world_from_part, double depth) const {
+    size_t below = 0;
+    for (const auto& p : part_.model.points) {
+      const Eigen::Vector3d world = world_from_part * p.cast<double>();
+      below += scan_.support->normal.dot(world) + scan_.support->offset < -depth ? 1 : 0;
+    }
+    return static_cast<double>(below) / static_cast<double>(std::max<size_t>(1, part_.model.points.size()));
   }
 
   // Point-to-plane ICP of the scan points within reach of the part placed at start onto the part's
@@ -324,6 +345,7 @@ OrientedPoints Unclaimed(const PreparedScan& scan, const std::vector<bool>& clai
   }
   return ThinOriented(left, step, kFaceSplitAngleRad);
 }
+
 
 
 }  // namespace
@@ -428,7 +450,10 @@ StatusOr<LocalizationResult> LocalizeParts(std::span<const PartQuery> parts, std
       PartState& state = states[h.part];
       if (state.summary.found >= state.max_instances) continue;
       std::string why;
-      if (h.view.SeenThroughShare() > options.max_seen_through_share) {
+      if (h.below_support > kMaxBelowSupport) {
+        why = "the best candidate lies " + std::to_string(static_cast<int>(100 * h.below_support)) +
+              "% inside the plane the parts stand on";
+      } else if (h.view.SeenThroughShare() > options.max_seen_through_share) {
         why = "the best candidate lies where the sensor saw past " + std::to_string(h.view.seen_through) + " of its " +
               std::to_string(h.view.on_surface + h.view.seen_through) + " points facing it";
       } else if (h.explained.size() < options.min_explained_points || h.score < options.min_score) {
