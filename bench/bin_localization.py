@@ -108,7 +108,8 @@ def main():
     parser.add_argument("--preset", default="phoxi-m-class", help="sensor preset whose noise the noisy scans get")
     parser.add_argument("--json", help="write every figure here")
     parser.add_argument("--peers", default="open3d,pcl", help="peer localizers on the same scans: open3d, pcl, none")
-    parser.add_argument("--pcl-peer", default=os.path.join(HERE, "..", "build", "release", "bench", "localization_pcl_peer"))
+    parser.add_argument("--pcl-peer", help="the localization_pcl_peer executable",
+                        default=os.path.join(HERE, "..", "build", "release", "bench", "localization_pcl_peer"))
     args = parser.parse_args()
 
     channel = grpc.insecure_channel(args.server, options=[("grpc.max_receive_message_length", 64 << 20)])

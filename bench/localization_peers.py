@@ -57,6 +57,7 @@ class Open3dPeer:
 
     def __init__(self):
         import open3d as o3d
+        o3d.utility.random.seed(1)  # segment_plane's and RANSAC's draws
         self.o3d = o3d
         self.reg = o3d.pipelines.registration
         self.models = {}
@@ -129,7 +130,8 @@ class PclPeer:
 
     def __init__(self, executable):
         if not os.access(executable, os.X_OK):
-            raise FileNotFoundError(f"{executable}: build it (cmake --build build/release --target localization_pcl_peer)")
+            raise FileNotFoundError(f"{executable}: build it (cmake --build build/release "
+                                    "--target localization_pcl_peer)")
         self.executable = executable
         self.scan_path = None
 
@@ -186,8 +188,8 @@ class PeerBench:
                 for i, name in enumerate(self.names):
                     file, unit, scale = FIXTURE_PARTS[name]
                     start = time.monotonic()
-                    found, voxel = peer.localize(positions, viewpoint, os.path.join(PARTS_DIR, file), METRES_PER_UNIT[unit] * scale,
-                                                 self.counts[name])
+                    found, voxel = peer.localize(positions, viewpoint, os.path.join(PARTS_DIR, file),
+                                                 METRES_PER_UNIT[unit] * scale, self.counts[name])
                     seconds = time.monotonic() - start
                     scan_s += seconds
                     for pose, score in found:
