@@ -25,6 +25,7 @@ if os.environ.get("VSCAN_PY_STUBS"):
 
 import grpc  # noqa: E402
 from bin_scenes import FIXTURE_PARTS, fill_bin, preset_noise, scan_bin, upload_part  # noqa: E402
+from localization_peers import PeerBench  # noqa: E402
 from vscan.v1 import (cloud_pb2, cloud_pb2_grpc, common_pb2, localization_pb2,  # noqa: E402
                       localization_pb2_grpc, scan_pb2_grpc, scene_pb2, scene_pb2_grpc)
 
@@ -106,6 +107,9 @@ def main():
     parser.add_argument("--distance", type=float, default=0.65, help="sensor above the bin floor, m")
     parser.add_argument("--preset", default="phoxi-m-class", help="sensor preset whose noise the noisy scans get")
     parser.add_argument("--json", help="write every figure here")
+    parser.add_argument("--peers", default="open3d,pcl", help="peer localizers on the same scans: open3d, pcl, none")
+    parser.add_argument("--pcl-peer", help="the localization_pcl_peer executable",
+                        default=os.path.join(HERE, "..", "build", "release", "bench", "localization_pcl_peer"))
     args = parser.parse_args()
 
     channel = grpc.insecure_channel(args.server, options=[("grpc.max_receive_message_length", 64 << 20)])
@@ -121,6 +125,7 @@ def main():
 
     tallies = {(c, n): Tally() for c in ("clean", "noisy") for n in names + ["all"]}
     times = {"clean": [], "noisy": []}
+    peers = PeerBench(names, COUNTS, Tally, [p for p in args.peers.split(",") if p not in ("", "none")], args.pcl_peer)
     runs = []
     for k in range(args.bins):
         seed = args.first_seed + k
@@ -161,6 +166,7 @@ def main():
             print(f"bin seed {seed} {condition}: {len(positions)} points, {len(request.truth)} parts in view, "
                   f"ADD(-S) recall {score.add_recall:.3f}, MSSD AR {score.mssd_average_recall:.3f}, "
                   f"localize {scan_ms / 1000:.1f} s", flush=True)
+            peers.run_scan(localizer, condition, seed, positions, header.sensor_pose.values, request)
             clouds.DeleteCloud(cloud_pb2.DeleteCloudRequest(cloud_id=cloud_id), timeout=30)
         scenes.DeleteScene(scene_pb2.DeleteSceneRequest(scene_id=scene.scene_id), timeout=30)
 
@@ -181,9 +187,11 @@ def main():
         t = np.array(times[condition]) / 1000
         print(f"localize time per scan ({len(names)} part types), {condition}: median {np.median(t):.1f} s, "
               f"max {t.max():.1f} s")
+    peer_summary = peers.report(fmt)
     if args.json:
         with open(args.json, "w") as f:
-            json.dump({"args": vars(args), "summary": summary, "runs": runs, "scan_localize_ms": times}, f, indent=1)
+            json.dump({"args": vars(args), "summary": summary, "runs": runs, "scan_localize_ms": times,
+                       "peers": peer_summary}, f, indent=1)
 
 
 if __name__ == "__main__":
