@@ -26,11 +26,16 @@ if os.environ.get("VSCAN_PY_STUBS"):
 import grpc  # noqa: E402
 from bin_scenes import FIXTURE_PARTS, fill_bin, preset_noise, scan_bin, upload_part  # noqa: E402
 from localization_peers import PeerBench  # noqa: E402
-from vscan.v1 import (cloud_pb2, cloud_pb2_grpc, common_pb2, localization_pb2,  # noqa: E402
+from vscan.v1 import (cloud_pb2, cloud_pb2_grpc, common_pb2, localization_pb2, scan_pb2,  # noqa: E402
                       localization_pb2_grpc, scan_pb2_grpc, scene_pb2, scene_pb2_grpc)
 
 INNER = (0.24, 0.18, 0.10)
 COUNTS = {"angle_block": 6, "round": 6, "plate_holes": 3}
+# The "materials" scans: each part type made of a machined part's material, lit by the sensor
+# preset's own emitter and camera (its returned light), so that dark and saturated pixels leave
+# the gaps a real scanner leaves, with the preset's noise.
+MATERIALS = {"angle_block": "machined-aluminium", "round": "brushed-steel", "plate_holes": "black-anodised-aluminium"}
+CONDITIONS = ("clean", "noisy", "materials")
 # The tube's axis is its z axis (0 to 61 cm in the file): any turn about it, and a half turn about x
 # through its middle.
 TUBE_LENGTH_M = 0.6096
@@ -59,6 +64,24 @@ def symmetry(name, scale):
     return localization_pb2.PartSymmetry(
         continuous=[localization_pb2.ContinuousSymmetry(axis=common_pb2.Vector3(z=1), point=common_pb2.Vector3())],
         discrete=[common_pb2.Pose(matrix=common_pb2.Matrix4(values=flip))])
+
+
+def preset_light(scans, name):
+    """The ReturnedLight a sensor preset scans with."""
+    for preset in scans.ListSensorPresets(scan_pb2.ListSensorPresetsRequest(), timeout=30).presets:
+        if preset.name == name:
+            return preset.returned_light
+    raise KeyError(name)
+
+
+def set_materials(scenes, scene_id, parts):
+    """Gives every part of the scene its type's material from MATERIALS."""
+    material_of = {parts[name][0]: material for name, material in MATERIALS.items()}
+    for o in scenes.GetScene(scene_pb2.GetSceneRequest(scene_id=scene_id), timeout=30).scene.objects:
+        if o.mesh_id in material_of:
+            scenes.SetObjectMaterial(scene_pb2.SetObjectMaterialRequest(
+                scene_id=scene_id, object_id=o.object_id, material=scene_pb2.Material(preset=material_of[o.mesh_id])),
+                timeout=30)
 
 
 def upload_scan(clouds, positions, normals, world_from_sensor, name):
@@ -118,24 +141,29 @@ def main():
     clouds = cloud_pb2_grpc.CloudServiceStub(channel)
     localizer = localization_pb2_grpc.LocalizationServiceStub(channel)
     noise = preset_noise(scans, args.preset)
+    light = preset_light(scans, args.preset)
     parts = {name: upload_part(scenes, name) for name in FIXTURE_PARTS}
     names = list(parts)
     scored_parts = [localization_pb2.ScoredPart(mesh_id=parts[n][0], scale=parts[n][1], symmetry=symmetry(n, parts[n][1]))
                     for n in names]
 
-    tallies = {(c, n): Tally() for c in ("clean", "noisy") for n in names + ["all"]}
-    times = {"clean": [], "noisy": []}
-    peers = PeerBench(names, COUNTS, Tally, [p for p in args.peers.split(",") if p not in ("", "none")], args.pcl_peer)
+    tallies = {(c, n): Tally() for c in CONDITIONS for n in names + ["all"]}
+    times = {c: [] for c in CONDITIONS}
+    peers = PeerBench(names, COUNTS, Tally, [p for p in args.peers.split(",") if p not in ("", "none")], args.pcl_peer,
+                      CONDITIONS)
     runs = []
     for k in range(args.bins):
         seed = args.first_seed + k
         scene = scenes.CreateScene(scene_pb2.CreateSceneRequest(name=f"bench-bin-{seed}"), timeout=30).scene
         job = fill_bin(channel, scene.scene_id, [(parts[n][0], parts[n][1], COUNTS[n]) for n in names], seed,
                        inner_size=INNER)
-        for condition in ("clean", "noisy"):
+        for condition in CONDITIONS:
+            if condition == "materials":
+                set_materials(scenes, scene.scene_id, parts)
             positions, normals, header, stats = scan_bin(
                 scans, scene.scene_id, args.width, args.height, args.distance, hfov_deg=args.hfov,
-                noise=noise if condition == "noisy" else None, seed=seed, inner_size=INNER[:2])
+                noise=None if condition == "clean" else noise, seed=seed, inner_size=INNER[:2],
+                returned_light=light if condition == "materials" else None)
             cloud_id = upload_scan(clouds, positions, normals, header.sensor_pose.values, f"bin-{seed}-{condition}")
             request = localization_pb2.ScorePosesRequest(parts=scored_parts)
             index = {(p.mesh_id, p.scale): i for i, p in enumerate(scored_parts)}
@@ -173,17 +201,20 @@ def main():
     def fmt(v):
         return "-" if v is None else f"{v:.3f}"
     print(f"\n{args.bins} bins, {args.width}x{args.height}, sensor {args.distance} m above the floor; "
-          f"noisy: {args.preset} noise")
-    print("| part | valid instances | ADD(-S) recall clean | MSSD AR clean | ADD(-S) recall noisy | MSSD AR noisy |")
-    print("|---|---|---|---|---|---|")
+          f"noisy: {args.preset} noise; materials: {args.preset} noise and returned light, parts of "
+          + ", ".join(f"{n} {m}" for n, m in MATERIALS.items()))
+    print("| part | valid instances | " + " | ".join(f"ADD(-S) recall {c} | MSSD AR {c}" for c in CONDITIONS) + " |")
+    print("|---|---|" + "---|---|" * len(CONDITIONS))
     summary = {}
     for name in names + ["all"]:
-        c, n = tallies[("clean", name)], tallies[("noisy", name)]
-        summary[name] = {"valid_clean": c.valid, "valid_noisy": n.valid, "add_recall_clean": c.recall(),
-                         "mssd_ar_clean": c.mssd_ar(), "add_recall_noisy": n.recall(), "mssd_ar_noisy": n.mssd_ar()}
-        print(f"| {name} | {c.valid} / {n.valid} | {fmt(c.recall())} | {fmt(c.mssd_ar())} | {fmt(n.recall())} | "
-              f"{fmt(n.mssd_ar())} |")
-    for condition in ("clean", "noisy"):
+        summary[name] = {}
+        row = []
+        for c in CONDITIONS:
+            t = tallies[(c, name)]
+            summary[name].update({f"valid_{c}": t.valid, f"add_recall_{c}": t.recall(), f"mssd_ar_{c}": t.mssd_ar()})
+            row.append(f"{fmt(t.recall())} | {fmt(t.mssd_ar())}")
+        print(f"| {name} | " + " / ".join(str(tallies[(c, name)].valid) for c in CONDITIONS) + " | " + " | ".join(row) + " |")
+    for condition in CONDITIONS:
         t = np.array(times[condition]) / 1000
         print(f"localize time per scan ({len(names)} part types), {condition}: median {np.median(t):.1f} s, "
               f"max {t.max():.1f} s")

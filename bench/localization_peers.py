@@ -162,8 +162,8 @@ class PclPeer:
 class PeerBench:
     """Runs each peer on every scan, scores it with the scan's truth, and tallies as for vscan."""
 
-    def __init__(self, names, counts, tally, peer_names, pcl_executable):
-        self.names, self.counts = names, counts
+    def __init__(self, names, counts, tally, peer_names, pcl_executable, conditions=("clean", "noisy")):
+        self.names, self.counts, self.conditions = names, counts, conditions
         self.peers = {}
         for peer in peer_names:
             if peer == "open3d":
@@ -172,8 +172,8 @@ class PeerBench:
                 self.peers[peer] = PclPeer(pcl_executable)
             else:
                 raise ValueError(f"--peers: unknown peer {peer!r} (open3d, pcl, none)")
-        self.tallies = {(p, c, n): tally() for p in self.peers for c in ("clean", "noisy") for n in names + ["all"]}
-        self.times = {(p, c): [] for p in self.peers for c in ("clean", "noisy")}
+        self.tallies = {(p, c, n): tally() for p in self.peers for c in conditions for n in names + ["all"]}
+        self.times = {(p, c): [] for p in self.peers for c in conditions}
         self.runs = []
 
     def run_scan(self, localizer, condition, seed, positions, world_from_sensor, scored):
@@ -212,19 +212,20 @@ class PeerBench:
         summary = {}
         if not self.peers:
             return summary
-        print("\n| peer | part | valid instances | ADD(-S) recall clean | MSSD AR clean | ADD(-S) recall noisy | "
-              "MSSD AR noisy |")
-        print("|---|---|---|---|---|---|---|")
+        print("\n| peer | part | valid instances | "
+              + " | ".join(f"ADD(-S) recall {c} | MSSD AR {c}" for c in self.conditions) + " |")
+        print("|---|---|---|" + "---|---|" * len(self.conditions))
         for peer_name, peer in self.peers.items():
             summary[peer_name] = {"label": peer.label, "parts": {}}
             for name in self.names + ["all"]:
-                c, n = self.tallies[(peer_name, "clean", name)], self.tallies[(peer_name, "noisy", name)]
-                summary[peer_name]["parts"][name] = {
-                    "valid_clean": c.valid, "valid_noisy": n.valid, "add_recall_clean": c.recall(),
-                    "mssd_ar_clean": c.mssd_ar(), "add_recall_noisy": n.recall(), "mssd_ar_noisy": n.mssd_ar()}
-                print(f"| {peer.label} | {name} | {c.valid} / {n.valid} | {c.add_correct}/{c.valid} = "
-                      f"{fmt(c.recall())} | {fmt(c.mssd_ar())} | {n.add_correct}/{n.valid} = {fmt(n.recall())} | "
-                      f"{fmt(n.mssd_ar())} |")
+                figures, cells = {}, []
+                for c in self.conditions:
+                    t = self.tallies[(peer_name, c, name)]
+                    figures.update({f"valid_{c}": t.valid, f"add_recall_{c}": t.recall(), f"mssd_ar_{c}": t.mssd_ar()})
+                    cells.append(f"{t.add_correct}/{t.valid} = {fmt(t.recall())} | {fmt(t.mssd_ar())}")
+                summary[peer_name]["parts"][name] = figures
+                valid = " / ".join(str(self.tallies[(peer_name, c, name)].valid) for c in self.conditions)
+                print(f"| {peer.label} | {name} | {valid} | " + " | ".join(cells) + " |")
         for (peer_name, condition), seconds in self.times.items():
             t = np.array(seconds)
             summary[peer_name][f"scan_seconds_{condition}"] = seconds

@@ -92,6 +92,7 @@ int main(int argc, char** argv) {
   LocalizerOptions options;
   options.sensor_position = sensor;
   if (argc > 4) options.min_score = std::stod(argv[4]);
+  if (argc > 5) options.max_seen_through_share = std::stod(argv[5]);
   StatusOr<LocalizationResult> found = Internal("not run");
   for (int run = 0; run < runs; ++run) {
     const auto start = std::chrono::steady_clock::now();

@@ -56,9 +56,11 @@ def fill_bin(channel, scene_id, parts, seed, inner_size=(0.24, 0.18, 0.10), time
     return job
 
 
-def scan_bin(scans, scene_id, width, height, height_m, hfov_deg=48.8, noise=None, seed=0, inner_size=(0.24, 0.18)):
+def scan_bin(scans, scene_id, width, height, height_m, hfov_deg=48.8, noise=None, seed=0, inner_size=(0.24, 0.18),
+             returned_light=None):
     """A scan from height_m above the bin's floor centre (x right along the bin's length) with
-    estimated normals and ground truth. Returns (positions, estimated_normals, header, statistics)."""
+    estimated normals and ground truth; with returned_light, lit by the sensor's emitter and the
+    objects' materials. Returns (positions, estimated_normals, header, statistics)."""
     request = scan_pb2.ScanRequest(scene_id=scene_id, seed=seed, frame=scan_pb2.FRAME_WORLD, ground_truth=True)
     camera = request.sensor.pinhole
     camera.width, camera.height, camera.horizontal_fov_deg = width, height, hfov_deg
@@ -69,6 +71,8 @@ def scan_bin(scans, scene_id, width, height, height_m, hfov_deg=48.8, noise=None
     request.fields.extend([scan_pb2.POINT_FIELD_POSITION, scan_pb2.POINT_FIELD_ESTIMATED_NORMAL])
     if noise is not None:
         request.noise.CopyFrom(noise)
+    if returned_light is not None:
+        request.returned_light.CopyFrom(returned_light)
     header, stats, positions, normals = None, None, [], []
     for message in scans.Scan(request, timeout=300):
         kind = message.WhichOneof("part")

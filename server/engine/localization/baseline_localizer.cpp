@@ -37,8 +37,11 @@ constexpr size_t kMinCandidates = 24;
 // A hypothesis with more of its explained scan points than this already taken by an accepted
 // instance is that instance again (or a fit onto it).
 constexpr double kMaxSharedSurface = 0.3;
-// In the view ranking, a candidate with a fifth of its facing points seen through drops to nothing.
-constexpr double kSeenThroughWeight = 5;
+// In the ranking of voted candidates, one with a fifth of its facing points seen through drops to
+// nothing; refined hypotheses are ordered with a milder weight (half seen through: nothing), as
+// true instances of shiny parts have a share of their facing points where the scan saw deeper.
+constexpr double kRankSeenThroughWeight = 5;
+constexpr double kSeenThroughWeight = 2;
 // Planar pieces wider than this many times the largest part are bin walls, rims or tables; their
 // points are connected when within kLinkVoxels voxels; planes with fewer points are not looked for.
 constexpr double kLargePlaneExtent = 1.5;
@@ -324,7 +327,7 @@ void RankByView(const ScanView& view, const PartModel& part, size_t count, std::
   tbb::parallel_for(size_t{0}, count, [&](size_t c) {
     const ScanView::Tally seen = view.Check(part.ppf_points, candidates[c].scene_from_part, part.ppf_step);
     ranked[c] = {static_cast<double>(seen.on_surface) * static_cast<double>(candidates[c].votes) *
-                     std::max(0.0, 1 - kSeenThroughWeight * seen.SeenThroughShare()),
+                     std::max(0.0, 1 - kRankSeenThroughWeight * seen.SeenThroughShare()),
                  c};
   });
   std::stable_sort(ranked.begin(), ranked.end(), [](const auto& a, const auto& b) { return a.first > b.first; });
@@ -511,3 +514,4 @@ StatusOr<LocalizationResult> LocalizeInstances(const TriangleMesh& part, const P
 }
 
 }  // namespace vscan::localization
+
