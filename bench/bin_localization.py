@@ -84,6 +84,25 @@ def set_materials(scenes, scene_id, parts):
                 timeout=30)
 
 
+def save_scan(base, positions, normals, header, stats, part_index):
+    """BASE.ply (x y z nx ny nz) and BASE.txt: the sensor's position, then per true part its index,
+    visible fraction and world_from_part row by row, as bench/localize_saved_scan.cpp reads them."""
+    os.makedirs(os.path.dirname(base) or ".", exist_ok=True)
+    ply = ("ply\nformat binary_little_endian 1.0\n"
+           f"element vertex {len(positions)}\n"
+           "property float x\nproperty float y\nproperty float z\n"
+           "property float nx\nproperty float ny\nproperty float nz\nend_header\n").encode()
+    with open(base + ".ply", "wb") as f:
+        f.write(ply + np.hstack([positions, normals]).astype("<f4").tobytes())
+    pose = list(header.sensor_pose.values)
+    with open(base + ".txt", "w") as f:
+        f.write(f"{pose[3]} {pose[7]} {pose[11]}\n")
+        for o in stats.objects:
+            if o.mesh_id in part_index:
+                f.write(f"{part_index[o.mesh_id]} {o.visible_fraction} " +
+                        " ".join(repr(v) for v in o.world_from_object.values) + "\n")
+
+
 def upload_scan(clouds, positions, normals, world_from_sensor, name):
     header = ("ply\nformat binary_little_endian 1.0\n"
               f"element vertex {len(positions)}\n"
@@ -130,6 +149,9 @@ def main():
     parser.add_argument("--distance", type=float, default=0.65, help="sensor above the bin floor, m")
     parser.add_argument("--preset", default="phoxi-m-class", help="sensor preset whose noise the noisy scans get")
     parser.add_argument("--json", help="write every figure here")
+    parser.add_argument("--save-scans", metavar="DIR",
+                        help="also write each scan as DIR/SEED-CONDITION.ply and .txt, the input of "
+                             "build/release/bench/localize_saved_scan")
     parser.add_argument("--peers", default="open3d,pcl", help="peer localizers on the same scans: open3d, pcl, none")
     parser.add_argument("--pcl-peer", help="the localization_pcl_peer executable",
                         default=os.path.join(HERE, "..", "build", "release", "bench", "localization_pcl_peer"))
@@ -165,6 +187,9 @@ def main():
                 noise=None if condition == "clean" else noise, seed=seed, inner_size=INNER[:2],
                 returned_light=light if condition == "materials" else None)
             cloud_id = upload_scan(clouds, positions, normals, header.sensor_pose.values, f"bin-{seed}-{condition}")
+            if args.save_scans:
+                save_scan(os.path.join(args.save_scans, f"{seed}-{condition}"), positions, normals, header, stats,
+                          {parts[n][0]: i for i, n in enumerate(names)})
             request = localization_pb2.ScorePosesRequest(parts=scored_parts)
             index = {(p.mesh_id, p.scale): i for i, p in enumerate(scored_parts)}
             for o in stats.objects:
