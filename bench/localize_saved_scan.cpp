@@ -5,7 +5,7 @@
 // block 1, tube 0.127 with 6 at most, plate 0.25 with 3) and prints, per true instance, the nearest
 // estimate and whether ADD(-S) matched it.
 //
-//     VSCAN_PY_STUBS=build/release/python /usr/bin/python3 bench/bin_localization.py --server ADDRESS \
+//     VSCAN_PY_STUBS=build/release/python /usr/bin/python3 bench/bin_localization.py --server ADDRESS
 //         --save-scans scans --peers none
 //     build/release/bench/localize_saved_scan scans/1-clean [runs [parts [min_score [max_seen_through_share]]]]
 //
