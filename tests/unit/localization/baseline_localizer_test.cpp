@@ -145,54 +145,15 @@ TEST(BaselineLocalizer, FindsTubesAmongAngleBlocksWithTheSensorsView) {
   }
 }
 
-// Three pins (the tube at 0.127: 77 mm long, 6.5 mm across) lying on a floor beside six angle
-// blocks, seen from 0.45 m at 1280 x 960 as in a filled bin. Votes alone rank the pins' poses below
-// hundreds of fits onto the blocks and the floor's edges.
-constexpr double kPinFloor = 0.3, kPinScale = 0.127;
+// Votes alone rank the pins' poses below hundreds of fits onto the blocks and the floor's edges.
+using testing::kPinFloor;
+using testing::PinsBesideBlocks;
+using testing::ScanPinsBesideBlocks;
 
-struct PinsAndBlocks {
-  std::shared_ptr<TriangleMesh> pin;
-  std::vector<Pose3> pins, blocks;
-  PointCloud scan;
-};
-
-PinsAndBlocks ScanPinsAndBlocks() {
-  PinsAndBlocks scene;
-  scene.pin = std::make_shared<TriangleMesh>(*LoadPart(FixturePart::kRound));
-  for (auto& v : scene.pin->vertices) v *= static_cast<float>(kPinScale);
-  const double radius = 0.0254 * kPinScale;
-  const std::vector<PlacedPart> blocks = LyingParts({{FixturePart::kAngleBlock, 6}}, 0.2, 4);
-  std::vector<raycast::SceneInstance> instances = testing::FloorInstances(blocks, kPinFloor);
-  for (const PlacedPart& block : blocks) scene.blocks.push_back(block.world_from_part);
-  for (const Eigen::Vector2d& at : {Eigen::Vector2d(-0.12, 0.125), Eigen::Vector2d(0.03, 0.125),
-                                    Eigen::Vector2d(-0.04, -0.13)}) {
-    Pose3 pose = Pose3::Identity();
-    pose.linear() = Eigen::AngleAxisd(std::numbers::pi / 2, Eigen::Vector3d::UnitY()).toRotationMatrix();
-    pose.translation() = Eigen::Vector3d(at.x(), at.y(), radius);
-    scene.pins.push_back(pose);
-    instances.push_back({scene.pin, pose, 1.0, static_cast<uint32_t>(100 + scene.pins.size())});
-  }
-  auto built = raycast::RaycastScene::Build(instances);
-  EXPECT_TRUE(built.ok()) << built.status().ToString();
-  if (!built.ok()) return scene;
-  raycast::ScanOptions scan_options;
-  scan_options.fields = kFieldPosition | kFieldNormal;
-  auto scan = raycast::Scan(**built, sensor::CameraFromFov(1280, 960, 50, 0.05, 4 * kPinFloor),
-                            testing::FloorSensorPose(kPinFloor), scan_options);
-  EXPECT_TRUE(scan.ok()) << scan.status().ToString();
-  if (scan.ok()) scene.scan = std::move(*scan);
-  return scene;
-}
-
-PartDefinition PinDefinition(const TriangleMesh& pin, uint32_t id) {
-  PartSymmetries symmetries = SymmetriesOf(FixturePart::kRound);
-  for (Pose3& flip : symmetries.discrete) flip.translation() *= kPinScale;
-  for (auto& axis : symmetries.continuous) axis.point *= kPinScale;
-  return {id, pin.vertices, symmetries};
-}
+PartDefinition PinDefinition(const TriangleMesh& pin, uint32_t id) { return {id, pin.vertices, testing::PinSymmetries()}; }
 
 TEST(BaselineLocalizer, FindsPinsBesideAngleBlocksWithTheSensorsView) {
-  const PinsAndBlocks scene = ScanPinsAndBlocks();
+  const PinsBesideBlocks scene = ScanPinsBesideBlocks();
   ASSERT_GT(scene.scan.size(), 100000u);
   LocalizerOptions options = WithSensorOf(kPinFloor);
   options.max_instances = 3;
@@ -212,7 +173,7 @@ TEST(BaselineLocalizer, FindsPinsBesideAngleBlocksWithTheSensorsView) {
 // Both part types in one call: every instance carries the index of its part, and each part's
 // instances are scored against that part's truth only.
 TEST(BaselineLocalizer, FindsSeveralPartTypesInOneCall) {
-  const PinsAndBlocks scene = ScanPinsAndBlocks();
+  const PinsBesideBlocks scene = ScanPinsBesideBlocks();
   const std::vector<PartQuery> queries{{AngleBlock().get(), 6}, {scene.pin.get(), 3}};
   std::vector<LocalizeProgress> reports;
   auto found = LocalizeParts(queries, scene.scan.positions, scene.scan.normals, WithSensorOf(kPinFloor), nullptr,

@@ -207,4 +207,32 @@ PointCloud ScanFloor(const std::vector<PlacedPart>& parts, double floor_side, ui
               sensor::CameraFromFov(width, height, 50, 0.05, 4 * floor_side));
 }
 
+PinsBesideBlocks ScanPinsBesideBlocks() {
+  PinsBesideBlocks scene;
+  auto pin = std::make_shared<TriangleMesh>(*LoadPart(FixturePart::kRound));
+  for (auto& v : pin->vertices) v *= static_cast<float>(kPinScale);
+  scene.pin = pin;
+  const double radius = 0.0254 * kPinScale;
+  const std::vector<PlacedPart> blocks = LyingParts({{FixturePart::kAngleBlock, 6}}, 0.2, 4);
+  std::vector<raycast::SceneInstance> instances = FloorInstances(blocks, kPinFloor);
+  for (const PlacedPart& block : blocks) scene.blocks.push_back(block.world_from_part);
+  for (const Eigen::Vector2d& at : {Eigen::Vector2d(-0.12, 0.125), Eigen::Vector2d(0.03, 0.125),
+                                    Eigen::Vector2d(-0.04, -0.13)}) {
+    Pose3 pose = Pose3::Identity();
+    pose.linear() = Eigen::AngleAxisd(kPi / 2, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    pose.translation() = Eigen::Vector3d(at.x(), at.y(), radius);
+    scene.pins.push_back(pose);
+    instances.push_back({pin, pose, 1.0, static_cast<uint32_t>(100 + scene.pins.size())});
+  }
+  scene.scan = Cast(instances, FloorSensorPose(kPinFloor), sensor::CameraFromFov(1280, 960, 50, 0.05, 4 * kPinFloor));
+  return scene;
+}
+
+PartSymmetries PinSymmetries() {
+  PartSymmetries symmetries = SymmetriesOf(FixturePart::kRound);
+  for (Pose3& flip : symmetries.discrete) flip.translation() *= kPinScale;
+  for (auto& axis : symmetries.continuous) axis.point *= kPinScale;
+  return symmetries;
+}
+
 }  // namespace vscan::localization::testing

@@ -56,4 +56,21 @@ Pose3 FloorSensorPose(double floor_side);
 // FloorSensorPose with a 50 degree wide view of width x height pixels.
 PointCloud ScanFloor(const std::vector<PlacedPart>& parts, double floor_side, uint32_t width, uint32_t height);
 
+// Three pins (the tube at kPinScale: 77 mm long, 6.5 mm across) lying beside six angle blocks on a
+// floor of side kPinFloor, seen from FloorSensorPose(kPinFloor) at 1280 x 960 as in a filled bin:
+// two part types, one of them scaled.
+inline constexpr double kPinScale = 0.127;
+inline constexpr double kPinFloor = 0.3;
+
+struct PinsBesideBlocks {
+  std::shared_ptr<const TriangleMesh> pin;  // the tube at kPinScale
+  std::vector<Pose3> blocks;                // angle blocks at scale 1
+  std::vector<Pose3> pins;
+  PointCloud scan;  // world frame, positions and true normals
+};
+PinsBesideBlocks ScanPinsBesideBlocks();
+
+// The tube's symmetries at kPinScale (its flip moves with the scale).
+PartSymmetries PinSymmetries();
+
 }  // namespace vscan::localization::testing
