@@ -22,6 +22,11 @@ constexpr uint64_t kSampleSeed = 1;
 
 }  // namespace
 
+size_t PartModel::MemoryBytes() const {
+  const size_t points = model.points.size() + ppf_points.points.size();
+  return (ppf ? ppf->memory_bytes() : 0) + points * 2 * sizeof(Eigen::Vector3f) + model.points.size() * 32;
+}
+
 double DefaultVoxel(const TriangleMesh& part) {
   Eigen::Vector3f lo, hi;
   part.Bounds(lo, hi);

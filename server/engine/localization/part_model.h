@@ -27,6 +27,9 @@ struct PartModelSettings {
 };
 
 struct PartModel {
+  // About what the model holds in memory (its pair table, mostly).
+  size_t MemoryBytes() const;
+
   OrientedPoints model;       // thinned to the voxel
   OrientedPoints ppf_points;  // thinned to the PPF step
   std::vector<Eigen::Vector3f> ppf_rims;  // RimDirections of ppf_points

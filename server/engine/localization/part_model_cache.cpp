@@ -20,13 +20,25 @@ StatusOr<std::shared_ptr<const PartModel>> PartModelCache::Get(const std::string
   const std::lock_guard lock(mutex_);
   kept_.remove_if([&](const auto& entry) { return entry.first == key; });
   kept_.emplace_front(key, model);
-  while (kept_.size() > capacity_) kept_.pop_back();
+  const auto total = [&] {
+    size_t bytes = 0;
+    for (const auto& entry : kept_) bytes += entry.second->MemoryBytes();
+    return bytes;
+  };
+  while (kept_.size() > 1 && (kept_.size() > capacity_ || total() > max_bytes_)) kept_.pop_back();
   return model;
 }
 
 size_t PartModelCache::size() const {
   const std::lock_guard lock(mutex_);
   return kept_.size();
+}
+
+size_t PartModelCache::bytes() const {
+  const std::lock_guard lock(mutex_);
+  size_t bytes = 0;
+  for (const auto& entry : kept_) bytes += entry.second->MemoryBytes();
+  return bytes;
 }
 
 std::string PartModelKey(const std::string& mesh_name, double scale, const PartModelSettings& settings) {

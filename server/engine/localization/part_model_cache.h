@@ -17,17 +17,21 @@ namespace vscan::localization {
 
 class PartModelCache {
  public:
-  explicit PartModelCache(size_t capacity = 8) : capacity_(capacity) {}
+  // At most `capacity` models and about max_bytes of them (the newest is kept whatever its size).
+  explicit PartModelCache(size_t capacity = 8, size_t max_bytes = size_t{512} << 20)
+      : capacity_(capacity), max_bytes_(max_bytes) {}
 
   // The model kept under key, or the one build makes (kept when it succeeds; the least recently
-  // used one leaves when more than capacity are kept). Two callers missing at once may both build.
+  // used ones leave while more than capacity, or more than max_bytes, are kept). Two callers
+  // missing at once may both build.
   StatusOr<std::shared_ptr<const PartModel>> Get(const std::string& key,
                                                  const std::function<StatusOr<PartModel>()>& build);
 
   size_t size() const;
+  size_t bytes() const;
 
  private:
-  size_t capacity_;
+  size_t capacity_, max_bytes_;
   mutable std::mutex mutex_;
   std::list<std::pair<std::string, std::shared_ptr<const PartModel>>> kept_;  // most recent first
 };

@@ -55,6 +55,8 @@ class PpfModel {
                                   std::span<const Eigen::Vector3f> rims, const std::atomic<bool>* cancel = nullptr) const;
 
   size_t pair_count() const { return entries_.size(); }
+  // What the table holds in memory.
+  size_t memory_bytes() const { return entries_.capacity() * sizeof(Entry) + runs_.capacity() * sizeof(Run); }
 
  private:
   struct Entry {

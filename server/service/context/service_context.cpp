@@ -7,8 +7,10 @@ namespace vscan::service {
 
 namespace {
 constexpr size_t kCachedShapes = 512;
-// Part models take up to about 150 MiB each (their pair tables); a cell works with a few parts.
+// A cell works with a few parts; a part model is 10-20 MiB for the fixture parts and up to about
+// 300 MiB at the pair table's bound, so the models kept are bounded by bytes too.
 constexpr size_t kCachedPartModels = 8;
+constexpr size_t kCachedPartModelBytes = size_t{512} << 20;
 }
 
 ServiceContext::ServiceContext(scenes::SceneRegistry& registry, jobs::WorkerPool& workers,
@@ -18,7 +20,7 @@ ServiceContext::ServiceContext(scenes::SceneRegistry& registry, jobs::WorkerPool
     : registry(registry), workers(workers), call_workers(call_workers), options(options), robots(robots), raster(raster),
       clouds(clouds), blobs(blobs), scans(options.limits.max_concurrent_scans),
       shapes(std::make_shared<collision::ShapeCache>(kCachedShapes)),
-      part_models(std::make_shared<localization::PartModelCache>(kCachedPartModels)) {}
+      part_models(std::make_shared<localization::PartModelCache>(kCachedPartModels, kCachedPartModelBytes)) {}
 
 ServiceContext::~ServiceContext() = default;
 
