@@ -14,23 +14,16 @@
 #include <tbb/parallel_for.h>
 
 #include "localization/boundary_points.h"
-#include "localization/large_planes.h"
 #include "localization/oriented_points.h"
+#include "localization/hypothesis.h"
 #include "localization/part_model.h"
+#include "localization/prepared_scan.h"
 #include "localization/ppf_voting.h"
-#include "localization/scan_grid.h"
 #include "localization/scan_view.h"
-#include "localization/support_plane.h"
-#include "normals/normal_estimation.h"
-#include "registration/point_to_plane_icp.h"
-#include "spatial/kd_tree.h"
 
 namespace vscan::localization {
 namespace {
 
-// A voted pose is within about one bin of the truth; ICP pairs points up to two bins apart.
-constexpr double kIcpReachInPpfSteps = 2;
-constexpr uint64_t kPlaneSeed = 1;
 // Candidates refined and verified per instance still wanted, best first, in each round.
 constexpr size_t kCandidatesPerInstance = 8;
 constexpr size_t kMinCandidates = 24;
@@ -38,18 +31,9 @@ constexpr size_t kMinCandidates = 24;
 // instance is that instance again (or a fit onto it).
 constexpr double kMaxSharedSurface = 0.3;
 // In the ranking of voted candidates, one with a fifth of its facing points seen through drops to
-// nothing; refined hypotheses are ordered with a milder weight (half seen through: nothing), as
-// true instances of shiny parts have a share of their facing points where the scan saw deeper.
+// nothing (hypotheses are ordered with a milder weight: hypothesis.h).
 constexpr double kRankSeenThroughWeight = 5;
-constexpr double kSeenThroughWeight = 2;
-// Planar pieces wider than this many times the largest part are bin walls, rims or tables; their
-// points are connected when within kLinkVoxels voxels; planes with fewer points are not looked for.
-constexpr double kLargePlaneExtent = 1.5;
-constexpr double kLinkVoxels = 3;
-constexpr size_t kMinLargePlanePoints = 500;
 constexpr double kScanVoxelsPerExtent = 80;
-// The most scan points a candidate's ICP runs on.
-constexpr size_t kMaxIcpPoints = 2000;
 // A part cannot stand in the plate it lies on: a hypothesis with more of its points than this
 // behind the support plane is a fit through it.
 constexpr double kMaxBelowSupport = 0.05;
@@ -103,218 +87,12 @@ bool IsCancelled(const std::atomic<bool>* cancel) {
   return cancel != nullptr && cancel->load(std::memory_order_relaxed);
 }
 
-// The scan with a unit normal per point facing the sensor: its own, or estimated and turned
-// towards the viewpoint (points without a normal are dropped).
-StatusOr<OrientedPoints> WithNormals(std::span<const Eigen::Vector3f> points, std::span<const Eigen::Vector3f> normals,
-                                     double voxel, const LocalizerOptions& options,
-                                     const std::atomic<bool>* cancel) {
-  OrientedPoints scan;
-  if (!normals.empty()) {
-    for (size_t i = 0; i < points.size(); ++i) {
-      if (!points[i].allFinite() || !normals[i].allFinite()) continue;
-      scan.points.push_back(points[i]);
-      scan.normals.push_back(normals[i].normalized());
-    }
-    return scan;
-  }
-  normals::NormalOptions normal_options;
-  normal_options.max_distance = static_cast<float>(3 * voxel);
-  normal_options.viewpoint = options.viewpoint.cast<float>();
-  normal_options.cancel = cancel;
-  ASSIGN_OR_RETURN(const std::vector<Eigen::Vector3f> estimated, normals::EstimateNormals(points, normal_options));
-  for (size_t i = 0; i < points.size(); ++i) {
-    if (!points[i].allFinite() || !estimated[i].allFinite()) continue;
-    scan.points.push_back(points[i]);
-    scan.normals.push_back(estimated[i]);
-  }
-  return scan;
-}
-
-// Marks the points near the part placed by world_from_part and, with max_normal_cos > -1, facing
-
-// The scan as every part's search sees it: thinned to the finest part's voxel, the plate removed,
-// and what the sensor saw.
-struct PreparedScan {
-  OrientedPoints points;
-  std::optional<ScanView> view;
-  size_t support_plane_points = 0;
-  // The plane the parts stand on, its normal turned to the side most of the other points are on.
-  std::optional<Plane> support;
-};
-
-StatusOr<PreparedScan> PrepareScan(std::span<const Eigen::Vector3f> scan_points, std::span<const Eigen::Vector3f> scan_normals,
-                                   double voxel, double largest_part, const LocalizerOptions& options,
-                                   const std::atomic<bool>* cancel) {
-  PreparedScan prepared;
-  ASSIGN_OR_RETURN(const OrientedPoints scan, WithNormals(scan_points, scan_normals, voxel, options, cancel));
-  if (options.sensor_position) prepared.view.emplace(scan.points, *options.sensor_position, voxel);
-  OrientedPoints thin = ThinOriented(scan, voxel, kFaceSplitAngleRad);
-  if (options.remove_support_plane) {
-    const double distance = options.plane_distance_voxels * voxel;
-    if (auto plane = FindDominantPlane(thin.points, distance, options.min_plane_share, kPlaneSeed)) {
-      OrientedPoints kept;
-      for (size_t i = 0; i < thin.points.size(); ++i) {
-        if (plane->Distance(thin.points[i]) <= distance) continue;
-        kept.points.push_back(thin.points[i]);
-        kept.normals.push_back(thin.normals[i]);
-      }
-      for (const auto& p : scan.points) prepared.support_plane_points += plane->Distance(p) <= distance ? 1 : 0;
-      size_t above = 0;
-      for (const auto& p : kept.points) above += plane->normal.dot(p.cast<double>()) + plane->offset > 0 ? 1 : 0;
-      if (2 * above < kept.points.size()) plane->normal = -plane->normal, plane->offset = -plane->offset;
-      prepared.support = plane;
-      thin = std::move(kept);
-    }
-    LargePlaneSettings large;
-    large.distance = distance;
-    large.link = kLinkVoxels * voxel;
-    large.min_extent = kLargePlaneExtent * largest_part;
-    large.min_points = kMinLargePlanePoints;
-    large.seed = kPlaneSeed;
-    const std::vector<bool> on_large = MarkLargePlanes(thin, large);
-    OrientedPoints kept;
-    for (size_t i = 0; i < thin.points.size(); ++i) {
-      if (on_large[i]) continue;
-      kept.points.push_back(thin.points[i]);
-      kept.normals.push_back(thin.normals[i]);
-    }
-    thin = std::move(kept);
-  }
-  prepared.points = std::move(thin);
-  return prepared;
-}
-
-// One part placed somewhere, refined and checked against the scan.
-struct Hypothesis {
-  size_t part = 0;
-  Pose3 pose = Pose3::Identity();
-  double score = 0;
-  ScanView::Tally view;
-  double below_support = 0;  // share of its points inside what the parts stand on
-  std::vector<uint32_t> explained;  // prepared scan points it accounts for
-  double Quality() const { return score * std::max(0.0, 1 - kSeenThroughWeight * view.SeenThroughShare()); }
-};
-
 // A part's search state over the rounds.
 struct PartState {
   const PartModel* model = nullptr;
   size_t max_instances = 0;
   std::unique_ptr<ScanGrid> grid;
   PartSearch summary;
-};
-
-// Checks candidate poses of one part against the prepared scan.
-class Verifier {
- public:
-  Verifier(const PartModel& part, const ScanGrid& grid, const PreparedScan& scan, const LocalizerOptions& options)
-      : part_(part), grid_(grid), scan_(scan), options_(options),
-        min_cos_(std::cos(options.max_normal_angle_deg * std::numbers::pi / 180)) {}
-
-  StatusOr<Hypothesis> Verify(const Pose3& voted) const {
-    const double wide = kIcpReachInPpfSteps * part_.ppf_step;
-    const double tight = options_.explained_distance_voxels * part_.voxel;
-    ASSIGN_OR_RETURN(const Pose3 coarse, Refine(voted, wide));
-    ASSIGN_OR_RETURN(const Pose3 refined, Refine(coarse, tight));
-    Hypothesis h;
-    h.pose = refined;
-    h.explained = Near(refined, tight, min_cos_);
-    h.score = ExplainedShare(refined, h.explained);
-    if (scan_.view) h.view = scan_.view->Check(part_.model, refined, tight);
-    if (scan_.support) h.below_support = BelowSupport(refined, tight);
-    return h;
-  }
-
- private:
-  // The prepared scan points within reach of the placed part's surface (and, with min_cos > -1,
-  // facing as it does there).
-  std::vector<uint32_t> Near(const Pose3& world_from_part, double reach, double min_cos) const {
-    std::vector<Eigen::Vector3f> placed(part_.ppf_points.points.size());
-    for (size_t i = 0; i < placed.size(); ++i) {
-      placed[i] = (world_from_part * part_.ppf_points.points[i].cast<double>()).cast<float>();
-    }
-    std::vector<uint32_t> gathered;
-    grid_.Gather(placed, gathered);
-    const Eigen::Isometry3f part_from_world = world_from_part.inverse().cast<float>();
-    const auto max_sq = static_cast<float>(reach * reach);
-    std::array<spatial::Neighbor, 1> nearest{};
-    std::vector<uint32_t> near;
-    const Eigen::AlignedBox3f reach_box(part_.bounds.min().array() - static_cast<float>(reach),
-                                        part_.bounds.max().array() + static_cast<float>(reach));
-    for (const uint32_t i : gathered) {
-      const Eigen::Vector3f local = part_from_world * scan_.points.points[i];
-      if (!reach_box.contains(local) || part_.model_tree->Knn(local, max_sq, nearest) == 0) continue;
-      if (min_cos > -1) {
-        const Eigen::Vector3f& normal = part_.model.normals[part_.model_tree->original_index(nearest[0].slot)];
-        if (normal.dot(part_from_world.linear() * scan_.points.normals[i]) < min_cos) continue;
-      }
-      near.push_back(i);
-    }
-    std::sort(near.begin(), near.end());
-    return near;
-  }
-
-  // The share of the part's points, placed, farther than depth behind the support plane.
-  double BelowSupport(const Pose3& world_from_part, double depth) const {
-    size_t below = 0;
-    for (const auto& p : part_.model.points) {
-      const Eigen::Vector3d world = world_from_part * p.cast<double>();
-      below += scan_.support->normal.dot(world) + scan_.support->offset < -depth ? 1 : 0;
-    }
-    return static_cast<double>(below) / static_cast<double>(std::max<size_t>(1, part_.model.points.size()));
-  }
-
-  // Point-to-plane ICP of the scan points within reach of the part placed at start onto the part's
-  // surface. A degenerate stop keeps the pose reached so far: the directions the view leaves free
-  // (a face seen alone can slide within itself) stay as voted, the others are refined.
-  StatusOr<Pose3> Refine(const Pose3& start, double reach) const {
-    const std::vector<uint32_t> near = Near(start, reach, -1);
-    registration::IcpOptions icp;
-    icp.max_correspondence_distance = reach;
-    // A hundredth of a millimetre and a tenth of a milliradian are finer than any check after it.
-    icp.translation_tolerance = 1e-5;
-    icp.rotation_tolerance = 1e-4;
-    icp.max_iterations = 30;
-    if (near.size() < icp.min_correspondences) return start;
-    // An even share of the points is enough to pull a pose within reach onto the surface.
-    const size_t stride = (near.size() + kMaxIcpPoints - 1) / kMaxIcpPoints;
-    std::vector<Eigen::Vector3f> points, normals;
-    points.reserve(near.size() / stride + 1);
-    normals.reserve(near.size() / stride + 1);
-    for (size_t k = 0; k < near.size(); k += stride) {
-      points.push_back(scan_.points.points[near[k]]);
-      normals.push_back(scan_.points.normals[near[k]]);
-    }
-    ASSIGN_OR_RETURN(const registration::IcpResult fit,
-                     registration::PointToPlaneIcp(points, *part_.icp_target, start.inverse(), icp, normals));
-    return fit.stop == registration::IcpStop::kTooFewCorrespondences ? start : fit.target_from_source.inverse();
-  }
-
-  // The share of the part's points, placed, with an explained scan point within the inlier
-  // distance whose normal is within max_normal_angle_deg of the part's there.
-  double ExplainedShare(const Pose3& world_from_part, const std::vector<uint32_t>& explained) const {
-    if (explained.empty()) return 0;
-    const Eigen::Isometry3f part_from_world = world_from_part.inverse().cast<float>();
-    std::vector<Eigen::Vector3f> local(explained.size());
-    for (size_t k = 0; k < explained.size(); ++k) local[k] = part_from_world * scan_.points.points[explained[k]];
-    const spatial::KdTree tree(local);
-    const double distance = options_.inlier_distance_voxels * part_.voxel;
-    const auto max_sq = static_cast<float>(distance * distance);
-    std::array<spatial::Neighbor, 1> nearest{};
-    size_t inliers = 0;
-    for (size_t i = 0; i < part_.model.points.size(); ++i) {
-      if (tree.Knn(part_.model.points[i], max_sq, nearest) == 0) continue;
-      const Eigen::Vector3f normal =
-          part_from_world.linear() * scan_.points.normals[explained[tree.original_index(nearest[0].slot)]];
-      if (part_.model.normals[i].dot(normal) >= min_cos_) ++inliers;
-    }
-    return static_cast<double>(inliers) / static_cast<double>(part_.model.points.size());
-  }
-
-  const PartModel& part_;
-  const ScanGrid& grid_;
-  const PreparedScan& scan_;
-  const LocalizerOptions& options_;
-  double min_cos_;
 };
 
 // Puts the best-voted candidates in the order of what the sensor saw of them placed as voted (within
