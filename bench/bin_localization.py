@@ -24,9 +24,9 @@ if os.environ.get("VSCAN_PY_STUBS"):
     sys.path.insert(0, os.environ["VSCAN_PY_STUBS"])
 
 import grpc  # noqa: E402
-from bin_scenes import FIXTURE_PARTS, fill_bin, preset_noise, scan_bin, upload_part  # noqa: E402
+from bin_scenes import FIXTURE_PARTS, fill_bin, preset_noise, scan_bin, sensor_preset, upload_part  # noqa: E402
 from localization_peers import PeerBench  # noqa: E402
-from vscan.v1 import (cloud_pb2, cloud_pb2_grpc, common_pb2, localization_pb2, scan_pb2,  # noqa: E402
+from vscan.v1 import (cloud_pb2, cloud_pb2_grpc, common_pb2, localization_pb2,  # noqa: E402
                       localization_pb2_grpc, scan_pb2_grpc, scene_pb2, scene_pb2_grpc)
 
 INNER = (0.24, 0.18, 0.10)
@@ -64,14 +64,6 @@ def symmetry(name, scale):
     return localization_pb2.PartSymmetry(
         continuous=[localization_pb2.ContinuousSymmetry(axis=common_pb2.Vector3(z=1), point=common_pb2.Vector3())],
         discrete=[common_pb2.Pose(matrix=common_pb2.Matrix4(values=flip))])
-
-
-def preset_light(scans, name):
-    """The ReturnedLight a sensor preset scans with."""
-    for preset in scans.ListSensorPresets(scan_pb2.ListSensorPresetsRequest(), timeout=30).presets:
-        if preset.name == name:
-            return preset.returned_light
-    raise KeyError(name)
 
 
 def set_materials(scenes, scene_id, parts):
@@ -163,7 +155,7 @@ def main():
     clouds = cloud_pb2_grpc.CloudServiceStub(channel)
     localizer = localization_pb2_grpc.LocalizationServiceStub(channel)
     noise = preset_noise(scans, args.preset)
-    light = preset_light(scans, args.preset)
+    light = sensor_preset(scans, args.preset).returned_light
     parts = {name: upload_part(scenes, name) for name in FIXTURE_PARTS}
     names = list(parts)
     scored_parts = [localization_pb2.ScoredPart(mesh_id=parts[n][0], scale=parts[n][1], symmetry=symmetry(n, parts[n][1]))

@@ -90,12 +90,17 @@ def scan_bin(scans, scene_id, width, height, height_m, hfov_deg=48.8, noise=None
     return positions[keep], normals[keep], header, stats
 
 
-def preset_noise(scans, name):
-    """The NoiseSpec a sensor preset applies."""
+def sensor_preset(scans, name):
+    """The server's SensorPreset of that name (its noise, returned light, ...)."""
     for preset in scans.ListSensorPresets(scan_pb2.ListSensorPresetsRequest(), timeout=30).presets:
         if preset.name == name:
-            return preset.noise
+            return preset
     raise KeyError(name)
+
+
+def preset_noise(scans, name):
+    """The NoiseSpec a sensor preset applies."""
+    return sensor_preset(scans, name).noise
 
 
 def write_ply(path, positions, normals):
