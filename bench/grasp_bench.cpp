@@ -43,6 +43,7 @@ void Run(const char* name, const char* gripper_name, const TriangleMesh& mesh, c
   double best_ms = 1e300;
   size_t count = 0;
   double best_quality = 0;
+  double min_opening = 0, max_opening = 0;
   for (int r = 0; r < repeats; ++r) {
     const auto start = std::chrono::steady_clock::now();
     const auto grasps = vscan::grasping::GenerateGrasps(mesh, gripper, options);
@@ -54,9 +55,15 @@ void Run(const char* name, const char* gripper_name, const TriangleMesh& mesh, c
     best_ms = std::min(best_ms, ms);
     count = grasps->size();
     best_quality = grasps->empty() ? 0 : grasps->front().quality;
+    min_opening = grasps->empty() ? 0 : 1e300;
+    max_opening = 0;
+    for (const auto& g : *grasps) {
+      min_opening = std::min(min_opening, g.opening_m);
+      max_opening = std::max(max_opening, g.opening_m);
+    }
   }
-  std::printf("%-16s %-8s %7zu tris %9.1f ms %5zu grasps best quality %.3f\n", name, gripper_name,
-              mesh.triangles.size(), best_ms, count, best_quality);
+  std::printf("%-16s %-8s %7zu tris %9.1f ms %5zu grasps best quality %.3f openings %.1f to %.1f mm\n", name,
+              gripper_name, mesh.triangles.size(), best_ms, count, best_quality, 1e3 * min_opening, 1e3 * max_opening);
 }
 
 // A UV sphere of the given radius: rings x segments x 2 triangles less the poles', for the cost of
