@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <variant>
 
 #include <Eigen/Geometry>
 
@@ -14,6 +15,8 @@ namespace {
 
 // Parts larger than this are not parts.
 constexpr double kMaxPartExtentM = 100;
+// Worst-case checks (a candidate against every sample or triangle) one call may cost: a few seconds.
+constexpr double kMaxWork = 2e9;
 // Keys separating the candidate draws from the dense samples.
 constexpr uint64_t kDenseKey = 0x6772617370ull, kCandidateKey = 0x63616e64ull;
 
@@ -50,6 +53,20 @@ Status ValidateOptions(const GraspOptions& o) {
   return Status::Ok();
 }
 
+// Each candidate may visit every dense sample (suction; jaws: at both contacts, for every approach)
+// and, for jaws, test every triangle.
+Status CheckWork(const TriangleMesh& mesh, const Gripper& gripper, const GraspOptions& o) {
+  const bool jaws = std::holds_alternative<ParallelJaws>(gripper);
+  const double per_candidate = jaws ? double(mesh.triangles.size()) + 2.0 * double(o.surface_samples) * double(o.approaches_per_pair)
+                                    : double(o.surface_samples);
+  if (double(o.candidates) * per_candidate > kMaxWork) {
+    return ResourceExhausted("grasp_options.candidates",
+                             jaws ? "candidates x (triangles + 2 x surface_samples x approaches_per_pair) must be <= 2e9"
+                                  : "candidates x surface_samples must be <= 2e9");
+  }
+  return Status::Ok();
+}
+
 }  // namespace
 
 void PerpendicularBasis(const Eigen::Vector3d& z, Eigen::Vector3d& x, Eigen::Vector3d& y) {
@@ -65,6 +82,7 @@ StatusOr<std::vector<Grasp>> GenerateGrasps(const TriangleMesh& mesh, const Grip
   if (auto s = ValidateGripper(gripper); !s.ok()) return s;
   if (auto s = ValidateOptions(options); !s.ok()) return s;
   if (auto s = ValidateMesh(mesh); !s.ok()) return s;
+  if (auto s = CheckWork(mesh, gripper, options); !s.ok()) return s;
   const SurfaceSamples dense = SampleSurface(mesh, options.surface_samples, options.seed ^ kDenseKey);
   if (!(dense.area > 0) || !std::isfinite(dense.area)) return InvalidArgument("mesh", "has no surface area");
   const SurfaceSamples candidates =

@@ -34,7 +34,9 @@ struct Grasp {
 };
 
 // Sorted by quality, best first (ties by draw order); the same seed gives the same grasps.
-// InvalidArgument for a bad gripper (naming its field), options ("grasp_options.*") or mesh ("mesh").
+// InvalidArgument for a bad gripper (naming its field), options ("grasp_options.*") or mesh ("mesh");
+// ResourceExhausted ("grasp_options.candidates") when candidates x surface_samples (suction) or
+// candidates x (triangles + 2 x surface_samples x approaches_per_pair) (jaws) exceeds 2e9.
 StatusOr<std::vector<Grasp>> GenerateGrasps(const TriangleMesh& mesh, const Gripper& gripper,
                                             const GraspOptions& options);
 

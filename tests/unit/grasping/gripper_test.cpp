@@ -95,6 +95,15 @@ TEST(GripperTest, BadOptionsAndMeshesNameTheField) {
   options.flatness_tolerance_m = kNan;
   EXPECT_EQ(GenerateGrasps(box, SuctionCup{}, options).status().field(), "grasp_options.flatness_tolerance_m");
 
+  // Within each range but too much work together: refused before any is done.
+  options = {};
+  options.candidates = 100000;
+  options.surface_samples = 2000000;
+  const auto too_much = GenerateGrasps(box, SuctionCup{}, options);
+  EXPECT_EQ(too_much.status().code(), StatusCode::kResourceExhausted);
+  EXPECT_EQ(too_much.status().field(), "grasp_options.candidates");
+  EXPECT_EQ(GenerateGrasps(box, ParallelJaws{}, options).status().code(), StatusCode::kResourceExhausted);
+
   EXPECT_EQ(GenerateGrasps(TriangleMesh{}, SuctionCup{}, {}).status().field(), "mesh");
   TriangleMesh broken = box;
   broken.triangles.push_back({0, 1, 999});

@@ -130,7 +130,12 @@ TEST(SuctionGraspsTest, MaxGraspsKeepsTheBest) {
   GraspOptions options = Dense();
   options.max_grasps = 5;
   const auto few = Suction(test::MakeBox({0, 0, 0}, kBoxHi), 0.010, options);
-  EXPECT_EQ(few.size(), 5u);
+  const auto all = Suction(test::MakeBox({0, 0, 0}, kBoxHi), 0.010);
+  ASSERT_EQ(few.size(), 5u);
+  ASSERT_GT(all.size(), 5u);
+  for (size_t i = 0; i < few.size(); ++i) {
+    EXPECT_EQ(few[i].part_from_tool.matrix(), all[i].part_from_tool.matrix());
+  }
 }
 
 }  // namespace
