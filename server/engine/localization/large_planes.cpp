@@ -26,8 +26,9 @@ uint64_t CellKey(const Eigen::Vector3f& p, double inverse_link) {
   return (field(p.x()) << 42) | (field(p.y()) << 21) | field(p.z());
 }
 
-// Marks the pieces of `members` (indices into cloud) wider than min_extent; returns how many points.
-size_t MarkWidePieces(const OrientedPoints& cloud, const std::vector<uint32_t>& members,
+// Marks the pieces of `members` (indices into cloud, on the plane with that normal) that are wide
+// structures; returns how many points.
+size_t MarkWidePieces(const OrientedPoints& cloud, const std::vector<uint32_t>& members, const Eigen::Vector3d& normal,
                       const LargePlaneSettings& settings, std::vector<bool>& marked) {
   const double inverse_link = 1.0 / settings.link;
   std::unordered_map<uint64_t, size_t> cells;
@@ -52,11 +53,31 @@ size_t MarkWidePieces(const OrientedPoints& cloud, const std::vector<uint32_t>& 
       }
     }
   }
-  std::unordered_map<size_t, Eigen::AlignedBox3f> boxes;
-  for (size_t k = 0; k < members.size(); ++k) boxes[Root(parent, cell_of[k])].extend(cloud.points[members[k]]);
+  // Per piece: its extent, and in the plane's own axes its rectangle and the cells it occupies.
+  const Eigen::Vector3f u = normal.cast<float>().unitOrthogonal(), v = normal.cast<float>().cross(u);
+  struct Piece {
+    Eigen::AlignedBox3f box;
+    Eigen::AlignedBox2f rectangle;
+    size_t cells = 0;
+  };
+  std::unordered_map<size_t, Piece> pieces;
+  for (size_t k = 0; k < members.size(); ++k) {
+    Piece& piece = pieces[Root(parent, cell_of[k])];
+    const Eigen::Vector3f& p = cloud.points[members[k]];
+    piece.box.extend(p);
+    piece.rectangle.extend(Eigen::Vector2f(p.dot(u), p.dot(v)));
+  }
+  for (size_t c = 0; c < parent.size(); ++c) ++pieces[Root(parent, c)].cells;
+  const bool parallel = settings.support_normal && std::abs(settings.support_normal->dot(normal)) >= 0.866;
+  const auto structure = [&](const Piece& piece) {
+    if (piece.box.diagonal().norm() <= settings.min_extent) return false;
+    if (!parallel) return true;
+    const Eigen::Vector2f sides = piece.rectangle.sizes() * static_cast<float>(inverse_link) + Eigen::Vector2f::Ones();
+    return static_cast<double>(piece.cells) < settings.max_parallel_fill * static_cast<double>(sides.x() * sides.y());
+  };
   size_t count = 0;
   for (size_t k = 0; k < members.size(); ++k) {
-    if (boxes[Root(parent, cell_of[k])].diagonal().norm() <= settings.min_extent) continue;
+    if (!structure(pieces[Root(parent, cell_of[k])])) continue;
     marked[members[k]] = true;
     ++count;
   }
@@ -83,7 +104,7 @@ std::vector<bool> MarkLargePlanes(const OrientedPoints& cloud, const LargePlaneS
       (on ? members : rest).push_back(i);
     }
     if (members.size() < settings.min_points) break;
-    MarkWidePieces(cloud, members, settings, marked);
+    MarkWidePieces(cloud, members, plane->normal, settings, marked);
     // The plane's small pieces (parts' faces) stay in the scan but leave the next plane's search.
     remaining = std::move(rest);
   }

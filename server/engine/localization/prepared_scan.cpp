@@ -74,6 +74,7 @@ StatusOr<PreparedScan> PrepareScan(std::span<const Eigen::Vector3f> scan_points,
     large.min_extent = kLargePlaneExtent * largest_part;
     large.min_points = kMinLargePlanePoints;
     large.seed = kPlaneSeed;
+    if (prepared.support) large.support_normal = prepared.support->normal;
     const std::vector<bool> on_large = MarkLargePlanes(thin, large);
     OrientedPoints kept;
     for (size_t i = 0; i < thin.points.size(); ++i) {
