@@ -61,8 +61,9 @@ void LocalizeProgressReactor::OnProgress(const localization::LocalizeProgress& p
 void LocalizeProgressReactor::SearchEnded(Status status) {
   {
     std::lock_guard lock(mutex_);
+    // A progress update not yet sent still goes before the answer (the search's last, at 100%).
+    if (!status.ok()) progress_.reset();
     search_status_ = std::move(status);
-    progress_.reset();
   }
   Pump();
   Unref();  // nothing of this reactor is touched by the search after this
@@ -84,6 +85,10 @@ void LocalizeProgressReactor::Pump() {
         finish = grpc::Status(grpc::StatusCode::CANCELLED, "the client went away before the response");
         failure = "CANCELLED: " + finish.error_message();
         action = Action::kFinish;
+      } else if (progress_) {
+        *message_.mutable_progress() = std::move(*progress_);
+        progress_.reset();
+        action = Action::kWrite;
       } else if (!response_sent_) {
         message_.mutable_response()->Swap(&response_);
         response_sent_ = true;
