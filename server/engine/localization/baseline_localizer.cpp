@@ -1,7 +1,6 @@
 #include "localization/baseline_localizer.h"
 
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -14,8 +13,8 @@
 #include <tbb/parallel_for.h>
 
 #include "localization/boundary_points.h"
-#include "localization/oriented_points.h"
 #include "localization/hypothesis.h"
+#include "localization/oriented_points.h"
 #include "localization/part_model.h"
 #include "localization/prepared_scan.h"
 #include "localization/ppf_voting.h"
@@ -89,7 +88,6 @@ bool IsCancelled(const std::atomic<bool>* cancel) {
 
 // A part's search state over the rounds.
 struct PartState {
-  const PartModel* model = nullptr;
   size_t max_instances = 0;
   std::unique_ptr<ScanGrid> grid;
   PartSearch summary;
@@ -177,7 +175,6 @@ StatusOr<LocalizationResult> LocalizeParts(std::span<const PartQuery> parts, std
   result.support_plane_points = scan.support_plane_points;
   std::vector<PartState> states(models.size());
   for (size_t p = 0; p < models.size(); ++p) {
-    states[p].model = models[p].get();
     states[p].max_instances = parts[p].max_instances > 0 ? parts[p].max_instances : options.max_instances;
     states[p].grid = std::make_unique<ScanGrid>(scan.points.points, kIcpReachInPpfSteps * models[p]->ppf_step);
     states[p].summary.voxel_size = models[p]->voxel;

@@ -27,8 +27,8 @@ uint64_t CellKey(const Eigen::Vector3f& p, double inverse_link) {
 }
 
 // Marks the pieces of `members` (indices into cloud, on the plane with that normal) that are wide
-// structures; returns how many points.
-size_t MarkWidePieces(const OrientedPoints& cloud, const std::vector<uint32_t>& members, const Eigen::Vector3d& normal,
+// structures.
+void MarkWidePieces(const OrientedPoints& cloud, const std::vector<uint32_t>& members, const Eigen::Vector3d& normal,
                       const LargePlaneSettings& settings, std::vector<bool>& marked) {
   const double inverse_link = 1.0 / settings.link;
   std::unordered_map<uint64_t, size_t> cells;
@@ -75,13 +75,9 @@ size_t MarkWidePieces(const OrientedPoints& cloud, const std::vector<uint32_t>& 
     const Eigen::Vector2f sides = piece.rectangle.sizes() * static_cast<float>(inverse_link) + Eigen::Vector2f::Ones();
     return static_cast<double>(piece.cells) < settings.max_parallel_fill * static_cast<double>(sides.x() * sides.y());
   };
-  size_t count = 0;
   for (size_t k = 0; k < members.size(); ++k) {
-    if (!structure(pieces[Root(parent, cell_of[k])])) continue;
-    marked[members[k]] = true;
-    ++count;
+    if (structure(pieces[Root(parent, cell_of[k])])) marked[members[k]] = true;
   }
-  return count;
 }
 
 }  // namespace

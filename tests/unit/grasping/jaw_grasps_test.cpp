@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "grasp_checks.h"
 #include "grasp_shapes.h"
 #include "grasping/grasp_generation.h"
 #include "vscan_test/meshes.h"
@@ -30,14 +31,8 @@ std::vector<Grasp> Jaws(const TriangleMesh& mesh, double max_opening, uint64_t s
 Eigen::Vector3d Axis(const Grasp& g) { return g.part_from_tool.linear().col(1); }
 
 void ExpectWellFormedJaws(const std::vector<Grasp>& grasps) {
-  for (size_t i = 0; i < grasps.size(); ++i) {
-    const Grasp& g = grasps[i];
-    EXPECT_GE(g.quality, 0);
-    EXPECT_LE(g.quality, 1);
-    if (i > 0) {
-      EXPECT_LE(g.quality, grasps[i - 1].quality);
-    }
-    EXPECT_TRUE(g.part_from_tool.linear().isUnitary(1e-9));
+  testing::ExpectSortedRigidGrasps(grasps);
+  for (const Grasp& g : grasps) {
     EXPECT_NEAR(g.part_from_tool.linear().determinant(), 1, 1e-9);
     EXPECT_NEAR(g.approach.dot(Axis(g)), 0, 1e-9);  // approach perpendicular to the squeeze
   }

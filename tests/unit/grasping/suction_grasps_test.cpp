@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include "grasp_checks.h"
 #include "grasp_shapes.h"
 #include "grasping/grasp_generation.h"
 #include "vscan_test/meshes.h"
@@ -40,15 +41,8 @@ int FaceOf(const Grasp& g) {
 }
 
 void ExpectWellFormedSuction(const std::vector<Grasp>& grasps) {
-  for (size_t i = 0; i < grasps.size(); ++i) {
-    const Grasp& g = grasps[i];
-    EXPECT_GE(g.quality, 0);
-    EXPECT_LE(g.quality, 1);
-    if (i > 0) {
-      EXPECT_LE(g.quality, grasps[i - 1].quality);
-    }
-    EXPECT_TRUE(g.part_from_tool.linear().isUnitary(1e-9));
-    EXPECT_GT(g.part_from_tool.linear().determinant(), 0);
+  testing::ExpectSortedRigidGrasps(grasps);
+  for (const Grasp& g : grasps) {
     EXPECT_TRUE(g.part_from_tool.linear().col(2).isApprox(g.approach, 1e-12));
   }
 }
