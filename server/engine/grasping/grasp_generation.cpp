@@ -20,24 +20,6 @@ constexpr double kMaxWork = 2e9;
 // Keys separating the candidate draws from the dense samples.
 constexpr uint64_t kDenseKey = 0x6772617370ull, kCandidateKey = 0x63616e64ull;
 
-Status ValidateMesh(const TriangleMesh& mesh) {
-  if (mesh.triangles.empty()) return InvalidArgument("mesh", "has no triangles");
-  for (const auto& v : mesh.vertices) {
-    if (!v.allFinite()) return InvalidArgument("mesh", "has a non-finite vertex");
-  }
-  for (const auto& t : mesh.triangles) {
-    for (uint32_t i : t) {
-      if (i >= mesh.vertices.size()) return InvalidArgument("mesh", "has a triangle index out of range");
-    }
-  }
-  Eigen::Vector3f lo, hi;
-  mesh.Bounds(lo, hi);
-  if (!((hi - lo).cast<double>().maxCoeff() <= kMaxPartExtentM)) {
-    return InvalidArgument("mesh", "is larger than 100 m (are its units metres?)");
-  }
-  return Status::Ok();
-}
-
 Status ValidateOptions(const GraspOptions& o) {
   if (o.max_grasps < 1 || o.max_grasps > 100000) return InvalidArgument("grasp_options.max_grasps", "must be in [1, 100000]");
   if (o.surface_samples < 100 || o.surface_samples > 2000000) {
@@ -69,6 +51,24 @@ Status CheckWork(const TriangleMesh& mesh, const Gripper& gripper, const GraspOp
 
 }  // namespace
 
+Status ValidatePartMesh(const TriangleMesh& mesh) {
+  if (mesh.triangles.empty()) return InvalidArgument("mesh", "has no triangles");
+  for (const auto& v : mesh.vertices) {
+    if (!v.allFinite()) return InvalidArgument("mesh", "has a non-finite vertex");
+  }
+  for (const auto& t : mesh.triangles) {
+    for (uint32_t i : t) {
+      if (i >= mesh.vertices.size()) return InvalidArgument("mesh", "has a triangle index out of range");
+    }
+  }
+  Eigen::Vector3f lo, hi;
+  mesh.Bounds(lo, hi);
+  if (!((hi - lo).cast<double>().maxCoeff() <= kMaxPartExtentM)) {
+    return InvalidArgument("mesh", "is larger than 100 m (are its units metres?)");
+  }
+  return Status::Ok();
+}
+
 void PerpendicularBasis(const Eigen::Vector3d& z, Eigen::Vector3d& x, Eigen::Vector3d& y) {
   // Start from the world axis least aligned with z, so the result is stable and well conditioned.
   Eigen::Index smallest;
@@ -81,7 +81,7 @@ StatusOr<std::vector<Grasp>> GenerateGrasps(const TriangleMesh& mesh, const Grip
                                             const GraspOptions& options) {
   if (auto s = ValidateGripper(gripper); !s.ok()) return s;
   if (auto s = ValidateOptions(options); !s.ok()) return s;
-  if (auto s = ValidateMesh(mesh); !s.ok()) return s;
+  if (auto s = ValidatePartMesh(mesh); !s.ok()) return s;
   if (auto s = CheckWork(mesh, gripper, options); !s.ok()) return s;
   const SurfaceSamples dense = SampleSurface(mesh, options.surface_samples, options.seed ^ kDenseKey);
   if (!(dense.area > 0) || !std::isfinite(dense.area)) return InvalidArgument("mesh", "has no surface area");

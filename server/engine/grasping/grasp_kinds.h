@@ -15,6 +15,10 @@ std::vector<Grasp> SuctionGrasps(const SurfaceSamples& dense, const SurfaceSampl
 std::vector<Grasp> JawGrasps(const TriangleMesh& mesh, const SurfaceSamples& dense, const SurfaceSamples& candidates,
                              const ParallelJaws& jaws, const GraspOptions& options);
 
+// INVALID_ARGUMENT naming "mesh": no triangles, an index out of range, a non-finite vertex or larger
+// than 100 m.
+Status ValidatePartMesh(const TriangleMesh& mesh);
+
 // Two unit vectors completing the unit vector z to a right-handed orthonormal basis (x, y, z).
 void PerpendicularBasis(const Eigen::Vector3d& z, Eigen::Vector3d& x, Eigen::Vector3d& y);
 

@@ -38,6 +38,8 @@ Status Validate(const ParallelJaws& jaws) {
   }
   if (auto s = CheckLength(jaws.finger_width_m, "gripper.jaws.finger_width_m"); !s.ok()) return s;
   if (auto s = CheckLength(jaws.finger_depth_m, "gripper.jaws.finger_depth_m"); !s.ok()) return s;
+  if (auto s = CheckLength(jaws.finger_length_m, "gripper.jaws.finger_length_m"); !s.ok()) return s;
+  if (auto s = CheckLength(jaws.finger_thickness_m, "gripper.jaws.finger_thickness_m"); !s.ok()) return s;
   return CheckAngle(jaws.max_friction_angle_deg, "gripper.jaws.max_friction_angle_deg");
 }
 

@@ -25,6 +25,10 @@ struct ParallelJaws {
   double finger_depth_m = 0.01;
   // Half-angle of the friction cone at each contact.
   double max_friction_angle_deg = 15;
+  // The fingers' collision geometry: how far each reaches back from the pad's far edge to the
+  // palm, and how thick it is across the closing axis.
+  double finger_length_m = 0.04;
+  double finger_thickness_m = 0.005;
 };
 
 using Gripper = std::variant<SuctionCup, ParallelJaws>;

@@ -65,6 +65,12 @@ TEST(GripperTest, BadJawValuesNameTheField) {
     jaws = {};
     jaws.finger_depth_m = bad;
     ExpectRefused(jaws, "gripper.jaws.finger_depth_m");
+    jaws = {};
+    jaws.finger_length_m = bad;
+    ExpectRefused(jaws, "gripper.jaws.finger_length_m");
+    jaws = {};
+    jaws.finger_thickness_m = bad;
+    ExpectRefused(jaws, "gripper.jaws.finger_thickness_m");
   }
   ParallelJaws jaws;
   jaws.min_opening_m = 0.06;
