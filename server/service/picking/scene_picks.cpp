@@ -1,0 +1,157 @@
+#include "service/picking/scene_picks.h"
+
+#include <chrono>
+#include <cmath>
+#include <map>
+#include <regex>
+#include <set>
+
+#include "robot/ik_types.h"
+#include "robot_registry/arm_kinematics.h"
+#include "service/robot/robot_collision.h"
+
+namespace vscan::service {
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+// The parts a bin fill places are labelled "<name>#<instance>".
+bool IsBinPartLabel(const std::string& label) {
+  static const std::regex pattern(".*#[0-9]+");
+  return std::regex_match(label, pattern);
+}
+
+std::shared_ptr<const TriangleMesh> Scaled(const std::shared_ptr<const TriangleMesh>& mesh, double scale) {
+  if (scale == 1.0) return mesh;
+  auto out = std::make_shared<TriangleMesh>(*mesh);
+  for (Eigen::Vector3f& v : out->vertices) v *= float(scale);
+  return out;
+}
+
+Status ValidateRequest(const ScenePickRequest& request) {
+  if (request.mount_id.empty()) return InvalidArgument("mount_id", "required");
+  if (!std::isfinite(request.body_length_m) || request.body_length_m < 0 || request.body_length_m > 10) {
+    return InvalidArgument("body_length_m", "must be in [0, 10] m (0: the mount's tool offset)");
+  }
+  if (request.ik_time_budget < std::chrono::milliseconds(1) || request.ik_time_budget > std::chrono::seconds(1)) {
+    return InvalidArgument("ik_time_budget_ms", "must be in [1, 1000] ms");
+  }
+  std::set<std::string> seen;
+  for (size_t i = 0; i < request.part_object_ids.size(); ++i) {
+    if (!seen.insert(request.part_object_ids[i]).second) {
+      return InvalidArgument("part_object_ids[" + std::to_string(i) + "]", "names an object twice");
+    }
+  }
+  return grasping::ValidateGripper(request.gripper);
+}
+
+robot::IkGoal ToolGoal(const grasping::Gripper& gripper, const Pose3& world_from_tool) {
+  // A cup is round: its rotation about the approach is free.
+  if (std::holds_alternative<grasping::SuctionCup>(gripper)) {
+    robot::IkGoal goal;
+    goal.kind = robot::IkGoalKind::kLookAt;
+    goal.base_from_tool = world_from_tool;
+    goal.view_direction = world_from_tool.linear().col(2);
+    return goal;
+  }
+  return robot::PoseGoal(world_from_tool);
+}
+
+}  // namespace
+
+StatusOr<ScenePicks> CheckScenePicks(ServiceContext& context, const ScenePickRequest& request) {
+  const auto start = Clock::now();
+  RETURN_IF_ERROR(ValidateRequest(request));
+  ASSIGN_OR_RETURN(const robot_registry::MountedRobot mounted, context.robots.Mount(request.mount_id));
+  const std::string& scene_id = mounted.mount.scene_id;
+  ASSIGN_OR_RETURN(const store::SceneRecord scene, context.registry.catalogue().GetScene(scene_id));
+  ASSIGN_OR_RETURN(const scenes::ScanTarget target, context.registry.PrepareScan(scene_id, scene.table.angle_deg));
+
+  std::vector<const store::ObjectRecord*> parts;
+  if (request.part_object_ids.empty()) {
+    for (const store::ObjectRecord& object : target.scene.objects) {
+      if (IsBinPartLabel(object.label)) parts.push_back(&object);
+    }
+    if (parts.empty()) {
+      return FailedPrecondition("part_object_ids: empty, and scene '" + scene_id +
+                                "' has no object labelled <name>#<n> (a bin fill's parts)");
+    }
+  } else {
+    for (size_t i = 0; i < request.part_object_ids.size(); ++i) {
+      const auto it = std::find_if(target.scene.objects.begin(), target.scene.objects.end(),
+                                   [&](const store::ObjectRecord& o) { return o.object_id == request.part_object_ids[i]; });
+      if (it == target.scene.objects.end()) {
+        return NotFound("part_object_ids[" + std::to_string(i) + "]: no object '" + request.part_object_ids[i] +
+                        "' in scene '" + scene_id + "'");
+      }
+      parts.push_back(&*it);
+    }
+  }
+
+  // Part types are distinct (mesh, scale) pairs; grasps are generated once per type.
+  grasping::Pile pile;
+  std::map<std::pair<const TriangleMesh*, double>, size_t> type_of;
+  std::vector<std::shared_ptr<const TriangleMesh>> type_meshes;
+  std::vector<size_t> pile_object;  // pile part -> index into parts
+  std::set<uint32_t> part_instances;
+  for (size_t p = 0; p < parts.size(); ++p) {
+    part_instances.insert(parts[p]->instance_id);
+    for (const raycast::SceneInstance& instance : *target.instances) {
+      if (instance.instance_id != parts[p]->instance_id) continue;
+      const auto key = std::make_pair(instance.mesh.get(), instance.scale);
+      auto [it, added] = type_of.emplace(key, type_meshes.size());
+      if (added) type_meshes.push_back(Scaled(instance.mesh, instance.scale));
+      pile.parts.push_back({it->second, type_meshes[it->second], instance.world_from_object});
+      pile_object.push_back(p);
+    }
+  }
+  for (const raycast::SceneInstance& instance : *target.instances) {
+    if (part_instances.contains(instance.instance_id)) continue;
+    pile.fixtures.push_back({Scaled(instance.mesh, instance.scale), instance.world_from_object});
+  }
+  std::vector<std::vector<grasping::Grasp>> grasps;
+  ScenePicks out;
+  out.scene_id = scene_id;
+  for (const auto& mesh : type_meshes) {
+    ASSIGN_OR_RETURN(auto generated, grasping::GenerateGrasps(*mesh, request.gripper, request.grasp_options));
+    out.grasps_generated += generated.size();
+    grasps.push_back(std::move(generated));
+  }
+
+  grasping::PickOptions options = request.pick_options;
+  options.sweep.body_length_m =
+      request.body_length_m > 0 ? request.body_length_m : mounted.chain->tip_from_tool().translation().norm();
+  robot_registry::IkSettings settings;
+  settings.time_budget = request.ik_time_budget;
+  const auto reach = [&](const Pose3& world_from_tool, const Pose3& world_from_pregrasp)
+      -> StatusOr<grasping::ReachAnswer> {
+    ASSIGN_OR_RETURN(const robot_registry::IkAnswer grasp,
+                     robot_registry::SolveInPlacement(*mounted.chain, mounted.placement,
+                                                      ToolGoal(request.gripper, world_from_tool), {}, settings));
+    if (!grasp.reached) return grasping::ReachAnswer{grasping::PickFailure::kUnreachable, grasp.failure.message(), {}};
+    ASSIGN_OR_RETURN(const robot_registry::IkAnswer pregrasp,
+                     robot_registry::SolveInPlacement(*mounted.chain, mounted.placement,
+                                                      ToolGoal(request.gripper, world_from_pregrasp),
+                                                      grasp.result.joint_positions, settings));
+    if (!pregrasp.reached) {
+      return grasping::ReachAnswer{grasping::PickFailure::kUnreachable, "pre-grasp: " + pregrasp.failure.message(), {}};
+    }
+    for (const auto* joints : {&grasp.result.joint_positions, &pregrasp.result.joint_positions}) {
+      ASSIGN_OR_RETURN(auto touch, FindRobotCollision(context, request.mount_id, *joints, scene.table.angle_deg));
+      if (touch) return grasping::ReachAnswer{grasping::PickFailure::kArmCollision, *touch, {}};
+    }
+    return grasping::ReachAnswer{grasping::PickFailure::kNone, "", grasp.result.joint_positions};
+  };
+  ASSIGN_OR_RETURN(auto verdicts, grasping::CheckPicks(pile, grasps, request.gripper, options, reach));
+
+  for (size_t i = 0; i < verdicts.size(); ++i) {
+    const store::ObjectRecord& object = *parts[pile_object[i]];
+    ObjectPick pick{object.object_id, object.label, std::move(verdicts[i]), {}};
+    if (pick.verdict.covered_by) pick.covered_by_object_id = parts[pile_object[*pick.verdict.covered_by]]->object_id;
+    out.parts.push_back(std::move(pick));
+  }
+  out.elapsed_s = std::chrono::duration<double>(Clock::now() - start).count();
+  return out;
+}
+
+}  // namespace vscan::service
