@@ -24,6 +24,7 @@
 #include "api/server/callback_queue_ticker.h"
 #include "api/clouds/cloud_service.h"
 #include "api/localization/localization_service.h"
+#include "api/picking/picking_service.h"
 #include "guards/data_dir_lock.h"
 #include "api/datasets/dataset_spec.h"
 #include "api/job/job_service.h"
@@ -194,6 +195,7 @@ struct Server::Impl {
   std::unique_ptr<RobotService> robot_service;
   std::unique_ptr<CloudService> cloud_service;
   std::unique_ptr<LocalizationService> localization_service;
+  std::unique_ptr<PickingService> picking_service;
   std::unique_ptr<service::DatasetDirectories> dataset_directories;
   std::unique_ptr<store::JobCatalogue> job_catalogue;
   std::unique_ptr<JobTracker> job_tracker;
@@ -288,6 +290,7 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& op
   impl->robot_service = std::make_unique<RobotService>(*impl->context);
   impl->cloud_service = std::make_unique<CloudService>(*impl->context, impl->stalled_readers.get());
   impl->localization_service = std::make_unique<LocalizationService>(*impl->context, impl->stalled_readers.get());
+  impl->picking_service = std::make_unique<PickingService>(*impl->context);
   impl->job_catalogue = std::make_unique<store::JobCatalogue>(impl->database);
   ASSIGN_OR_RETURN(const int interrupted, impl->job_catalogue->InterruptUnfinished("server stopped while the job ran"));
   if (interrupted > 0) spdlog::warn("{} jobs were left unfinished by the last run; marked INTERRUPTED", interrupted);
@@ -333,6 +336,7 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& op
   builder.RegisterService(impl->job_service.get());
   builder.RegisterService(impl->cloud_service.get());
   builder.RegisterService(impl->localization_service.get());
+  builder.RegisterService(impl->picking_service.get());
   builder.SetMaxReceiveMessageSize(4 << 20);
   std::vector<std::unique_ptr<grpc::experimental::ServerInterceptorFactoryInterface>> interceptors;
   interceptors.push_back(MakeCallObserverFactory());

@@ -145,7 +145,7 @@ std::optional<std::string> FindSweepContact(const Pile& pile, size_t grasped, st
 
 StatusOr<std::vector<PickVerdict>> CheckPicks(const Pile& pile, std::span<const std::vector<Grasp>> grasps_per_type,
                                               const Gripper& gripper, const PickOptions& options,
-                                              const ReachCheck& reach) {
+                                              const ReachCheck& reach, const std::atomic<bool>* cancel) {
   RETURN_IF_ERROR(ValidateGripper(gripper));
   RETURN_IF_ERROR(ValidateOptions(options));
   RETURN_IF_ERROR(ValidatePile(pile, grasps_per_type.size()));
@@ -166,7 +166,9 @@ StatusOr<std::vector<PickVerdict>> CheckPicks(const Pile& pile, std::span<const 
 
   std::vector<PickVerdict> verdicts(pile.parts.size());
   std::vector<Status> errors(pile.parts.size());
+  const auto cancelled = [cancel] { return cancel != nullptr && cancel->load(std::memory_order_relaxed); };
   tbb::parallel_for(size_t(0), pile.parts.size(), [&](size_t i) {
+    if (cancelled()) return;
     const PilePart& part = pile.parts[i];
     PickVerdict& verdict = verdicts[i];
     verdict.failure = PickFailure::kNoGrasp;
@@ -200,7 +202,7 @@ StatusOr<std::vector<PickVerdict>> CheckPicks(const Pile& pile, std::span<const 
     }
 
     const std::vector<Grasp>& grasps = grasps_per_type[part.type];
-    for (size_t g = 0; g < grasps.size() && verdict.reach_checks < options.max_reach_checks; ++g) {
+    for (size_t g = 0; g < grasps.size() && verdict.reach_checks < options.max_reach_checks && !cancelled(); ++g) {
       const Pose3 world_from_tool = part.world_from_part * grasps[g].part_from_tool;
       if (world_from_tool.linear().col(2).dot(-up) < cos_tilt - 1e-12) continue;
       ++verdict.grasps_from_above;
@@ -237,6 +239,7 @@ StatusOr<std::vector<PickVerdict>> CheckPicks(const Pile& pile, std::span<const 
                        " degrees of straight down";
     }
   });
+  if (cancelled()) return Cancelled("picks: cancelled");
   for (const Status& error : errors) RETURN_IF_ERROR(error);
   return verdicts;
 }

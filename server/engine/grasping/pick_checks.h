@@ -2,6 +2,7 @@
 // Which parts of a settled pile a gripper on a robot can pick: for every part, its grasps (part
 // frame) tried best first until one passes every check. See docs/GRASPING.md "Picks".
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <functional>
@@ -93,10 +94,10 @@ struct PickVerdict {
 // type t; reach may be empty (no arm: every clear grasp counts as reached) and is called from
 // several threads at once. INVALID_ARGUMENT names "pile.parts[i]" (missing mesh, type out of
 // range, non-finite pose), "pile.fixtures[i]", "pick_options.*" or the gripper's field; errors of
-// reach are returned as they are.
+// reach are returned as they are. CANCELLED once *cancel is set.
 StatusOr<std::vector<PickVerdict>> CheckPicks(const Pile& pile, std::span<const std::vector<Grasp>> grasps_per_type,
                                               const Gripper& gripper, const PickOptions& options,
-                                              const ReachCheck& reach);
+                                              const ReachCheck& reach, const std::atomic<bool>* cancel = nullptr);
 
 // The gripper's sweep (pieces in the tool frame, GripperSweep) placed at a grasp against every
 // fixture and every part but the grasped one, exactly (sweep_contact.h): the first contact as

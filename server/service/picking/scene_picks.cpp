@@ -59,7 +59,8 @@ robot::IkGoal ToolGoal(const grasping::Gripper& gripper, const Pose3& world_from
 
 }  // namespace
 
-StatusOr<ScenePicks> CheckScenePicks(ServiceContext& context, const ScenePickRequest& request) {
+StatusOr<ScenePicks> CheckScenePicks(ServiceContext& context, const ScenePickRequest& request,
+                                     const std::atomic<bool>* cancel) {
   const auto start = Clock::now();
   RETURN_IF_ERROR(ValidateRequest(request));
   ASSIGN_OR_RETURN(const robot_registry::MountedRobot mounted, context.robots.Mount(request.mount_id));
@@ -86,6 +87,11 @@ StatusOr<ScenePicks> CheckScenePicks(ServiceContext& context, const ScenePickReq
       }
       parts.push_back(&*it);
     }
+  }
+
+  if (parts.size() > kMaxPickParts) {
+    return ResourceExhausted("part_object_ids", std::to_string(parts.size()) + " parts; at most " +
+                                                    std::to_string(kMaxPickParts) + " in one call");
   }
 
   // Part types are distinct (mesh, scale) pairs; grasps are generated once per type.
@@ -142,7 +148,7 @@ StatusOr<ScenePicks> CheckScenePicks(ServiceContext& context, const ScenePickReq
     }
     return grasping::ReachAnswer{grasping::PickFailure::kNone, "", grasp.result.joint_positions};
   };
-  ASSIGN_OR_RETURN(auto verdicts, grasping::CheckPicks(pile, grasps, request.gripper, options, reach));
+  ASSIGN_OR_RETURN(auto verdicts, grasping::CheckPicks(pile, grasps, request.gripper, options, reach, cancel));
 
   for (size_t i = 0; i < verdicts.size(); ++i) {
     const store::ObjectRecord& object = *parts[pile_object[i]];

@@ -4,6 +4,7 @@
 // as its reach test. The mount's tool frame is the gripper's tool centre point (z along the
 // approach).
 
+#include <atomic>
 #include <chrono>
 #include <string>
 #include <vector>
@@ -41,8 +42,13 @@ struct ScenePicks {
   double elapsed_s = 0;
 };
 
+// At most this many parts in one call.
+inline constexpr size_t kMaxPickParts = 500;
+
 // NOT_FOUND naming "mount_id" or "part_object_ids[i]"; INVALID_ARGUMENT naming the gripper's,
-// the options' or the request's field; FAILED_PRECONDITION when no part is named or found.
-StatusOr<ScenePicks> CheckScenePicks(ServiceContext& context, const ScenePickRequest& request);
+// the options' or the request's field; FAILED_PRECONDITION when no part is named or found;
+// RESOURCE_EXHAUSTED naming "part_object_ids" past kMaxPickParts; CANCELLED once *cancel is set.
+StatusOr<ScenePicks> CheckScenePicks(ServiceContext& context, const ScenePickRequest& request,
+                                     const std::atomic<bool>* cancel = nullptr);
 
 }  // namespace vscan::service

@@ -1,0 +1,18 @@
+#pragma once
+// PickingService requests into the service's types: unset fields take their defaults, the rest is
+// validated where it is used (the gripper, the options) and named by its request field.
+
+#include "grasping/grasp_generation.h"
+#include "grasping/gripper.h"
+#include "service/picking/scene_picks.h"
+#include "vscan/common/status.h"
+#include "vscan/v1/picking.pb.h"
+
+namespace vscan::api {
+
+// INVALID_ARGUMENT "gripper" when neither kind is set; zero fields take the defaults.
+StatusOr<grasping::Gripper> ParseGripper(const v1::Gripper& gripper);
+grasping::GraspOptions ParseGraspOptions(const v1::GraspOptions& options);
+StatusOr<service::ScenePickRequest> ParseCheckPicksRequest(const v1::CheckPicksRequest& request);
+
+}  // namespace vscan::api
