@@ -6,9 +6,7 @@
 #include <regex>
 #include <set>
 
-#include "robot/ik_types.h"
-#include "robot_registry/arm_kinematics.h"
-#include "service/robot/robot_collision.h"
+#include "service/picking/arm_reach.h"
 
 namespace vscan::service {
 namespace {
@@ -43,18 +41,6 @@ Status ValidateRequest(const ScenePickRequest& request) {
     }
   }
   return grasping::ValidateGripper(request.gripper);
-}
-
-robot::IkGoal ToolGoal(const grasping::Gripper& gripper, const Pose3& world_from_tool) {
-  // A cup is round: its rotation about the approach is free.
-  if (std::holds_alternative<grasping::SuctionCup>(gripper)) {
-    robot::IkGoal goal;
-    goal.kind = robot::IkGoalKind::kLookAt;
-    goal.base_from_tool = world_from_tool;
-    goal.view_direction = world_from_tool.linear().col(2);
-    return goal;
-  }
-  return robot::PoseGoal(world_from_tool);
 }
 
 }  // namespace
@@ -127,27 +113,8 @@ StatusOr<ScenePicks> CheckScenePicks(ServiceContext& context, const ScenePickReq
   grasping::PickOptions options = request.pick_options;
   options.sweep.body_length_m =
       request.body_length_m > 0 ? request.body_length_m : mounted.chain->tip_from_tool().translation().norm();
-  robot_registry::IkSettings settings;
-  settings.time_budget = request.ik_time_budget;
-  const auto reach = [&](const Pose3& world_from_tool, const Pose3& world_from_pregrasp)
-      -> StatusOr<grasping::ReachAnswer> {
-    ASSIGN_OR_RETURN(const robot_registry::IkAnswer grasp,
-                     robot_registry::SolveInPlacement(*mounted.chain, mounted.placement,
-                                                      ToolGoal(request.gripper, world_from_tool), {}, settings));
-    if (!grasp.reached) return grasping::ReachAnswer{grasping::PickFailure::kUnreachable, grasp.failure.message(), {}};
-    ASSIGN_OR_RETURN(const robot_registry::IkAnswer pregrasp,
-                     robot_registry::SolveInPlacement(*mounted.chain, mounted.placement,
-                                                      ToolGoal(request.gripper, world_from_pregrasp),
-                                                      grasp.result.joint_positions, settings));
-    if (!pregrasp.reached) {
-      return grasping::ReachAnswer{grasping::PickFailure::kUnreachable, "pre-grasp: " + pregrasp.failure.message(), {}};
-    }
-    for (const auto* joints : {&grasp.result.joint_positions, &pregrasp.result.joint_positions}) {
-      ASSIGN_OR_RETURN(auto touch, FindRobotCollision(context, request.mount_id, *joints, scene.table.angle_deg));
-      if (touch) return grasping::ReachAnswer{grasping::PickFailure::kArmCollision, *touch, {}};
-    }
-    return grasping::ReachAnswer{grasping::PickFailure::kNone, "", grasp.result.joint_positions};
-  };
+  const auto reach = ArmReach(context, std::make_shared<const robot_registry::MountedRobot>(mounted), request.gripper,
+                              request.ik_time_budget, scene.table.angle_deg);
   ASSIGN_OR_RETURN(auto verdicts, grasping::CheckPicks(pile, grasps, request.gripper, options, reach, cancel));
 
   for (size_t i = 0; i < verdicts.size(); ++i) {
