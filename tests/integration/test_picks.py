@@ -248,6 +248,20 @@ class PicksTest(ServerTestCase):
             (C.INVALID_ARGUMENT, "scale", lambda: self.client.generate_grasps(self.block, CUP, scale=math.nan)),
             (C.INVALID_ARGUMENT, "scale", lambda: self.client.generate_grasps(self.block, CUP, scale=1e19)),
             (C.NOT_FOUND, "msh_nothere", lambda: self.client.generate_grasps("msh_nothere", CUP)),
+            # Ids no record can have.
+            (C.INVALID_ARGUMENT, "mesh_id", lambda: self.client.generate_grasps("../" + self.block, CUP)),
+            (C.INVALID_ARGUMENT, "mount_id", lambda: self.client.check_picks("", CUP)),
+            (C.INVALID_ARGUMENT, "part_object_ids[1]", lambda: self.client.check_picks(self.mount, CUP,
+                                                                                      [self.near, "obj\x00"])),
+            # Options beyond their bounds.
+            (C.INVALID_ARGUMENT, "pick_options.max_reach_checks",
+             lambda: self.client.check_picks(self.mount, CUP, max_reach_checks=2**32 - 1)),
+            (C.INVALID_ARGUMENT, "pick_options.approach",
+             lambda: self.client.check_picks(self.mount, CUP, approach_distance=math.nan)),
+            (C.INVALID_ARGUMENT, "grasp_options.max_grasps",
+             lambda: self.client.generate_grasps(self.block, CUP, max_grasps=2**32 - 1)),
+            (C.INVALID_ARGUMENT, "body_length",
+             lambda: self.client.check_picks(self.mount, CUP, body_length=1e19)),
         ]
         revision = self.client.get_scene(self.scene).revision
         for code, field, call in hostile:
