@@ -1,5 +1,6 @@
 #include "picking/pick_report.h"
 
+#include <cmath>
 #include <cstdio>
 
 #include "session/text_format.h"
@@ -25,8 +26,13 @@ ToolAxes AxesOf(const v1::Pose& pose) {
   return out;
 }
 
+// Without a sign on values that round to zero ("-0.000").
+std::string Rounded(double value, int digits) {
+  return Fixed(std::fabs(value) < 0.5 * std::pow(10.0, -digits) ? 0.0 : value, digits);
+}
+
 std::string Triple(double a, double b, double c, int digits) {
-  return "(" + Fixed(a, digits) + ", " + Fixed(b, digits) + ", " + Fixed(c, digits) + ")";
+  return "(" + Rounded(a, digits) + ", " + Rounded(b, digits) + ", " + Rounded(c, digits) + ")";
 }
 
 }  // namespace
