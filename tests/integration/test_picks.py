@@ -71,17 +71,22 @@ def floor_triangles(half):
     return [(a, b, c), (a, c, d)]
 
 
+def write_scene_files(directory):
+    """block.stl (binary, millimetres) and floor.stl (ASCII, a 2 m square in metres); their paths."""
+    block, floor = os.path.join(directory, "block.stl"), os.path.join(directory, "floor.stl")
+    with open(block, "wb") as f:
+        f.write(binary_stl(box_triangles(*BLOCK_MM)))
+    with open(floor, "wb") as f:
+        f.write(ascii_stl(floor_triangles(1.0)))
+    return block, floor
+
+
 class PicksTest(ServerTestCase):
     @classmethod
     def setUpClass(cls):
         super().setUpClass()
         cls.tmp = tempfile.TemporaryDirectory(prefix="vscan-picks-")
-        block_path = os.path.join(cls.tmp.name, "block.stl")
-        floor_path = os.path.join(cls.tmp.name, "floor.stl")
-        with open(block_path, "wb") as f:
-            f.write(binary_stl(box_triangles(*BLOCK_MM)))
-        with open(floor_path, "wb") as f:
-            f.write(ascii_stl(floor_triangles(1.0)))
+        block_path, floor_path = write_scene_files(cls.tmp.name)
         cls.client = Client(cls.server.address, timeout=120)
         cls.block = cls.client.upload_mesh(block_path, unit="mm").mesh_id
         floor = cls.client.upload_mesh(floor_path, unit="m").mesh_id
