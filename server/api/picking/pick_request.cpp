@@ -2,6 +2,8 @@
 
 #include <chrono>
 
+#include "api/transport/validate.h"
+
 namespace vscan::api {
 namespace {
 
@@ -54,6 +56,10 @@ grasping::GraspOptions ParseGraspOptions(const v1::GraspOptions& options) {
 
 StatusOr<service::ScenePickRequest> ParseCheckPicksRequest(const v1::CheckPicksRequest& request) {
   service::ScenePickRequest out;
+  RETURN_IF_ERROR(RequireId(request.mount_id(), "mount_id"));
+  for (int i = 0; i < request.part_object_ids_size(); ++i) {
+    RETURN_IF_ERROR(RequireId(request.part_object_ids(i), "part_object_ids[" + std::to_string(i) + "]"));
+  }
   out.mount_id = request.mount_id();
   out.part_object_ids.assign(request.part_object_ids().begin(), request.part_object_ids().end());
   ASSIGN_OR_RETURN(out.gripper, ParseGripper(request.gripper()));

@@ -13,6 +13,7 @@ namespace vscan::api {
 // INVALID_ARGUMENT "gripper" when neither kind is set; zero fields take the defaults.
 StatusOr<grasping::Gripper> ParseGripper(const v1::Gripper& gripper);
 grasping::GraspOptions ParseGraspOptions(const v1::GraspOptions& options);
+// INVALID_ARGUMENT naming "mount_id" or "part_object_ids[i]" for an id no record can have.
 StatusOr<service::ScenePickRequest> ParseCheckPicksRequest(const v1::CheckPicksRequest& request);
 
 }  // namespace vscan::api
