@@ -234,21 +234,21 @@ class PicksTest(ServerTestCase):
         hostile = [
             (C.INVALID_ARGUMENT, "gripper", lambda: self.client.check_picks(self.mount, None)),
             (C.INVALID_ARGUMENT, "gripper", lambda: self.client.generate_grasps(self.block, None)),
-            (C.INVALID_ARGUMENT, "gripper.suction.diameter_m",
+            (C.INVALID_ARGUMENT, "gripper.suction.diameter",
              lambda: self.client.check_picks(self.mount, SuctionCup(diameter=math.nan))),
-            (C.INVALID_ARGUMENT, "gripper.suction.diameter_m",
+            (C.INVALID_ARGUMENT, "gripper.suction.diameter",
              lambda: self.client.check_picks(self.mount, SuctionCup(diameter=1e19))),
-            (C.INVALID_ARGUMENT, "gripper.suction.diameter_m",
+            (C.INVALID_ARGUMENT, "gripper.suction.diameter",
              lambda: self.client.generate_grasps(self.block, SuctionCup(diameter=math.nan))),
-            (C.INVALID_ARGUMENT, "gripper.suction.diameter_m",
+            (C.INVALID_ARGUMENT, "gripper.suction.diameter",
              lambda: self.client.generate_grasps(self.block, SuctionCup(diameter=1e19))),
-            (C.INVALID_ARGUMENT, "gripper.jaws.max_opening_m",
+            (C.INVALID_ARGUMENT, "gripper.jaws.max_opening",
              lambda: self.client.generate_grasps(self.block, ParallelJaws(max_opening=math.inf))),
             (C.NOT_FOUND, "mount_id", lambda: self.client.check_picks("mnt_nothere", CUP)),
             (C.NOT_FOUND, "part_object_ids[0]", lambda: self.client.check_picks(self.mount, CUP, ["obj_nothere"])),
             (C.INVALID_ARGUMENT, "part_object_ids[1]",
              lambda: self.client.check_picks(self.mount, CUP, [self.near, self.near])),
-            (C.INVALID_ARGUMENT, "ik_time_budget_ms",
+            (C.INVALID_ARGUMENT, "pick_options.ik_time_budget_ms",
              lambda: self.client.check_picks(self.mount, CUP, ik_time_budget_ms=5000)),
             (C.INVALID_ARGUMENT, "scale", lambda: self.client.generate_grasps(self.block, CUP, scale=math.nan)),
             (C.INVALID_ARGUMENT, "scale", lambda: self.client.generate_grasps(self.block, CUP, scale=1e19)),
@@ -261,11 +261,11 @@ class PicksTest(ServerTestCase):
             # Options beyond their bounds.
             (C.INVALID_ARGUMENT, "pick_options.max_reach_checks",
              lambda: self.client.check_picks(self.mount, CUP, max_reach_checks=2**32 - 1)),
-            (C.INVALID_ARGUMENT, "pick_options.approach",
+            (C.INVALID_ARGUMENT, "pick_options.approach_distance",
              lambda: self.client.check_picks(self.mount, CUP, approach_distance=math.nan)),
             (C.INVALID_ARGUMENT, "grasp_options.max_grasps",
              lambda: self.client.generate_grasps(self.block, CUP, max_grasps=2**32 - 1)),
-            (C.INVALID_ARGUMENT, "body_length",
+            (C.INVALID_ARGUMENT, "pick_options.body_length",
              lambda: self.client.check_picks(self.mount, CUP, body_length=1e19)),
         ]
         revision = self.client.get_scene(self.scene).revision
@@ -278,10 +278,10 @@ class PicksTest(ServerTestCase):
 
     def test_cli_sends_values_as_given_and_reports_the_servers_refusal(self):
         self.assertCliRefused("gripper", "picks", "--mount", self.mount)
-        self.assertCliRefused("gripper.suction.diameter_m", "picks", "--mount", self.mount, "--suction-diameter", "nan")
-        self.assertCliRefused("gripper.suction.diameter_m", "grasps", "--mesh", self.block, "--suction-diameter",
+        self.assertCliRefused("gripper.suction.diameter", "picks", "--mount", self.mount, "--suction-diameter", "nan")
+        self.assertCliRefused("gripper.suction.diameter", "grasps", "--mesh", self.block, "--suction-diameter",
                               "1e19")
-        self.assertCliRefused("ik_time_budget_ms", "picks", "--mount", self.mount, *CUP_FLAGS, "--ik-budget-ms", "5000")
+        self.assertCliRefused("pick_options.ik_time_budget_ms", "picks", "--mount", self.mount, *CUP_FLAGS, "--ik-budget-ms", "5000")
         self.assertCliRefused("part_object_ids[1]", "picks", "--mount", self.mount, *CUP_FLAGS, "--part", self.near,
                               "--part", self.near)
         self.assertCliRefused("scale", "grasps", "--mesh", self.block, *CUP_FLAGS, "--scale", "nan")

@@ -94,9 +94,9 @@ grpc::ServerUnaryReactor* PickingService::CheckPicks(grpc::CallbackServerContext
                              [=, this](const std::atomic<bool>& cancel) -> Status {
                                ASSIGN_OR_RETURN(const service::ScenePickRequest parsed,
                                                 ParseCheckPicksRequest(*request));
-                               ASSIGN_OR_RETURN(const service::ScenePicks picks,
-                                                service::CheckScenePicks(context_, parsed, &cancel));
-                               ToResponse(picks, response);
+                               const auto picks = service::CheckScenePicks(context_, parsed, &cancel);
+                               if (!picks.ok()) return InRequestTerms(picks.status());
+                               ToResponse(*picks, response);
                                return Status::Ok();
                              });
 }

@@ -174,7 +174,7 @@ StatusOr<EmptyBinResult> EmptyBin(const Cell& cell, std::vector<physics::PlacedP
                                                         prepared.sweep, tool);
         if (contact) {
           record.outcome = StepOutcome::kCollision;
-          record.detail = "the gripper's way in meets " + *contact + " where it truly lies";
+          record.detail = "the gripper's way in meets " + grasping::Describe(*contact) + " where it truly lies";
         } else if (!held) {
           record.outcome = StepOutcome::kWrongPose;
           record.detail = "the grasp planned on the estimate holds no part where the parts truly lie";

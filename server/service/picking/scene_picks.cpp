@@ -97,10 +97,21 @@ StatusOr<ScenePicks> CheckScenePicks(ServiceContext& context, const ScenePickReq
       pile_object.push_back(p);
     }
   }
+  std::vector<const store::ObjectRecord*> fixture_object;  // pile fixture -> its object (null: none)
   for (const raycast::SceneInstance& instance : *target.instances) {
     if (part_instances.contains(instance.instance_id)) continue;
     pile.fixtures.push_back({Scaled(instance.mesh, instance.scale), instance.world_from_object});
+    const auto object = std::find_if(target.scene.objects.begin(), target.scene.objects.end(),
+                                     [&](const store::ObjectRecord& o) { return o.instance_id == instance.instance_id; });
+    fixture_object.push_back(object == target.scene.objects.end() ? nullptr : &*object);
   }
+  // What the engine names by index, by the scene's object id and label.
+  const auto object_of = [&](const grasping::PileItem& item) -> const store::ObjectRecord* {
+    return item.fixture ? fixture_object[item.index] : parts[pile_object[item.index]];
+  };
+  const auto name = [](const store::ObjectRecord* object) {
+    return object == nullptr ? std::string("a scene instance") : "object '" + object->object_id + "' (" + object->label + ")";
+  };
   std::vector<std::vector<grasping::Grasp>> grasps;
   ScenePicks out;
   out.scene_id = scene_id;
@@ -120,7 +131,14 @@ StatusOr<ScenePicks> CheckScenePicks(ServiceContext& context, const ScenePickReq
   for (size_t i = 0; i < verdicts.size(); ++i) {
     const store::ObjectRecord& object = *parts[pile_object[i]];
     ObjectPick pick{object.object_id, object.label, std::move(verdicts[i]), {}};
-    if (pick.verdict.covered_by) pick.covered_by_object_id = parts[pile_object[*pick.verdict.covered_by]]->object_id;
+    if (pick.verdict.covered_by) {
+      const store::ObjectRecord* cover = object_of(*pick.verdict.covered_by);
+      if (cover != nullptr) pick.covered_by_object_id = cover->object_id;
+      pick.verdict.detail = name(cover) + " lies on it";
+    }
+    if (pick.verdict.failure == grasping::PickFailure::kGripperCollision && pick.verdict.blocked_by) {
+      pick.verdict.detail = "the gripper's way in meets " + name(object_of(*pick.verdict.blocked_by));
+    }
     out.parts.push_back(std::move(pick));
   }
   out.elapsed_s = std::chrono::duration<double>(Clock::now() - start).count();
