@@ -62,6 +62,7 @@ StatusOr<PartGraspJudge> PartGraspJudge::Make(const TriangleMesh& mesh, const Gr
 }
 
 GraspVerdict PartGraspJudge::Judge(const Pose3& world_from_truth, const Pose3& world_from_estimate) const {
+  if (grasps_.empty()) return {false, std::string(kNoGraspOfThePart)};
   const double min_cos = std::cos(kMaxPlannedApproachTiltDeg * std::numbers::pi / 180);
   const Eigen::Matrix3d world_from_part = world_from_estimate.linear();
   for (const grasping::Grasp& grasp : grasps_) {

@@ -27,7 +27,9 @@ namespace vscan::service {
 
 // The planned grasp approaches at most this far from straight down (-up).
 inline constexpr double kMaxPlannedApproachTiltDeg = 60;
-// Why an estimate gets no grasp at all.
+// Why an estimate gets no grasp: the gripper has none on the part at all, or none of the kept
+// grasps (grasp_options.max_grasps, best first) approaches from above at the estimated pose.
+inline constexpr std::string_view kNoGraspOfThePart = "the gripper has no grasp on the part";
 inline constexpr std::string_view kNoGraspFromAbove = "no grasp of the part approaches from above at the estimated pose";
 
 struct GraspScoring {

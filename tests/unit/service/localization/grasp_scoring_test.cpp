@@ -177,6 +177,15 @@ TEST_F(GraspScoringTest, AnEstimateWithoutAGraspFromAboveFailsSayingSo) {
   EXPECT_TRUE(verdicts[0].holds) << verdicts[0].failure;
 }
 
+TEST_F(GraspScoringTest, ACupWiderThanEveryFaceHasNoGraspOnThePart) {
+  grasping::SuctionCup wide;
+  wide.diameter_m = 0.05;  // wider than the block's 40 mm length
+  const std::vector<GraspVerdict> verdicts = Verdicts(Plan(wide, {TrueBlockPose()}));
+  ASSERT_EQ(verdicts.size(), 1u);
+  EXPECT_FALSE(verdicts[0].holds);
+  EXPECT_EQ(verdicts[0].failure, kNoGraspOfThePart);
+}
+
 TEST_F(GraspScoringTest, JawsAcrossTheThirtyMillimetreSideFailWithAFourMillimetreErrorAlongTheirClosingAxis) {
   const std::vector<GraspVerdict> verdicts = Verdicts(Plan(Jaws(), {TrueBlockPose(), Offset({0, 0.004, 0})}));
   ASSERT_EQ(verdicts.size(), 2u);
