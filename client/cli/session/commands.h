@@ -25,6 +25,8 @@ void AddModelCommands(CLI::App& app, Context& ctx);
 void AddLocalizationCommands(CLI::App& group, Context& ctx);
 // `vscan dataset run|watch|cancel|download|list|delete|score` (cmd_dataset.cpp, cmd_dataset_score.cpp).
 void AddDatasetCommands(CLI::App& app, Context& ctx);
+// `vscan grasps` and `vscan picks` (picking/cmd_picks.cpp).
+void AddPickingCommands(CLI::App& app, Context& ctx);
 // `vscan view [SCENE]`: the web view's address (cmd_view.cpp).
 void AddViewCommand(CLI::App& app, Context& ctx);
 

@@ -17,6 +17,8 @@
         truth = c.scan(scene.scene_id, eye=(0, 0, 0.6), target=(0, 0, 0), up=(0, 1, 0),
                        ground_truth=True).objects
         found = c.localize(mesh.mesh_id, cloud_id=cloud.cloud_id)
+        grasps = c.generate_grasps(mesh.mesh_id, SuctionCup(diameter=0.012))
+        picks = c.check_picks(mount_id, SuctionCup(diameter=0.012))
 
 The generated stubs are the subpackage vscan.v1: an installed package carries them; from a source
 tree set VSCAN_PY_STUBS to <build>/python (or put that directory on sys.path).
@@ -39,9 +41,10 @@ from .clouds import CloudPoints, parse_ply  # noqa: E402
 from .errors import VscanError  # noqa: E402
 from .localization import localize_part, part_symmetry, pose_matrix, scored_part, truth_from_objects  # noqa: E402
 from .models import alignment_options, evaluation_options, model_spec, reconstruction_options  # noqa: E402
+from .picking import ParallelJaws, SuctionCup  # noqa: E402
 from .scan_result import ScanResult  # noqa: E402
 
 __all__ = ["Client", "bin_fill_spec", "bin_part", "CloudPoints", "ScanResult", "VscanError", "alignment_options",
-           "evaluation_options", "localize_part", "model_spec", "parse_ply", "part_symmetry", "pose_matrix",
-           "reconstruction_options",
-           "scored_part", "truth_from_objects"]
+           "evaluation_options", "localize_part", "model_spec", "ParallelJaws", "parse_ply", "part_symmetry",
+           "pose_matrix", "reconstruction_options",
+           "scored_part", "SuctionCup", "truth_from_objects"]

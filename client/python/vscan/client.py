@@ -13,6 +13,7 @@ from .errors import VscanError, from_rpc_error
 from .jobs import JobCalls
 from .localization import LocalizationCalls
 from .models import ModelCalls
+from .picking import PickingCalls
 from .robots import RobotCalls
 from .scan_result import ScanAssembler
 
@@ -50,7 +51,7 @@ def _read(path):
         return f.read()
 
 
-class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls, BinCalls, LocalizationCalls, DatasetCalls):
+class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls, BinCalls, LocalizationCalls, DatasetCalls, PickingCalls):
     """Talks to one vscand. Failed calls raise VscanError.
 
     address: "host:port". token: bearer token sent with every call. root_cert: PEM file of the

@@ -1,6 +1,10 @@
 #include "api/picking/pick_request.h"
 
 #include <chrono>
+#include <string_view>
+#include <utility>
+
+#include "api/transport/validate.h"
 
 namespace vscan::api {
 namespace {
@@ -11,7 +15,30 @@ void SetIfNonZero(T& target, U value) {
   if (value != 0) target = static_cast<T>(value);
 }
 
+// Engine and service field names that differ from the request's.
+constexpr std::pair<std::string_view, std::string_view> kRequestFields[] = {
+    {"gripper.suction.diameter_m", "gripper.suction.diameter"},
+    {"gripper.suction.stroke_m", "gripper.suction.stroke"},
+    {"gripper.jaws.min_opening_m", "gripper.jaws.min_opening"},
+    {"gripper.jaws.max_opening_m", "gripper.jaws.max_opening"},
+    {"gripper.jaws.finger_width_m", "gripper.jaws.finger_width"},
+    {"gripper.jaws.finger_depth_m", "gripper.jaws.finger_depth"},
+    {"gripper.jaws.finger_length_m", "gripper.jaws.finger_length"},
+    {"gripper.jaws.finger_thickness_m", "gripper.jaws.finger_thickness"},
+    {"pick_options.approach_m", "pick_options.approach_distance"},
+    {"pick_options.cover_distance_m", "pick_options.cover_distance"},
+    {"body_length_m", "pick_options.body_length"},
+    {"ik_time_budget_ms", "pick_options.ik_time_budget_ms"},
+};
+
 }  // namespace
+
+Status InRequestTerms(const Status& status) {
+  for (const auto& [engine, request] : kRequestFields) {
+    if (status.field() == engine) return Status(status.code(), std::string(request), status.text());
+  }
+  return status;
+}
 
 StatusOr<grasping::Gripper> ParseGripper(const v1::Gripper& gripper) {
   switch (gripper.kind_case()) {
@@ -22,7 +49,7 @@ StatusOr<grasping::Gripper> ParseGripper(const v1::Gripper& gripper) {
       SetIfNonZero(cup.stroke_m, in.stroke());
       SetIfNonZero(cup.max_tilt_deg, in.max_tilt_deg());
       SetIfNonZero(cup.min_flat_fraction, in.min_flat_fraction());
-      RETURN_IF_ERROR(grasping::ValidateGripper(cup));
+      RETURN_IF_ERROR(InRequestTerms(grasping::ValidateGripper(cup)));
       return grasping::Gripper(cup);
     }
     case v1::Gripper::kJaws: {
@@ -35,7 +62,7 @@ StatusOr<grasping::Gripper> ParseGripper(const v1::Gripper& gripper) {
       SetIfNonZero(jaws.max_friction_angle_deg, in.max_friction_angle_deg());
       SetIfNonZero(jaws.finger_length_m, in.finger_length());
       SetIfNonZero(jaws.finger_thickness_m, in.finger_thickness());
-      RETURN_IF_ERROR(grasping::ValidateGripper(jaws));
+      RETURN_IF_ERROR(InRequestTerms(grasping::ValidateGripper(jaws)));
       return grasping::Gripper(jaws);
     }
     default:
@@ -54,6 +81,10 @@ grasping::GraspOptions ParseGraspOptions(const v1::GraspOptions& options) {
 
 StatusOr<service::ScenePickRequest> ParseCheckPicksRequest(const v1::CheckPicksRequest& request) {
   service::ScenePickRequest out;
+  RETURN_IF_ERROR(RequireId(request.mount_id(), "mount_id"));
+  for (int i = 0; i < request.part_object_ids_size(); ++i) {
+    RETURN_IF_ERROR(RequireId(request.part_object_ids(i), "part_object_ids[" + std::to_string(i) + "]"));
+  }
   out.mount_id = request.mount_id();
   out.part_object_ids.assign(request.part_object_ids().begin(), request.part_object_ids().end());
   ASSIGN_OR_RETURN(out.gripper, ParseGripper(request.gripper()));

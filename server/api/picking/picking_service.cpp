@@ -5,6 +5,7 @@
 
 #include "api/picking/pick_request.h"
 #include "api/transport/cancellable_unary.h"
+#include "api/transport/validate.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::api {
@@ -61,7 +62,7 @@ void ToResponse(const service::ScenePicks& picks, v1::CheckPicksResponse* respon
 Status GenerateGraspsOf(service::ServiceContext& context, const v1::GenerateGraspsRequest& request,
                         v1::GenerateGraspsResponse* response) {
   const auto start = Clock::now();
-  if (request.mesh_id().empty()) return InvalidArgument("mesh_id", "required");
+  RETURN_IF_ERROR(RequireId(request.mesh_id(), "mesh_id"));
   const double scale = request.scale() == 0 ? 1.0 : request.scale();
   if (!std::isfinite(scale) || scale <= 0 || scale > 1000) return InvalidArgument("scale", "must be in (0, 1000]");
   ASSIGN_OR_RETURN(const grasping::Gripper gripper, ParseGripper(request.gripper()));
@@ -93,9 +94,9 @@ grpc::ServerUnaryReactor* PickingService::CheckPicks(grpc::CallbackServerContext
                              [=, this](const std::atomic<bool>& cancel) -> Status {
                                ASSIGN_OR_RETURN(const service::ScenePickRequest parsed,
                                                 ParseCheckPicksRequest(*request));
-                               ASSIGN_OR_RETURN(const service::ScenePicks picks,
-                                                service::CheckScenePicks(context_, parsed, &cancel));
-                               ToResponse(picks, response);
+                               const auto picks = service::CheckScenePicks(context_, parsed, &cancel);
+                               if (!picks.ok()) return InRequestTerms(picks.status());
+                               ToResponse(*picks, response);
                                return Status::Ok();
                              });
 }

@@ -99,14 +99,20 @@ int Rank(PickFailure f) {
   }
 }
 
-void Note(PickVerdict& verdict, PickFailure failure, const std::string& detail) {
+void Note(PickVerdict& verdict, PickFailure failure, const std::string& detail,
+          std::optional<PileItem> blocked_by = std::nullopt) {
   if (Rank(failure) > Rank(verdict.failure)) {
     verdict.failure = failure;
     verdict.detail = detail;
+    verdict.blocked_by = blocked_by;
   }
 }
 
 }  // namespace
+
+std::string Describe(const PileItem& item) {
+  return (item.fixture ? "fixture " : "part ") + std::to_string(item.index);
+}
 
 const char* PickFailureName(PickFailure failure) {
   switch (failure) {
@@ -120,8 +126,8 @@ const char* PickFailureName(PickFailure failure) {
   return "unknown";
 }
 
-std::optional<std::string> FindSweepContact(const Pile& pile, size_t grasped, std::span<const ConvexPiece> sweep,
-                                            const Pose3& world_from_tool) {
+std::optional<PileItem> FindSweepContact(const Pile& pile, size_t grasped, std::span<const ConvexPiece> sweep,
+                                         const Pose3& world_from_tool) {
   Box sweep_box;
   for (const ConvexPiece& piece : sweep) {
     const ConvexPiece placed = piece.Placed(world_from_tool);
@@ -135,10 +141,10 @@ std::optional<std::string> FindSweepContact(const Pile& pile, size_t grasped, st
                        [&](const ConvexPiece& piece) { return piece.Placed(mesh_from_tool).MeetsMesh(mesh); });
   };
   for (size_t f = 0; f < pile.fixtures.size(); ++f) {
-    if (meets(*pile.fixtures[f].mesh, pile.fixtures[f].world_from_mesh)) return "fixture " + std::to_string(f);
+    if (meets(*pile.fixtures[f].mesh, pile.fixtures[f].world_from_mesh)) return PileItem{true, f};
   }
   for (size_t j = 0; j < pile.parts.size(); ++j) {
-    if (j != grasped && meets(*pile.parts[j].mesh, pile.parts[j].world_from_part)) return "part " + std::to_string(j);
+    if (j != grasped && meets(*pile.parts[j].mesh, pile.parts[j].world_from_part)) return PileItem{false, j};
   }
   return std::nullopt;
 }
@@ -159,8 +165,25 @@ StatusOr<std::vector<PickVerdict>> CheckPicks(const Pile& pile, std::span<const 
     data.rays = std::make_unique<MeshRays>(*part.mesh);
     data.samples = SampleSurface(*part.mesh, options.cover_samples, options.seed);
   }
-  std::vector<Box> boxes;
-  for (const PilePart& part : pile.parts) boxes.push_back(WorldBox(*part.mesh, part.world_from_part));
+  // What may lie on a part: the other parts and the fixtures.
+  struct Above {
+    PileItem item;
+    const TriangleMesh* mesh;
+    Pose3 world_from_mesh;
+    Box box;
+  };
+  std::vector<Above> above;
+  for (size_t j = 0; j < pile.parts.size(); ++j) {
+    const PilePart& part = pile.parts[j];
+    above.push_back({{false, j}, part.mesh.get(), part.world_from_part, WorldBox(*part.mesh, part.world_from_part)});
+  }
+  for (size_t f = 0; f < pile.fixtures.size(); ++f) {
+    const PlacedMesh& fixture = pile.fixtures[f];
+    MeshData& data = meshes[fixture.mesh.get()];
+    if (!data.rays) data.rays = std::make_unique<MeshRays>(*fixture.mesh);
+    above.push_back({{true, f}, fixture.mesh.get(), fixture.world_from_mesh,
+                     WorldBox(*fixture.mesh, fixture.world_from_mesh)});
+  }
   std::vector<ConvexPiece> sweep;
   for (const TriangleMesh& piece : GripperSweep(gripper, options.sweep)) sweep.emplace_back(piece);
 
@@ -174,9 +197,9 @@ StatusOr<std::vector<PickVerdict>> CheckPicks(const Pile& pile, std::span<const 
     verdict.failure = PickFailure::kNoGrasp;
     verdict.detail = "no grasp of this part's type";
 
-    // Covered: another part straight above an upward face, within the cover distance.
+    // Covered: another part or a fixture straight above an upward face, within the cover distance.
     const SurfaceSamples& samples = meshes.at(part.mesh.get()).samples;
-    std::vector<size_t> hits(pile.parts.size(), 0);
+    std::vector<size_t> hits(above.size(), 0);
     for (size_t s = 0; s < samples.points.size(); ++s) {
       if ((part.world_from_part.linear() * samples.normals[s]).dot(up) < kUpwardCos) continue;
       const Eigen::Vector3d origin = part.world_from_part * samples.points[s] - up * kCoverStartDepthM;
@@ -184,11 +207,10 @@ StatusOr<std::vector<PickVerdict>> CheckPicks(const Pile& pile, std::span<const 
       Box ray;
       ray.Add(origin);
       ray.Add(origin + up * length);
-      for (size_t j = 0; j < pile.parts.size(); ++j) {
-        if (j == i || !boxes[j].Overlaps(ray)) continue;
-        const Pose3 part_from_world = pile.parts[j].world_from_part.inverse();
-        if (meshes.at(pile.parts[j].mesh.get())
-                .rays->FirstHit(part_from_world * origin, part_from_world.linear() * up, 0, length)) {
+      for (size_t j = 0; j < above.size(); ++j) {
+        if (above[j].item == PileItem{false, i} || !above[j].box.Overlaps(ray)) continue;
+        const Pose3 mesh_from_world = above[j].world_from_mesh.inverse();
+        if (meshes.at(above[j].mesh).rays->FirstHit(mesh_from_world * origin, mesh_from_world.linear() * up, 0, length)) {
           ++hits[j];
         }
       }
@@ -196,8 +218,8 @@ StatusOr<std::vector<PickVerdict>> CheckPicks(const Pile& pile, std::span<const 
     const auto most = std::max_element(hits.begin(), hits.end());
     if (most != hits.end() && *most > 0) {
       verdict.failure = PickFailure::kCovered;
-      verdict.covered_by = size_t(most - hits.begin());
-      verdict.detail = "part " + std::to_string(*verdict.covered_by) + " lies on it";
+      verdict.covered_by = above[size_t(most - hits.begin())].item;
+      verdict.detail = Describe(*verdict.covered_by) + " lies on it";
       return;
     }
 
@@ -207,7 +229,7 @@ StatusOr<std::vector<PickVerdict>> CheckPicks(const Pile& pile, std::span<const 
       if (world_from_tool.linear().col(2).dot(-up) < cos_tilt - 1e-12) continue;
       ++verdict.grasps_from_above;
       if (const auto contact = FindSweepContact(pile, i, sweep, world_from_tool)) {
-        Note(verdict, PickFailure::kGripperCollision, "the gripper's way in meets " + *contact);
+        Note(verdict, PickFailure::kGripperCollision, "the gripper's way in meets " + Describe(*contact), contact);
         continue;
       }
       ++verdict.grasps_clear;

@@ -45,7 +45,7 @@ struct Pile {
 // Why a part cannot be picked: the furthest check any of its grasps reached.
 enum class PickFailure {
   kNone,               // pickable
-  kCovered,            // another part lies on its upward faces
+  kCovered,            // another part (or a fixture) lies on its upward faces
   kNoGrasp,            // no grasp of its type, or none whose approach comes from above within the tilt
   kGripperCollision,   // every remaining grasp's gripper sweep meets the bin or another part
   kUnreachable,        // no collision-free grasp is reachable by the arm (grasp and pre-grasp)
@@ -58,8 +58,8 @@ struct PickOptions {
   ToolSweep sweep;
   // The approach may tilt this far from straight down (-up), degrees in [0, 180].
   double max_approach_tilt_deg = 60;
-  // A part is covered when another part lies within this distance straight above its upward
-  // faces (faces within 70 degrees of up).
+  // A part is covered when another part or a fixture lies within this distance straight above its
+  // upward faces (faces within 70 degrees of up).
   double cover_distance_m = 0.002;
   size_t cover_samples = 400;  // surface samples per part type for the cover test, [10, 100000]
   // Grasps per part sent to the reach check, best first, at most [1, 1000].
@@ -76,6 +76,14 @@ struct ReachAnswer {
 };
 using ReachCheck = std::function<StatusOr<ReachAnswer>(const Pose3& world_from_tool, const Pose3& world_from_pregrasp)>;
 
+// Something of the pile a check met: another part or a fixture, by its index.
+struct PileItem {
+  bool fixture = false;
+  size_t index = 0;
+  bool operator==(const PileItem&) const = default;
+};
+std::string Describe(const PileItem& item);  // "part 3", "fixture 0"
+
 struct PickVerdict {
   bool pickable = false;
   PickFailure failure = PickFailure::kNone;
@@ -83,7 +91,8 @@ struct PickVerdict {
   std::optional<size_t> grasp;  // the index into its type's grasps that passed
   Pose3 world_from_tool = Pose3::Identity();
   Eigen::VectorXd joint_positions;
-  std::optional<size_t> covered_by;  // the part lying on it
+  std::optional<PileItem> covered_by;  // kCovered: what lies on it
+  std::optional<PileItem> blocked_by;  // kGripperCollision: what the best grasp's sweep meets first
   // Grasps that got past each check: approach within the tilt, gripper sweep clear, sent to the arm.
   size_t grasps_from_above = 0;
   size_t grasps_clear = 0;
@@ -100,9 +109,9 @@ StatusOr<std::vector<PickVerdict>> CheckPicks(const Pile& pile, std::span<const 
                                               const ReachCheck& reach, const std::atomic<bool>* cancel = nullptr);
 
 // The gripper's sweep (pieces in the tool frame, GripperSweep) placed at a grasp against every
-// fixture and every part but the grasped one, exactly (sweep_contact.h): the first contact as
-// "fixture 0" or "part 3" (fixtures first), or empty when clear.
-std::optional<std::string> FindSweepContact(const Pile& pile, size_t grasped, std::span<const ConvexPiece> sweep,
-                                            const Pose3& world_from_tool);
+// fixture and every part but the grasped one, exactly (sweep_contact.h): the first contact
+// (fixtures first), or empty when clear.
+std::optional<PileItem> FindSweepContact(const Pile& pile, size_t grasped, std::span<const ConvexPiece> sweep,
+                                         const Pose3& world_from_tool);
 
 }  // namespace vscan::grasping

@@ -51,4 +51,29 @@ StatusOr<FillResult> FillBin(const BinSpec& bin, const std::vector<PartType>& pa
   return result;
 }
 
+StatusOr<FillResult> SettlePile(const BinSpec& bin, const std::vector<PartType>& parts,
+                                const std::vector<PlacedPart>& placed, const FillOptions& options,
+                                const std::atomic<bool>* cancel) {
+  RETURN_IF_ERROR(CheckFillInput(bin, parts, options));
+  if (placed.size() > kMaxFillParts) {
+    return InvalidArgument("placed", "at most " + std::to_string(kMaxFillParts) + " parts");
+  }
+  for (size_t i = 0; i < placed.size(); ++i) {
+    const std::string field = "placed[" + std::to_string(i) + "]";
+    if (placed[i].type >= parts.size()) return InvalidArgument(field + ".type", "names no part type");
+    const Pose3& pose = placed[i].world_from_part;
+    if (!pose.matrix().allFinite() || !pose.linear().isUnitary(1e-6) || pose.linear().determinant() < 0) {
+      return InvalidArgument(field + ".world_from_part", "must be a finite rigid pose");
+    }
+  }
+  const auto start = std::chrono::steady_clock::now();
+  const std::vector<PartGeometry> geometry = MakePartGeometries(parts, options.hull_tolerance_m);
+  RETURN_IF_ERROR(CheckPartMasses(geometry));
+  const auto world = MakeBulletFillWorld(bin, geometry, options);
+  const double setup_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  FillResult result = RunSettle(bin, parts, geometry, placed, options, *world, cancel);
+  result.setup_wall_s = setup_s;
+  return result;
+}
+
 }  // namespace vscan::physics

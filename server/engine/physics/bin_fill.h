@@ -173,4 +173,12 @@ inline constexpr size_t kMaxDecompositionTriangles = 20000;
 StatusOr<FillResult> FillBin(const BinSpec& bin, const std::vector<PartType>& parts, const FillOptions& options,
                              const std::atomic<bool>* cancel = nullptr);
 
+// Lets a pile settle again after a change (a part taken out of it): the placed parts start at rest
+// where they are and fall, rest and leave the bin by FillBin's rules (the types' counts are not
+// used). The result's parts keep their type and instance. INVALID_ARGUMENT naming
+// "placed[i].type" or "placed[i].world_from_part", or the fields FillBin names.
+StatusOr<FillResult> SettlePile(const BinSpec& bin, const std::vector<PartType>& parts,
+                                const std::vector<PlacedPart>& placed, const FillOptions& options,
+                                const std::atomic<bool>* cancel = nullptr);
+
 }  // namespace vscan::physics

@@ -54,12 +54,22 @@ std::vector<SpawnSlot> SpawnOrder(const std::vector<PartType>& parts, random::Sp
 
 class Filler {
  public:
+  // start: parts already in the bin (nothing is dropped then); null: the parts' counts are dropped.
   Filler(const BinSpec& bin, const std::vector<PartType>& parts, const std::vector<PartGeometry>& geometry,
-         const FillOptions& options, FillWorld& world)
+         const FillOptions& options, FillWorld& world, const std::vector<PlacedPart>* start)
       : bin_(bin), parts_(parts), geometry_(geometry), options_(options), world_(world), draws_(options.seed),
         bin_from_world_(bin.world_from_bin.inverse()), interior_(InteriorOf(bin)), rim_(interior_.hi.z()),
         max_steps_(static_cast<uint64_t>(std::ceil(options.max_simulated_s / options.time_step_s - 1e-9))) {
-    order_ = SpawnOrder(parts, draws_);
+    if (start == nullptr) {
+      order_ = SpawnOrder(parts, draws_);
+      return;
+    }
+    for (const PlacedPart& part : *start) {
+      Pose3 part_from_body = Pose3::Identity();
+      part_from_body.translation() = geometry_[part.type].centre;
+      const Pose3 world_from_body = part.world_from_part * part_from_body;
+      live_.push_back({world_.AddPart(part.type, world_from_body), part.type, part.instance, 0, world_from_body});
+    }
   }
 
   FillResult Run(const std::atomic<bool>* cancel) {
@@ -281,7 +291,15 @@ class Filler {
 
 FillResult RunFill(const BinSpec& bin, const std::vector<PartType>& parts, const std::vector<PartGeometry>& geometry,
                    const FillOptions& options, FillWorld& world, const std::atomic<bool>* cancel) {
-  return Filler(bin, parts, geometry, options, world).Run(cancel);
+  return Filler(bin, parts, geometry, options, world, nullptr).Run(cancel);
+}
+
+FillResult RunSettle(const BinSpec& bin, const std::vector<PartType>& parts, const std::vector<PartGeometry>& geometry,
+                     const std::vector<PlacedPart>& placed, const FillOptions& options, FillWorld& world,
+                     const std::atomic<bool>* cancel) {
+  FillResult result = Filler(bin, parts, geometry, options, world, &placed).Run(cancel);
+  result.spawned = 0;
+  return result;
 }
 
 }  // namespace vscan::physics

@@ -16,4 +16,10 @@ namespace vscan::physics {
 FillResult RunFill(const BinSpec& bin, const std::vector<PartType>& parts, const std::vector<PartGeometry>& geometry,
                    const FillOptions& options, FillWorld& world, const std::atomic<bool>* cancel);
 
+// The same rules on parts already in the bin (SettlePile): nothing is dropped; they settle from
+// where they are, at the settle damping.
+FillResult RunSettle(const BinSpec& bin, const std::vector<PartType>& parts, const std::vector<PartGeometry>& geometry,
+                     const std::vector<PlacedPart>& placed, const FillOptions& options, FillWorld& world,
+                     const std::atomic<bool>* cancel);
+
 }  // namespace vscan::physics

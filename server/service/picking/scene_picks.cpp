@@ -6,9 +6,7 @@
 #include <regex>
 #include <set>
 
-#include "robot/ik_types.h"
-#include "robot_registry/arm_kinematics.h"
-#include "service/robot/robot_collision.h"
+#include "service/picking/arm_reach.h"
 
 namespace vscan::service {
 namespace {
@@ -43,18 +41,6 @@ Status ValidateRequest(const ScenePickRequest& request) {
     }
   }
   return grasping::ValidateGripper(request.gripper);
-}
-
-robot::IkGoal ToolGoal(const grasping::Gripper& gripper, const Pose3& world_from_tool) {
-  // A cup is round: its rotation about the approach is free.
-  if (std::holds_alternative<grasping::SuctionCup>(gripper)) {
-    robot::IkGoal goal;
-    goal.kind = robot::IkGoalKind::kLookAt;
-    goal.base_from_tool = world_from_tool;
-    goal.view_direction = world_from_tool.linear().col(2);
-    return goal;
-  }
-  return robot::PoseGoal(world_from_tool);
 }
 
 }  // namespace
@@ -111,10 +97,21 @@ StatusOr<ScenePicks> CheckScenePicks(ServiceContext& context, const ScenePickReq
       pile_object.push_back(p);
     }
   }
+  std::vector<const store::ObjectRecord*> fixture_object;  // pile fixture -> its object (null: none)
   for (const raycast::SceneInstance& instance : *target.instances) {
     if (part_instances.contains(instance.instance_id)) continue;
     pile.fixtures.push_back({Scaled(instance.mesh, instance.scale), instance.world_from_object});
+    const auto object = std::find_if(target.scene.objects.begin(), target.scene.objects.end(),
+                                     [&](const store::ObjectRecord& o) { return o.instance_id == instance.instance_id; });
+    fixture_object.push_back(object == target.scene.objects.end() ? nullptr : &*object);
   }
+  // What the engine names by index, by the scene's object id and label.
+  const auto object_of = [&](const grasping::PileItem& item) -> const store::ObjectRecord* {
+    return item.fixture ? fixture_object[item.index] : parts[pile_object[item.index]];
+  };
+  const auto name = [](const store::ObjectRecord* object) {
+    return object == nullptr ? std::string("a scene instance") : "object '" + object->object_id + "' (" + object->label + ")";
+  };
   std::vector<std::vector<grasping::Grasp>> grasps;
   ScenePicks out;
   out.scene_id = scene_id;
@@ -127,33 +124,21 @@ StatusOr<ScenePicks> CheckScenePicks(ServiceContext& context, const ScenePickReq
   grasping::PickOptions options = request.pick_options;
   options.sweep.body_length_m =
       request.body_length_m > 0 ? request.body_length_m : mounted.chain->tip_from_tool().translation().norm();
-  robot_registry::IkSettings settings;
-  settings.time_budget = request.ik_time_budget;
-  const auto reach = [&](const Pose3& world_from_tool, const Pose3& world_from_pregrasp)
-      -> StatusOr<grasping::ReachAnswer> {
-    ASSIGN_OR_RETURN(const robot_registry::IkAnswer grasp,
-                     robot_registry::SolveInPlacement(*mounted.chain, mounted.placement,
-                                                      ToolGoal(request.gripper, world_from_tool), {}, settings));
-    if (!grasp.reached) return grasping::ReachAnswer{grasping::PickFailure::kUnreachable, grasp.failure.message(), {}};
-    ASSIGN_OR_RETURN(const robot_registry::IkAnswer pregrasp,
-                     robot_registry::SolveInPlacement(*mounted.chain, mounted.placement,
-                                                      ToolGoal(request.gripper, world_from_pregrasp),
-                                                      grasp.result.joint_positions, settings));
-    if (!pregrasp.reached) {
-      return grasping::ReachAnswer{grasping::PickFailure::kUnreachable, "pre-grasp: " + pregrasp.failure.message(), {}};
-    }
-    for (const auto* joints : {&grasp.result.joint_positions, &pregrasp.result.joint_positions}) {
-      ASSIGN_OR_RETURN(auto touch, FindRobotCollision(context, request.mount_id, *joints, scene.table.angle_deg));
-      if (touch) return grasping::ReachAnswer{grasping::PickFailure::kArmCollision, *touch, {}};
-    }
-    return grasping::ReachAnswer{grasping::PickFailure::kNone, "", grasp.result.joint_positions};
-  };
+  const auto reach = ArmReach(context, std::make_shared<const robot_registry::MountedRobot>(mounted), request.gripper,
+                              request.ik_time_budget, scene.table.angle_deg);
   ASSIGN_OR_RETURN(auto verdicts, grasping::CheckPicks(pile, grasps, request.gripper, options, reach, cancel));
 
   for (size_t i = 0; i < verdicts.size(); ++i) {
     const store::ObjectRecord& object = *parts[pile_object[i]];
     ObjectPick pick{object.object_id, object.label, std::move(verdicts[i]), {}};
-    if (pick.verdict.covered_by) pick.covered_by_object_id = parts[pile_object[*pick.verdict.covered_by]]->object_id;
+    if (pick.verdict.covered_by) {
+      const store::ObjectRecord* cover = object_of(*pick.verdict.covered_by);
+      if (cover != nullptr) pick.covered_by_object_id = cover->object_id;
+      pick.verdict.detail = name(cover) + " lies on it";
+    }
+    if (pick.verdict.failure == grasping::PickFailure::kGripperCollision && pick.verdict.blocked_by) {
+      pick.verdict.detail = "the gripper's way in meets " + name(object_of(*pick.verdict.blocked_by));
+    }
     out.parts.push_back(std::move(pick));
   }
   out.elapsed_s = std::chrono::duration<double>(Clock::now() - start).count();

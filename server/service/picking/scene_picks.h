@@ -32,7 +32,9 @@ struct ObjectPick {
   std::string object_id;
   std::string label;
   grasping::PickVerdict verdict;
-  std::string covered_by_object_id;  // set when verdict.covered_by is
+  // When covered: the object lying on it (another part or any other object of the scene). The
+  // verdict's detail names objects by id and label.
+  std::string covered_by_object_id;
 };
 
 struct ScenePicks {

@@ -96,9 +96,17 @@ TEST(PickChecksTest, APartUnderAnotherIsCoveredAndTheOneOnTopIsPickable) {
   ASSERT_TRUE(verdicts.ok()) << verdicts.status().ToString();
   EXPECT_FALSE((*verdicts)[0].pickable);
   EXPECT_EQ((*verdicts)[0].failure, PickFailure::kCovered);
-  EXPECT_EQ((*verdicts)[0].covered_by, std::optional<size_t>(1));
+  EXPECT_EQ((*verdicts)[0].covered_by, std::optional<PileItem>(PileItem{false, 1}));
   EXPECT_TRUE((*verdicts)[1].pickable) << (*verdicts)[1].detail;
   EXPECT_TRUE((*verdicts)[2].pickable) << (*verdicts)[2].detail;
+  // A fixture (a bar) resting on a part covers it too.
+  Pile under_bar = pile;
+  under_bar.fixtures.push_back({test::Share(test::MakeBox({0.18, -0.05, 0.0205}, {0.22, 0.05, 0.03})), Pose3::Identity()});
+  const auto barred = CheckPicks(under_bar, grasps, cup, {}, {});
+  ASSERT_TRUE(barred.ok());
+  EXPECT_EQ((*barred)[2].failure, PickFailure::kCovered);
+  EXPECT_EQ((*barred)[2].covered_by, std::optional<PileItem>(PileItem{true, 1}));
+  EXPECT_EQ((*barred)[2].detail, "fixture 1 lies on it");
   // Lifted 5 mm clear of it, the upper block no longer covers the lower one.
   pile.parts[1].world_from_part = At(0.015, 0.005, 0.025);
   const auto apart = CheckPicks(pile, grasps, cup, {}, {});
@@ -129,7 +137,7 @@ TEST(PickChecksTest, ACupUnderAnOverhangingBarCollidesExactlyWhereItsColumnReach
     const auto contact = FindSweepContact(pile, 0, sweep, g.part_from_tool);
     EXPECT_EQ(contact.has_value(), reach > wall_x) << "cup centre x " << g.part_from_tool.translation().x();
     if (contact) {
-      EXPECT_EQ(*contact, "fixture 1");
+      EXPECT_EQ(*contact, (PileItem{true, 1}));
       ++hit;
     } else {
       ++clear;

@@ -92,7 +92,13 @@ TEST_F(ScenePicksTest, ABlockBeyondTheArmsReachIsUnreachableAndOneUnderAnotherIs
   ASSERT_TRUE(one.ok());
   ASSERT_EQ(one->parts.size(), 1u);
   EXPECT_EQ(one->parts[0].object_id, far);
-  (void)under;
+  // The lower block alone: the one on it is not among the parts asked about, and still covers it.
+  request.part_object_ids = {under};
+  const auto alone = CheckScenePicks(world_.context(), request);
+  ASSERT_TRUE(alone.ok());
+  EXPECT_EQ(alone->parts[0].verdict.failure, grasping::PickFailure::kCovered);
+  EXPECT_EQ(alone->parts[0].covered_by_object_id, over);
+  EXPECT_EQ(alone->parts[0].verdict.detail, "object '" + over + "' (block#3) lies on it");
 }
 
 TEST_F(ScenePicksTest, BadRequestsAreRefusedNamingTheField) {
