@@ -1,22 +1,21 @@
 #pragma once
-// The gripper flags of `vscan score` and `vscan dataset score` (the same names as `vscan picks`):
-// a suction cup or parallel jaws whose grasps, planned on each estimate, are tried on the truth.
+// The gripper of `vscan score` and `vscan dataset score`: the flags of `vscan picks`
+// (picking/gripper_args.h) and --up, for the grasp success beside the recalls.
 
 #include <optional>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 
+#include "picking/gripper_args.h"
 #include "vscan/common/status.h"
 #include "vscan/v1/common.pb.h"
 #include "vscan/v1/picking.pb.h"
 
 namespace vscan::cli {
 
-// Metres and degrees; unset flags are not sent (the server's defaults, docs/GRASPING.md).
 struct ScoreGripperArgs {
-  std::optional<double> suction_diameter, stroke, max_tilt_deg, min_flat_fraction;
-  std::optional<double> jaws_max_opening, jaws_min_opening, finger_width, finger_depth;
+  GripperArgs gripper;
   std::vector<double> up;  // empty or x y z
 };
 

@@ -193,7 +193,7 @@ class LocalizationCalls:
         truth_from_objects); estimates: (part, 4x4, score) tuples or EstimatedPoses. part is an
         index into parts.
 
-        gripper (vscan.grasp_scoring: SuctionCup, ParallelJaws, a dict or a vscan.v1.Gripper) adds the
+        gripper (vscan.SuctionCup, vscan.ParallelJaws, a dict or a vscan.v1.Gripper) adds the
         grasp figures: per match grasp_holds and grasp_failure, per part and overall grasp_success
         (grasps that hold / valid true instances). up: the direction against gravity in the poses'
         frame (default +z)."""
