@@ -11,8 +11,8 @@ namespace {
 
 // GraspTarget::Make's own samples of the true surface (OutcomeOptions' default).
 constexpr uint64_t kTargetSamples = 20000;
-// A suction seal check looks at the samples under the cup; a generous flat cost per judgement.
-constexpr uint64_t kSealWork = 10000;
+// A suction seal check visits at most every one of the true part's samples.
+constexpr uint64_t kSealWork = kTargetSamples;
 
 }  // namespace
 
