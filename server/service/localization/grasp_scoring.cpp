@@ -18,11 +18,10 @@ constexpr uint64_t kSealWork = kTargetSamples;
 
 StatusOr<Eigen::Vector3d> UnitUp(const Eigen::Vector3d& up, std::string_view field) {
   if (!up.allFinite()) return InvalidArgument(std::string(field), "must be finite");
-  const double length = up.norm();
-  if (!(length > 1e-9) || !std::isfinite(length)) {
-    return InvalidArgument(std::string(field), "must be a non-zero direction (against gravity)");
-  }
-  return Eigen::Vector3d(up / length);
+  // Scaled by its largest component first, so that 1e200 does not overflow the norm.
+  const double largest = up.cwiseAbs().maxCoeff();
+  if (!(largest > 1e-9)) return InvalidArgument(std::string(field), "must be a non-zero direction (against gravity)");
+  return Eigen::Vector3d((up / largest).normalized());
 }
 
 Status ValidateGraspScoring(const GraspScoring& scoring) {

@@ -228,6 +228,10 @@ TEST_F(GraspScoringTest, ANonFiniteGripperOrUpIsRefusedNamingTheField) {
     EXPECT_EQ(scores.status().code(), StatusCode::kInvalidArgument);
     EXPECT_EQ(scores.status().field(), "up");
   }
+  // Huge but finite is a direction.
+  plan = Plan(SmallCup(), {TrueBlockPose()});
+  plan.grasp->up = Eigen::Vector3d(0, 1e300, 1e300);
+  EXPECT_TRUE(ScorePosesWithGrasps(world_.context().registry, plan).ok());
   plan = Plan(SmallCup(), {TrueBlockPose()});
   plan.grasp->grasp_options.candidates = 0;
   scores = ScorePosesWithGrasps(world_.context().registry, plan);
