@@ -16,7 +16,7 @@ SERVICE_USES = {
     "context": set(),
     "job": set(),
     "robot": {"context"},
-    "picking": {"context", "robot", "scan", "clouds", "localization", "bins"},
+    "picking": {"context", "job", "robot", "scan", "clouds", "localization", "bins"},
     "scan": {"context", "robot"},
     "clouds": {"context"},
     "localization": {"context", "clouds"},

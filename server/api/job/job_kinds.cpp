@@ -7,7 +7,7 @@ namespace {
 
 using service::JobKind;
 
-constexpr std::array<JobKindRow, 4> kJobKinds{{
+constexpr std::array<JobKindRow, 5> kJobKinds{{
     {JobKind::kCampaign, "campaign spec",
      [](const std::string& bytes, v1::Job* out) { return out->mutable_campaign()->ParseFromString(bytes); }},
     {JobKind::kModel, "model spec",
@@ -16,6 +16,8 @@ constexpr std::array<JobKindRow, 4> kJobKinds{{
      [](const std::string& bytes, v1::Job* out) { return out->mutable_bin_fill()->ParseFromString(bytes); }},
     {JobKind::kDataset, "dataset spec",
      [](const std::string& bytes, v1::Job* out) { return out->mutable_dataset()->ParseFromString(bytes); }},
+    {JobKind::kPicking, "picking spec",
+     [](const std::string& bytes, v1::Job* out) { return out->mutable_picking()->ParseFromString(bytes); }},
 }};
 
 }  // namespace

@@ -32,6 +32,9 @@ class JobService final : public v1::JobService::CallbackService {
   // In dataset_job_service.cpp.
   grpc::ServerUnaryReactor* StartDataset(grpc::CallbackServerContext* ctx, const v1::StartDatasetRequest* request,
                                          v1::StartDatasetResponse* response) override;
+  // In picking/picking_job_service.cpp.
+  grpc::ServerUnaryReactor* StartPicking(grpc::CallbackServerContext* ctx, const v1::StartPickingRequest* request,
+                                         v1::StartPickingResponse* response) override;
   // In dataset_score_service.cpp.
   grpc::ServerUnaryReactor* ScoreDatasetResults(grpc::CallbackServerContext* ctx,
                                                 const v1::ScoreDatasetResultsRequest* request,

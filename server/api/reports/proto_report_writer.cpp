@@ -20,4 +20,14 @@ std::string ProtoReportWriter::BinFillJson(const service::BinFillPlan& plan,
   return PrintReport(BinReportMessage(plan, report));
 }
 
+std::string ProtoReportWriter::PickingJson(const service::PickingPlan& plan,
+                                           const service::PickingJobReport& report) const {
+  return PrintReport(PickingReportMessage(plan, report));
+}
+
+std::string ProtoReportWriter::PickingStepTruthJson(const service::PickingPlan& plan,
+                                                    const service::StepView& view) const {
+  return PrintReport(PickingStepTruthMessage(plan, view));
+}
+
 }  // namespace vscan::api

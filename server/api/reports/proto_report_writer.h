@@ -12,6 +12,8 @@ class ProtoReportWriter final : public service::ReportWriter {
   std::string CampaignJson(const std::string& job_id, const std::string& final_state, const service::CampaignPlan& plan,
                            const std::vector<service::CampaignStepRecord>& steps) const override;
   std::string BinFillJson(const service::BinFillPlan& plan, const service::BinFillReport& report) const override;
+  std::string PickingJson(const service::PickingPlan& plan, const service::PickingJobReport& report) const override;
+  std::string PickingStepTruthJson(const service::PickingPlan& plan, const service::StepView& view) const override;
 };
 
 }  // namespace vscan::api

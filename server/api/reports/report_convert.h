@@ -12,6 +12,7 @@
 #include "service/bins/bin_fill_report.h"
 #include "service/campaign/campaign_summary.h"
 #include "service/model/model_report.h"
+#include "service/picking/picking_report.h"
 #include "vscan/common/pose.h"
 #include "vscan/v1/reports.pb.h"
 
@@ -22,6 +23,8 @@ v1::CampaignReport CampaignReportMessage(const std::string& job_id, const std::s
                                          const service::CampaignPlan& plan,
                                          const std::vector<service::CampaignStepRecord>& steps);
 v1::BinReport BinReportMessage(const service::BinFillPlan& plan, const service::BinFillReport& report);
+v1::PickingReport PickingReportMessage(const service::PickingPlan& plan, const service::PickingJobReport& report);
+v1::PickingStepTruth PickingStepTruthMessage(const service::PickingPlan& plan, const service::StepView& view);
 
 // Arrays as the reports hold them: [x, y, z], row-major 4x4.
 void AddVector(const Eigen::Vector3d& v, google::protobuf::RepeatedField<double>* out);

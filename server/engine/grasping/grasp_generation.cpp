@@ -20,7 +20,9 @@ constexpr double kMaxWork = 2e9;
 // Keys separating the candidate draws from the dense samples.
 constexpr uint64_t kDenseKey = 0x6772617370ull, kCandidateKey = 0x63616e64ull;
 
-Status ValidateOptions(const GraspOptions& o) {
+}  // namespace
+
+Status ValidateGraspOptions(const GraspOptions& o) {
   if (o.max_grasps < 1 || o.max_grasps > 100000) return InvalidArgument("grasp_options.max_grasps", "must be in [1, 100000]");
   if (o.surface_samples < 100 || o.surface_samples > 2000000) {
     return InvalidArgument("grasp_options.surface_samples", "must be in [100, 2000000]");
@@ -34,6 +36,8 @@ Status ValidateOptions(const GraspOptions& o) {
   }
   return Status::Ok();
 }
+
+namespace {
 
 // Each candidate may visit every dense sample (suction; jaws: at both contacts, for every approach)
 // and, for jaws, test every triangle.
@@ -80,7 +84,7 @@ void PerpendicularBasis(const Eigen::Vector3d& z, Eigen::Vector3d& x, Eigen::Vec
 StatusOr<std::vector<Grasp>> GenerateGrasps(const TriangleMesh& mesh, const Gripper& gripper,
                                             const GraspOptions& options) {
   if (auto s = ValidateGripper(gripper); !s.ok()) return s;
-  if (auto s = ValidateOptions(options); !s.ok()) return s;
+  if (auto s = ValidateGraspOptions(options); !s.ok()) return s;
   if (auto s = ValidatePartMesh(mesh); !s.ok()) return s;
   if (auto s = CheckWork(mesh, gripper, options); !s.ok()) return s;
   const SurfaceSamples dense = SampleSurface(mesh, options.surface_samples, options.seed ^ kDenseKey);

@@ -33,6 +33,9 @@ struct Grasp {
   double opening_m = 0;   // jaws: the distance between the contacts; 0 for suction
 };
 
+// INVALID_ARGUMENT naming "grasp_options.*" for a value out of its range.
+Status ValidateGraspOptions(const GraspOptions& options);
+
 // Sorted by quality, best first (ties by draw order); the same seed gives the same grasps.
 // InvalidArgument for a bad gripper (naming its field), options ("grasp_options.*") or mesh ("mesh");
 // ResourceExhausted ("grasp_options.candidates") when candidates x surface_samples (suction) or

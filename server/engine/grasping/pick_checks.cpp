@@ -41,7 +41,9 @@ struct MeshData {
   SurfaceSamples samples;
 };
 
-Status ValidateOptions(const PickOptions& o) {
+}  // namespace
+
+Status ValidatePickOptions(const PickOptions& o) {
   const auto bad = [](double v, double lo, double hi) { return !std::isfinite(v) || v < lo || v > hi; };
   if (bad(o.sweep.body_length_m, 0, 10)) return InvalidArgument("pick_options.body_length_m", "must be in [0, 10] m");
   if (bad(o.sweep.approach_m, 0, 10)) return InvalidArgument("pick_options.approach_m", "must be in [0, 10] m");
@@ -57,6 +59,8 @@ Status ValidateOptions(const PickOptions& o) {
   }
   return Status::Ok();
 }
+
+namespace {
 
 Status CheckMesh(const std::shared_ptr<const TriangleMesh>& mesh, const std::string& field) {
   if (mesh == nullptr || mesh->empty()) return InvalidArgument(field, "is missing or empty");
@@ -153,7 +157,7 @@ StatusOr<std::vector<PickVerdict>> CheckPicks(const Pile& pile, std::span<const 
                                               const Gripper& gripper, const PickOptions& options,
                                               const ReachCheck& reach, const std::atomic<bool>* cancel) {
   RETURN_IF_ERROR(ValidateGripper(gripper));
-  RETURN_IF_ERROR(ValidateOptions(options));
+  RETURN_IF_ERROR(ValidatePickOptions(options));
   RETURN_IF_ERROR(ValidatePile(pile, grasps_per_type.size()));
   const Eigen::Vector3d up = pile.up.normalized();
   const double cos_tilt = std::cos(options.max_approach_tilt_deg * std::numbers::pi / 180);

@@ -67,6 +67,9 @@ struct PickOptions {
   uint64_t seed = 1;
 };
 
+// INVALID_ARGUMENT naming "pick_options.*" for a value out of its range.
+Status ValidatePickOptions(const PickOptions& options);
+
 // The arm's answer for one grasp: the tool (centre point, z along the approach) at
 // world_from_tool and, before it, at world_from_pregrasp.
 struct ReachAnswer {

@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <memory>
 
 #include <Eigen/Geometry>
@@ -135,8 +136,12 @@ StatusOr<EmptyBinResult> EmptyBin(const Cell& cell, std::vector<physics::PlacedP
       ASSIGN_OR_RETURN(const auto verdicts, grasping::CheckPicks(PileOf(prepared, estimated), cell.grasps, cell.gripper,
                                                                  cell.pick_options, cell.reach, cancel));
       std::optional<size_t> chosen;
+      std::map<std::string, size_t> why_not;
       for (size_t e = 0; e < verdicts.size(); ++e) {
-        if (!verdicts[e].pickable) continue;
+        if (!verdicts[e].pickable) {
+          ++why_not[grasping::PickFailureName(verdicts[e].failure)];
+          continue;
+        }
         ++record.pickable_estimates;
         if (NearFailed(verdicts[e].world_from_tool, failed_tools, options.retry_distance_m)) continue;
         if (!chosen || estimates[e].score > estimates[*chosen].score) chosen = e;
@@ -145,7 +150,13 @@ StatusOr<EmptyBinResult> EmptyBin(const Cell& cell, std::vector<physics::PlacedP
       if (!chosen) {
         record.outcome = StepOutcome::kNothingPickable;
         record.detail = std::to_string(record.pickable_estimates) + " of " + std::to_string(estimates.size()) +
-                        " estimates pickable, none not tried before";
+                        " estimates pickable";
+        std::string reasons;
+        for (const auto& [reason, count] : why_not) {
+          reasons += (reasons.empty() ? "" : ", ") + std::to_string(count) + " " + reason;
+        }
+        if (!reasons.empty()) record.detail += " (" + reasons + ")";
+        if (record.pickable_estimates > 0) record.detail += "; those pickable failed before";
         end = "nothing pickable";
       } else {
         const Estimate& estimate = estimates[*chosen];

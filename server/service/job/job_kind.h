@@ -5,7 +5,7 @@
 
 namespace vscan::service {
 
-enum class JobKind { kCampaign, kModel, kBinFill, kDataset };
+enum class JobKind { kCampaign, kModel, kBinFill, kDataset, kPicking };
 
 constexpr std::string_view JobKindName(JobKind kind) {
   switch (kind) {
@@ -13,6 +13,7 @@ constexpr std::string_view JobKindName(JobKind kind) {
     case JobKind::kModel: return "model";
     case JobKind::kBinFill: return "bin_fill";
     case JobKind::kDataset: return "dataset";
+    case JobKind::kPicking: return "picking";
   }
   return "";
 }

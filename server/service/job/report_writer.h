@@ -1,5 +1,5 @@
 #pragma once
-// Prints the reports jobs leave (model.json, campaign.json, bin.json) from the plain structs the
+// Prints the reports jobs leave (model.json, campaign.json, bin.json, picking.json) from the plain structs the
 // runs fill. The schema is proto/vscan/v1/reports.proto, which this layer cannot see: vscand's api
 // layer implements this (api/reports), so no key is spelt here. The types are declared only: each
 // belongs to the service folder whose run fills it.
@@ -14,6 +14,9 @@ struct CampaignPlan;
 struct CampaignStepRecord;
 struct BinFillPlan;
 struct BinFillReport;
+struct PickingPlan;
+struct PickingJobReport;
+struct StepView;
 
 class ReportWriter {
  public:
@@ -22,6 +25,8 @@ class ReportWriter {
   virtual std::string CampaignJson(const std::string& job_id, const std::string& final_state, const CampaignPlan& plan,
                                    const std::vector<CampaignStepRecord>& steps) const = 0;
   virtual std::string BinFillJson(const BinFillPlan& plan, const BinFillReport& report) const = 0;
+  virtual std::string PickingJson(const PickingPlan& plan, const PickingJobReport& report) const = 0;
+  virtual std::string PickingStepTruthJson(const PickingPlan& plan, const StepView& view) const = 0;
 };
 
 }  // namespace vscan::service

@@ -1,0 +1,38 @@
+// JobService.StartPicking: a picking job over a succeeded bin fill's scene.
+
+#include <spdlog/spdlog.h>
+
+#include "api/job/job_service.h"
+#include "api/picking/picking_spec.h"
+#include "api/transport/unary.h"
+#include "api/transport/validate.h"
+#include "service/picking/picking_run.h"
+
+namespace vscan::api {
+
+grpc::ServerUnaryReactor* JobService::StartPicking(grpc::CallbackServerContext* ctx,
+                                                   const v1::StartPickingRequest* request,
+                                                   v1::StartPickingResponse* response) {
+  return RunBlockingUnary(ctx, context_.options.token, "StartPicking", context_.call_workers, [=, this]() -> Status {
+    if (!request->has_spec()) return InvalidArgument("spec: required");
+    const v1::PickingSpec& spec = request->spec();
+    RETURN_IF_ERROR(RequireId(spec.bin_job_id(), "spec.bin_job_id"));
+    auto bin_job = tracker_.catalogue().GetJob(spec.bin_job_id());
+    if (!bin_job.ok()) return Status(bin_job.status().code(), "spec.bin_job_id: " + bin_job.status().message());
+    ASSIGN_OR_RETURN(service::PickingPlan validated, ValidatePicking(spec, *bin_job, context_));
+    if (request->validate_only()) return Status::Ok();
+    auto plan = std::make_shared<const service::PickingPlan>(std::move(validated));
+    v1::Job* job = response->mutable_job();
+    const auto total = static_cast<uint32_t>(plan->bin.parts_total());
+    RETURN_IF_ERROR(Admit(
+        "spec", [&] { return CreateJob(service::JobKind::kPicking, spec.name(), spec, total, job); },
+        [this, plan, name = spec.name(), bin_job_id = spec.bin_job_id()](
+            service::JobRecorder& recorder, const std::string& job_id, jobs::JobControl& control) {
+          service::RunPicking(context_, recorder, job_id, name, bin_job_id, *plan, control);
+        }));
+    spdlog::info("job {}: picking in scene {} with mount {} queued", job->job_id(), plan->scene_id, plan->mount_id);
+    return Status::Ok();
+  });
+}
+
+}  // namespace vscan::api

@@ -1,0 +1,129 @@
+#include "service/picking/picking_run.h"
+
+#include <cstdio>
+
+#include <spdlog/spdlog.h>
+
+#include "service/job/report_writer.h"
+#include "service/job/run_end.h"
+#include "service/picking/picking_report.h"
+#include "vscan/common/cloud_io.h"
+
+namespace vscan::service {
+namespace {
+
+constexpr const char* kJsonMediaType = "application/json";
+constexpr const char* kPlyMediaType = "application/x-ply";
+
+std::string StepName(size_t step, const char* suffix) {
+  char name[48];
+  std::snprintf(name, sizeof(name), "step-%03zu%s", step, suffix);
+  return name;
+}
+
+class PickingRun {
+ public:
+  PickingRun(ServiceContext& context, JobRecorder& recorder, const std::string& job_id, const std::string& name,
+             const std::string& bin_job_id, const PickingPlan& plan, jobs::JobControl& control)
+      : context_(context), recorder_(recorder), plan_(plan), control_(control) {
+    report_.job_id = job_id;
+    report_.name = name;
+    report_.bin_job_id = bin_job_id;
+  }
+
+  void Run() {
+    PickingObserver observer;
+    observer.perceived = [this](const StepView& view) { Perceived(view); };
+    observer.stepped = [this](const picking::PickStep& step, const std::vector<physics::PlacedPart>& pile) {
+      Stepped(step, pile);
+    };
+    auto result = RunPickingSession(context_, plan_, control_.flag(), observer);
+    if (result.ok()) report_.result = std::move(result).value();
+    Finish(result.status());
+  }
+
+ private:
+  void Perceived(const StepView& view) {
+    if (view.step == 0) report_.parts_at_start = view.truth.size();
+    report_.scan_artifacts.emplace_back();
+    report_.truth_artifacts.emplace_back();
+    if (!view.scan.positions.empty()) {
+      const std::string name = StepName(view.step, ".ply");
+      const auto bytes = EncodePly(view.scan);
+      if (bytes.ok() && recorder_.RecordArtifact(name, kPlyMediaType, *bytes, nullptr, nullptr,
+                                                 Update("step " + std::to_string(view.step) + ": scanned, " +
+                                                        std::to_string(view.scan.size()) + " points"))
+                            .ok()) {
+        report_.scan_artifacts.back() = name;
+      }
+    }
+    const std::string truth = StepName(view.step, "-truth.json");
+    if (recorder_.RecordArtifact(truth, kJsonMediaType, recorder_.reports().PickingStepTruthJson(plan_, view), nullptr,
+                                 nullptr, Update("step " + std::to_string(view.step) + ": " +
+                                                 std::to_string(view.estimates.size()) + " parts found of " +
+                                                 std::to_string(view.truth.size())))
+            .ok()) {
+      report_.truth_artifacts.back() = truth;
+    }
+  }
+
+  void Stepped(const picking::PickStep& step, const std::vector<physics::PlacedPart>& pile) {
+    if (step.outcome == picking::StepOutcome::kPicked) ++picked_;
+    const std::string what = step.outcome == picking::StepOutcome::kPicked
+                                 ? "picked " + plan_.bin.parts[step.picked->type].name + "#" +
+                                       std::to_string(step.picked->instance + 1)
+                                 : std::string(picking::StepOutcomeName(step.outcome)) + ": " + step.detail;
+    (void)recorder_.Record(Update("step " + std::to_string(step.step) + ": " + what + "; " +
+                                  std::to_string(pile.size()) + " parts left"));
+  }
+
+  void Finish(const Status& status) {
+    if (report_.result && report_.result->end != "cancelled") {
+      const picking::EmptyBinResult& r = *report_.result;
+      report_.state = store::JobState::kSucceeded;
+      report_.message = r.end + ": " + std::to_string(r.picked) + " of " + std::to_string(report_.parts_at_start) +
+                        " parts picked in " + std::to_string(r.steps.size()) + " steps, " +
+                        std::to_string(r.fell_out) + " fell out, " + std::to_string(r.pile.size()) + " left";
+    } else if (control_.stop_requested()) {
+      report_.state = StoppedState(control_.reason());
+      report_.message = StoppedMessage(report_.state) + " after " + std::to_string(picked_) +
+                        " picks; the scene keeps the pile as the last step left it";
+    } else {
+      report_.state = store::JobState::kFailed;
+      report_.message = status.ok() ? "the run ended without a result" : status.message();
+    }
+    const std::string json = recorder_.reports().PickingJson(plan_, report_);
+    const auto stored =
+        recorder_.RecordArtifact("picking.json", kJsonMediaType, json, nullptr, nullptr, Update("picking.json written"));
+    if (!stored.ok()) spdlog::warn("job {}: picking.json not stored: {}", report_.job_id, stored.status().ToString());
+    RecordEnd(recorder_, report_.job_id, Update(report_.message, report_.state));
+  }
+
+  JobEventUpdate Update(const std::string& message, store::JobState state = store::JobState::kRunning) const {
+    JobEventUpdate update;
+    update.state = state;
+    update.message = message;
+    update.steps_done = picked_;
+    return update;
+  }
+
+  ServiceContext& context_;
+  JobRecorder& recorder_;
+  const PickingPlan& plan_;
+  jobs::JobControl& control_;
+  uint32_t picked_ = 0;
+  PickingJobReport report_;
+};
+
+}  // namespace
+
+const char* PerceptionName(Perception perception) {
+  return perception == Perception::kTruth ? "truth" : "baseline";
+}
+
+void RunPicking(ServiceContext& context, JobRecorder& recorder, const std::string& job_id, const std::string& name,
+                const std::string& bin_job_id, const PickingPlan& plan, jobs::JobControl& control) {
+  PickingRun(context, recorder, job_id, name, bin_job_id, plan, control).Run();
+}
+
+}  // namespace vscan::service
