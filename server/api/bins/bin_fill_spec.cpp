@@ -3,6 +3,7 @@
 #include <cmath>
 #include <string>
 
+#include "api/bins/bin_picks_spec.h"
 #include "api/campaign/campaign_spec.h"
 #include "api/scenes/material_convert.h"
 #include "api/transport/validate.h"
@@ -137,6 +138,9 @@ StatusOr<service::BinFillRequest> BinFillRequestFromProto(const v1::BinFillSpec&
   RETURN_IF_ERROR(ReadParts(spec, validate_only, request.parts));
   RETURN_IF_ERROR(ReadPhysics(spec.physics(), request.options));
   request.options.seed = spec.seed();
+  if (spec.has_picks()) {
+    ASSIGN_OR_RETURN(request.picks, BinPicksFromProto(spec.picks()));
+  }
   return request;
 }
 
@@ -147,6 +151,7 @@ StatusOr<service::BinFillPlan> ValidateBinFill(const v1::BinFillSpec& spec, serv
   if (request->scene_id.empty() && !validate_only) return InSpec(InvalidArgument("scene_id", "required"));
   auto plan = service::PlanBinFill(context.registry, std::move(request).value(), validate_only);
   if (!plan.ok()) return InSpec(plan.status());
+  RETURN_IF_ERROR(InSpec(CheckBinPicks(*plan, context)));
   return plan;
 }
 

@@ -10,6 +10,7 @@
 
 #include "physics/bin_fill.h"
 #include "physics/part_geometry.h"
+#include "service/picking/scene_picks.h"
 #include "scenes/scene_registry.h"
 #include "store/catalogue.h"
 
@@ -38,6 +39,9 @@ struct BinFillRequest {
   double bin_mesh_scale = 1.0;
   std::vector<BinPartRequest> parts;
   physics::FillOptions options;
+  // Set: once placed, the parts are checked for picks by this request (its part_object_ids are
+  // filled in with the placed parts); its mount stands in scene_id (api/bin_picks_spec.cpp).
+  std::optional<ScenePickRequest> picks;
 };
 
 struct BinFillPlan {

@@ -9,11 +9,12 @@
 
 #include "jobs/job_runner.h"
 #include "service/bins/bin_fill_plan.h"
+#include "service/context/service_context.h"
 #include "service/job/job_events.h"
 
 namespace vscan::service {
 
-void RunBinFill(scenes::SceneRegistry& registry, JobRecorder& recorder, const std::string& job_id, const BinFillPlan& plan,
+void RunBinFill(ServiceContext& context, JobRecorder& recorder, const std::string& job_id, const BinFillPlan& plan,
                 jobs::JobControl& control);
 
 }  // namespace vscan::service

@@ -201,10 +201,15 @@ service::BinFillPlan BinPlan(bool mesh_bin) {
   physics::PartGeometry geometry;
   geometry.mass_kg = 0.05;
   plan.geometry = {geometry};
+  service::ScenePickRequest picks;
+  picks.mount_id = "mnt_1";
+  picks.gripper = grasping::SuctionCup{};
+  plan.request.picks = picks;
   return plan;
 }
 
-service::BinFillReport BinResult() {
+// The part picked (a grasp, the tool, the joints) or covered by another object.
+service::BinFillReport BinResult(bool pickable = true) {
   service::BinFillReport report;
   report.job_id = "job_b";
   report.message = "settled";
@@ -226,6 +231,21 @@ service::BinFillReport BinResult() {
   part.instance_id = 2;
   placement.parts = {part};
   placement.revision = 4;
+  service::ScenePicks& picks = report.picks.emplace();
+  picks.scene_id = "scn_1";
+  picks.grasps_generated = 12;
+  picks.elapsed_s = 0.5;
+  service::ObjectPick pick{"obj_p", "bracket#1", {}, {}};
+  pick.verdict.pickable = pickable;
+  if (pickable) {
+    pick.verdict.grasp = 0;
+    pick.verdict.joint_positions = Eigen::VectorXd::Zero(6);
+  } else {
+    pick.verdict.failure = grasping::PickFailure::kCovered;
+    pick.verdict.detail = "under obj_q";
+    pick.covered_by_object_id = "obj_q";
+  }
+  picks.parts = {pick};
   return report;
 }
 
@@ -246,11 +266,11 @@ TEST(ReportSchema, AFullCampaignReportPrintsEveryFieldOfTheSchemaAndNoOther) {
 
 TEST(ReportSchema, AFullBinReportPrintsEveryFieldOfTheSchemaAndNoOther) {
   const ProtoReportWriter writer;
-  const std::string box = writer.BinFillJson(BinPlan(false), BinResult());
-  const std::string mesh = writer.BinFillJson(BinPlan(true), BinResult());
+  const std::string box = writer.BinFillJson(BinPlan(false), BinResult(true));
+  const std::string mesh = writer.BinFillJson(BinPlan(true), BinResult(false));
   EXPECT_EQ(KeysOf({box, mesh}), SchemaOf(v1::BinReport::descriptor()));
-  ExpectReadsBack(box, BinReportMessage(BinPlan(false), BinResult()));
-  ExpectReadsBack(mesh, BinReportMessage(BinPlan(true), BinResult()));
+  ExpectReadsBack(box, BinReportMessage(BinPlan(false), BinResult(true)));
+  ExpectReadsBack(mesh, BinReportMessage(BinPlan(true), BinResult(false)));
 }
 
 TEST(ReportSchema, KeysStayAsTheFilesAlwaysHadThem) {
