@@ -28,6 +28,8 @@ StatusOr<service::PickingPlan> ValidatePicking(const v1::PickingSpec& spec, cons
   if (!bin_spec.ParseFromString(bin_job.spec)) {
     return DataLoss("spec.bin_job_id: job '" + bin_job.job_id + "': its stored spec does not parse");
   }
+  // The fill's own pick check (its mount may be gone since) is not part of the pile.
+  bin_spec.clear_picks();
   service::PickingPlan plan;
   auto bin = ValidateBinFill(bin_spec, context, false);
   if (!bin.ok()) {
