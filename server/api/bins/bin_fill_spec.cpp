@@ -138,9 +138,6 @@ StatusOr<service::BinFillRequest> BinFillRequestFromProto(const v1::BinFillSpec&
   RETURN_IF_ERROR(ReadParts(spec, validate_only, request.parts));
   RETURN_IF_ERROR(ReadPhysics(spec.physics(), request.options));
   request.options.seed = spec.seed();
-  if (spec.has_picks()) {
-    ASSIGN_OR_RETURN(request.picks, BinPicksFromProto(spec.picks()));
-  }
   return request;
 }
 
@@ -151,7 +148,7 @@ StatusOr<service::BinFillPlan> ValidateBinFill(const v1::BinFillSpec& spec, serv
   if (request->scene_id.empty() && !validate_only) return InSpec(InvalidArgument("scene_id", "required"));
   auto plan = service::PlanBinFill(context.registry, std::move(request).value(), validate_only);
   if (!plan.ok()) return InSpec(plan.status());
-  RETURN_IF_ERROR(InSpec(CheckBinPicks(*plan, context)));
+  if (spec.has_picks()) RETURN_IF_ERROR(InSpec(AddBinPickCheck(spec.picks(), context, *plan)));
   return plan;
 }
 

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <string>
+#include <variant>
 
 #include "api/picking/pick_request.h"
 #include "api/transport/validate.h"
@@ -63,9 +64,8 @@ StatusOr<service::ScenePickRequest> BinPicksFromProto(const v1::BinPicks& picks)
   return request;
 }
 
-Status CheckBinPicks(const service::BinFillPlan& plan, service::ServiceContext& context) {
-  if (!plan.request.picks) return Status::Ok();
-  const service::ScenePickRequest& picks = *plan.request.picks;
+Status AddBinPickCheck(const v1::BinPicks& section, service::ServiceContext& context, service::BinFillPlan& plan) {
+  ASSIGN_OR_RETURN(service::ScenePickRequest picks, BinPicksFromProto(section));
   const auto mounted = context.robots.Mount(picks.mount_id);
   if (!mounted.ok()) {
     if (mounted.status().code() == StatusCode::kNotFound) {
@@ -86,6 +86,24 @@ Status CheckBinPicks(const service::BinFillPlan& plan, service::ServiceContext& 
                                    "(candidates x surface samples; docs/GRASPING.md); ask fewer");
     }
   }
+  const std::string gripper = std::holds_alternative<grasping::SuctionCup>(picks.gripper) ? "suction" : "jaws";
+  plan.pick_check = [&context, picks, gripper](const std::vector<std::string>& part_object_ids,
+                                               const std::atomic<bool>* cancel) -> StatusOr<service::BinPicks> {
+    service::BinPicks out;
+    out.mount_id = picks.mount_id;
+    out.gripper = gripper;
+    // No part placed: nothing to check (an empty list would mean every bin part of the scene).
+    if (part_object_ids.empty()) return out;
+    service::ScenePickRequest request = picks;
+    request.part_object_ids = part_object_ids;
+    ASSIGN_OR_RETURN(service::ScenePicks checked, service::CheckScenePicks(context, request, cancel));
+    for (service::ObjectPick& part : checked.parts) {
+      out.parts.push_back({part.object_id, std::move(part.verdict), part.covered_by_object_id});
+    }
+    out.grasps_generated = checked.grasps_generated;
+    out.elapsed_s = checked.elapsed_s;
+    return out;
+  };
   return Status::Ok();
 }
 

@@ -87,7 +87,7 @@ grpc::ServerUnaryReactor* JobService::StartBinFill(grpc::CallbackServerContext* 
     RETURN_IF_ERROR(Admit(
         "spec", [&] { return CreateJob(service::JobKind::kBinFill, spec.name(), spec, total, job); },
         [this, plan](service::JobRecorder& recorder, const std::string& job_id, jobs::JobControl& control) {
-          service::RunBinFill(context_, recorder, job_id, *plan, control);
+          service::RunBinFill(context_.registry, recorder, job_id, *plan, control);
         }));
     spdlog::info("job {}: bin fill of {} parts into scene {} queued", job->job_id(), total, plan->request.scene_id);
     return Status::Ok();

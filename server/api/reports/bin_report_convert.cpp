@@ -1,7 +1,6 @@
 #include "api/reports/report_convert.h"
 
 #include <map>
-#include <variant>
 
 #include "grasping/pick_checks.h"
 #include "physics/bin_fill.h"
@@ -46,7 +45,7 @@ void Bin(const service::BinFillPlan& plan, const service::BinFillReport& report,
 }
 
 // One part's verdict; the grasp in the part frame from the part's settled pose and the tool's.
-void Pick(const service::ObjectPick& pick, const Pose3& world_from_part, v1::BinReportPick* out) {
+void Pick(const service::BinPartPick& pick, const Pose3& world_from_part, v1::BinReportPick* out) {
   const grasping::PickVerdict& verdict = pick.verdict;
   out->set_pickable(verdict.pickable);
   out->set_failure(grasping::PickFailureName(verdict.failure));
@@ -62,13 +61,12 @@ void Pick(const service::ObjectPick& pick, const Pose3& world_from_part, v1::Bin
   for (Eigen::Index j = 0; j < verdict.joint_positions.size(); ++j) out->add_joint_positions(verdict.joint_positions[j]);
 }
 
-void PicksSummary(const service::BinFillPlan& plan, const service::ScenePicks& picks, v1::BinReport* out) {
+void PicksSummary(const service::BinPicks& picks, v1::BinReport* out) {
   v1::BinReportPicks* summary = out->mutable_picks();
-  const service::ScenePickRequest& asked = *plan.request.picks;
-  summary->set_mount_id(asked.mount_id);
-  summary->set_gripper(std::holds_alternative<grasping::SuctionCup>(asked.gripper) ? "suction" : "jaws");
+  summary->set_mount_id(picks.mount_id);
+  summary->set_gripper(picks.gripper);
   uint32_t pickable = 0;
-  for (const service::ObjectPick& part : picks.parts) pickable += part.verdict.pickable ? 1 : 0;
+  for (const service::BinPartPick& part : picks.parts) pickable += part.verdict.pickable ? 1 : 0;
   summary->set_pickable(pickable);
   summary->set_parts_checked(static_cast<uint32_t>(picks.parts.size()));
   summary->set_grasps_generated(static_cast<uint32_t>(picks.grasps_generated));
@@ -77,9 +75,9 @@ void PicksSummary(const service::BinFillPlan& plan, const service::ScenePicks& p
 
 void Parts(const service::BinFillPlan& plan, const service::BinFillReport& report, v1::BinReport* out) {
   const physics::FillResult& result = *report.result;
-  std::map<std::string, const service::ObjectPick*> pick_of;
+  std::map<std::string, const service::BinPartPick*> pick_of;
   if (report.picks) {
-    for (const service::ObjectPick& pick : report.picks->parts) pick_of[pick.object_id] = &pick;
+    for (const service::BinPartPick& pick : report.picks->parts) pick_of[pick.object_id] = &pick;
   }
   for (size_t i = 0; i < result.parts.size(); ++i) {
     const physics::PlacedPart& placed = result.parts[i];
@@ -160,7 +158,7 @@ v1::BinReport BinReportMessage(const service::BinFillPlan& plan, const service::
     Result(*report.result, &out);
     Parts(plan, report, &out);
   }
-  if (report.picks && plan.request.picks) PicksSummary(plan, *report.picks, &out);
+  if (report.picks) PicksSummary(*report.picks, &out);
   return out;
 }
 

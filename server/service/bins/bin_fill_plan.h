@@ -10,7 +10,7 @@
 
 #include "physics/bin_fill.h"
 #include "physics/part_geometry.h"
-#include "service/picking/scene_picks.h"
+#include "service/bins/bin_picks.h"
 #include "scenes/scene_registry.h"
 #include "store/catalogue.h"
 
@@ -39,9 +39,6 @@ struct BinFillRequest {
   double bin_mesh_scale = 1.0;
   std::vector<BinPartRequest> parts;
   physics::FillOptions options;
-  // Set: once placed, the parts are checked for picks by this request (its part_object_ids are
-  // filled in with the placed parts); its mount stands in scene_id (api/bin_picks_spec.cpp).
-  std::optional<ScenePickRequest> picks;
 };
 
 struct BinFillPlan {
@@ -52,6 +49,8 @@ struct BinFillPlan {
   // What the physics needs of each part (centre of mass, mass, simplified hull), made once here;
   // convex decompositions are made when the fill runs (SimulateBinFill).
   std::vector<physics::PartGeometry> geometry;
+  // Set when the request asks for picks (spec.picks): run on the placed parts.
+  BinPickCheck pick_check;
   size_t parts_total() const;
 };
 

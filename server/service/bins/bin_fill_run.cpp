@@ -19,9 +19,9 @@ constexpr const char* kBinaryMediaType = "application/octet-stream";
 
 class BinFillRun {
  public:
-  BinFillRun(ServiceContext& context, JobRecorder& recorder, const std::string& job_id, const BinFillPlan& plan,
+  BinFillRun(scenes::SceneRegistry& registry, JobRecorder& recorder, const std::string& job_id, const BinFillPlan& plan,
              jobs::JobControl& control)
-      : context_(context), registry_(context.registry), recorder_(recorder), plan_(plan), control_(control), total_(plan.parts_total()) {
+      : registry_(registry), recorder_(recorder), plan_(plan), control_(control), total_(plan.parts_total()) {
     report_.job_id = job_id;
   }
 
@@ -58,21 +58,17 @@ class BinFillRun {
                                                    plan_.request.scene_id + "': " + placement.status().message());
     }
     report_.placement = std::move(placement).value();
-    if (plan_.request.picks) return CheckPicks(*plan_.request.picks);
+    if (plan_.pick_check) return CheckPicks();
     return Status::Ok();
   }
 
   // The placed parts (and only they: no other object of the scene) checked for picks.
-  Status CheckPicks(ScenePickRequest request) {
+  Status CheckPicks() {
     const BinPlacement& placement = *report_.placement;
-    if (placement.parts.empty()) {
-      report_.picks.emplace().scene_id = plan_.request.scene_id;
-      return Status::Ok();
-    }
-    for (const store::ObjectRecord& part : placement.parts) request.part_object_ids.push_back(part.object_id);
-    RETURN_IF_ERROR(Event("checking picks of " + std::to_string(placement.parts.size()) + " parts by mount " +
-                          request.mount_id));
-    auto picks = CheckScenePicks(context_, request, control_.flag());
+    std::vector<std::string> part_object_ids;
+    for (const store::ObjectRecord& part : placement.parts) part_object_ids.push_back(part.object_id);
+    RETURN_IF_ERROR(Event("checking picks of " + std::to_string(placement.parts.size()) + " parts"));
+    auto picks = plan_.pick_check(part_object_ids, control_.flag());
     if (!picks.ok()) {
       return Status(picks.status().code(), "scene revision " + std::to_string(placement.revision) +
                                                " holds the settled parts; the pick check did not finish: " +
@@ -85,7 +81,7 @@ class BinFillRun {
   std::string PicksSummary() const {
     if (!report_.picks) return "";
     size_t pickable = 0;
-    for (const ObjectPick& part : report_.picks->parts) pickable += part.verdict.pickable ? 1 : 0;
+    for (const BinPartPick& part : report_.picks->parts) pickable += part.verdict.pickable ? 1 : 0;
     return "; " + std::to_string(pickable) + " of " + std::to_string(report_.picks->parts.size()) +
            " parts pickable";
   }
@@ -132,7 +128,6 @@ class BinFillRun {
 
   Status Event(const std::string& message) { return recorder_.Record(Update(message)); }
 
-  ServiceContext& context_;
   scenes::SceneRegistry& registry_;
   JobRecorder& recorder_;
   const BinFillPlan& plan_;
@@ -145,9 +140,9 @@ class BinFillRun {
 
 }  // namespace
 
-void RunBinFill(ServiceContext& context, JobRecorder& recorder, const std::string& job_id, const BinFillPlan& plan,
+void RunBinFill(scenes::SceneRegistry& registry, JobRecorder& recorder, const std::string& job_id, const BinFillPlan& plan,
                 jobs::JobControl& control) {
-  BinFillRun(context, recorder, job_id, plan, control).Run();
+  BinFillRun(registry, recorder, job_id, plan, control).Run();
 }
 
 }  // namespace vscan::service

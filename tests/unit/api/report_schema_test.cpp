@@ -201,10 +201,6 @@ service::BinFillPlan BinPlan(bool mesh_bin) {
   physics::PartGeometry geometry;
   geometry.mass_kg = 0.05;
   plan.geometry = {geometry};
-  service::ScenePickRequest picks;
-  picks.mount_id = "mnt_1";
-  picks.gripper = grasping::SuctionCup{};
-  plan.request.picks = picks;
   return plan;
 }
 
@@ -231,11 +227,12 @@ service::BinFillReport BinResult(bool pickable = true) {
   part.instance_id = 2;
   placement.parts = {part};
   placement.revision = 4;
-  service::ScenePicks& picks = report.picks.emplace();
-  picks.scene_id = "scn_1";
+  service::BinPicks& picks = report.picks.emplace();
+  picks.mount_id = "mnt_1";
+  picks.gripper = "suction";
   picks.grasps_generated = 12;
   picks.elapsed_s = 0.5;
-  service::ObjectPick pick{"obj_p", "bracket#1", {}, {}};
+  service::BinPartPick pick{"obj_p", {}, {}};
   pick.verdict.pickable = pickable;
   if (pickable) {
     pick.verdict.grasp = 0;

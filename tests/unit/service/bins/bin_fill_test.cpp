@@ -141,7 +141,7 @@ TEST(BinFill, SettledPartsBecomeTheScenesObjectsInOneRevision) {
 
   RecordedFill recorder;
   jobs::JobControl control;
-  RunBinFill(world.context(), recorder, "job_test", *plan, control);
+  RunBinFill(world.context().registry, recorder, "job_test", *plan, control);
   ASSERT_EQ(recorder.end_state, store::JobState::kSucceeded) << recorder.end_message;
   EXPECT_NE(recorder.bin_json.find("\"applied\":true"), std::string::npos);
   // The settled meshes' overlaps, as measured on the parts, within the fill's 0.5 mm bound.
@@ -182,7 +182,7 @@ TEST(BinFill, AScanOfTheBinCarriesGroundTruthThatAgreesWithIndependentCounts) {
   ASSERT_TRUE(plan.ok()) << plan.status().ToString();
   RecordedFill recorder;
   jobs::JobControl control;
-  RunBinFill(world.context(), recorder, "job_test", *plan, control);
+  RunBinFill(world.context().registry, recorder, "job_test", *plan, control);
   ASSERT_EQ(recorder.end_state, store::JobState::kSucceeded) << recorder.end_message;
 
   CloudConsumer out;
@@ -235,7 +235,7 @@ TEST(BinFill, APartAloneInTheBinIsSeenWholeFromAbove) {
   ASSERT_TRUE(plan.ok()) << plan.status().ToString();
   RecordedFill recorder;
   jobs::JobControl control;
-  RunBinFill(world.context(), recorder, "job_test", *plan, control);
+  RunBinFill(world.context().registry, recorder, "job_test", *plan, control);
   ASSERT_EQ(recorder.end_state, store::JobState::kSucceeded) << recorder.end_message;
   const store::SceneRecord scene = Scene(world, scene_id);
   ASSERT_EQ(scene.objects.size(), 2u);
@@ -275,7 +275,7 @@ TEST(BinFill, ACancelledFillLeavesTheSceneAsItWas) {
   RecordedFill recorder;
   jobs::JobControl control;
   recorder.stop_at_progress = &control;
-  RunBinFill(world.context(), recorder, "job_test", *plan, control);
+  RunBinFill(world.context().registry, recorder, "job_test", *plan, control);
   EXPECT_EQ(recorder.end_state, store::JobState::kCancelled) << recorder.end_message;
   EXPECT_NE(recorder.bin_json.find("\"applied\":false"), std::string::npos);
   EXPECT_NE(recorder.bin_json.find("\"end\":\"cancelled\""), std::string::npos);
@@ -341,7 +341,7 @@ TEST(BinFill, AMeshBinIsTheBinObjectAndHoldsTheParts) {
   ASSERT_TRUE(plan.ok()) << plan.status().ToString();
   RecordedFill recorder;
   jobs::JobControl control;
-  RunBinFill(world.context(), recorder, "job_test", *plan, control);
+  RunBinFill(world.context().registry, recorder, "job_test", *plan, control);
   ASSERT_EQ(recorder.end_state, store::JobState::kSucceeded) << recorder.end_message;
   EXPECT_NE(recorder.bin_json.find("\"mesh_id\":\"" + request.bin_mesh_id + "\""), std::string::npos);
   EXPECT_EQ(recorder.bin_json.find("inner_size"), std::string::npos);

@@ -9,6 +9,8 @@
 #include <map>
 
 #include "api/bins/bin_fill_spec.h"
+#include "api/bins/bin_picks_spec.h"
+#include "service/picking/scene_picks.h"
 #include "api/reports/proto_report_writer.h"
 #include "jobs/job_runner.h"
 #include "service/bins/bin_fill_run.h"
@@ -113,7 +115,7 @@ class BinPicksTest : public ::testing::Test {
     auto plan = api::ValidateBinFill(spec, world_.context(), false);
     EXPECT_TRUE(plan.ok()) << plan.status().ToString();
     if (!plan.ok()) return {};
-    RunBinFill(world_.context(), recorder, "job_test", *plan, recorder.control);
+    RunBinFill(world_.context().registry, recorder, "job_test", *plan, recorder.control);
     v1::BinReport report;
     const Status parsed = ParseReport(recorder.bin_json, "bin.json", &report);
     EXPECT_TRUE(parsed.ok()) << parsed.ToString();
@@ -178,9 +180,9 @@ TEST_F(BinPicksTest, EveryPartGetsAVerdictAndAPickablePartsToolLiesOnItsSurfaceF
       << recorder.end_message;
 
   // The check is deterministic for the same scene: asked again, the same flags.
-  auto plan = api::ValidateBinFill(Spec(scene, mount), world_.context(), false);
-  ASSERT_TRUE(plan.ok());
-  ScenePickRequest again = *plan->request.picks;
+  auto asked = api::BinPicksFromProto(Spec(scene, mount).picks());
+  ASSERT_TRUE(asked.ok()) << asked.status().ToString();
+  ScenePickRequest again = *asked;
   for (const v1::BinReportPart& part : report.parts()) again.part_object_ids.push_back(part.object_id());
   const auto rechecked = CheckScenePicks(world_.context(), again);
   ASSERT_TRUE(rechecked.ok()) << rechecked.status().ToString();
