@@ -5,6 +5,7 @@
 #include "api/bins/bin_fill_spec.h"
 #include "api/picking/pick_request.h"
 #include "sensor/camera.h"
+#include "service/job/job_kind.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::api {
