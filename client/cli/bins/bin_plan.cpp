@@ -17,7 +17,7 @@ class BinPlanParser {
   StatusOr<BinPlan> Parse(const YAML::Node& root) {
     const YamlAt top{root, "", root.Mark()};
     if (!root.IsMap()) return yaml_.Error(top, "a bin plan is a mapping with keys name, scene, bin, parts, ...");
-    RETURN_IF_ERROR(yaml_.ExpectMap(top, {"name", "scene", "scene_id", "bin", "parts", "seed", "physics"}));
+    RETURN_IF_ERROR(yaml_.ExpectMap(top, {"name", "scene", "scene_id", "bin", "parts", "seed", "physics", "picks"}));
     BinPlan plan;
     plan.name = default_name_;
     if (const YamlAt at = YamlReader::Child(top, "name"); YamlReader::Has(at)) {
@@ -32,6 +32,10 @@ class BinPlanParser {
     }
     if (const YamlAt physics = YamlReader::Child(top, "physics"); YamlReader::Has(physics)) {
       RETURN_IF_ERROR(FillMessage(yaml_, physics, plan.spec.mutable_physics()));
+    }
+    // The pick check after the fill: mount_id, gripper, grasp_options, pick_options (spec.picks).
+    if (const YamlAt picks = YamlReader::Child(top, "picks"); YamlReader::Has(picks)) {
+      RETURN_IF_ERROR(FillMessage(yaml_, picks, plan.spec.mutable_picks()));
     }
     return plan;
   }

@@ -34,6 +34,12 @@ std::string FormatBinReport(const v1::BinReport& report) {
   } else {
     out += "scene " + report.scene_id() + " unchanged\n";
   }
+  if (report.has_picks()) {
+    const v1::BinReportPicks& picks = report.picks();
+    out += Format("%.0f", static_cast<double>(picks.pickable())) + " of " +
+           Format("%.0f", static_cast<double>(picks.parts_checked())) + " parts pickable by mount " +
+           picks.mount_id() + " (" + picks.gripper() + "; checked in " + Format("%.2f", picks.elapsed_s()) + " s)\n";
+  }
   return out;
 }
 

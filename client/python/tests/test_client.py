@@ -162,3 +162,19 @@ class ParsePlyTest(unittest.TestCase):
 
 if __name__ == "__main__":
     unittest.main()
+
+
+class BinFillSpecTest(unittest.TestCase):
+    def test_picks_as_a_dict_become_the_specs_pick_section(self):
+        from vscan.bins import bin_fill_spec
+        picks = {"mount_id": "mnt_1", "gripper": {"suction": {"diameter": 0.012}},
+                 "grasp_options": {"max_grasps": 200}, "pick_options": {"body_length": 0.08}}
+        spec = bin_fill_spec("scn_1", (0.3, 0.2, 0.1), [], picks=picks)
+        self.assertTrue(spec.HasField("picks"))
+        self.assertEqual(spec.picks.mount_id, "mnt_1")
+        self.assertEqual(spec.picks.gripper.suction.diameter, 0.012)
+        self.assertEqual(spec.picks.grasp_options.max_grasps, 200)
+        self.assertEqual(spec.picks.pick_options.body_length, 0.08)
+        self.assertFalse(bin_fill_spec("scn_1", (0.3, 0.2, 0.1), []).HasField("picks"))
+        with self.assertRaises(Exception):
+            bin_fill_spec("scn_1", (0.3, 0.2, 0.1), [], picks={"mount": "mnt_1"})

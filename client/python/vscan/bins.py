@@ -5,6 +5,7 @@ from . import convert
 from ._stubs import sensor_pb2  # noqa: F401  (puts the generated stubs on sys.path)
 from .reports import parse_report
 
+from google.protobuf import json_format  # noqa: E402
 from vscan.v1 import job_pb2  # noqa: E402
 
 BIN_REPORT = "bin.json"
@@ -34,12 +35,13 @@ def bin_part(mesh_id, count, scale=1.0, name="", mass_kg=0.0, density_kg_per_m3=
 def bin_fill_spec(scene_id, inner_size, parts, wall_thickness=0.0, bin_position=(0.0, 0.0, 0.0), bin_quat=None,
                   bin_matrix=None, seed=0, max_simulated_s=0.0, settle_move_m=0.0,
                   settle_turn_rad=0.0, settle_steps=0, time_step_s=0.0, name="", bin_mesh_id=None,
-                  bin_mesh_scale=0.0):
+                  bin_mesh_scale=0.0, picks=None):
     """A BinFillSpec. The bin is a box, inner_size its inner (x, y, depth) in metres, or an
     uploaded mesh, bin_mesh_id (with bin_mesh_scale; inner_size then None); parts a list of
     bin_part() messages or dicts of its keyword arguments. The bin stands at bin_position (with
     bin_quat (w, x, y, z)) or bin_matrix (4x4 world_from_bin). Physics bounds left 0 take the
-    server's defaults (docs/BINS.md)."""
+    server's defaults (docs/BINS.md). picks: the pick check after the fill, a job_pb2.BinPicks or a
+    dict of its fields ({"mount_id": ..., "gripper": {"suction": {"diameter": 0.012}}, ...})."""
     spec = job_pb2.BinFillSpec(scene_id=scene_id, seed=int(seed), name=name)
     pose = convert.pose(bin_position, quat=bin_quat, matrix=bin_matrix)
     if bin_mesh_id is not None:
@@ -65,6 +67,10 @@ def bin_fill_spec(scene_id, inner_size, parts, wall_thickness=0.0, bin_position=
     physics.settle_turn_rad = float(settle_turn_rad)
     physics.settle_steps = int(settle_steps)
     physics.time_step_s = float(time_step_s)
+    if picks is not None:
+        if isinstance(picks, dict):
+            picks = json_format.ParseDict(picks, job_pb2.BinPicks())
+        spec.picks.CopyFrom(picks)
     return spec
 
 

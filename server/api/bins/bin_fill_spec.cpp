@@ -3,6 +3,7 @@
 #include <cmath>
 #include <string>
 
+#include "api/bins/bin_picks_spec.h"
 #include "api/campaign/campaign_spec.h"
 #include "api/scenes/material_convert.h"
 #include "api/transport/validate.h"
@@ -147,6 +148,7 @@ StatusOr<service::BinFillPlan> ValidateBinFill(const v1::BinFillSpec& spec, serv
   if (request->scene_id.empty() && !validate_only) return InSpec(InvalidArgument("scene_id", "required"));
   auto plan = service::PlanBinFill(context.registry, std::move(request).value(), validate_only);
   if (!plan.ok()) return InSpec(plan.status());
+  if (spec.has_picks()) RETURN_IF_ERROR(InSpec(AddBinPickCheck(spec.picks(), context, *plan)));
   return plan;
 }
 

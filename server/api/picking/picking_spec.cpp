@@ -5,6 +5,7 @@
 #include "api/bins/bin_fill_spec.h"
 #include "api/picking/pick_request.h"
 #include "sensor/camera.h"
+#include "service/job/job_kind.h"
 #include "vscan/common/proto_convert.h"
 
 namespace vscan::api {
@@ -28,6 +29,8 @@ StatusOr<service::PickingPlan> ValidatePicking(const v1::PickingSpec& spec, cons
   if (!bin_spec.ParseFromString(bin_job.spec)) {
     return DataLoss("spec.bin_job_id: job '" + bin_job.job_id + "': its stored spec does not parse");
   }
+  // The fill's own pick check (its mount may be gone since) is not part of the pile.
+  bin_spec.clear_picks();
   service::PickingPlan plan;
   auto bin = ValidateBinFill(bin_spec, context, false);
   if (!bin.ok()) {

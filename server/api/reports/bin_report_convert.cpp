@@ -1,5 +1,8 @@
 #include "api/reports/report_convert.h"
 
+#include <map>
+
+#include "grasping/pick_checks.h"
 #include "physics/bin_fill.h"
 
 namespace vscan::api {
@@ -41,8 +44,41 @@ void Bin(const service::BinFillPlan& plan, const service::BinFillReport& report,
   out->set_label(report.placement->bin.label);
 }
 
+// One part's verdict; the grasp in the part frame from the part's settled pose and the tool's.
+void Pick(const service::BinPartPick& pick, const Pose3& world_from_part, v1::BinReportPick* out) {
+  const grasping::PickVerdict& verdict = pick.verdict;
+  out->set_pickable(verdict.pickable);
+  out->set_failure(grasping::PickFailureName(verdict.failure));
+  out->set_detail(verdict.detail);
+  if (!pick.covered_by_object_id.empty()) out->set_covered_by_object_id(pick.covered_by_object_id);
+  if (!verdict.pickable) return;
+  // The settled rotation is orthonormal to float precision only: a full inverse keeps
+  // world_from_part x part_from_tool equal to world_from_tool.
+  const Pose3 part_from_tool = world_from_part.inverse(Eigen::Affine) * verdict.world_from_tool;
+  AddMatrix(part_from_tool, out->mutable_part_from_tool());
+  AddVector(part_from_tool.linear().col(2), out->mutable_approach());
+  AddMatrix(verdict.world_from_tool, out->mutable_world_from_tool());
+  for (Eigen::Index j = 0; j < verdict.joint_positions.size(); ++j) out->add_joint_positions(verdict.joint_positions[j]);
+}
+
+void PicksSummary(const service::BinPicks& picks, v1::BinReport* out) {
+  v1::BinReportPicks* summary = out->mutable_picks();
+  summary->set_mount_id(picks.mount_id);
+  summary->set_gripper(picks.gripper);
+  uint32_t pickable = 0;
+  for (const service::BinPartPick& part : picks.parts) pickable += part.verdict.pickable ? 1 : 0;
+  summary->set_pickable(pickable);
+  summary->set_parts_checked(static_cast<uint32_t>(picks.parts.size()));
+  summary->set_grasps_generated(static_cast<uint32_t>(picks.grasps_generated));
+  summary->set_elapsed_s(picks.elapsed_s);
+}
+
 void Parts(const service::BinFillPlan& plan, const service::BinFillReport& report, v1::BinReport* out) {
   const physics::FillResult& result = *report.result;
+  std::map<std::string, const service::BinPartPick*> pick_of;
+  if (report.picks) {
+    for (const service::BinPartPick& pick : report.picks->parts) pick_of[pick.object_id] = &pick;
+  }
   for (size_t i = 0; i < result.parts.size(); ++i) {
     const physics::PlacedPart& placed = result.parts[i];
     v1::BinReportPart* part = out->add_parts();
@@ -57,6 +93,9 @@ void Parts(const service::BinFillPlan& plan, const service::BinFillReport& repor
       part->set_object_id(object.object_id);
       part->set_instance_id(object.instance_id);
       part->set_label(object.label);
+      if (const auto pick = pick_of.find(object.object_id); pick != pick_of.end()) {
+        Pick(*pick->second, placed.world_from_part, part->mutable_pick());
+      }
     } else {
       part->set_label(service::PartLabel(plan.parts[placed.type].name, placed.instance));
     }
@@ -119,6 +158,7 @@ v1::BinReport BinReportMessage(const service::BinFillPlan& plan, const service::
     Result(*report.result, &out);
     Parts(plan, report, &out);
   }
+  if (report.picks) PicksSummary(*report.picks, &out);
   return out;
 }
 

@@ -10,6 +10,7 @@
 
 #include "physics/bin_fill.h"
 #include "physics/part_geometry.h"
+#include "service/bins/bin_picks.h"
 #include "scenes/scene_registry.h"
 #include "store/catalogue.h"
 
@@ -48,6 +49,8 @@ struct BinFillPlan {
   // What the physics needs of each part (centre of mass, mass, simplified hull), made once here;
   // convex decompositions are made when the fill runs (SimulateBinFill).
   std::vector<physics::PartGeometry> geometry;
+  // Set when the request asks for picks (spec.picks): run on the placed parts.
+  BinPickCheck pick_check;
   size_t parts_total() const;
 };
 

@@ -9,6 +9,7 @@
 #include "physics/bin_fill.h"
 #include "service/bins/bin_fill_plan.h"
 #include "service/bins/bin_scene.h"
+#include "service/bins/bin_picks.h"
 #include "store/job_catalogue.h"
 
 namespace vscan::service {
@@ -21,6 +22,9 @@ struct BinFillReport {
   std::optional<physics::FillResult> result;
   // Set when the settled parts became objects of the scene.
   std::optional<BinPlacement> placement;
+  // Set when the plan asked for picks and the check ran over the placed parts (parts[i] is the
+  // verdict of placement->parts[i]).
+  std::optional<BinPicks> picks;
 };
 
 // "m", "mm", "in", ... as the plan files name units.

@@ -58,17 +58,46 @@ class BinFillRun {
                                                    plan_.request.scene_id + "': " + placement.status().message());
     }
     report_.placement = std::move(placement).value();
+    if (plan_.pick_check) return CheckPicks();
     return Status::Ok();
   }
 
+  // The placed parts (and only they: no other object of the scene) checked for picks.
+  Status CheckPicks() {
+    const BinPlacement& placement = *report_.placement;
+    std::vector<std::string> part_object_ids;
+    for (const store::ObjectRecord& part : placement.parts) part_object_ids.push_back(part.object_id);
+    RETURN_IF_ERROR(Event("checking picks of " + std::to_string(placement.parts.size()) + " parts"));
+    auto picks = plan_.pick_check(part_object_ids, control_.flag());
+    if (!picks.ok()) {
+      return Status(picks.status().code(), "scene revision " + std::to_string(placement.revision) +
+                                               " holds the settled parts; the pick check did not finish: " +
+                                               picks.status().message());
+    }
+    report_.picks = std::move(picks).value();
+    return Status::Ok();
+  }
+
+  std::string PicksSummary() const {
+    if (!report_.picks) return "";
+    size_t pickable = 0;
+    for (const BinPartPick& part : report_.picks->parts) pickable += part.verdict.pickable ? 1 : 0;
+    return "; " + std::to_string(pickable) + " of " + std::to_string(report_.picks->parts.size()) +
+           " parts pickable";
+  }
+
   void Finish(const Status& status) {
-    if (report_.placement) {
+    if (report_.placement && !status.ok()) {
+      // Placed, but the pick check did not finish: the scene keeps the parts.
+      report_.state = control_.stop_requested() ? StoppedState(control_.reason()) : store::JobState::kFailed;
+      report_.message = status.message();
+    } else if (report_.placement) {
       const physics::FillResult& result = *report_.result;
       report_.state = store::JobState::kSucceeded;
       report_.message = std::string(physics::FillEndName(result.end)) + ": " + std::to_string(result.parts.size()) +
                         " parts in the bin, " + std::to_string(result.outside.size()) + " out of it, " +
                         Rounded(result.simulated_s) + " s simulated; scene revision " +
-                        std::to_string(report_.placement->revision) + " (" + result.message + ")";
+                        std::to_string(report_.placement->revision) + " (" + result.message + ")" + PicksSummary();
     } else if (control_.stop_requested()) {
       report_.state = StoppedState(control_.reason());
       report_.message = StoppedMessage(report_.state) + "; the scene is unchanged";

@@ -204,7 +204,8 @@ service::BinFillPlan BinPlan(bool mesh_bin) {
   return plan;
 }
 
-service::BinFillReport BinResult() {
+// The part picked (a grasp, the tool, the joints) or covered by another object.
+service::BinFillReport BinResult(bool pickable = true) {
   service::BinFillReport report;
   report.job_id = "job_b";
   report.message = "settled";
@@ -226,6 +227,22 @@ service::BinFillReport BinResult() {
   part.instance_id = 2;
   placement.parts = {part};
   placement.revision = 4;
+  service::BinPicks& picks = report.picks.emplace();
+  picks.mount_id = "mnt_1";
+  picks.gripper = "suction";
+  picks.grasps_generated = 12;
+  picks.elapsed_s = 0.5;
+  service::BinPartPick pick{"obj_p", {}, {}};
+  pick.verdict.pickable = pickable;
+  if (pickable) {
+    pick.verdict.grasp = 0;
+    pick.verdict.joint_positions = Eigen::VectorXd::Zero(6);
+  } else {
+    pick.verdict.failure = grasping::PickFailure::kCovered;
+    pick.verdict.detail = "under obj_q";
+    pick.covered_by_object_id = "obj_q";
+  }
+  picks.parts = {pick};
   return report;
 }
 
@@ -246,11 +263,11 @@ TEST(ReportSchema, AFullCampaignReportPrintsEveryFieldOfTheSchemaAndNoOther) {
 
 TEST(ReportSchema, AFullBinReportPrintsEveryFieldOfTheSchemaAndNoOther) {
   const ProtoReportWriter writer;
-  const std::string box = writer.BinFillJson(BinPlan(false), BinResult());
-  const std::string mesh = writer.BinFillJson(BinPlan(true), BinResult());
+  const std::string box = writer.BinFillJson(BinPlan(false), BinResult(true));
+  const std::string mesh = writer.BinFillJson(BinPlan(true), BinResult(false));
   EXPECT_EQ(KeysOf({box, mesh}), SchemaOf(v1::BinReport::descriptor()));
-  ExpectReadsBack(box, BinReportMessage(BinPlan(false), BinResult()));
-  ExpectReadsBack(mesh, BinReportMessage(BinPlan(true), BinResult()));
+  ExpectReadsBack(box, BinReportMessage(BinPlan(false), BinResult(true)));
+  ExpectReadsBack(mesh, BinReportMessage(BinPlan(true), BinResult(false)));
 }
 
 TEST(ReportSchema, KeysStayAsTheFilesAlwaysHadThem) {

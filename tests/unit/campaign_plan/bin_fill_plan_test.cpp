@@ -130,6 +130,35 @@ TEST_F(BinFillPlanTest, APartsMaterialReachesTheSpecAndTheDatasetsPart) {
   ASSERT_TRUE(AsDataset(choice).ok()) << AsDataset(choice).status().ToString();
 }
 
+// The picks block becomes spec.picks field by field; the server's refusal of one of its fields
+// points back at the plan's line.
+TEST_F(BinFillPlanTest, APicksBlockReachesTheSpecAndItsRefusalsPointAtTheLine) {
+  const std::string fill =
+      "bin: {inner_size: [0.3, 0.2, 0.1]}\n"
+      "parts: [{mesh_id: m, count: 2}]\n"
+      "picks:\n"
+      "  mount_id: mnt_1\n"
+      "  gripper: {suction: {diameter: 0.012}}\n"
+      "  grasp_options: {max_grasps: 200}\n"
+      "  pick_options: {body_length: 0.08, max_approach_tilt_deg: 45}\n";
+  const StatusOr<cli::BinPlan> plan = AsBinPlan(fill);
+  ASSERT_TRUE(plan.ok()) << plan.status().ToString();
+  const v1::BinPicks& picks = plan->spec.picks();
+  EXPECT_EQ(picks.mount_id(), "mnt_1");
+  EXPECT_EQ(picks.gripper().suction().diameter(), 0.012);
+  EXPECT_EQ(picks.grasp_options().max_grasps(), 200u);
+  EXPECT_EQ(picks.pick_options().body_length(), 0.08);
+  EXPECT_EQ(picks.pick_options().max_approach_tilt_deg(), 45);
+  const auto located =
+      cli::LocateInBinPlan(*plan, InvalidArgument("spec.picks.gripper.suction.diameter_m: must be a length"));
+  ASSERT_TRUE(located.has_value());
+  EXPECT_TRUE(located->starts_with("p.yaml:6: picks.gripper.suction.diameter_m: ")) << *located;
+  const Status unknown = AsBinPlan(fill + "  reach: 1\n").status();
+  EXPECT_EQ(unknown.code(), StatusCode::kInvalidArgument);
+  EXPECT_NE(unknown.message().find("p.yaml:9"), std::string::npos) << unknown.message();
+  EXPECT_FALSE(AsBinPlan("bin: {inner_size: [0.3, 0.2, 0.1]}\nparts: [{mesh_id: m, count: 2}]\n")->spec.has_picks());
+}
+
 TEST(UnitNames, ShortAndLongNamesAndTheirLengths) {
   EXPECT_EQ(plan::ShortUnitName("Millimetre"), "mm");
   EXPECT_EQ(plan::ShortUnitName("feet"), "ft");
