@@ -3,7 +3,10 @@
 fixture parts (different seeds) are filled, each is scanned from above at 1280x1024 clean and with
 a sensor preset's noise, every part type is localized in each stored scan (one Localize call for all
 of them) and the estimates are scored with ScorePoses. Prints ADD(-S) recall and BOP's MSSD average
-recall per part and overall, clean and noisy, and the localize time per scan.
+recall per part and overall, clean and noisy, and the localize time per scan. With
+--gripper-diameter D the estimates are scored a second time with a suction cup of that diameter:
+the grasp success (a grasp planned on each estimate holds the true part) beside the recalls, and
+the time of ScorePoses with and without the gripper.
 
     VSCAN_PY_STUBS=build/release/python /usr/bin/python3 bench/bin_localization.py \\
         --server 127.0.0.1:50051 --bins 3 --json bin_localization.json
@@ -116,6 +119,17 @@ class Tally:
 
     def __init__(self):
         self.valid, self.add_correct, self.mssd_correct = 0, 0, None
+        self.grasp_holds, self.grasp_failures = 0, {}
+
+    def add_grasps(self, part):
+        self.grasp_holds += part.grasp_holds
+        for m in part.matches:
+            why = m.grasp_failure if m.HasField("estimate_index") else "no estimate matched"
+            if why:
+                self.grasp_failures[why] = self.grasp_failures.get(why, 0) + 1
+
+    def grasp_success(self):
+        return self.grasp_holds / self.valid if self.valid else None
 
     def add(self, part):
         self.valid += part.valid_instances
@@ -147,7 +161,12 @@ def main():
     parser.add_argument("--peers", default="open3d,pcl", help="peer localizers on the same scans: open3d, pcl, none")
     parser.add_argument("--pcl-peer", help="the localization_pcl_peer executable",
                         default=os.path.join(HERE, "..", "build", "release", "bench", "localization_pcl_peer"))
+    parser.add_argument("--gripper-diameter", type=float,
+                        help="also score with a suction cup of this diameter (m): grasp success and ScorePoses times")
+    parser.add_argument("--max-grasps", type=int, help="grasps kept per part type, best first (server default 100)")
+    parser.add_argument("--conditions", default=",".join(CONDITIONS), help="of clean, noisy, materials")
     args = parser.parse_args()
+    conditions = [c for c in args.conditions.split(",") if c in CONDITIONS]
 
     channel = grpc.insecure_channel(args.server, options=[("grpc.max_receive_message_length", 64 << 20)])
     scenes = scene_pb2_grpc.SceneServiceStub(channel)
@@ -163,6 +182,7 @@ def main():
 
     tallies = {(c, n): Tally() for c in CONDITIONS for n in names + ["all"]}
     times = {c: [] for c in CONDITIONS}
+    score_ms = {"without_gripper": [], "with_gripper": []}
     peers = PeerBench(names, COUNTS, Tally, [p for p in args.peers.split(",") if p not in ("", "none")], args.pcl_peer,
                       CONDITIONS)
     runs = []
@@ -171,7 +191,7 @@ def main():
         scene = scenes.CreateScene(scene_pb2.CreateSceneRequest(name=f"bench-bin-{seed}"), timeout=30).scene
         job = fill_bin(channel, scene.scene_id, [(parts[n][0], parts[n][1], COUNTS[n]) for n in names], seed,
                        inner_size=INNER)
-        for condition in CONDITIONS:
+        for condition in conditions:
             if condition == "materials":
                 set_materials(scenes, scene.scene_id, parts)
             positions, normals, header, stats = scan_bin(
@@ -203,14 +223,31 @@ def main():
                 runs.append({"seed": seed, "condition": condition, "part": name, "found": found.parts[i].found,
                              "localize_ms": found.localize_ms, "wall_ms": wall_ms, "points": found.points,
                              "stop": found.parts[i].stop_reason})
+            start = time.monotonic()
             score = localizer.ScorePoses(request, timeout=300)
+            score_ms["without_gripper"].append((time.monotonic() - start) * 1000)
             times[condition].append(scan_ms)
             for part in score.parts:
                 tallies[(condition, names[part.part])].add(part)
                 tallies[(condition, "all")].add(part)
+            grasp_text = ""
+            if args.gripper_diameter:
+                request.gripper.suction.diameter = args.gripper_diameter
+                if args.max_grasps:
+                    request.grasp_options.max_grasps = args.max_grasps
+                start = time.monotonic()
+                graspd = localizer.ScorePoses(request, timeout=300)
+                score_ms["with_gripper"].append((time.monotonic() - start) * 1000)
+                request.ClearField("gripper")
+                request.ClearField("grasp_options")
+                for part in graspd.parts:
+                    tallies[(condition, names[part.part])].add_grasps(part)
+                    tallies[(condition, "all")].add_grasps(part)
+                grasp_text = (f", grasp success {graspd.grasp_success:.3f}; ScorePoses "
+                              f"{score_ms['without_gripper'][-1]:.0f} ms, with the cup {score_ms['with_gripper'][-1]:.0f} ms")
             print(f"bin seed {seed} {condition}: {len(positions)} points, {len(request.truth)} parts in view, "
                   f"ADD(-S) recall {score.add_recall:.3f}, MSSD AR {score.mssd_average_recall:.3f}, "
-                  f"localize {scan_ms / 1000:.1f} s", flush=True)
+                  f"localize {scan_ms / 1000:.1f} s{grasp_text}", flush=True)
             peers.run_scan(localizer, condition, seed, positions, header.sensor_pose.values, request)
             clouds.DeleteCloud(cloud_pb2.DeleteCloudRequest(cloud_id=cloud_id), timeout=30)
         scenes.DeleteScene(scene_pb2.DeleteSceneRequest(scene_id=scene.scene_id), timeout=30)
@@ -220,25 +257,39 @@ def main():
     print(f"\n{args.bins} bins, {args.width}x{args.height}, sensor {args.distance} m above the floor; "
           f"noisy: {args.preset} noise; materials: {args.preset} noise and returned light, parts of "
           + ", ".join(f"{n} {m}" for n, m in MATERIALS.items()))
-    print("| part | valid instances | " + " | ".join(f"ADD(-S) recall {c} | MSSD AR {c}" for c in CONDITIONS) + " |")
-    print("|---|---|" + "---|---|" * len(CONDITIONS))
+    grasping = bool(args.gripper_diameter)
+    columns = "ADD(-S) recall {c} | MSSD AR {c}" + (" | grasp success {c}" if grasping else "")
+    print("| part | valid instances | " + " | ".join(columns.format(c=c) for c in conditions) + " |")
+    print("|---|---|" + ("---|---|---|" if grasping else "---|---|") * len(conditions))
     summary = {}
     for name in names + ["all"]:
         summary[name] = {}
         row = []
-        for c in CONDITIONS:
+        for c in conditions:
             t = tallies[(c, name)]
             summary[name].update({f"valid_{c}": t.valid, f"add_recall_{c}": t.recall(), f"mssd_ar_{c}": t.mssd_ar()})
             row.append(f"{fmt(t.recall())} | {fmt(t.mssd_ar())}")
-        print(f"| {name} | " + " / ".join(str(tallies[(c, name)].valid) for c in CONDITIONS) + " | " + " | ".join(row) + " |")
-    for condition in CONDITIONS:
+            if grasping:
+                summary[name][f"grasp_success_{c}"] = t.grasp_success()
+                summary[name][f"grasp_failures_{c}"] = t.grasp_failures
+                row[-1] += f" | {t.grasp_holds}/{t.valid} = {fmt(t.grasp_success())}"
+        print(f"| {name} | " + " / ".join(str(tallies[(c, name)].valid) for c in conditions) + " | " + " | ".join(row) + " |")
+    if grasping:
+        for c in conditions:
+            for name in names:
+                failures = tallies[(c, name)].grasp_failures
+                print(f"grasp failures {c} {name}: " + ", ".join(f"{n} {why}" for why, n in sorted(failures.items())))
+        for key, values in score_ms.items():
+            print(f"ScorePoses {key.replace('_', ' ')}: median {np.median(values):.0f} ms, max {np.max(values):.0f} ms "
+                  f"over {len(values)} scans")
+    for condition in conditions:
         t = np.array(times[condition]) / 1000
         print(f"localize time per scan ({len(names)} part types), {condition}: median {np.median(t):.1f} s, "
               f"max {t.max():.1f} s")
     peer_summary = peers.report(fmt)
     if args.json:
         with open(args.json, "w") as f:
-            json.dump({"args": vars(args), "summary": summary, "runs": runs, "scan_localize_ms": times,
+            json.dump({"args": vars(args), "summary": summary, "runs": runs, "scan_localize_ms": times, "score_ms": score_ms,
                        "peers": peer_summary}, f, indent=1)
 
 

@@ -8,6 +8,7 @@ import { listDatasets, showDataset } from './dataset_view.js';
 import { showJob } from './job_view.js';
 import { showCloud } from './cloud_view.js';
 import { showBin } from './bin_view.js';
+import { showPicking } from './pick_view.js';
 
 function link(query, text) {
   const item = document.createElement('li');
@@ -31,10 +32,10 @@ async function listScenes() {
 
 // The view that shows a job of kind, as `vscan view JOB` chooses it.
 function viewOfJobKind(kind) {
-  return { bin_fill: 'bin', dataset: 'dataset' }[kind] || 'job';
+  return { bin_fill: 'bin', dataset: 'dataset', picking: 'picking' }[kind] || 'job';
 }
 
-// ?job=ID for any kind: bin fills and dataset jobs have views of their own.
+// ?job=ID for any kind: bin fills, dataset and picking jobs have views of their own.
 async function showAnyJob(id, query) {
   const { kind } = await get(`api/jobs/${encodeURIComponent(id)}`);
   const view = viewOfJobKind(kind);
@@ -65,6 +66,7 @@ const VIEWS = {
   job: showAnyJob,
   cloud: showCloud,
   bin: showBin,
+  picking: showPicking,
 };
 
 async function main() {

@@ -51,7 +51,7 @@ function showPicked(part) {
 }
 
 // The bin as drawn: a box's floor and walls from its sizes (as the fill laid them out), or its mesh.
-async function addBin(viewer, bin) {
+export async function addBin(viewer, bin) {
   const material = new THREE.MeshLambertMaterial({ color: BIN_COLOUR });
   const group = new THREE.Group();
   group.matrixAutoUpdate = false;
@@ -79,7 +79,7 @@ async function addBin(viewer, bin) {
 
 // Looks at bounds from above, a little from the front, so that the pile shows over the front wall.
 // On a wide page the bin is drawn right of the panel (the view's centre moved by a view offset).
-function frameFromAbove(viewer, bounds) {
+export function frameFromAbove(viewer, bounds) {
   const { camera, width, height } = viewer;
   const panel = document.getElementById('panel').getBoundingClientRect().right + 8;
   const left = width > 1.4 * height ? Math.min(panel, 0.55 * width) : 0;

@@ -39,6 +39,7 @@ bool IsHostPort(const std::string& address) {
 std::string ViewOfJobKind(const std::string& kind) {
   if (kind == "bin_fill") return "bin";
   if (kind == "dataset") return "dataset";
+  if (kind == "picking") return "picking";
   return "job";  // campaigns and model jobs
 }
 

@@ -1,7 +1,7 @@
 """A BOP results file scored against a dataset job's dataset on a real vscand: through the CLI,
 agreeing with bop_toolkit_lib on every recall (bench/bop_dataset_score_check.py; skipped, saying
-so, without the toolkit); the CLI's table; the Python client; refusals by field that change nothing
-and leave the server serving."""
+so, without the toolkit); the CLI's table; the Python client; grasp success with a gripper (CLI,
+Python); refusals by field that change nothing and leave the server serving."""
 
 import hashlib
 import json
@@ -146,6 +146,47 @@ class DatasetScoreTest(unittest.TestCase):
         self.assertIn("2 estimates left out: their images are not in the dataset", run.stdout)
         missing = self.cli("dataset", "score", self.job_id, "--results", os.path.join(self.tmp.name, "none.csv"))
         self.assertEqual(missing.returncode, 5, missing.stderr)
+
+    def test_grasp_success_with_jaws_through_the_cli_and_python(self):
+        # The views look down within 25 degrees: up is about -z in the camera frame.
+        flags = ["--jaws-max-opening", "0.06", "--up", "0", "0", "-1"]
+        run = self.cli("dataset", "score", self.job_id, "--results", self.csv, "--json", *flags)
+        self.assertEqual(run.returncode, 0, run.stderr)
+        ours = json.loads(run.stdout)
+        overall = ours["overall"]
+        holds, valid = int(overall.get("graspHolds", 0)), int(overall["validInstances"])
+        # Exact estimates: a grasp fails only where none approaches from above.
+        self.assertGreater(holds, 0)
+        self.assertAlmostEqual(overall["graspSuccess"], holds / valid, places=12)
+        self.assertEqual(sum(int(o["recall"].get("graspHolds", 0)) for o in ours["objects"]), holds)
+        self.assertEqual(sum(int(s["recall"].get("graspHolds", 0)) for s in ours["scenes"]), holds)
+        self.assertEqual(overall["addRecall"], 1)
+        text = self.cli("dataset", "score", self.job_id, "--results", self.csv, *flags)
+        self.assertEqual(text.returncode, 0, text.stderr)
+        self.assertIn("grasp", [line for line in text.stdout.splitlines() if line.startswith("obj_id")][0])
+        plain = json.loads(self.cli("dataset", "score", self.job_id, "--results", self.csv, "--json").stdout)
+        self.assertNotIn("graspSuccess", plain["overall"])
+
+        # Every estimate moved 30 mm sideways in the image: few jaws still close on the true part.
+        with open(self.csv) as f:
+            lines = f.read().splitlines()
+        moved = [lines[0]]
+        for line in lines[1:]:
+            cells = line.split(",")
+            x, y, z = (float(v) for v in cells[5].split())
+            cells[5] = f"{x + 30!r} {y!r} {z!r}"
+            moved.append(",".join(cells))
+        with Client(self.server.address) as client:
+            jaws = {"jaws": {"max_opening": 0.06}}
+            exact = client.score_dataset_results(self.job_id, self.csv, gripper=jaws, up=(0, 0, -1))
+            shifted = client.score_dataset_results(self.job_id, ("\n".join(moved) + "\n").encode(), gripper=jaws,
+                                                   up=(0, 0, -1))
+            with self.assertRaises(VscanError) as caught:
+                client.score_dataset_results(self.job_id, self.csv, gripper=jaws, up=(0, 0, 0))
+            self.assertEqual(caught.exception.code, grpc.StatusCode.INVALID_ARGUMENT)
+            self.assertIn("up", str(caught.exception))
+        self.assertEqual(exact.overall.grasp_holds, holds)
+        self.assertLess(shifted.overall.grasp_holds, holds / 4)
 
     def test_python_client(self):
         with Client(self.server.address) as client:

@@ -1,7 +1,8 @@
 """LocalizationService through a real vscand: a bin of angle blocks filled and scanned with ground
 truth, localized and scored with the CLI (vscan localize, vscan score, BOP results CSV) and the
 Python client; a bin of angle blocks and pins searched for both in one call (CLI, Python, progress
-streamed); refusals named by field; a deadline and a cancel stop a search.
+streamed); grasp success beside the recalls with a gripper (CLI, Python); refusals named by field;
+a deadline and a cancel stop a search.
 
 The localizer's recall on a filled bin is measured in BENCHMARKS.md (on this bin it finds 3 of the
 6 blocks); here a correct pipeline is told apart by poses that agree with the truth to a few
@@ -21,7 +22,7 @@ import numpy as np
 from harness import VSCAN, ServerTestCase, scene_pb2  # first: puts the stubs on sys.path
 from bin_scenes import fill_bin, height_for, scan_bin, upload_part, write_ground_truth, write_ply
 from vscan.v1 import common_pb2, localization_pb2, localization_pb2_grpc
-from vscan import Client, truth_from_objects
+from vscan import Client, VscanError, truth_from_objects
 
 INNER = (0.16, 0.12, 0.08)
 
@@ -198,6 +199,61 @@ class LocalizationTest(ServerTestCase):
         score = self.stub.ScorePoses(localization_pb2.ScorePosesRequest(
             parts=[localization_pb2.ScoredPart(mesh_id=self.mesh_id)]), timeout=5)
         self.assertFalse(score.HasField("add_recall"))
+
+    def test_grasp_success_with_a_suction_cup_through_the_cli_and_python(self):
+        estimates = self.localize_file()
+        report = json.loads(self.cli("--json", "score", "--truth", self.truth, "--estimates", estimates,
+                                     "--suction-diameter", "0.01"))
+        part = report["parts"][0]
+        holds = sum(1 for m in part["matches"] if m.get("graspHolds"))
+        self.assertEqual(int(report["graspHolds"]), holds)
+        self.assertAlmostEqual(report["graspSuccess"], holds / int(report["validInstances"]), places=12)
+        # A grasp holds only for a matched estimate, and says why when it does not.
+        for m in part["matches"]:
+            if "estimateIndex" not in m:
+                self.assertFalse(m["graspHolds"])
+            elif not m.get("graspHolds"):
+                self.assertTrue(m["graspFailure"], m)
+        text = self.cli("score", "--truth", self.truth, "--estimates", estimates, "--suction-diameter", "0.01")
+        self.assertIn("grasp", text.splitlines()[0])
+        plain = json.loads(self.cli("--json", "score", "--truth", self.truth, "--estimates", estimates))
+        self.assertNotIn("graspSuccess", plain)
+        self.assertEqual(plain["addRecall"], report["addRecall"])
+
+        cup = {"suction": {"diameter": 0.01}}
+        with Client(self.server.address) as client:
+            parts = [(self.mesh_id, 1.0)]
+            truth = truth_from_objects(self.stats.objects, parts)
+            exact = client.score_poses(parts, truth, [(t.part, t.world_from_part.matrix.values, 1) for t in truth],
+                                       gripper=cup)
+            # On the true pose a grasp fails only when none approaches from above.
+            matches = exact.parts[0].matches
+            self.assertGreater(exact.grasp_holds, 0)
+            for m in matches:
+                self.assertTrue(m.grasp_holds or m.grasp_failure in (
+                    "no grasp of the part approaches from above at the estimated pose",
+                    "the gripper has no grasp on the part"), m)
+            # 5 mm too high: ADD(-S) calls every one correct (10% of 51 mm), yet the cups stop short.
+            high = []
+            for t in truth:
+                pose = np.array(t.world_from_part.matrix.values).reshape(4, 4)
+                pose[2, 3] += 0.005
+                high.append((t.part, pose.ravel(), 1))
+            lifted = client.score_poses(parts, truth, high, gripper=cup)
+            self.assertEqual(lifted.add_recall, 1.0)
+            self.assertLess(lifted.grasp_holds, exact.grasp_holds)
+            self.assertAlmostEqual(lifted.grasp_success, lifted.grasp_holds / lifted.valid_instances, places=12)
+            self.assertTrue(any(m.grasp_failure == "the cup meets no surface of the part"
+                                for m in lifted.parts[0].matches))
+            # Refusals name the field and leave the server serving.
+            for gripper, up, field in [({"suction": {"diameter": math.nan}}, None, "gripper.suction.diameter"),
+                                       ({"jaws": {"max_opening": math.inf}}, None, "gripper.jaws.max_opening"),
+                                       (cup, (0, 0, 0), "up"), (cup, (math.nan, 0, 1), "up")]:
+                with self.assertRaises(VscanError) as caught:
+                    client.score_poses(parts, truth, high, gripper=gripper, up=up)
+                self.assertEqual(caught.exception.code, grpc.StatusCode.INVALID_ARGUMENT)
+                self.assertIn(field, str(caught.exception))
+            self.assertEqual(client.score_poses(parts, truth, high).add_recall, 1.0)
 
     def test_refusals_name_their_field(self):
         invalid, not_found = grpc.StatusCode.INVALID_ARGUMENT, grpc.StatusCode.NOT_FOUND

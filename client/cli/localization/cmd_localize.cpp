@@ -12,6 +12,7 @@
 #include "localization/localization_calls.h"
 #include "localization/localize_progress_line.h"
 #include "localization/pose_files.h"
+#include "localization/score_gripper_args.h"
 #include "session/args.h"
 #include "session/commands.h"
 #include "session/text_format.h"
@@ -42,6 +43,7 @@ struct ScoreArgs {
   std::string symmetries;
   std::optional<double> add_threshold;
   std::optional<double> min_visible;
+  ScoreGripperArgs gripper;
 };
 
 bool IsFile(const std::string& path) {
@@ -263,11 +265,18 @@ StatusOr<std::vector<PoseRow>> ReadAllEstimates(const ScoreArgs& args, const Gro
 
 std::string Recall(bool has, double value) { return has ? Fixed(value, 3) : "-"; }
 
-void PrintScores(Context& ctx, const v1::ScorePosesResponse& response) {
+// grasp: the request had a gripper; its grasp success is printed beside the recalls.
+void PrintScores(Context& ctx, const v1::ScorePosesResponse& response, bool grasp) {
   char line[200];
   std::snprintf(line, sizeof(line), "%-4s %-22s %9s %6s %9s %9s %8s %8s", "part", "mesh", "diam mm", "error",
                 "instances", "estimates", "ADD(-S)", "MSSD AR");
-  ctx.Say(line);
+  ctx.Say(std::string(line) + (grasp ? "    grasp" : ""));
+  const auto grasp_column = [grasp](bool has, double value) {
+    if (!grasp) return std::string();
+    char cell[32];
+    std::snprintf(cell, sizeof(cell), " %8s", Recall(has, value).c_str());
+    return std::string(cell);
+  };
   for (const v1::PartScore& part : response.parts()) {
     std::snprintf(line, sizeof(line), "%-4u %-22s %9.1f %6s %9llu %9llu %8s %8s", part.part(), part.mesh_id().c_str(),
                   part.diameter() * 1000, part.uses_add_s() ? "ADD-S" : "ADD",
@@ -275,18 +284,24 @@ void PrintScores(Context& ctx, const v1::ScorePosesResponse& response) {
                   static_cast<unsigned long long>(part.estimates()),
                   Recall(part.has_add_recall(), part.add_recall()).c_str(),
                   Recall(part.has_mssd_average_recall(), part.mssd_average_recall()).c_str());
-    ctx.Say(line);
+    ctx.Say(line + grasp_column(part.has_grasp_success(), part.grasp_success()));
   }
   std::snprintf(line, sizeof(line), "%-4s %-22s %9s %6s %9llu %9s %8s %8s", "all", "", "", "",
                 static_cast<unsigned long long>(response.valid_instances()), "",
                 Recall(response.has_add_recall(), response.add_recall()).c_str(),
                 Recall(response.has_mssd_average_recall(), response.mssd_average_recall()).c_str());
-  ctx.Say(line);
+  ctx.Say(line + grasp_column(response.has_grasp_success(), response.grasp_success()));
   ctx.Say("ADD(-S) correct below " + Fixed(response.add_threshold() * 100, 0) +
           "% of the diameter; instances seen less than the visibility cut are not counted");
+  if (grasp) {
+    ctx.Say("grasp: share of valid true instances whose estimate's best grasp from above holds the true part "
+            "(unmatched instances count as failures)");
+  }
 }
 
 int RunScore(Context& ctx, const ScoreArgs& args) {
+  const auto gripper = BuildScoreGripper(args.gripper);
+  if (!gripper.ok()) return ctx.UsageError(gripper.status().message());
   const auto truth = ReadGroundTruth(args.truth);
   if (!truth.ok()) {
     return truth.status().code() == StatusCode::kNotFound ? ctx.LocalError(truth.status())
@@ -310,6 +325,8 @@ int RunScore(Context& ctx, const ScoreArgs& args) {
   v1::ScorePosesRequest request = BuildScoreRequest(*truth, *rows, symmetries, searched);
   if (args.add_threshold) request.mutable_options()->set_add_threshold(*args.add_threshold);
   if (args.min_visible) request.mutable_options()->set_min_visible_fraction(*args.min_visible);
+  if (*gripper) *request.mutable_gripper() = **gripper;
+  if (const auto up = ScoreUp(args.gripper)) *request.mutable_up() = *up;
   auto* client = ctx.GetClient();
   if (!client) return ctx.last_exit();
   const auto response = CallScorePoses(*client, request);
@@ -318,7 +335,7 @@ int RunScore(Context& ctx, const ScoreArgs& args) {
     ctx.EmitJson(ToJson(*response));
     return kExitOk;
   }
-  PrintScores(ctx, *response);
+  PrintScores(ctx, *response, gripper->has_value());
   return kExitOk;
 }
 
@@ -358,6 +375,7 @@ void AddLocalizationCommands(CLI::App& group, Context& ctx) {
   score->add_option("--symmetries", sargs->symmetries, "JSON of each symmetric mesh's axes and transforms");
   score->add_option("--add-threshold", sargs->add_threshold, "ADD(-S) threshold, fraction of the diameter (0.1)");
   score->add_option("--min-visible", sargs->min_visible, "Visibility cut (0.1, BOP's visib_gt_min)");
+  AddScoreGripperOptions(score, sargs->gripper);
   OnRun(score, ctx, [&ctx, sargs] { return RunScore(ctx, *sargs); });
 }
 

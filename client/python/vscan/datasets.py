@@ -9,6 +9,7 @@ import grpc
 
 from ._stubs import sensor_pb2  # noqa: F401  (puts the generated stubs on sys.path)
 from .errors import VscanError
+from .grasp_scoring import set_grasp_scoring
 
 from vscan.v1 import job_pb2  # noqa: E402
 
@@ -63,13 +64,18 @@ class DatasetCalls:
                 return _extract(data, directory)
         raise VscanError(grpc.StatusCode.FAILED_PRECONDITION, f"job {job_id} has no {DATASET_TAR}")
 
-    def score_dataset_results(self, job_id, results, timeout=600):
+    def score_dataset_results(self, job_id, results, timeout=600, gripper=None, up=None, max_grasps=None,
+                              grasp_seed=None):
         """Scores BOP results (scene_id,im_id,obj_id,score,R,t,time; R row-major, t in mm) against the
         ground truth of the succeeded dataset job job_id, as bop_toolkit's evaluation does (ADD(-S)
         recall at 10% of the diameter, MSSD average recall). results is the CSV's bytes, or the path
         of the file (str or os.PathLike). Returns the ScoreDatasetResultsResponse: overall, objects
         (per obj_id) and scenes, each a DatasetRecall (valid_instances, estimates, add_correct,
-        add_recall, mssd_average_recall, mssd_recalls)."""
+        add_recall, mssd_average_recall, mssd_recalls).
+
+        gripper (see score_poses) adds grasp_holds and grasp_success to every DatasetRecall, the models
+        and poses taken in metres; up is the direction against gravity in the camera frame (default
+        +z)."""
         if isinstance(results, (str, os.PathLike)):
             with open(results, "rb") as f:
                 results = f.read()
@@ -78,6 +84,7 @@ class DatasetCalls:
                              f"results_csv: {len(results)} bytes, more than the {MAX_RESULTS_CSV_BYTES >> 20} MiB "
                              "the server takes in one call")
         request = job_pb2.ScoreDatasetResultsRequest(job_id=job_id, results_csv=bytes(results))
+        set_grasp_scoring(request, gripper, up=up, max_grasps=max_grasps, seed=grasp_seed)
         return self._call(self._jobs.ScoreDatasetResults, request, timeout=timeout)
 
 

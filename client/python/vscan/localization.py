@@ -6,6 +6,7 @@ import numpy as np
 
 from . import convert
 from .errors import from_rpc_error
+from .grasp_scoring import set_grasp_scoring
 
 from vscan.v1 import localization_pb2, localization_pb2_grpc  # noqa: E402
 
@@ -182,14 +183,20 @@ class LocalizationCalls:
         return response
 
     def score_poses(self, parts, truth, estimates, min_visible_fraction=None, add_threshold=None,
-                    mssd_thresholds=(), keep_all_estimates=False, timeout=None):
+                    mssd_thresholds=(), keep_all_estimates=False, timeout=None, gripper=None, up=None,
+                    max_grasps=None, grasp_seed=None):
         """Scores estimates against the truth with BOP's definitions; returns the ScorePosesResponse
         (per part and overall ADD(-S) recall and MSSD average recall, matches with their errors).
 
         parts: mesh ids, (mesh_id, scale[, symmetry]) tuples, dicts or ScoredParts; truth:
         (part, 4x4 world_from_part, visible_fraction, instance_id) tuples or TruePoses (see
         truth_from_objects); estimates: (part, 4x4, score) tuples or EstimatedPoses. part is an
-        index into parts."""
+        index into parts.
+
+        gripper (vscan.SuctionCup, vscan.ParallelJaws, a dict or a vscan.v1.Gripper) adds the
+        grasp figures: per match grasp_holds and grasp_failure, per part and overall grasp_success
+        (grasps that hold / valid true instances). up: the direction against gravity in the poses'
+        frame (default +z)."""
         request = localization_pb2.ScorePosesRequest(
             parts=[_part(p) for p in parts],
             truth=[_true_pose(t) for t in truth],
@@ -201,4 +208,5 @@ class LocalizationCalls:
             request.options.add_threshold = add_threshold
         request.options.mssd_thresholds.extend(mssd_thresholds)
         request.options.keep_all_estimates = keep_all_estimates
+        set_grasp_scoring(request, gripper, up=up, max_grasps=max_grasps, seed=grasp_seed)
         return self._call(self._localization.ScorePoses, request, timeout=timeout)

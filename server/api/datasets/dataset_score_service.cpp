@@ -6,6 +6,7 @@
 
 #include "api/job/job_service.h"
 #include "api/datasets/dataset_spec.h"
+#include "api/localization/grasp_scoring_request.h"
 #include "api/transport/cancellable_unary.h"
 #include "api/transport/validate.h"
 #include "service/datasets/dataset_job_run.h"
@@ -17,8 +18,12 @@ namespace {
 // Below the server's 4 MiB message bound, so that a larger file is refused here, naming the field.
 constexpr size_t kMaxResultsCsvBytes = 3 << 20;
 
-void RecallToProto(const service::RecallCounts& counts, bool per_threshold, v1::DatasetRecall* out) {
+void RecallToProto(const service::RecallCounts& counts, bool per_threshold, bool grasps, v1::DatasetRecall* out) {
   out->set_valid_instances(counts.valid_instances);
+  if (grasps) {
+    out->set_grasp_holds(counts.grasp_holds);
+    if (const auto success = counts.GraspSuccess()) out->set_grasp_success(*success);
+  }
   out->set_estimates(counts.estimates);
   out->set_add_correct(counts.add_correct);
   if (const auto recall = counts.AddRecall()) out->set_add_recall(*recall);
@@ -28,8 +33,9 @@ void RecallToProto(const service::RecallCounts& counts, bool per_threshold, v1::
   }
 }
 
-void DatasetScoreToResponse(const service::DatasetScore& score, v1::ScoreDatasetResultsResponse* response) {
-  RecallToProto(score.tally.overall(), true, response->mutable_overall());
+void DatasetScoreToResponse(const service::DatasetScore& score, bool grasps,
+                            v1::ScoreDatasetResultsResponse* response) {
+  RecallToProto(score.tally.overall(), true, grasps, response->mutable_overall());
   for (const auto& [obj_id, counts] : score.tally.objects()) {
     v1::DatasetObjectScore* object = response->add_objects();
     object->set_obj_id(obj_id);
@@ -37,12 +43,12 @@ void DatasetScoreToResponse(const service::DatasetScore& score, v1::ScoreDataset
       object->set_diameter_mm(model->second.diameter_mm);
       object->set_uses_add_s(model->second.symmetries.any());
     }
-    RecallToProto(counts, true, object->mutable_recall());
+    RecallToProto(counts, true, grasps, object->mutable_recall());
   }
   for (const auto& [scene_id, counts] : score.tally.scenes()) {
     v1::DatasetSceneScore* scene = response->add_scenes();
     scene->set_scene_id(scene_id);
-    RecallToProto(counts, false, scene->mutable_recall());
+    RecallToProto(counts, false, grasps, scene->mutable_recall());
   }
   response->set_scene_count(score.scene_count);
   response->set_image_count(score.images);
@@ -68,6 +74,9 @@ grpc::ServerUnaryReactor* JobService::ScoreDatasetResults(grpc::CallbackServerCo
       [=, this](const std::atomic<bool>& cancel) -> Status {
         const auto start = std::chrono::steady_clock::now();
         RETURN_IF_ERROR(RequireId(request->job_id(), "job_id"));
+        ASSIGN_OR_RETURN(std::optional<service::GraspScoring> grasp,
+                         ParseGraspScoring(request->has_gripper(), request->gripper(), request->grasp_options(),
+                                           request->has_up(), request->up()));
         if (request->results_csv().size() > kMaxResultsCsvBytes) {
           return ResourceExhausted("results_csv", std::to_string(request->results_csv().size()) +
                                                       " bytes, more than the " +
@@ -90,13 +99,15 @@ grpc::ServerUnaryReactor* JobService::ScoreDatasetResults(grpc::CallbackServerCo
                          service::dataset::ParseBopResultsCsv(request->results_csv(), "results_csv"));
         service::DatasetScoringOptions options;
         options.cancel = &cancel;
+        options.grasp = std::move(grasp);
+        const bool grasps = options.grasp.has_value();
         StatusOr<service::DatasetScore> score = service::ScoreDatasetResults(
             service::DatasetJobRoot(context_.options.data_dir, directory), rows, options, "results_csv");
         if (!score.ok() && score.status().code() == StatusCode::kFailedPrecondition) {
           return FailedPrecondition("job_id", "job '" + request->job_id() + "': " + score.status().message());
         }
         RETURN_IF_ERROR(score.status());
-        DatasetScoreToResponse(*score, response);
+        DatasetScoreToResponse(*score, grasps, response);
         response->set_score_ms(
             std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
         return Status::Ok();

@@ -1,4 +1,5 @@
-// JobService.ResumeJob: an ended campaign run again as the same job, its stored scans passed over.
+// JobService.ResumeJob: an ended campaign run again as the same job, its stored scans passed over;
+// a picking job goes on from the pile its scene holds (picking/picking_job_service.cpp).
 
 #include <memory>
 
@@ -56,6 +57,7 @@ grpc::ServerUnaryReactor* JobService::ResumeJob(grpc::CallbackServerContext* ctx
     const std::string& job_id = request->job_id();
     RETURN_IF_ERROR(RequireId(job_id, "job_id"));
     ASSIGN_OR_RETURN(const store::JobRecord ended, tracker_.catalogue().GetJob(job_id));
+    if (ended.kind == service::JobKindName(service::JobKind::kPicking)) return ResumePicking(ended, response);
     const std::string campaign_kind(service::JobKindName(service::JobKind::kCampaign));
     RETURN_IF_ERROR(store::CheckResumable(ended, campaign_kind));
     v1::CampaignSpec spec;

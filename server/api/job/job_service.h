@@ -56,6 +56,8 @@ class JobService final : public v1::JobService::CallbackService {
                                                                    const v1::ReadArtifactRequest* request) override;
 
  private:
+  // ResumeJob for a picking job (in picking/picking_job_service.cpp).
+  Status ResumePicking(const store::JobRecord& ended, v1::ResumeJobResponse* response);
   // What a started job does on the runner's thread.
   using JobRun = std::function<void(service::JobRecorder& recorder, const std::string& job_id, jobs::JobControl&)>;
   // The start every kind shares, under the admission lock: refuses when max_queued_jobs wait

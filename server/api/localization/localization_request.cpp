@@ -4,6 +4,7 @@
 #include <cstring>
 #include <string>
 
+#include "api/localization/grasp_scoring_request.h"
 #include "api/transport/validate.h"
 #include "vscan/common/physical_limits.h"
 #include "vscan/common/proto_convert.h"
@@ -265,6 +266,8 @@ StatusOr<service::ScoringPlan> ParseScorePosesRequest(const v1::ScorePosesReques
     plan.estimates.push_back(out);
   }
   RETURN_IF_ERROR(ParseScoringOptions(request.options(), plan.options));
+  ASSIGN_OR_RETURN(plan.grasp, ParseGraspScoring(request.has_gripper(), request.gripper(), request.grasp_options(),
+                                                 request.has_up(), request.up()));
   return plan;
 }
 

@@ -46,9 +46,11 @@ Status RunLocalizeRequest(service::ServiceContext& context, const v1::LocalizeRe
   return Status::Ok();
 }
 
-void ToResponse(const service::ScoringPlan& plan, const localization::ScanScore& score,
+void ToResponse(const service::ScoringPlan& plan, const service::PoseScores& scores,
                 const v1::ScorePosesRequest& request, v1::ScorePosesResponse* response) {
-  for (const localization::PartScore& part : score.parts) {
+  const localization::ScanScore& score = scores.scan;
+  for (size_t p = 0; p < score.parts.size(); ++p) {
+    const localization::PartScore& part = score.parts[p];
     v1::PartScore* out = response->add_parts();
     out->set_part(part.part_id);
     out->set_mesh_id(plan.parts[part.part_id].mesh_id);
@@ -68,6 +70,20 @@ void ToResponse(const service::ScoringPlan& plan, const localization::ScanScore&
       match->set_add_error(instance.add_error);
       match->set_mssd_error(instance.mssd_error);
     }
+    if (scores.grasp) {
+      const service::PartGraspScore& grasp = scores.grasp->parts[p];
+      for (size_t i = 0; i < grasp.instances.size(); ++i) {
+        if (!grasp.instances[i]) continue;
+        out->mutable_matches(static_cast<int>(i))->set_grasp_holds(grasp.instances[i]->holds);
+        out->mutable_matches(static_cast<int>(i))->set_grasp_failure(grasp.instances[i]->failure);
+      }
+      out->set_grasp_holds(grasp.holds);
+      if (grasp.success) out->set_grasp_success(*grasp.success);
+    }
+  }
+  if (scores.grasp) {
+    response->set_grasp_holds(scores.grasp->holds);
+    if (scores.grasp->success) response->set_grasp_success(*scores.grasp->success);
   }
   response->set_valid_instances(score.valid_instances);
   if (score.add_recall) response->set_add_recall(*score.add_recall);
@@ -107,8 +123,8 @@ grpc::ServerUnaryReactor* LocalizationService::ScorePoses(grpc::CallbackServerCo
   return RunCancellableUnary(ctx, context_.options.token, "ScorePoses", context_.workers,
                              [=, this](const std::atomic<bool>& cancel) -> Status {
                                ASSIGN_OR_RETURN(const service::ScoringPlan plan, ParseScorePosesRequest(*request));
-                               ASSIGN_OR_RETURN(const localization::ScanScore score,
-                                                service::ScorePoses(context_.registry, plan, &cancel));
+                               ASSIGN_OR_RETURN(const service::PoseScores score,
+                                                service::ScorePosesWithGrasps(context_.registry, plan, &cancel));
                                ToResponse(plan, score, *request, response);
                                return Status::Ok();
                              });

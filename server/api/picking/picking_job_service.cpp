@@ -2,6 +2,7 @@
 
 #include <spdlog/spdlog.h>
 
+#include "api/job/job_convert.h"
 #include "api/job/job_service.h"
 #include "api/picking/picking_spec.h"
 #include "api/transport/unary.h"
@@ -33,6 +34,33 @@ grpc::ServerUnaryReactor* JobService::StartPicking(grpc::CallbackServerContext* 
     spdlog::info("job {}: picking in scene {} with mount {} queued", job->job_id(), plan->scene_id, plan->mount_id);
     return Status::Ok();
   });
+}
+
+Status JobService::ResumePicking(const store::JobRecord& ended, v1::ResumeJobResponse* response) {
+  const std::string kind(service::JobKindName(service::JobKind::kPicking));
+  RETURN_IF_ERROR(store::CheckResumable(ended, kind));
+  v1::PickingSpec spec;
+  if (!spec.ParseFromString(ended.spec)) return DataLoss("job '" + ended.job_id + "': its stored spec does not parse");
+  auto bin_job = tracker_.catalogue().GetJob(spec.bin_job_id());
+  auto validated = bin_job.ok() ? ValidatePicking(spec, *bin_job, context_)
+                                : StatusOr<service::PickingPlan>(bin_job.status());
+  if (!validated.ok()) {
+    return Status(validated.status().code(), "job_id: job '" + ended.job_id + "' cannot run again: " +
+                                                 validated.status().ToString());
+  }
+  auto plan = std::make_shared<const service::PickingPlan>(std::move(validated).value());
+  store::JobRecord reopened;
+  auto reopen = [&]() -> StatusOr<std::string> {
+    ASSIGN_OR_RETURN(reopened, tracker_.Reopen(ended.job_id, kind));
+    return ended.job_id;
+  };
+  RETURN_IF_ERROR(Admit("job_id", reopen,
+                        [this, plan, name = spec.name(), bin_job_id = spec.bin_job_id()](
+                            service::JobRecorder& recorder, const std::string& id, jobs::JobControl& control) {
+                          service::RunPicking(context_, recorder, id, name, bin_job_id, *plan, control);
+                        }));
+  spdlog::info("job {}: picking resumed on scene {}", ended.job_id, plan->scene_id);
+  return ToProto(reopened, response->mutable_job());
 }
 
 }  // namespace vscan::api

@@ -214,9 +214,11 @@ StatusOr<std::vector<PickVerdict>> CheckPicks(const Pile& pile, std::span<const 
       for (size_t j = 0; j < above.size(); ++j) {
         if (above[j].item == PileItem{false, i} || !above[j].box.Overlaps(ray)) continue;
         const Pose3 mesh_from_world = above[j].world_from_mesh.inverse();
-        if (meshes.at(above[j].mesh).rays->FirstHit(mesh_from_world * origin, mesh_from_world.linear() * up, 0, length)) {
-          ++hits[j];
-        }
+        const Eigen::Vector3d direction = mesh_from_world.linear() * up;
+        const auto hit = meshes.at(above[j].mesh).rays->FirstHit(mesh_from_world * origin, direction, 0, length);
+        // Only a face met from below counts: a ray that starts inside a neighbour (a part touching
+        // a wall, pressed into it a fraction of a millimetre) leaves it through a face facing up.
+        if (hit && hit->normal.dot(direction) < 0) ++hits[j];
       }
     }
     const auto most = std::max_element(hits.begin(), hits.end());

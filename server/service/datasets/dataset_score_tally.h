@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "localization/bop_scoring.h"
+#include "service/localization/grasp_scoring.h"
 
 namespace vscan::service {
 
@@ -18,11 +19,14 @@ struct RecallCounts {
   uint64_t estimates = 0;        // results rows for images of the dataset
   uint64_t add_correct = 0;
   std::vector<uint64_t> mssd_correct;  // per threshold
+  uint64_t grasp_holds = 0;             // with a gripper: matches whose planned grasp holds
 
   // Unset without valid instances (BOP's calc_recall gives 0 there).
   std::optional<double> AddRecall() const;
   std::optional<double> MssdAverageRecall() const;
   std::vector<double> MssdRecalls() const;  // empty without valid instances
+  // grasp_holds / valid_instances; unset without valid instances.
+  std::optional<double> GraspSuccess() const;
 };
 
 class DatasetScoreTally {
@@ -36,7 +40,8 @@ class DatasetScoreTally {
 
   // One image's score; its parts' part_id are obj_ids and its MSSD recalls are at the tally's
   // thresholds.
-  void AddImage(uint32_t scene_id, const localization::ScanScore& image);
+  // grasps, when given, is JudgeScanGrasps' answer for the same image.
+  void AddImage(uint32_t scene_id, const localization::ScanScore& image, const ScanGraspScore* grasps = nullptr);
   // Estimates read for an object in an image of scene_id (before the top-n cut).
   void AddEstimates(uint32_t scene_id, uint32_t obj_id, uint64_t count);
   // Makes the object and scene appear even when they hold nothing (BOP lists every obj_id).

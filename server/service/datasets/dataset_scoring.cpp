@@ -1,8 +1,14 @@
 #include "service/datasets/dataset_scoring.h"
 
 #include <algorithm>
+#include <fstream>
 #include <numeric>
+#include <optional>
+#include <sstream>
 #include <string>
+
+#include "geometry/mesh_import.h"
+#include "service/datasets/format/model_ply.h"
 
 namespace vscan::service {
 namespace {
@@ -11,7 +17,30 @@ namespace {
 struct ScoredModel {
   localization::PartDefinition part;
   uint64_t pair_work = 0;
+  // With a gripper: the model in metres, and its grasps once an image needs them.
+  std::optional<TriangleMesh> mesh_m;
+  std::optional<PartGraspJudge> grasp_judge;
 };
+
+constexpr double kMetresPerMillimetre = 0.001;
+
+// The model's triangles in metres (models/obj_<obj_id>.ply is in millimetres).
+StatusOr<TriangleMesh> ReadModelMeshMetres(const std::filesystem::path& root, uint32_t obj_id) {
+  const std::filesystem::path path = root / dataset::ModelPlyPath(obj_id);
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream bytes;
+  bytes << in.rdbuf();
+  if (!in) return DataLoss(path.string() + ": cannot be read");
+  StatusOr<TriangleMesh> mesh =
+      geometry::ImportMesh(bytes.view(), geometry::MeshFileFormat::kPly, kMetresPerMillimetre);
+  if (!mesh.ok()) return DataLoss(path.string() + ": " + mesh.status().message());
+  return mesh;
+}
+
+Pose3 InMetres(Pose3 pose) {
+  pose.translation() *= kMetresPerMillimetre;
+  return pose;
+}
 
 uint64_t PairWork(const localization::PartDefinition& part) {
   constexpr uint64_t kAddSWorkPerVertex = 20;  // the k-d tree ADD-S builds and searches
@@ -99,6 +128,7 @@ StatusOr<DatasetScore> ScoreDatasetResults(const std::filesystem::path& root,
       if (valid.empty()) continue;
 
       std::vector<localization::PartDefinition> parts;
+      std::vector<ScoredModel*> models_of_parts;
       std::vector<localization::TrueInstance> truths;
       std::vector<localization::EstimatedInstance> estimates;
       uint64_t work = 0;
@@ -115,6 +145,7 @@ StatusOr<DatasetScore> ScoreDatasetResults(const std::filesystem::path& root,
           model = loaded.emplace(obj_id, std::move(scored)).first;
         }
         parts.push_back(model->second.part);
+        models_of_parts.push_back(&model->second);
         // The best-scored n of the object's estimates, n its valid instances (BOP's n_top = -1).
         std::vector<size_t>& list = estimates_of[obj_id];
         std::stable_sort(list.begin(), list.end(), [&](size_t a, size_t b) { return rows[a].score > rows[b].score; });
@@ -128,6 +159,14 @@ StatusOr<DatasetScore> ScoreDatasetResults(const std::filesystem::path& root,
           estimates.push_back(estimate);
         }
         work += static_cast<uint64_t>(list.size()) * count * model->second.pair_work;
+        if (options.grasp && !list.empty()) {
+          ScoredModel& scored = model->second;
+          if (!scored.mesh_m) {
+            ASSIGN_OR_RETURN(scored.mesh_m, ReadModelMeshMetres(root, obj_id));
+            work += GraspPreparationWork(*scored.mesh_m, *options.grasp);
+          }
+          work += static_cast<uint64_t>(list.size()) * GraspJudgementWork(*scored.mesh_m, *options.grasp);
+        }
       }
       for (const TrueObject& object : objects) {
         if (!valid.contains(object.obj_id)) continue;
@@ -146,7 +185,29 @@ StatusOr<DatasetScore> ScoreDatasetResults(const std::filesystem::path& root,
                                      std::to_string(scene) + "); score a smaller dataset");
       }
       ASSIGN_OR_RETURN(const localization::ScanScore score, localization::ScoreScan(parts, truths, estimates, scoring));
-      out.tally.AddImage(scene_id, score);
+      if (!options.grasp) {
+        out.tally.AddImage(scene_id, score);
+        continue;
+      }
+      std::vector<const PartGraspJudge*> judges(parts.size(), nullptr);
+      for (size_t p = 0; p < parts.size(); ++p) {
+        ScoredModel& scored = *models_of_parts[p];
+        if (!scored.mesh_m) continue;  // no estimate of it yet: nothing to judge
+        if (!scored.grasp_judge) {
+          if (IsCancelled(options)) return Cancelled("scoring cancelled");
+          auto judge = PartGraspJudge::Make(*scored.mesh_m, *options.grasp);
+          if (!judge.ok() && judge.status().field() == "mesh") {
+            return judge.status().WithFieldPrefix("obj_id " + std::to_string(scored.part.part_id));
+          }
+          if (!judge.ok()) return judge.status();
+          scored.grasp_judge = std::move(*judge);
+        }
+        judges[p] = &*scored.grasp_judge;
+      }
+      for (localization::TrueInstance& t : truths) t.world_from_part = InMetres(t.world_from_part);
+      for (localization::EstimatedInstance& e : estimates) e.world_from_part = InMetres(e.world_from_part);
+      ASSIGN_OR_RETURN(const ScanGraspScore grasps, JudgeScanGrasps(score, judges, truths, estimates, options.cancel));
+      out.tally.AddImage(scene_id, score, &grasps);
     }
   }
   for (const size_t i : order) {

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <span>
 #include <string_view>
 #include <utility>
@@ -17,6 +18,7 @@
 #include "service/datasets/dataset_score_tally.h"
 #include "service/datasets/dataset_truth.h"
 #include "service/datasets/format/bop_results_csv.h"
+#include "service/localization/grasp_scoring.h"
 #include "vscan/common/status.h"
 
 namespace vscan::service {
@@ -34,6 +36,10 @@ struct DatasetScoringOptions {
   const std::atomic<bool>* cancel = nullptr;  // polled between images and pairs: CANCELLED
   uint64_t max_work = kMaxDatasetScoringWork;
   uint32_t max_scenes = kMaxScenesScored;
+  // Set: each match is also judged by its planned grasp (models and poses taken in metres, up in
+  // the camera frame); each obj_id's grasp generation and each kept estimate's grasp count in
+  // max_work (GraspPreparationWork, GraspJudgementWork).
+  std::optional<GraspScoring> grasp;
 };
 
 struct DatasetScore {

@@ -2,8 +2,6 @@
 
 #include <cstdio>
 
-#include <spdlog/spdlog.h>
-
 #include "service/job/report_writer.h"
 #include "service/job/run_end.h"
 #include "service/picking/picking_report.h"
@@ -92,19 +90,12 @@ class PickingRun {
       report_.state = store::JobState::kFailed;
       report_.message = status.ok() ? "the run ended without a result" : status.message();
     }
-    const std::string json = recorder_.reports().PickingJson(plan_, report_);
-    const auto stored =
-        recorder_.RecordArtifact("picking.json", kJsonMediaType, json, nullptr, nullptr, Update("picking.json written"));
-    if (!stored.ok()) spdlog::warn("job {}: picking.json not stored: {}", report_.job_id, stored.status().ToString());
+    RecordReport(recorder_, report_.job_id, "picking.json", recorder_.reports().PickingJson(plan_, report_), picked_);
     RecordEnd(recorder_, report_.job_id, Update(report_.message, report_.state));
   }
 
   JobEventUpdate Update(const std::string& message, store::JobState state = store::JobState::kRunning) const {
-    JobEventUpdate update;
-    update.state = state;
-    update.message = message;
-    update.steps_done = picked_;
-    return update;
+    return RunUpdate(message, picked_, state);
   }
 
   ServiceContext& context_;

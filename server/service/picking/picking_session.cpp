@@ -125,6 +125,12 @@ StatusOr<picking::EmptyBinResult> RunPickingSession(ServiceContext& context, con
 
   std::map<PartKey, Pose3> written;
   for (const physics::PlacedPart& part : start.parts) written.emplace(PartKey{part.type, part.instance}, part.world_from_part);
+  // A run that goes on after an interruption may find a step's settling half written: the pile
+  // settles first (a settled pile barely moves).
+  ASSIGN_OR_RETURN(const physics::FillResult settled,
+                   physics::SettlePile(cell.bin, cell.types, start.parts, cell.physics, cancel));
+  start.parts = settled.parts;
+  RETURN_IF_ERROR(WritePile(context, plan.scene_id, start.object_of, written, start.parts));
   size_t step = 0;
   Status written_status = Status::Ok();
   const picking::Perceive perceive =

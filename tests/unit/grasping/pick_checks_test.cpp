@@ -107,6 +107,12 @@ TEST(PickChecksTest, APartUnderAnotherIsCoveredAndTheOneOnTopIsPickable) {
   EXPECT_EQ((*barred)[2].failure, PickFailure::kCovered);
   EXPECT_EQ((*barred)[2].covered_by, std::optional<PileItem>(PileItem{true, 1}));
   EXPECT_EQ((*barred)[2].detail, "fixture 1 lies on it");
+  // A wall 1 mm taller than it, pressed 2 mm into it, does not cover it (rays start inside the wall).
+  Pile walled = pile;
+  walled.fixtures.push_back({test::Share(test::MakeBox({0.218, -0.1, 0}, {0.23, 0.1, 0.021})), Pose3::Identity()});
+  const auto beside = CheckPicks(walled, grasps, cup, {}, {});
+  ASSERT_TRUE(beside.ok());
+  EXPECT_NE((*beside)[2].failure, PickFailure::kCovered) << (*beside)[2].detail;
   // Lifted 5 mm clear of it, the upper block no longer covers the lower one.
   pile.parts[1].world_from_part = At(0.015, 0.005, 0.025);
   const auto apart = CheckPicks(pile, grasps, cup, {}, {});

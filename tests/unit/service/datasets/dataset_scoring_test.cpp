@@ -1,6 +1,6 @@
 // A results file scored against a small hand-written dataset (a cube of 100 mm, diameter
 // 100 sqrt(3) mm): the pooling over images and scenes, the top-n cut per image and object, invalid
-// true instances, images the dataset does not have, and refusals.
+// true instances, images the dataset does not have, refusals, and grasp success with a suction cup.
 
 #include "service/datasets/dataset_scoring.h"
 
@@ -182,6 +182,73 @@ TEST(DatasetScoring, Refusals) {
 
   fs::remove(dir.path() / "scenes.json");
   EXPECT_EQ(Score(dir.path(), kResults).status().code(), StatusCode::kFailedPrecondition);
+}
+
+// The cube with its 12 triangles, so that grasps can be generated on it (millimetres).
+void WriteCubeMesh(const fs::path& root) {
+  std::string ply = "ply\nformat ascii 1.0\nelement vertex 8\nproperty float x\nproperty float y\nproperty float z\n"
+                    "element face 12\nproperty list uchar int vertex_indices\nend_header\n";
+  for (int i = 0; i < 8; ++i) {
+    ply += std::to_string(i & 1 ? 50 : -50) + " " + std::to_string(i & 2 ? 50 : -50) + " " +
+           std::to_string(i & 4 ? 50 : -50) + "\n";
+  }
+  // Outward winding: -z, +z, -y, +y, -x, +x.
+  for (const char* face : {"3 0 2 1", "3 1 2 3", "3 4 5 6", "3 5 7 6", "3 0 1 4", "3 1 5 4", "3 2 6 3", "3 3 6 7",
+                           "3 0 4 2", "3 2 4 6", "3 1 3 5", "3 3 7 5"}) {
+    ply += std::string(face) + "\n";
+  }
+  Write(root / "models/obj_000001.ply", ply);
+}
+
+std::string RowAt(int scene, int im, double score, double x, double z) {
+  return std::to_string(scene) + "," + std::to_string(im) + ",1," + std::to_string(score) + ",1 0 0 0 1 0 0 0 1," +
+         std::to_string(x) + " 0 " + std::to_string(z) + ",-1\n";
+}
+
+TEST(DatasetScoring, GraspSuccessCountsHeldGraspsOverValidInstances) {
+  test::TempDir dir;
+  WriteDataset(dir.path());
+  WriteCubeMesh(dir.path());
+  DatasetScoringOptions options;
+  GraspScoring grasp;
+  grasping::SuctionCup cup;
+  cup.diameter_m = 0.02;
+  grasp.gripper = cup;
+  grasp.up = -Eigen::Vector3d::UnitZ();  // the camera looks down its +z onto the cube's near face
+  options.grasp = grasp;
+  // a exact (holds); d 10 mm sideways on a 100 mm face (holds); e 5 mm towards the camera: matched
+  // (5 mm is within 10% of 173 mm) but the cup stops short of the true face.
+  const std::string results = RowAt(0, 0, 0.9, 0, 500) + RowAt(0, 1, 0.5, 10, 500) + RowAt(1, 0, 0.5, 0, 495);
+  const auto score = Score(dir.path(), results, options);
+  ASSERT_TRUE(score.ok()) << score.status().ToString();
+  const RecallCounts& overall = score->tally.overall();
+  EXPECT_EQ(overall.valid_instances, 4u);  // a, b, d, e
+  EXPECT_EQ(overall.add_correct, 3u);
+  EXPECT_EQ(overall.grasp_holds, 2u);
+  EXPECT_DOUBLE_EQ(*overall.GraspSuccess(), 0.5);
+  EXPECT_EQ(score->tally.scenes().at(0).grasp_holds, 2u);
+  EXPECT_EQ(score->tally.scenes().at(1).grasp_holds, 0u);
+  EXPECT_DOUBLE_EQ(*score->tally.scenes().at(1).GraspSuccess(), 0.0);
+  EXPECT_EQ(score->tally.objects().at(1).grasp_holds, 2u);
+  // Without a gripper the same rows hold nothing and cost no grasp work.
+  const auto plain = Score(dir.path(), results);
+  ASSERT_TRUE(plain.ok());
+  EXPECT_EQ(plain->tally.overall().grasp_holds, 0u);
+  EXPECT_EQ(plain->tally.overall().add_correct, 3u);
+  EXPECT_LT(plain->work, score->work);
+  // The grasps' work counts in the bound: refused where the scoring alone fits.
+  options.max_work = plain->work + 1000;
+  EXPECT_EQ(Score(dir.path(), results, options).status().code(), StatusCode::kResourceExhausted);
+}
+
+TEST(DatasetScoring, AModelWithoutTrianglesIsDataLossWithAGripper) {
+  test::TempDir dir;
+  WriteDataset(dir.path());  // vertices only
+  DatasetScoringOptions options;
+  options.grasp = GraspScoring{grasping::SuctionCup{}, {}, Eigen::Vector3d::UnitZ()};
+  const auto score = Score(dir.path(), RowAt(0, 0, 0.9, 0, 500), options);
+  EXPECT_EQ(score.status().code(), StatusCode::kDataLoss);
+  EXPECT_NE(score.status().message().find("obj_000001.ply"), std::string::npos) << score.status().ToString();
 }
 
 }  // namespace
