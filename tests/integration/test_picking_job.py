@@ -1,7 +1,7 @@
 """Picking jobs through a real vscand: bins of fixture parts filled in scenes, a UR5 on a pedestal
 beside each bin with a 0.1 m tool offset, then a truth-perception job through `vscan pick` (the
 pile in every step's truth, the scene afterwards, the tool on the picked part's surface), a
-baseline job through Client.start_picking (its scans), a cancelled job, and hostile specs refused
+baseline job through Client.start_picking (its scans), a cancelled job resumed, and hostile specs refused
 by field with no job created, a good validate_only passing after each."""
 
 import json
@@ -194,12 +194,13 @@ class PickingJobTest(ServerTestCase):
             self.assertEqual(len(truth["parts"]), step["parts_before"])
             self.assertEqual(len(truth["estimates"]), step["estimates"])
 
-    # -- (c) cancel ----------------------------------------------------------------------------
+    # -- (c) cancel and resume ---------------------------------------------------------------------
 
-    def test_cancel_ends_the_job_with_its_report(self):
+    def test_cancel_ends_the_job_with_its_report_and_resume_goes_on(self):
         fill, mount, _ = self.filled_cell(seed=7)
         started = json.loads(self.cli("--json", "pick", "run", "--bin-job", fill.job_id, "--mount", mount,
-                                      *CUP_FLAGS, "--max-steps", "10000", "--max-failures", "10000"))
+                                      *CUP_FLAGS, "--max-grasps", "1000", "--width", "320", "--height", "256",
+                                      "--max-steps", "10000", "--max-failures", "10000"))
         job_id = started["job"]["jobId"]
         deadline = time.time() + 60
         while self.client.get_job(job_id).state == job_pb2.JOB_STATE_QUEUED and time.time() < deadline:
@@ -211,6 +212,13 @@ class PickingJobTest(ServerTestCase):
         self.assertIsNotNone(report, [a.name for a in job.artifacts])
         self.assertEqual(report["state"], "CANCELLED")
         self.assertLess(len(report["steps"]), 8)
+        # Resumed, it goes on from the pile the scene holds: the cancelled run's picks stay done.
+        out = self.cli("--json", "pick", "resume", job_id, "--watch")
+        resumed = json.loads(out.splitlines()[-1])
+        self.assertEqual(resumed["job_id"], job_id)
+        self.assertEqual(resumed["state"], "SUCCEEDED", resumed["message"])
+        self.assertEqual(resumed["parts_at_start"], 8 - report["picked"] - report["fell_out"], (report, resumed))
+        self.assertGreaterEqual(report["picked"] + resumed["picked"], 1)
         # An ended job deletes through the kind's group, and is gone.
         self.cli("pick", "delete", job_id)
         gone = self.vscan("pick", "get", job_id)

@@ -1,4 +1,4 @@
-// `vscan pick run|watch|get|list|cancel|delete|artifacts`: picking jobs, a mounted robot emptying the
+// `vscan pick run|watch|resume|get|list|cancel|delete|artifacts`: picking jobs, a mounted robot emptying the
 // bin a bin fill left in its scene (JobService.StartPicking).
 
 #include <chrono>
@@ -124,6 +124,33 @@ void AddPickRun(CLI::App& group, Context& ctx) {
   OnRun(cmd, ctx, [&ctx, args] { return RunPick(ctx, *args); });
 }
 
+struct PickResumeArgs {
+  std::string job_id;
+  std::string out_dir;
+  bool watch = false;
+};
+
+int ResumePick(Context& ctx, const PickResumeArgs& args) {
+  const auto started = JobClock::now();
+  auto* client = ctx.GetClient();
+  if (!client) return ctx.last_exit();
+  const auto job = client->ResumeJob(args.job_id);
+  if (!job.ok()) return ctx.ServerError(job.status());
+  const std::string line = "resumed picking job " + job->job_id() + " on the pile its scene holds";
+  if (SayStarted(ctx, *job, line, "", !args.watch && args.out_dir.empty())) return kExitOk;
+  return FollowJob(ctx, job->job_id(), args.out_dir, started, PickFinish(ctx));
+}
+
+void AddPickResume(CLI::App& group, Context& ctx) {
+  auto args = std::make_shared<PickResumeArgs>();
+  auto* cmd = group.add_subcommand(
+      "resume", "Run an interrupted, cancelled or failed picking job on from the pile its scene holds");
+  cmd->add_option("JOB", args->job_id, "Job id")->required();
+  cmd->add_flag("--watch", args->watch, "Follow the job until it ends and print its summary");
+  cmd->add_option("-o,--out", args->out_dir, "Follow the job, then download its artifacts into this directory");
+  OnRun(cmd, ctx, [&ctx, args] { return ResumePick(ctx, *args); });
+}
+
 void AddPickGet(CLI::App& group, Context& ctx) {
   AddJobGet(group, ctx, "Show a picking job: state, message, the summary of its picking.json",
             [&ctx](const v1::Job& job) -> int {
@@ -142,6 +169,7 @@ void AddPickCommands(CLI::App& app, Context& ctx) {
   AddPickRun(*group, ctx);
   AddJobWatch(*group, ctx, "Follow a picking job until it ends and print its summary; exit 0 if it succeeded",
               PickFinish(ctx), true);
+  AddPickResume(*group, ctx);
   AddPickGet(*group, ctx);
   AddJobList(*group, ctx, "picking", "List picking jobs");
   AddJobCancel(*group, ctx, "Cancel a picking job; the scene keeps the pile as the last step left it");
