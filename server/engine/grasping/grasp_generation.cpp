@@ -97,6 +97,9 @@ StatusOr<std::vector<Grasp>> GenerateGrasps(const TriangleMesh& mesh, const Grip
   } else {
     grasps = JawGrasps(mesh, dense, candidates, std::get<ParallelJaws>(gripper), options);
   }
+  // Qualities equal but for rounding (the same flatness on two parallel faces) tie, and ties keep
+  // the draw order, so that the best grasps are not all on one face.
+  for (Grasp& g : grasps) g.quality = std::round(g.quality * 1e9) / 1e9;
   std::stable_sort(grasps.begin(), grasps.end(), [](const Grasp& a, const Grasp& b) { return a.quality > b.quality; });
   if (grasps.size() > options.max_grasps) grasps.resize(options.max_grasps);
   return grasps;

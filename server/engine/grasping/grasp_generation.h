@@ -36,7 +36,8 @@ struct Grasp {
 // INVALID_ARGUMENT naming "grasp_options.*" for a value out of its range.
 Status ValidateGraspOptions(const GraspOptions& options);
 
-// Sorted by quality, best first (ties by draw order); the same seed gives the same grasps.
+// Sorted by quality (rounded to 1e-9), best first, ties by draw order; the same seed gives the same
+// grasps.
 // InvalidArgument for a bad gripper (naming its field), options ("grasp_options.*") or mesh ("mesh");
 // ResourceExhausted ("grasp_options.candidates") when candidates x surface_samples (suction) or
 // candidates x (triangles + 2 x surface_samples x approaches_per_pair) (jaws) exceeds 2e9.

@@ -103,6 +103,20 @@ TEST(SuctionGraspsTest, NoCupOverlapsTheHoleOfAPlate) {
   }
 }
 
+TEST(SuctionGraspsTest, TheBestOfAPlateLieOnBothItsFaces) {
+  // Both faces are equally flat: their grasps tie, and the 30 best are drawn from both.
+  const TriangleMesh plate = testing::MakePlateWithHole(0.030, 0.006, 0.003);
+  GraspOptions options;
+  options.max_grasps = 30;
+  const auto grasps = GenerateGrasps(plate, SuctionCup{0.010, 0.01, 10, 0.9}, options);
+  ASSERT_TRUE(grasps.ok());
+  ASSERT_EQ(grasps->size(), 30u);
+  size_t up = 0;
+  for (const Grasp& g : *grasps) up += g.approach.z() > 0;
+  EXPECT_GT(up, 5u);
+  EXPECT_LT(up, 25u);
+}
+
 TEST(SuctionGraspsTest, SameSeedSameGrasps) {
   const TriangleMesh box = test::MakeBox({0, 0, 0}, kBoxHi);
   GraspOptions options;
