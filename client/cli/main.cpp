@@ -24,6 +24,7 @@ int main(int argc, char** argv) {
   vscan::cli::AddLocalizationCommands(app, ctx);
   vscan::cli::AddDatasetCommands(app, ctx);
   vscan::cli::AddPickingCommands(app, ctx);
+  vscan::cli::AddPickCommands(app, ctx);
   vscan::cli::AddSensorsCommand(app, ctx);
   vscan::cli::AddViewCommand(app, ctx);
   return vscan::cli::ParseAndRun(app, ctx, argc, argv);

@@ -119,6 +119,7 @@ std::string DescribeJob(const v1::Job& job) {
                     std::to_string(job.artifacts_size()) + " artifacts  " + FormatTime(job.create_time());
   const std::string& name = job.kind() == "model"      ? job.model().name()
                             : job.kind() == "bin_fill" ? job.bin_fill().name()
+                            : job.kind() == "picking"  ? job.picking().name()
                                                        : job.campaign().name();
   if (!name.empty()) out += "  '" + name + "'";
   if (!job.message().empty()) out += "  " + job.message();

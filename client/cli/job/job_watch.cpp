@@ -77,7 +77,7 @@ int WatchJobToEnd(Context& ctx, const std::string& job_id, WatchResult* result) 
 
 std::string JobGroup(const std::string& kind) {
   static const std::map<std::string, std::string> kGroups = {
-      {"campaign", "campaign"}, {"model", "model"}, {"bin_fill", "bin"}, {"dataset", "dataset"}};
+      {"campaign", "campaign"}, {"model", "model"}, {"bin_fill", "bin"}, {"dataset", "dataset"}, {"picking", "pick"}};
   const auto group = kGroups.find(kind);
   return group == kGroups.end() ? kind : group->second;
 }

@@ -27,6 +27,8 @@ void AddLocalizationCommands(CLI::App& group, Context& ctx);
 void AddDatasetCommands(CLI::App& app, Context& ctx);
 // `vscan grasps` and `vscan picks` (picking/cmd_picks.cpp).
 void AddPickingCommands(CLI::App& app, Context& ctx);
+// `vscan pick run|watch|resume|get|list|cancel|delete|artifacts`: picking jobs (picking/cmd_pick.cpp).
+void AddPickCommands(CLI::App& app, Context& ctx);
 // `vscan view [SCENE]`: the web view's address (cmd_view.cpp).
 void AddViewCommand(CLI::App& app, Context& ctx);
 

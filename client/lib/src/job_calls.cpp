@@ -62,6 +62,22 @@ Status Client::ValidateBinFill(const v1::BinFillSpec& spec) {
   return UnaryCall(*this, *stub, &JobStub::StartBinFill, request).status();
 }
 
+StatusOr<v1::Job> Client::StartPicking(const v1::PickingSpec& spec) {
+  auto stub = NewJobStub(*this);
+  v1::StartPickingRequest request;
+  *request.mutable_spec() = spec;
+  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *stub, &JobStub::StartPicking, request));
+  return response.job();
+}
+
+Status Client::ValidatePicking(const v1::PickingSpec& spec) {
+  auto stub = NewJobStub(*this);
+  v1::StartPickingRequest request;
+  *request.mutable_spec() = spec;
+  request.set_validate_only(true);
+  return UnaryCall(*this, *stub, &JobStub::StartPicking, request).status();
+}
+
 StatusOr<v1::Job> Client::GetJob(const std::string& job_id) {
   auto stub = NewJobStub(*this);
   v1::GetJobRequest request;

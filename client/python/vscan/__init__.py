@@ -42,9 +42,10 @@ from .errors import VscanError  # noqa: E402
 from .localization import localize_part, part_symmetry, pose_matrix, scored_part, truth_from_objects  # noqa: E402
 from .models import alignment_options, evaluation_options, model_spec, reconstruction_options  # noqa: E402
 from .picking import ParallelJaws, SuctionCup  # noqa: E402
+from .picking_jobs import picking_spec  # noqa: E402
 from .scan_result import ScanResult  # noqa: E402
 
 __all__ = ["Client", "bin_fill_spec", "bin_part", "CloudPoints", "ScanResult", "VscanError", "alignment_options",
-           "evaluation_options", "localize_part", "model_spec", "ParallelJaws", "parse_ply", "part_symmetry",
+           "evaluation_options", "localize_part", "model_spec", "ParallelJaws", "parse_ply", "part_symmetry", "picking_spec",
            "pose_matrix", "reconstruction_options",
            "scored_part", "SuctionCup", "truth_from_objects"]

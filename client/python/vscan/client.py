@@ -14,6 +14,7 @@ from .jobs import JobCalls
 from .localization import LocalizationCalls
 from .models import ModelCalls
 from .picking import PickingCalls
+from .picking_jobs import PickingJobCalls
 from .robots import RobotCalls
 from .scan_result import ScanAssembler
 
@@ -51,7 +52,8 @@ def _read(path):
         return f.read()
 
 
-class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls, BinCalls, LocalizationCalls, DatasetCalls, PickingCalls):
+class Client(RobotCalls, JobCalls, ModelCalls, CloudCalls, BinCalls, LocalizationCalls, DatasetCalls, PickingCalls,
+             PickingJobCalls):
     """Talks to one vscand. Failed calls raise VscanError.
 
     address: "host:port". token: bearer token sent with every call. root_cert: PEM file of the

@@ -1,5 +1,6 @@
-"""The JSON reports jobs leave (model.json, campaign.json, bin.json), read through their messages in
-proto/vscan/v1/reports.proto: the keys are the schema's, so a report and its readers cannot drift."""
+"""The JSON reports jobs leave (model.json, campaign.json, bin.json, picking.json and its steps'
+step-NNN-truth.json), read through their messages in proto/vscan/v1/reports.proto: the keys are the
+schema's, so a report and its readers cannot drift."""
 
 import grpc
 from google.protobuf import json_format
@@ -10,7 +11,14 @@ from .errors import VscanError
 from vscan.v1 import reports_pb2  # noqa: E402
 
 REPORT_MESSAGES = {"model.json": reports_pb2.ModelReport, "campaign.json": reports_pb2.CampaignReport,
-                   "bin.json": reports_pb2.BinReport}
+                   "bin.json": reports_pb2.BinReport, "picking.json": reports_pb2.PickingReport}
+
+
+def _message_for(name):
+    """The report message of a file name; a picking step's step-NNN-truth.json is a PickingStepTruth."""
+    if name.startswith("step-") and name.endswith("-truth.json"):
+        return reports_pb2.PickingStepTruth
+    return REPORT_MESSAGES[name]
 
 
 def parse_report(name, data):
@@ -18,7 +26,7 @@ def parse_report(name, data):
     always prints is there (at its default when the file left it out); keys the schema does not
     know are passed over. Raises VscanError DATA_LOSS for what the schema cannot read."""
     try:
-        message = json_format.Parse(data, REPORT_MESSAGES[name](), ignore_unknown_fields=True)
+        message = json_format.Parse(data, _message_for(name)(), ignore_unknown_fields=True)
     except json_format.ParseError as err:
         raise VscanError(grpc.StatusCode.DATA_LOSS, f"{name}: {err}") from None
     return report_dict(message)

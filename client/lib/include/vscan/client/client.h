@@ -113,6 +113,10 @@ class Client {
   StatusOr<v1::Job> StartBinFill(const v1::BinFillSpec& spec);
   // StartBinFill with validate_only: an empty scene_id is not looked up; mesh ids are.
   Status ValidateBinFill(const v1::BinFillSpec& spec);
+  // A picking job: a mounted robot empties the bin a succeeded bin fill left in its scene.
+  StatusOr<v1::Job> StartPicking(const v1::PickingSpec& spec);
+  // StartPicking with validate_only: the server's verdict on spec; nothing is started.
+  Status ValidatePicking(const v1::PickingSpec& spec);
   StatusOr<v1::Job> GetJob(const std::string& job_id);
   // Every job, following page tokens.
   StatusOr<std::vector<v1::Job>> ListJobs();
