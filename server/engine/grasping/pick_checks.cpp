@@ -16,6 +16,10 @@ namespace {
 
 // Faces within 70 degrees of up can carry another part.
 const double kUpwardCos = std::cos(70 * std::numbers::pi / 180);
+// A ray from a part's own face meets the part itself only beyond kOwnFaceM (nearer is that face);
+// parts are smaller than kOwnCeilingM.
+constexpr double kOwnFaceM = 1e-7;
+constexpr double kOwnCeilingM = 10.0;
 // Cover rays start this far inside the part, so a neighbour resting slightly into it still counts.
 constexpr double kCoverStartDepthM = 0.001;
 
@@ -204,8 +208,13 @@ StatusOr<std::vector<PickVerdict>> CheckPicks(const Pile& pile, std::span<const 
     // Covered: another part or a fixture straight above an upward face, within the cover distance.
     const SurfaceSamples& samples = meshes.at(part.mesh.get()).samples;
     std::vector<size_t> hits(above.size(), 0);
+    const MeshRays& own = *meshes.at(part.mesh.get()).rays;
+    const Eigen::Vector3d up_in_part = part.world_from_part.linear().transpose() * up;
     for (size_t s = 0; s < samples.points.size(); ++s) {
       if ((part.world_from_part.linear() * samples.normals[s]).dot(up) < kUpwardCos) continue;
+      // A face under the part's own material (a bore's floor, a cavity's) carries nothing; its ray,
+      // started below a wall thinner than the start depth, would meet what lies under the part.
+      if (own.FirstHit(samples.points[s], up_in_part, kOwnFaceM, kOwnCeilingM)) continue;
       const Eigen::Vector3d origin = part.world_from_part * samples.points[s] - up * kCoverStartDepthM;
       const double length = options.cover_distance_m + kCoverStartDepthM;
       Box ray;

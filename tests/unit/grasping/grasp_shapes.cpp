@@ -57,6 +57,11 @@ TriangleMesh MakePlateWithHole(double half, double hole_half, double thickness) 
   return m;
 }
 
+TriangleMesh Flipped(TriangleMesh mesh) {
+  for (auto& t : mesh.triangles) std::swap(t[1], t[2]);
+  return mesh;
+}
+
 TriangleMesh Join(const TriangleMesh& a, const TriangleMesh& b) {
   TriangleMesh m = a;
   const auto offset = uint32_t(a.vertices.size());

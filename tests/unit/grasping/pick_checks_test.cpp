@@ -120,6 +120,25 @@ TEST(PickChecksTest, APartUnderAnotherIsCoveredAndTheOneOnTopIsPickable) {
   EXPECT_NE((*apart)[0].failure, PickFailure::kCovered);
 }
 
+TEST(PickChecksTest, AThinWalledBoxLyingOnAnotherIsNotCoveredByIt) {
+  // Hollow boxes with 0.4 mm walls (thinner than the depth cover rays start at): the one below is
+  // covered, the one on top is not, although its cavity's floor faces up above the lower box.
+  const double wall = 0.0004;
+  const auto hollow = test::Share(testing::Join(test::MakeBox({-0.02, -0.01, 0}, {0.02, 0.01, 0.01}),
+                                                testing::Flipped(test::MakeBox({-0.02 + wall, -0.01 + wall, wall},
+                                                                               {0.02 - wall, 0.01 - wall, 0.01 - wall}))));
+  const Gripper cup = Cup(0.006);
+  const std::vector<std::vector<Grasp>> grasps{Grasps(*hollow, cup)};
+  Pile pile;
+  pile.parts.push_back({0, hollow, At(0, 0, 0)});
+  pile.parts.push_back({0, hollow, At(0.005, 0.002, 0.0101)});
+  pile.fixtures.push_back(Floor());
+  const auto verdicts = CheckPicks(pile, grasps, cup, {}, {});
+  ASSERT_TRUE(verdicts.ok()) << verdicts.status().ToString();
+  EXPECT_EQ((*verdicts)[0].failure, PickFailure::kCovered);
+  EXPECT_NE((*verdicts)[1].failure, PickFailure::kCovered) << (*verdicts)[1].detail;
+}
+
 TEST(PickChecksTest, ACupUnderAnOverhangingBarCollidesExactlyWhereItsColumnReachesTheBar) {
   const auto block = Block();
   const double radius = 0.010;
