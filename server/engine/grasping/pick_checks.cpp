@@ -14,6 +14,8 @@
 namespace vscan::grasping {
 namespace {
 
+// Gripper sweeps one check may test at worst (each some tens to hundreds of microseconds).
+constexpr double kMaxSweepChecks = 1e6;
 // Faces within 70 degrees of up can carry another part.
 const double kUpwardCos = std::cos(70 * std::numbers::pi / 180);
 // A ray from a part's own face meets the part itself only beyond kOwnFaceM (nearer is that face);
@@ -163,6 +165,12 @@ StatusOr<std::vector<PickVerdict>> CheckPicks(const Pile& pile, std::span<const 
   RETURN_IF_ERROR(ValidateGripper(gripper));
   RETURN_IF_ERROR(ValidatePickOptions(options));
   RETURN_IF_ERROR(ValidatePile(pile, grasps_per_type.size()));
+  double sweeps = 0;  // the gripper sweeps tested at worst: every grasp of every part
+  for (const PilePart& part : pile.parts) sweeps += double(grasps_per_type[part.type].size());
+  if (sweeps > kMaxSweepChecks) {
+    return ResourceExhausted("grasp_options.max_grasps", "the parts' grasps together (" + std::to_string(size_t(sweeps)) +
+                                                             ") must be at most 1e6 in one check");
+  }
   const Eigen::Vector3d up = pile.up.normalized();
   const double cos_tilt = std::cos(options.max_approach_tilt_deg * std::numbers::pi / 180);
 

@@ -106,7 +106,8 @@ struct PickVerdict {
 // type t; reach may be empty (no arm: every clear grasp counts as reached) and is called from
 // several threads at once. INVALID_ARGUMENT names "pile.parts[i]" (missing mesh, type out of
 // range, non-finite pose), "pile.fixtures[i]", "pick_options.*" or the gripper's field; errors of
-// reach are returned as they are. CANCELLED once *cancel is set.
+// reach are returned as they are; RESOURCE_EXHAUSTED naming "grasp_options.max_grasps" when the
+// parts' grasps together exceed 1e6. CANCELLED once *cancel is set.
 StatusOr<std::vector<PickVerdict>> CheckPicks(const Pile& pile, std::span<const std::vector<Grasp>> grasps_per_type,
                                               const Gripper& gripper, const PickOptions& options,
                                               const ReachCheck& reach, const std::atomic<bool>* cancel = nullptr);

@@ -79,6 +79,14 @@ StatusOr<ScenePicks> CheckScenePicks(ServiceContext& context, const ScenePickReq
     return ResourceExhausted("part_object_ids", std::to_string(parts.size()) + " parts; at most " +
                                                     std::to_string(kMaxPickParts) + " in one call");
   }
+  // Each reach check may spend the inverse-kinematics budget twice (grasp and pre-grasp).
+  const double reach_s = double(parts.size()) * double(request.pick_options.max_reach_checks) * 2 *
+                         std::chrono::duration<double>(request.ik_time_budget).count();
+  if (reach_s > kMaxReachSeconds) {
+    return ResourceExhausted("pick_options.max_reach_checks",
+                             "parts x max_reach_checks x 2 x ik_time_budget may take " + std::to_string(int(reach_s)) +
+                                 " s; at most " + std::to_string(int(kMaxReachSeconds)) + " s in one call");
+  }
 
   // Part types are distinct (mesh, scale) pairs; grasps are generated once per type.
   grasping::Pile pile;

@@ -44,12 +44,15 @@ struct ScenePicks {
   double elapsed_s = 0;
 };
 
-// At most this many parts in one call.
+// At most this many parts in one call, and at most this many seconds of inverse kinematics at worst
+// (parts x max_reach_checks x 2 solves x ik_time_budget).
 inline constexpr size_t kMaxPickParts = 500;
+inline constexpr double kMaxReachSeconds = 300;
 
 // NOT_FOUND naming "mount_id" or "part_object_ids[i]"; INVALID_ARGUMENT naming the gripper's,
 // the options' or the request's field; FAILED_PRECONDITION when no part is named or found;
-// RESOURCE_EXHAUSTED naming "part_object_ids" past kMaxPickParts; CANCELLED once *cancel is set.
+// RESOURCE_EXHAUSTED naming "part_object_ids" past kMaxPickParts or "pick_options.max_reach_checks"
+// past kMaxReachSeconds; CANCELLED once *cancel is set.
 StatusOr<ScenePicks> CheckScenePicks(ServiceContext& context, const ScenePickRequest& request,
                                      const std::atomic<bool>* cancel = nullptr);
 

@@ -292,6 +292,13 @@ TEST(PickChecksTest, BadPilesAndOptionsAreRefusedNamingTheField) {
   EXPECT_NE(field(pile, options).find("pick_options.cover_samples"), std::string::npos);
   pile.up = Eigen::Vector3d::Zero();
   EXPECT_NE(field(pile, {}).find("pile.up"), std::string::npos);
+  // More than 1e6 grasps over the parts at worst: refused before any work.
+  Pile many;
+  for (int i = 0; i < 1001; ++i) many.parts.push_back({0, block, At(0.1 * i, 0, 0)});
+  const std::vector<std::vector<Grasp>> thousand{std::vector<Grasp>(1000)};
+  const auto refused = CheckPicks(many, thousand, cup, {}, {});
+  EXPECT_EQ(refused.status().code(), StatusCode::kResourceExhausted);
+  EXPECT_NE(refused.status().message().find("grasp_options.max_grasps"), std::string::npos);
   // A part without grasps is not pickable, and says so.
   pile.up = Eigen::Vector3d::UnitZ();
   const auto none = CheckPicks(pile, grasps, cup, {}, {});

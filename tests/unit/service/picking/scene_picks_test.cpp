@@ -119,6 +119,13 @@ TEST_F(ScenePicksTest, BadRequestsAreRefusedNamingTheField) {
   request = Request();
   request.ik_time_budget = std::chrono::microseconds(0);
   EXPECT_NE(CheckScenePicks(world_.context(), request).status().message().find("ik_time_budget_ms"), std::string::npos);
+  // 1000 reach checks of 1 s solves: beyond the call's bound on inverse kinematics.
+  request = Request();
+  request.pick_options.max_reach_checks = 1000;
+  request.ik_time_budget = std::chrono::seconds(1);
+  const auto bounded = CheckScenePicks(world_.context(), request);
+  EXPECT_EQ(bounded.status().code(), StatusCode::kResourceExhausted);
+  EXPECT_NE(bounded.status().message().find("pick_options.max_reach_checks"), std::string::npos);
   request = Request();
   request.gripper = grasping::SuctionCup{std::nan(""), 0.01, 10, 0.9};
   EXPECT_EQ(CheckScenePicks(world_.context(), request).status().code(), StatusCode::kInvalidArgument);
