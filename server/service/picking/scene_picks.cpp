@@ -40,6 +40,7 @@ Status ValidateRequest(const ScenePickRequest& request) {
       return InvalidArgument("part_object_ids[" + std::to_string(i) + "]", "names an object twice");
     }
   }
+  RETURN_IF_ERROR(grasping::ValidatePickOptions(request.pick_options));
   return grasping::ValidateGripper(request.gripper);
 }
 
