@@ -118,6 +118,44 @@ void Note(PickVerdict& verdict, PickFailure failure, const std::string& detail,
   }
 }
 
+// The world bounds of every fixture and part, computed once for all the sweeps of a check.
+struct PileBounds {
+  std::vector<Box> fixtures;
+  std::vector<Box> parts;
+};
+
+PileBounds BoundsOf(const Pile& pile) {
+  PileBounds bounds;
+  for (const PlacedMesh& fixture : pile.fixtures) bounds.fixtures.push_back(WorldBox(*fixture.mesh, fixture.world_from_mesh));
+  for (const PilePart& part : pile.parts) bounds.parts.push_back(WorldBox(*part.mesh, part.world_from_part));
+  return bounds;
+}
+
+std::optional<PileItem> SweepContact(const Pile& pile, const PileBounds& bounds, size_t grasped,
+                                     std::span<const ConvexPiece> sweep, const Pose3& world_from_tool) {
+  Box sweep_box;
+  for (const ConvexPiece& piece : sweep) {
+    const ConvexPiece placed = piece.Placed(world_from_tool);
+    sweep_box.Add(placed.lo());
+    sweep_box.Add(placed.hi());
+  }
+  const auto meets = [&](const TriangleMesh& mesh, const Pose3& world_from_mesh, const Box& box) {
+    if (!box.Overlaps(sweep_box)) return false;
+    const Pose3 mesh_from_tool = world_from_mesh.inverse() * world_from_tool;
+    return std::any_of(sweep.begin(), sweep.end(),
+                       [&](const ConvexPiece& piece) { return piece.Placed(mesh_from_tool).MeetsMesh(mesh); });
+  };
+  for (size_t f = 0; f < pile.fixtures.size(); ++f) {
+    if (meets(*pile.fixtures[f].mesh, pile.fixtures[f].world_from_mesh, bounds.fixtures[f])) return PileItem{true, f};
+  }
+  for (size_t j = 0; j < pile.parts.size(); ++j) {
+    if (j != grasped && meets(*pile.parts[j].mesh, pile.parts[j].world_from_part, bounds.parts[j])) {
+      return PileItem{false, j};
+    }
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 std::string Describe(const PileItem& item) {
@@ -138,25 +176,7 @@ const char* PickFailureName(PickFailure failure) {
 
 std::optional<PileItem> FindSweepContact(const Pile& pile, size_t grasped, std::span<const ConvexPiece> sweep,
                                          const Pose3& world_from_tool) {
-  Box sweep_box;
-  for (const ConvexPiece& piece : sweep) {
-    const ConvexPiece placed = piece.Placed(world_from_tool);
-    sweep_box.Add(placed.lo());
-    sweep_box.Add(placed.hi());
-  }
-  const auto meets = [&](const TriangleMesh& mesh, const Pose3& world_from_mesh) {
-    if (!WorldBox(mesh, world_from_mesh).Overlaps(sweep_box)) return false;
-    const Pose3 mesh_from_tool = world_from_mesh.inverse() * world_from_tool;
-    return std::any_of(sweep.begin(), sweep.end(),
-                       [&](const ConvexPiece& piece) { return piece.Placed(mesh_from_tool).MeetsMesh(mesh); });
-  };
-  for (size_t f = 0; f < pile.fixtures.size(); ++f) {
-    if (meets(*pile.fixtures[f].mesh, pile.fixtures[f].world_from_mesh)) return PileItem{true, f};
-  }
-  for (size_t j = 0; j < pile.parts.size(); ++j) {
-    if (j != grasped && meets(*pile.parts[j].mesh, pile.parts[j].world_from_part)) return PileItem{false, j};
-  }
-  return std::nullopt;
+  return SweepContact(pile, BoundsOf(pile), grasped, sweep, world_from_tool);
 }
 
 StatusOr<std::vector<PickVerdict>> CheckPicks(const Pile& pile, std::span<const std::vector<Grasp>> grasps_per_type,
@@ -188,17 +208,17 @@ StatusOr<std::vector<PickVerdict>> CheckPicks(const Pile& pile, std::span<const 
     Pose3 world_from_mesh;
     Box box;
   };
+  const PileBounds bounds = BoundsOf(pile);
   std::vector<Above> above;
   for (size_t j = 0; j < pile.parts.size(); ++j) {
     const PilePart& part = pile.parts[j];
-    above.push_back({{false, j}, part.mesh.get(), part.world_from_part, WorldBox(*part.mesh, part.world_from_part)});
+    above.push_back({{false, j}, part.mesh.get(), part.world_from_part, bounds.parts[j]});
   }
   for (size_t f = 0; f < pile.fixtures.size(); ++f) {
     const PlacedMesh& fixture = pile.fixtures[f];
     MeshData& data = meshes[fixture.mesh.get()];
     if (!data.rays) data.rays = std::make_unique<MeshRays>(*fixture.mesh);
-    above.push_back({{true, f}, fixture.mesh.get(), fixture.world_from_mesh,
-                     WorldBox(*fixture.mesh, fixture.world_from_mesh)});
+    above.push_back({{true, f}, fixture.mesh.get(), fixture.world_from_mesh, bounds.fixtures[f]});
   }
   std::vector<ConvexPiece> sweep;
   for (const TriangleMesh& piece : GripperSweep(gripper, options.sweep)) sweep.emplace_back(piece);
@@ -251,7 +271,7 @@ StatusOr<std::vector<PickVerdict>> CheckPicks(const Pile& pile, std::span<const 
       const Pose3 world_from_tool = part.world_from_part * grasps[g].part_from_tool;
       if (world_from_tool.linear().col(2).dot(-up) < cos_tilt - 1e-12) continue;
       ++verdict.grasps_from_above;
-      if (const auto contact = FindSweepContact(pile, i, sweep, world_from_tool)) {
+      if (const auto contact = SweepContact(pile, bounds, i, sweep, world_from_tool)) {
         Note(verdict, PickFailure::kGripperCollision, "the gripper's way in meets " + Describe(*contact), contact);
         continue;
       }
