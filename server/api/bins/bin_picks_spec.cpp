@@ -1,6 +1,5 @@
 #include "api/bins/bin_picks_spec.h"
 
-#include <cmath>
 #include <string>
 #include <variant>
 
@@ -8,46 +7,6 @@
 #include "api/transport/validate.h"
 
 namespace vscan::api {
-namespace {
-
-// The engine refuses a grasp search past this much work (docs/GRASPING.md).
-constexpr double kMaxGraspWork = 2e9;
-
-Status InRange(double value, double lo, double hi, const std::string& field, const std::string& unit) {
-  if (!std::isfinite(value) || value < lo || value > hi) {
-    return InvalidArgument(field, "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "] " + unit +
-                                      " (0: the default)");
-  }
-  return Status::Ok();
-}
-
-Status CheckGraspOptions(const grasping::GraspOptions& o) {
-  RETURN_IF_ERROR(InRange(double(o.max_grasps), 1, 100000, "grasp_options.max_grasps", "grasps"));
-  RETURN_IF_ERROR(InRange(double(o.candidates), 1, 100000, "grasp_options.candidates", "points"));
-  RETURN_IF_ERROR(InRange(double(o.surface_samples), 100, 2000000, "grasp_options.surface_samples", "samples"));
-  return Status::Ok();
-}
-
-Status CheckPickOptions(const service::ScenePickRequest& request) {
-  const grasping::PickOptions& o = request.pick_options;
-  RETURN_IF_ERROR(InRange(o.sweep.approach_m, 0, 10, "pick_options.approach_distance", "m"));
-  RETURN_IF_ERROR(InRange(o.max_approach_tilt_deg, 0, 180, "pick_options.max_approach_tilt_deg", "degrees"));
-  RETURN_IF_ERROR(InRange(o.cover_distance_m, 0, 1, "pick_options.cover_distance", "m"));
-  RETURN_IF_ERROR(InRange(double(o.max_reach_checks), 1, 1000, "pick_options.max_reach_checks", "grasps"));
-  RETURN_IF_ERROR(InRange(request.body_length_m, 0, 10, "pick_options.body_length", "m"));
-  const double budget_ms = std::chrono::duration<double, std::milli>(request.ik_time_budget).count();
-  return InRange(budget_ms, 1, 1000, "pick_options.ik_time_budget_ms", "ms");
-}
-
-// The engine's own bound on a grasp search of one part type (grasp_generation.cpp), checked here so
-// that a fill is refused before its physics rather than after.
-double GraspWork(const grasping::Gripper& gripper, const grasping::GraspOptions& o, size_t triangles) {
-  const double candidates = double(o.candidates);
-  if (std::holds_alternative<grasping::SuctionCup>(gripper)) return candidates * double(o.surface_samples);
-  return candidates * (double(triangles) + 2.0 * double(o.surface_samples) * double(o.approaches_per_pair));
-}
-
-}  // namespace
 
 StatusOr<service::ScenePickRequest> BinPicksFromProto(const v1::BinPicks& picks) {
   RETURN_IF_ERROR(RequireId(picks.mount_id(), "picks.mount_id"));
@@ -58,9 +17,9 @@ StatusOr<service::ScenePickRequest> BinPicksFromProto(const v1::BinPicks& picks)
   *as_call.mutable_pick_options() = picks.pick_options();
   auto request = ParseCheckPicksRequest(as_call);
   if (!request.ok()) return request.status().WithFieldPrefix("picks");
-  Status checked = CheckGraspOptions(request->grasp_options);
-  if (checked.ok()) checked = CheckPickOptions(*request);
-  if (!checked.ok()) return checked.WithFieldPrefix("picks");
+  if (Status checked = service::CheckPickSettings(*request); !checked.ok()) {
+    return InRequestTerms(checked).WithFieldPrefix("picks");
+  }
   return request;
 }
 
@@ -80,12 +39,12 @@ Status AddBinPickCheck(const v1::BinPicks& section, service::ServiceContext& con
                                                     scene_id + "'");
   }
   for (const physics::PartType& part : plan.parts) {
-    if (GraspWork(picks.gripper, picks.grasp_options, part.mesh.triangles.size()) > kMaxGraspWork) {
-      return ResourceExhausted("picks.grasp_options.candidates",
-                               "the grasp search of part '" + part.name + "' would pass the bound of 2e9 " +
-                                   "(candidates x surface samples; docs/GRASPING.md); ask fewer");
+    if (Status work = grasping::CheckGraspWork(part.mesh.triangles.size(), picks.gripper, picks.grasp_options);
+        !work.ok()) {
+      return work.WithFieldPrefix("picks");
     }
   }
+  if (Status work = service::CheckReachWork(picks, plan.parts_total()); !work.ok()) return work.WithFieldPrefix("picks");
   const std::string gripper = std::holds_alternative<grasping::SuctionCup>(picks.gripper) ? "suction" : "jaws";
   plan.pick_check = [&context, picks, gripper](const std::vector<std::string>& part_object_ids,
                                                const std::atomic<bool>* cancel) -> StatusOr<service::BinPicks> {

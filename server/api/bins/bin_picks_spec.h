@@ -17,7 +17,8 @@ StatusOr<service::ScenePickRequest> BinPicksFromProto(const v1::BinPicks& picks)
 // it is given. BinPicksFromProto's errors; NOT_FOUND naming "picks.mount_id" when there is no such
 // mount; FAILED_PRECONDITION naming it when the mount stands in a scene other than
 // plan.request.scene_id (not compared while that is empty); RESOURCE_EXHAUSTED naming
-// "picks.grasp_options.candidates" when a part type's grasp search would pass the engine's bound.
+// "picks.grasp_options.candidates" when a part type's grasp search would pass the engine's bound,
+// or "picks.pick_options.max_reach_checks" past the picks' bound on inverse kinematics.
 Status AddBinPickCheck(const v1::BinPicks& section, service::ServiceContext& context, service::BinFillPlan& plan);
 
 }  // namespace vscan::api

@@ -63,22 +63,9 @@ StatusOr<service::PickingPlan> ValidatePicking(const v1::PickingSpec& spec, cons
   plan.pick_options = parsed->pick_options;
   plan.body_length_m = parsed->body_length_m;
   plan.ik_time_budget = parsed->ik_time_budget;
-  if (!std::isfinite(plan.body_length_m) || plan.body_length_m < 0 || plan.body_length_m > 10) {
-    return InvalidArgument("spec.pick_options.body_length", "must be in [0, 10] m (0: the mount's tool offset)");
-  }
-  if (plan.ik_time_budget < std::chrono::milliseconds(1) || plan.ik_time_budget > std::chrono::seconds(1)) {
-    return InvalidArgument("spec.pick_options.ik_time_budget_ms", "must be in [1, 1000] ms");
-  }
-  for (const Status& checked : {grasping::ValidateGraspOptions(plan.grasp_options),
-                                grasping::ValidatePickOptions(plan.pick_options)}) {
+  for (const Status& checked : {service::CheckPickSettings(*parsed),
+                                service::CheckReachWork(*parsed, plan.bin.parts_total())}) {
     if (!checked.ok()) return InRequestTerms(checked).WithFieldPrefix("spec");
-  }
-  const double reach_s = double(plan.bin.parts_total()) * double(plan.pick_options.max_reach_checks) * 2 *
-                         std::chrono::duration<double>(plan.ik_time_budget).count();
-  if (reach_s > service::kMaxReachSeconds) {
-    return ResourceExhausted("spec.pick_options.max_reach_checks",
-                             "parts x max_reach_checks x 2 x ik_time_budget may take " + std::to_string(int(reach_s)) +
-                                 " s a step; at most " + std::to_string(int(service::kMaxReachSeconds)));
   }
 
   plan.perception = spec.perception() == v1::PICKING_PERCEPTION_TRUTH ? service::Perception::kTruth

@@ -39,11 +39,13 @@ Status ValidateGraspOptions(const GraspOptions& o) {
 
 namespace {
 
-// Each candidate may visit every dense sample (suction; jaws: at both contacts, for every approach)
-// and, for jaws, test every triangle.
-Status CheckWork(const TriangleMesh& mesh, const Gripper& gripper, const GraspOptions& o) {
+}  // namespace
+
+Status CheckGraspWork(size_t triangles, const Gripper& gripper, const GraspOptions& o) {
+  // Each candidate may visit every dense sample (suction; jaws: at both contacts, for every
+  // approach) and, for jaws, test every triangle.
   const bool jaws = std::holds_alternative<ParallelJaws>(gripper);
-  const double per_candidate = jaws ? double(mesh.triangles.size()) + 2.0 * double(o.surface_samples) * double(o.approaches_per_pair)
+  const double per_candidate = jaws ? double(triangles) + 2.0 * double(o.surface_samples) * double(o.approaches_per_pair)
                                     : double(o.surface_samples);
   if (double(o.candidates) * per_candidate > kMaxWork) {
     return ResourceExhausted("grasp_options.candidates",
@@ -52,8 +54,6 @@ Status CheckWork(const TriangleMesh& mesh, const Gripper& gripper, const GraspOp
   }
   return Status::Ok();
 }
-
-}  // namespace
 
 Status ValidatePartMesh(const TriangleMesh& mesh) {
   if (mesh.triangles.empty()) return InvalidArgument("mesh", "has no triangles");
@@ -86,7 +86,7 @@ StatusOr<std::vector<Grasp>> GenerateGrasps(const TriangleMesh& mesh, const Grip
   if (auto s = ValidateGripper(gripper); !s.ok()) return s;
   if (auto s = ValidateGraspOptions(options); !s.ok()) return s;
   if (auto s = ValidatePartMesh(mesh); !s.ok()) return s;
-  if (auto s = CheckWork(mesh, gripper, options); !s.ok()) return s;
+  if (auto s = CheckGraspWork(mesh.triangles.size(), gripper, options); !s.ok()) return s;
   const SurfaceSamples dense = SampleSurface(mesh, options.surface_samples, options.seed ^ kDenseKey);
   if (!(dense.area > 0) || !std::isfinite(dense.area)) return InvalidArgument("mesh", "has no surface area");
   const SurfaceSamples candidates =

@@ -35,6 +35,9 @@ struct Grasp {
 
 // INVALID_ARGUMENT naming "grasp_options.*" for a value out of its range.
 Status ValidateGraspOptions(const GraspOptions& options);
+// RESOURCE_EXHAUSTED naming "grasp_options.candidates" when a search of a part of this many
+// triangles would pass the bound GenerateGrasps holds to (below).
+Status CheckGraspWork(size_t triangles, const Gripper& gripper, const GraspOptions& options);
 
 // Sorted by quality (rounded to 1e-9), best first, ties by draw order; the same seed gives the same
 // grasps.

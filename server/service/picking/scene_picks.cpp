@@ -28,23 +28,40 @@ std::shared_ptr<const TriangleMesh> Scaled(const std::shared_ptr<const TriangleM
 
 Status ValidateRequest(const ScenePickRequest& request) {
   if (request.mount_id.empty()) return InvalidArgument("mount_id", "required");
-  if (!std::isfinite(request.body_length_m) || request.body_length_m < 0 || request.body_length_m > 10) {
-    return InvalidArgument("body_length_m", "must be in [0, 10] m (0: the mount's tool offset)");
-  }
-  if (request.ik_time_budget < std::chrono::milliseconds(1) || request.ik_time_budget > std::chrono::seconds(1)) {
-    return InvalidArgument("ik_time_budget_ms", "must be in [1, 1000] ms");
-  }
   std::set<std::string> seen;
   for (size_t i = 0; i < request.part_object_ids.size(); ++i) {
     if (!seen.insert(request.part_object_ids[i]).second) {
       return InvalidArgument("part_object_ids[" + std::to_string(i) + "]", "names an object twice");
     }
   }
+  return CheckPickSettings(request);
+}
+
+}  // namespace
+
+Status CheckPickSettings(const ScenePickRequest& request) {
+  if (!std::isfinite(request.body_length_m) || request.body_length_m < 0 || request.body_length_m > 10) {
+    return InvalidArgument("body_length_m", "must be in [0, 10] m (0: the mount's tool offset)");
+  }
+  if (request.ik_time_budget < std::chrono::milliseconds(1) || request.ik_time_budget > std::chrono::seconds(1)) {
+    return InvalidArgument("ik_time_budget_ms", "must be in [1, 1000] ms");
+  }
+  RETURN_IF_ERROR(grasping::ValidateGraspOptions(request.grasp_options));
   RETURN_IF_ERROR(grasping::ValidatePickOptions(request.pick_options));
   return grasping::ValidateGripper(request.gripper);
 }
 
-}  // namespace
+Status CheckReachWork(const ScenePickRequest& request, size_t parts) {
+  // Each reach check may spend the inverse-kinematics budget twice (grasp and pre-grasp).
+  const double reach_s = double(parts) * double(request.pick_options.max_reach_checks) * 2 *
+                         std::chrono::duration<double>(request.ik_time_budget).count();
+  if (reach_s > kMaxReachSeconds) {
+    return ResourceExhausted("pick_options.max_reach_checks",
+                             "parts x max_reach_checks x 2 x ik_time_budget may take " + std::to_string(int(reach_s)) +
+                                 " s; at most " + std::to_string(int(kMaxReachSeconds)));
+  }
+  return Status::Ok();
+}
 
 StatusOr<ScenePicks> CheckScenePicks(ServiceContext& context, const ScenePickRequest& request,
                                      const std::atomic<bool>* cancel) {
@@ -80,14 +97,7 @@ StatusOr<ScenePicks> CheckScenePicks(ServiceContext& context, const ScenePickReq
     return ResourceExhausted("part_object_ids", std::to_string(parts.size()) + " parts; at most " +
                                                     std::to_string(kMaxPickParts) + " in one call");
   }
-  // Each reach check may spend the inverse-kinematics budget twice (grasp and pre-grasp).
-  const double reach_s = double(parts.size()) * double(request.pick_options.max_reach_checks) * 2 *
-                         std::chrono::duration<double>(request.ik_time_budget).count();
-  if (reach_s > kMaxReachSeconds) {
-    return ResourceExhausted("pick_options.max_reach_checks",
-                             "parts x max_reach_checks x 2 x ik_time_budget may take " + std::to_string(int(reach_s)) +
-                                 " s; at most " + std::to_string(int(kMaxReachSeconds)) + " s in one call");
-  }
+  RETURN_IF_ERROR(CheckReachWork(request, parts.size()));
 
   // Part types are distinct (mesh, scale) pairs; grasps are generated once per type.
   grasping::Pile pile;

@@ -49,6 +49,14 @@ struct ScenePicks {
 inline constexpr size_t kMaxPickParts = 500;
 inline constexpr double kMaxReachSeconds = 300;
 
+// The request's gripper, grasp and pick options, body length and solve budget, without the scene:
+// INVALID_ARGUMENT naming the field as the service names it ("body_length_m",
+// "gripper.suction.diameter_m").
+Status CheckPickSettings(const ScenePickRequest& request);
+// RESOURCE_EXHAUSTED naming "pick_options.max_reach_checks" when parts x max_reach_checks x 2 solves
+// x ik_time_budget exceeds kMaxReachSeconds.
+Status CheckReachWork(const ScenePickRequest& request, size_t parts);
+
 // NOT_FOUND naming "mount_id" or "part_object_ids[i]"; INVALID_ARGUMENT naming the gripper's,
 // the options' or the request's field; FAILED_PRECONDITION when no part is named or found;
 // RESOURCE_EXHAUSTED naming "part_object_ids" past kMaxPickParts or "pick_options.max_reach_checks"
