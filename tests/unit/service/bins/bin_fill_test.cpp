@@ -15,43 +15,14 @@
 #include "service/bins/bin_fill_run.h"
 #include "service/bins/bin_fill_simulation.h"
 #include "service/scan/scan_run.h"
+#include "recorded_fill.h"
 #include "service_world.h"
 #include "tote_mesh.h"
 
 namespace vscan::service {
 namespace {
 
-// What a fill reports; can stop the job at its first progress event.
-class RecordedFill final : public JobRecorder {
- public:
-  jobs::JobControl* stop_at_progress = nullptr;
-
-  Status Record(const JobEventUpdate& update) override {
-    messages.push_back(update.message);
-    if (stop_at_progress && update.message.find("simulated") != std::string::npos) {
-      stop_at_progress->RequestStop(jobs::StopReason::kCancelled);
-    }
-    return Status::Ok();
-  }
-  StatusOr<std::string> RecordArtifact(const std::string& name, const std::string&, const std::string& bytes,
-                                       const ScanArtifact*, const store::CloudRecord*,
-                                       const JobEventUpdate&) override {
-    if (name == "bin.json") bin_json = bytes;
-    return std::string("art_1");
-  }
-  Status End(const JobEventUpdate& update) override {
-    end_state = update.state;
-    end_message = update.message;
-    return Status::Ok();
-  }
-  const ReportWriter& reports() const override { return reports_; }
-
-  api::ProtoReportWriter reports_;
-  std::vector<std::string> messages;
-  std::string bin_json;
-  store::JobState end_state = store::JobState::kRunning;
-  std::string end_message;
-};
+using testing::RecordedFill;
 
 // A whole cloud's instance ids.
 class CloudConsumer final : public ScanConsumer {
@@ -273,9 +244,8 @@ TEST(BinFill, ACancelledFillLeavesTheSceneAsItWas) {
   const store::SceneRecord before = Scene(world, scene_id);
 
   RecordedFill recorder;
-  jobs::JobControl control;
-  recorder.stop_at_progress = &control;
-  RunBinFill(world.context().registry, recorder, "job_test", *plan, control);
+  recorder.stop_when = "simulated";
+  RunBinFill(world.context().registry, recorder, "job_test", *plan, recorder.control);
   EXPECT_EQ(recorder.end_state, store::JobState::kCancelled) << recorder.end_message;
   EXPECT_NE(recorder.bin_json.find("\"applied\":false"), std::string::npos);
   EXPECT_NE(recorder.bin_json.find("\"end\":\"cancelled\""), std::string::npos);

@@ -14,6 +14,7 @@
 #include "api/reports/proto_report_writer.h"
 #include "jobs/job_runner.h"
 #include "service/bins/bin_fill_run.h"
+#include "recorded_fill.h"
 #include "service_world.h"
 #include "vscan/common/proto_convert.h"
 #include "vscan/common/report_json.h"
@@ -32,36 +33,7 @@ Pose3 At(double x, double y, double z) {
   return pose;
 }
 
-// What a fill reports; can stop the job when the pick check begins.
-class RecordedFill final : public JobRecorder {
- public:
-  jobs::JobControl control;
-  bool stop_at_picks = false;
-
-  Status Record(const JobEventUpdate& update) override {
-    messages.push_back(update.message);
-    if (stop_at_picks && update.message.starts_with("checking picks")) control.RequestStop(jobs::StopReason::kCancelled);
-    return Status::Ok();
-  }
-  StatusOr<std::string> RecordArtifact(const std::string& name, const std::string&, const std::string& bytes,
-                                       const ScanArtifact*, const store::CloudRecord*,
-                                       const JobEventUpdate&) override {
-    if (name == "bin.json") bin_json = bytes;
-    return std::string("art_1");
-  }
-  Status End(const JobEventUpdate& update) override {
-    end_state = update.state;
-    end_message = update.message;
-    return Status::Ok();
-  }
-  const ReportWriter& reports() const override { return reports_; }
-
-  api::ProtoReportWriter reports_;
-  std::vector<std::string> messages;
-  std::string bin_json;
-  store::JobState end_state = store::JobState::kRunning;
-  std::string end_message;
-};
+using testing::RecordedFill;
 
 // The distance from p (part frame) to the block's surface, from inside or outside.
 double DistanceToBlockSurface(const Eigen::Vector3d& p) {
@@ -220,7 +192,7 @@ TEST_F(BinPicksTest, ACancelDuringThePickCheckEndsTheJobCancelledWithThePartsPla
   std::string mount;
   const std::string scene = SceneWithMount(At(0, 0, 0.2), &mount);
   RecordedFill recorder;
-  recorder.stop_at_picks = true;
+  recorder.stop_when = "checking picks";
   const v1::BinReport report = Fill(Spec(scene, mount), recorder);
   EXPECT_EQ(recorder.end_state, store::JobState::kCancelled) << recorder.end_message;
   EXPECT_NE(recorder.end_message.find("the pick check did not finish"), std::string::npos) << recorder.end_message;
