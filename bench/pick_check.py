@@ -23,12 +23,9 @@ if os.environ.get("VSCAN_PY_STUBS"):
     sys.path.insert(0, os.environ["VSCAN_PY_STUBS"])
 
 import grpc  # noqa: E402
-from bin_scenes import FIXTURE_PARTS, fill_bin, upload_part  # noqa: E402
-from vscan.v1 import (common_pb2, picking_pb2, picking_pb2_grpc, robot_pb2, robot_pb2_grpc,  # noqa: E402
-                      scene_pb2, scene_pb2_grpc)
+from bin_scenes import FIXTURE_PARTS, fill_bin, matrix_pose, upload_part, upload_ur5  # noqa: E402
+from vscan.v1 import picking_pb2, picking_pb2_grpc, robot_pb2, robot_pb2_grpc, scene_pb2, scene_pb2_grpc  # noqa: E402
 
-DATA = os.path.join(HERE, "..", "data")
-UR5_URDF = os.path.join(DATA, "robots", "ur5", "ur5_robot.urdf")
 INNER = (0.24, 0.18, 0.10)
 COUNTS = {"angle_block": 6, "round": 6, "plate_holes": 3}
 GRIPPERS = {
@@ -36,21 +33,6 @@ GRIPPERS = {
     "jaws 2-40 mm": picking_pb2.Gripper(jaws=picking_pb2.ParallelJaws(min_opening=0.002, max_opening=0.040,
                                                                        finger_width=0.008, finger_depth=0.008)),
 }
-
-
-def matrix_pose(rows):
-    return common_pb2.Pose(matrix=common_pb2.Matrix4(values=[v for row in rows for v in row]))
-
-
-def upload_ur5(robots):
-    with open(UR5_URDF, "rb") as f:
-        urdf = f.read()
-
-    def requests():
-        yield robot_pb2.UploadRobotRequest(header=robot_pb2.RobotBundleHeader(
-            name="ur5", urdf_path="ur5_robot.urdf", base_link="base_link", tip_link="tool0"))
-        yield robot_pb2.UploadRobotRequest(file=robot_pb2.RobotBundleFile(path="ur5_robot.urdf", content=urdf))
-    return robots.UploadRobot(requests(), timeout=60).robot.robot_id
 
 
 def spread(values):

@@ -26,8 +26,8 @@ if os.environ.get("VSCAN_PY_STUBS"):
     sys.path.insert(0, os.environ["VSCAN_PY_STUBS"])
 
 import grpc  # noqa: E402
-from bin_scenes import FIXTURE_PARTS, fill_bin, upload_part  # noqa: E402
-from pick_check import COUNTS, INNER, upload_ur5  # noqa: E402
+from bin_scenes import FIXTURE_PARTS, fill_bin, upload_part, upload_ur5  # noqa: E402
+from pick_check import COUNTS, INNER  # noqa: E402
 from vscan import Client, SuctionCup  # noqa: E402
 from vscan.v1 import robot_pb2_grpc, scene_pb2_grpc  # noqa: E402
 

@@ -12,9 +12,10 @@ import time
 import numpy as np
 from google.protobuf import json_format
 
-from vscan.v1 import common_pb2, job_pb2, job_pb2_grpc, scan_pb2, scene_pb2
+from vscan.v1 import common_pb2, job_pb2, job_pb2_grpc, robot_pb2, scan_pb2, scene_pb2
 
 PARTS_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "data", "parts")
+UR5_URDF = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "data", "robots", "ur5", "ur5_robot.urdf")
 
 # name: (file, unit, scale); the sizes of examples/bins/mixed_parts.yaml on the bins work.
 FIXTURE_PARTS = {
@@ -130,3 +131,19 @@ def height_for(inner_size, hfov_deg, width, height, margin=1.15):
     tan_v = tan_h * height / width
     return margin * max((inner_size[0] / 2 + 0.01) / tan_h, (inner_size[1] / 2 + 0.01) / tan_v)
 
+
+def matrix_pose(rows):
+    """A Pose from a 4 x 4 matrix given row by row."""
+    return common_pb2.Pose(matrix=common_pb2.Matrix4(values=[v for row in rows for v in row]))
+
+
+def upload_ur5(robots):
+    """Uploads the UR5 fixture (its URDF alone: no link meshes) through a RobotService stub; its id."""
+    with open(UR5_URDF, "rb") as f:
+        urdf = f.read()
+
+    def requests():
+        yield robot_pb2.UploadRobotRequest(header=robot_pb2.RobotBundleHeader(
+            name="ur5", urdf_path="ur5_robot.urdf", base_link="base_link", tip_link="tool0"))
+        yield robot_pb2.UploadRobotRequest(file=robot_pb2.RobotBundleFile(path="ur5_robot.urdf", content=urdf))
+    return robots.UploadRobot(requests(), timeout=60).robot.robot_id

@@ -2,22 +2,15 @@
 ResumeJob runs it on from the pile the scene holds until the bin is done with."""
 
 import json
-import os
 import time
 import unittest
 
 from harness import Server  # noqa: I100 (sets the stubs' path first)
-from bin_scenes import fill_bin, upload_part
-from vscan.v1 import common_pb2, job_pb2, job_pb2_grpc, picking_pb2, robot_pb2, robot_pb2_grpc, scene_pb2
+from bin_scenes import fill_bin, matrix_pose, upload_part, upload_ur5
+from vscan.v1 import job_pb2, job_pb2_grpc, picking_pb2, robot_pb2, robot_pb2_grpc, scene_pb2
 from vscan.v1 import scene_pb2_grpc
 
-UR5_URDF = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "data", "robots", "ur5",
-                        "ur5_robot.urdf")
 BLOCKS = 8
-
-
-def matrix_pose(rows):
-    return common_pb2.Pose(matrix=common_pb2.Matrix4(values=[v for row in rows for v in row]))
 
 
 def parts_in_scene(scenes, scene_id):
@@ -54,13 +47,7 @@ class PickingResumeTest(unittest.TestCase):
             block = upload_part(scenes, "angle_block")
             scene_id = scenes.CreateScene(scene_pb2.CreateSceneRequest(name="resume"), timeout=30).scene.scene_id
             bin_job = fill_bin(channel, scene_id, [(block[0], block[1], BLOCKS)], seed=2, inner_size=(0.2, 0.15, 0.1))
-            with open(UR5_URDF, "rb") as f:
-                urdf = f.read()
-            robot_id = robots.UploadRobot(iter([
-                robot_pb2.UploadRobotRequest(header=robot_pb2.RobotBundleHeader(
-                    name="ur5", urdf_path="ur5_robot.urdf", base_link="base_link", tip_link="tool0")),
-                robot_pb2.UploadRobotRequest(file=robot_pb2.RobotBundleFile(path="ur5_robot.urdf", content=urdf))]),
-                timeout=60).robot.robot_id
+            robot_id = upload_ur5(robots)
             mount_id = robots.MountRobot(robot_pb2.MountRobotRequest(
                 scene_id=scene_id, robot_id=robot_id,
                 base_pose=matrix_pose([[0, 1, 0, 0], [-1, 0, 0, 0.45], [0, 0, 1, 0.3], [0, 0, 0, 1]]),
