@@ -148,23 +148,23 @@ class DatasetPicksTest(unittest.TestCase):
     def test_bad_picks_are_refused_naming_the_key_without_a_job(self):
         before = cli_result(self.vscan("--json", "dataset", "list").stdout).get("jobs", [])
         cases = [
-            (plan_text(self.block, "rbt_missing"), "spec.plan_yaml.picks.robot_id: no robot 'rbt_missing'", 5),
-            (plan_text(self.block, self.robot_id, base="{xyz: [.nan, 0, 0.2]}"), "picks.base.xyz", 3),
-            (plan_text(self.block, self.robot_id, base="{xyz: [1e19, 0, 0.2]}"), "picks.base.xyz: must be within", 3),
+            (plan_text(self.block, "rbt_missing"), "spec.plan_yaml.picks.robot_id: no robot 'rbt_missing'"),
+            (plan_text(self.block, self.robot_id, base="{xyz: [.nan, 0, 0.2]}"), "picks.base.xyz"),
+            (plan_text(self.block, self.robot_id, base="{xyz: [1e19, 0, 0.2]}"), "picks.base.xyz: must be within"),
             (plan_text(self.block, self.robot_id, base="{xyz: [0, 0, 0], rpy_deg: [1e19, 0, 0]}"),
-             "picks.base.rpy_deg", 3),
+             "picks.base.rpy_deg"),
             (plan_text(self.block, self.robot_id, extra=", max_reach_checks: 1000000000000"),
-             "picks.pick_options.max_reach_checks: must be in [1, 1000]", 3),
+             "picks.pick_options.max_reach_checks: must be in [1, 1000]"),
             (plan_text(self.block, self.robot_id, extra=", max_reach_checks: 1000, ik_iterations: 100000"),
-             "picks.pick_options.max_reach_checks: parts x max_reach_checks", 8),
+             "picks.pick_options.max_reach_checks: parts x max_reach_checks"),
             (plan_text(self.block, self.robot_id).replace("max_grasps: 100", "max_grasps: 1e19"),
-             "picks.grasp_options.max_grasps", 3),
+             "picks.grasp_options.max_grasps"),
             (plan_text(self.block, self.robot_id).replace("diameter: 0.012", "diameter: -1"),
-             "picks.gripper.suction.diameter", 3),
+             "picks.gripper.suction.diameter"),
         ]
-        for text, key, _ in cases:
+        for text, key in cases:
             refused = self.vscan("dataset", "run", self.write_plan("bad.yaml", text))
-            self.assertNotEqual(refused.returncode, 0, text)
+            self.assertEqual(refused.returncode, 3, refused.stderr)
             self.assertIn(key, refused.stderr, text)
         after = cli_result(self.vscan("--json", "dataset", "list").stdout).get("jobs", [])
         self.assertEqual(len(after), len(before))

@@ -236,6 +236,8 @@ dataset::FrameSource BinFrameSource(std::shared_ptr<const DatasetSetup> setup, c
   state->setup = std::move(setup);
   return [state, cancel](const dataset::SceneKey& key, uint32_t view) -> StatusOr<dataset::DatasetFrame> {
     const DatasetSetup& setup = *state->setup;
+    // A plan's picks need their robot (AddDatasetPicks): never a dataset that silently lacks them.
+    if (setup.plan.picks && !setup.picks) return FailedPrecondition("picks", "the plan's robot was not resolved");
     const DatasetBinSetup& bin = setup.bins[key.bin_index];
     const FillKey fill_key{key.seed_index, key.bin_index};
     std::shared_future<Fill> fill;

@@ -110,7 +110,7 @@ StatusOr<grasping::Gripper> ReadGripper(const YamlReader& yaml, const YamlAt& at
   const YamlAt suction = YamlReader::Child(at, "suction");
   const YamlAt jaws = YamlReader::Child(at, "jaws");
   if (YamlReader::Has(suction) == YamlReader::Has(jaws)) return yaml.Error(at, "give exactly one of suction and jaws");
-  if (suction.node.IsDefined()) {
+  if (YamlReader::Has(suction)) {
     RETURN_IF_ERROR(yaml.ExpectMap(suction, {"diameter", "stroke", "max_tilt_deg", "min_flat_fraction"}));
     grasping::SuctionCup cup;
     RETURN_IF_ERROR(ReadNumber(yaml, suction, "diameter", cup.diameter_m));
