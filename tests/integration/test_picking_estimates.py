@@ -169,6 +169,11 @@ class PickingEstimatesTest(ServerTestCase):
         far_pose = np.eye(4)
         far_pose[2, 3] = 1e19
 
+        def shifted(i):
+            pose = np.eye(4)
+            pose[:3, 3] = (0.45 + 1e-5 * i, 0.0, 0.05)
+            return pose
+
         def submit(estimates, step=0, job_id=job.job_id, **kwargs):
             return lambda: self.client.submit_picking_estimates(job_id, step, estimates, **kwargs)
 
@@ -185,6 +190,8 @@ class PickingEstimatesTest(ServerTestCase):
             (C.INVALID_ARGUMENT, submit([(part, np.eye(4), math.nan)]), "estimates[0].score"),
             (C.INVALID_ARGUMENT, submit([(part, 2 * np.eye(4), 1.0)]), "estimates[0].world_from_part"),
             (C.RESOURCE_EXHAUSTED, submit([(part, np.eye(4), 1.0)] * 10001), "estimates"),
+            # Under the count bound, but the plan would test every grasp of each (138 a block).
+            (C.RESOURCE_EXHAUSTED, submit([(part, shifted(i), 1.0) for i in range(9999)]), "grasps, at most 1e6"),
         ]
         for code, call, field in cases:
             with self.assertRaises(VscanError) as refused:

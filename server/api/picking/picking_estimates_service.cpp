@@ -10,6 +10,7 @@
 #include "api/picking/picking_estimates_files.h"
 #include "api/transport/unary.h"
 #include "api/transport/validate.h"
+#include "grasping/pick_checks.h"
 #include "service/job/job_kind.h"
 #include "vscan/common/proto_convert.h"
 
@@ -35,6 +36,7 @@ StatusOr<std::vector<picking::Estimate>> ParseEstimates(const v1::SubmitPickingE
   }
   std::vector<picking::Estimate> out;
   std::map<std::tuple<size_t, std::vector<double>>, int> seen;
+  double sweeps = 0;  // the plan tests every grasp of every estimate at worst
   for (int i = 0; i < request.estimates_size(); ++i) {
     const v1::PickingEstimate& estimate = request.estimates(i);
     const std::string field = "estimates[" + std::to_string(i) + "]";
@@ -62,6 +64,12 @@ StatusOr<std::vector<picking::Estimate>> ParseEstimates(const v1::SubmitPickingE
       return InvalidArgument(field, "the same part and pose as estimates[" + std::to_string(earlier->second) + "]");
     }
     out.push_back({type->second, world_from_part, estimate.score()});
+    if (type->second < awaited.grasps_per_type.size()) sweeps += double(awaited.grasps_per_type[type->second]);
+  }
+  if (sweeps > grasping::kMaxSweepChecks) {
+    return ResourceExhausted("estimates", std::to_string(out.size()) + " estimates would have the step test " +
+                                              std::to_string(size_t(sweeps)) +
+                                              " grasps, at most 1e6 (send fewer, or lower spec.grasp_options.max_grasps)");
   }
   return out;
 }

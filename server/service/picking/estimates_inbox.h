@@ -26,6 +26,7 @@ struct AwaitedStep {
   Pose3 world_from_sensor = Pose3::Identity();
   std::vector<std::string> part_names;
   std::vector<std::pair<size_t, size_t>> pile;  // (type, instance) of the parts the scan saw
+  std::vector<size_t> grasps_per_type;           // what an estimate of each type costs the plan
 };
 
 class EstimatesInbox {

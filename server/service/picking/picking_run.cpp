@@ -77,6 +77,7 @@ class PickingRun {
     awaited.world_from_sensor = plan_.scan.world_from_sensor;
     for (const physics::PartType& part : plan_.bin.parts) awaited.part_names.push_back(part.name);
     for (const physics::PlacedPart& part : view.truth) awaited.pile.emplace_back(part.type, part.instance);
+    awaited.grasps_per_type = view.grasps_per_type;
     if (client_->stored) {
       if (auto stored = client_->stored(awaited)) {
         (void)recorder_.Record(Update("step " + std::to_string(view.step) + ": " + std::to_string(stored->size()) +

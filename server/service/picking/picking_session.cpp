@@ -139,6 +139,7 @@ StatusOr<picking::EmptyBinResult> RunPickingSession(ServiceContext& context, con
     StepView view;
     view.step = observer.first_step + step++;
     view.truth = pile;
+    for (const auto& grasps : cell.grasps) view.grasps_per_type.push_back(grasps.size());
     if (plan.perception == Perception::kTruth) {
       for (const physics::PlacedPart& part : pile) view.estimates.push_back({part.type, part.world_from_part, 1.0});
     } else {

@@ -56,6 +56,8 @@ struct StepView {
   std::vector<physics::PlacedPart> truth;
   PointCloud scan;
   std::vector<picking::Estimate> estimates;
+  // The grasps of each part type: what an estimate of that type costs the plan.
+  std::vector<size_t> grasps_per_type;
 };
 
 struct PickingObserver {
