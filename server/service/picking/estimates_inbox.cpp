@@ -44,7 +44,6 @@ StatusOr<std::vector<picking::Estimate>> EstimatesInbox::Wait(const std::string&
       break;
     }
     arrived_.wait_until(lock, std::min(deadline, now + poll));
-    slot = slots_.find(job_id);  // the map may have rehung nodes; the slot itself stays
   }
   slots_.erase(slot);
   return out;
