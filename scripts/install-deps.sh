@@ -24,7 +24,7 @@ BUILD_PACKAGES=(
 )
 TEST_PACKAGES=(
   # libFuzzer targets (scripts/build-fuzzers.sh)
-  clang libclang-rt-14-dev
+  clang libclang-rt-14-dev lld
   # Python client and its tests; venv, pip, setuptools and wheel install it as a package
   python3-grpcio python3-protobuf python3-numpy python3-open3d
   python3-venv python3-pip python3-setuptools python3-wheel

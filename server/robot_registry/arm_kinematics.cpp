@@ -36,6 +36,7 @@ StatusOr<robot::IkResult> RunSolver(const robot::KinematicChain& chain, const ro
   options.position_tolerance = settings.position_tolerance;
   options.orientation_tolerance = settings.orientation_tolerance;
   options.time_budget = settings.time_budget;
+  options.max_iterations = settings.max_iterations;
   options.check_reach = false;
   return robot::SolveIk(chain, goal, seed, options, nearest);
 }

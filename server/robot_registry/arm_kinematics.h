@@ -44,6 +44,9 @@ struct IkSettings {
   double position_tolerance = 1e-5;
   double orientation_tolerance = 1e-5;
   std::chrono::microseconds time_budget{50000};
+  // The default solver's iterations over all its restarts; with a time budget that never ends
+  // first, answers depend on the goal and seed alone.
+  int max_iterations = 1'000'000;
 };
 
 struct IkAnswer {

@@ -133,6 +133,15 @@ StatusOr<ValidatedDataset> ValidateDataset(const v1::DatasetSpec& spec, service:
     const Status& error = setup.status();
     return error.field().rfind("spec.", 0) == 0 ? error : error.WithFieldPrefix("spec.plan_yaml");
   }
+  if (plan->picks) {
+    const std::string& robot_id = plan->picks->robot_id;
+    const auto chain = context.robots.Chain(robot_id);
+    if (!chain.ok() && chain.status().code() == StatusCode::kNotFound) {
+      return NotFound("spec.plan_yaml.picks.robot_id", "no robot '" + robot_id + "'");
+    }
+    RETURN_IF_ERROR(chain.status());
+    RETURN_IF_ERROR(service::AddDatasetPicks(*setup, *chain).WithFieldPrefix("spec.plan_yaml"));
+  }
   // Frames captured ahead (and a scene's views) are held at once, each with its whole cloud.
   for (size_t i = 0; i < setup->sensors.size(); ++i) {
     const uint64_t frame_bytes = service::ScanMemoryBytes(service::DatasetFramePlan(setup->sensors[i]), false);

@@ -72,6 +72,8 @@ struct FilledBin {
   physics::MeshOverlaps mesh_overlap;
   // Set when the plan gives any part a material.
   std::optional<std::vector<dataset::InstanceMaterial>> materials;
+  // Set when the plan checks picks.
+  std::shared_ptr<const std::vector<dataset::PartPickRecord>> picks;
 };
 
 // The index into each part type's materials this (seed, bin) takes (0 for a type with none).
@@ -84,7 +86,7 @@ std::vector<size_t> ChosenMaterials(const DatasetBinSetup& bin, uint64_t seed, s
 }
 
 StatusOr<FilledBin> FillAndBuild(const DatasetBinSetup& bin, uint64_t seed, size_t bin_index,
-                                 const std::atomic<bool>* cancel) {
+                                 const DatasetPickSetup* picks, const std::atomic<bool>* cancel) {
   physics::FillOptions options = bin.options;
   options.seed = seed;
   ASSIGN_OR_RETURN(const physics::FillResult result, physics::FillBin(bin.spec, bin.parts, options, cancel));
@@ -129,6 +131,20 @@ StatusOr<FilledBin> FillAndBuild(const DatasetBinSetup& bin, uint64_t seed, size
     object.instance_id = instance_id;
     filled.target.scene.objects.push_back(std::move(object));
     filled.obj_ids.push_back(bin.obj_ids[placed.type]);
+  }
+  if (picks) {
+    std::vector<FillPart> parts;
+    std::vector<grasping::PlacedMesh> fixtures;
+    for (const raycast::SceneInstance& instance : *instances) {
+      if (instance.instance_id == kBinInstance || instance.instance_id == kTableInstance) {
+        fixtures.push_back({instance.mesh, instance.world_from_object});
+      } else {
+        parts.push_back({instance.instance_id, filled.obj_ids[instance.instance_id - kFirstPartInstance],
+                         instance.world_from_object});
+      }
+    }
+    ASSIGN_OR_RETURN(auto records, CheckFillPicks(*picks, parts, fixtures, cancel));
+    filled.picks = std::make_shared<const std::vector<dataset::PartPickRecord>>(std::move(records));
   }
   ASSIGN_OR_RETURN(filled.target.raycast, raycast::RaycastScene::Build(*instances));
   filled.target.instances = std::move(instances);
@@ -181,6 +197,7 @@ StatusOr<dataset::DatasetFrame> ScanFilledBin(const FilledBin& filled, const Dat
   frame.deepest_part_overlap_m = filled.mesh_overlap.max_part_part_m;
   frame.deepest_bin_overlap_m = filled.mesh_overlap.max_part_bin_m;
   frame.materials = filled.materials;
+  frame.picks = filled.picks;
   FillImages(cloud, world_from_camera, frame);
   frame.reasons = std::move(images.reasons);
   frame.gray = std::move(images.gray);
@@ -219,6 +236,8 @@ dataset::FrameSource BinFrameSource(std::shared_ptr<const DatasetSetup> setup, c
   state->setup = std::move(setup);
   return [state, cancel](const dataset::SceneKey& key, uint32_t view) -> StatusOr<dataset::DatasetFrame> {
     const DatasetSetup& setup = *state->setup;
+    // A plan's picks need their robot (AddDatasetPicks): never a dataset that silently lacks them.
+    if (setup.plan.picks && !setup.picks) return FailedPrecondition("picks", "the plan's robot was not resolved");
     const DatasetBinSetup& bin = setup.bins[key.bin_index];
     const FillKey fill_key{key.seed_index, key.bin_index};
     std::shared_future<Fill> fill;
@@ -235,7 +254,7 @@ dataset::FrameSource BinFrameSource(std::shared_ptr<const DatasetSetup> setup, c
       fill = found->second;
     }
     if (to_fill) {
-      StatusOr<FilledBin> filled = FillAndBuild(bin, key.seed, key.bin_index, cancel);
+      StatusOr<FilledBin> filled = FillAndBuild(bin, key.seed, key.bin_index, setup.picks.get(), cancel);
       to_fill->set_value(filled.ok() ? Fill(std::make_shared<const FilledBin>(std::move(*filled)))
                                      : Fill(filled.status()));
     }

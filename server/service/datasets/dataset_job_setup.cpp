@@ -183,4 +183,17 @@ StatusOr<DatasetSetup> PrepareDataset(const dataset::DatasetPlan& plan, const Da
   return setup;
 }
 
+Status AddDatasetPicks(DatasetSetup& setup, std::shared_ptr<const robot::KinematicChain> robot_chain) {
+  if (!setup.plan.picks) return Status::Ok();
+  std::vector<uint64_t> parts_per_bin;
+  for (const DatasetBinSetup& bin : setup.bins) {
+    uint64_t count = 0;
+    for (const physics::PartType& part : bin.parts) count += part.count;
+    parts_per_bin.push_back(count);
+  }
+  ASSIGN_OR_RETURN(setup.picks,
+                   PrepareDatasetPicks(*setup.plan.picks, std::move(robot_chain), setup.parts, parts_per_bin));
+  return Status::Ok();
+}
+
 }  // namespace vscan::service

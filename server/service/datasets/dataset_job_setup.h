@@ -18,6 +18,7 @@
 #include "sensor/presets.h"
 #include "service/datasets/format/dataset_frame.h"
 #include "service/datasets/format/dataset_plan.h"
+#include "service/datasets/dataset_picks.h"
 #include "vscan/common/status.h"
 
 namespace vscan::service {
@@ -46,6 +47,8 @@ struct DatasetSetup {
   std::vector<DatasetBinSetup> bins;
   std::vector<DatasetSensorSetup> sensors;
   std::vector<dataset::PartModel> parts;  // parts[k].obj_id == k + 1
+  // Set when the plan checks picks and its robot is resolved (AddDatasetPicks).
+  std::shared_ptr<const DatasetPickSetup> picks;
 };
 
 // The mesh of a part as its file or the store holds it, in metres and unscaled. field names the
@@ -66,5 +69,8 @@ using DatasetLightResolver = std::function<StatusOr<capture::ReturnedLightSpec>(
 // returned_light needs resolve_light (FAILED_PRECONDITION without).
 StatusOr<DatasetSetup> PrepareDataset(const dataset::DatasetPlan& plan, const DatasetMeshLoader& load,
                                       uint64_t max_rays_per_scan, const DatasetLightResolver& resolve_light = {});
+
+// The plan's picks with robot_chain, the robot the plan names: PrepareDatasetPicks' errors.
+Status AddDatasetPicks(DatasetSetup& setup, std::shared_ptr<const robot::KinematicChain> robot_chain);
 
 }  // namespace vscan::service

@@ -24,6 +24,11 @@ StatusOr<dataset::DatasetProgress> RunDatasetShardFromFile(
     const DatasetLightResolver& resolve_light) {
   RETURN_IF_ERROR(dataset::CheckShard(shard_index, shard_count));
   ASSIGN_OR_RETURN(const dataset::DatasetPlan plan, ReadDatasetPlanFile(plan_file));
+  if (plan.picks) {
+    return FailedPrecondition("picks", plan_file.string() +
+                                           ": checking picks needs the server's stored robot (picks.robot_id); "
+                                           "run this plan as a dataset job (vscan dataset) or remove picks");
+  }
   ASSIGN_OR_RETURN(DatasetSetup setup,
                    PrepareDataset(plan, MeshFilesFrom(plan_file.parent_path()), Limits{}.max_rays_per_scan,
                                   resolve_light));

@@ -4,7 +4,9 @@
 // turns it into a scene directory (docs/DATASETS.md).
 
 #include <cstdint>
+#include <memory>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -46,6 +48,18 @@ struct GroundTruthObject {
   ImageBox full_box;            // the box of the part alone in the view (occlusion ignored); width 0 when outside
 };
 
+// Whether the plan's robot can pick one placed part (scene_pickable.json).
+struct PartPickRecord {
+  uint32_t instance_id = 0;
+  bool pickable = false;
+  std::string failure;  // the PickFailure's API name, "PICK_FAILURE_UNSPECIFIED" when pickable
+  std::string detail;
+  std::optional<size_t> grasp;               // index into its part type's grasps, best first
+  Pose3 world_from_tool = Pose3::Identity();  // with grasp: the tool at it, world frame
+  std::optional<uint32_t> covered_by_instance;  // covered by another part
+  bool covered_by_bin = false;                  // covered by the bin (or the table under it)
+};
+
 struct DatasetFrame {
   CameraIntrinsics camera;
   Pose3 world_from_camera = Pose3::Identity();  // camera axes: x right, y down, z forward
@@ -68,6 +82,8 @@ struct DatasetFrame {
   double deepest_bin_overlap_m = 0;
   // Set when the plan gives any part a material: each placed part's (scene_materials.json).
   std::optional<std::vector<InstanceMaterial>> materials;
+  // Set when the plan checks picks: one per placed part, shared by every view of the fill.
+  std::shared_ptr<const std::vector<PartPickRecord>> picks;
 };
 
 // A part type for models/models_info.json.

@@ -22,6 +22,8 @@ inline constexpr const char* kSceneRecordFile = "scene_files.json";
 inline constexpr const char* kSceneFillFile = "scene_fill.json";
 // Inside a scene directory, when the plan sets materials: each part instance's material.
 inline constexpr const char* kSceneMaterialsFile = "scene_materials.json";
+// Inside a scene directory, when the plan checks picks: each part's verdict and best grasp.
+inline constexpr const char* kScenePickableFile = "scene_pickable.json";
 // A scene being written lives in "<scene_id>.partial" until it is complete.
 inline constexpr const char* kPartialSuffix = ".partial";
 

@@ -5,6 +5,8 @@
 #include "service/datasets/format/durable_file.h"
 #include "service/job/json_writer.h"
 
+#include <variant>
+
 namespace vscan::service::dataset {
 namespace {
 
@@ -87,6 +89,53 @@ void ReturnedLight(JsonWriter& json, const plan::ReturnedLightPlan& light) {
   json.Close('}');
 }
 
+void PoseValues(JsonWriter& json, const char* key, const Pose3& pose) {
+  json.Key(key).Open('{');
+  json.Key("R").Open('[');
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) json.Value(pose.linear()(r, c));
+  }
+  json.Close(']');
+  json.Key("t_m").Open('[');
+  for (int axis = 0; axis < 3; ++axis) json.Value(pose.translation()[axis]);
+  json.Close(']').Close('}');
+}
+
+// Only a plan that checks picks names them: the robot, where it stands, the gripper and every option.
+void Picks(JsonWriter& json, const DatasetPicks& picks) {
+  json.Key("picks").Open('{');
+  json.Key("robot_id").Value(picks.robot_id);
+  PoseValues(json, "world_from_base", picks.world_from_base);
+  if (picks.flange_from_tool) PoseValues(json, "flange_from_tool", *picks.flange_from_tool);
+  json.Key("gripper").Open('{');
+  json.Key("kind").Value(GripperKind(picks.gripper));
+  if (const auto* cup = std::get_if<grasping::SuctionCup>(&picks.gripper)) {
+    json.Key("diameter_m").Value(cup->diameter_m).Key("stroke_m").Value(cup->stroke_m);
+    json.Key("max_tilt_deg").Value(cup->max_tilt_deg).Key("min_flat_fraction").Value(cup->min_flat_fraction);
+  } else {
+    const auto& jaws = std::get<grasping::ParallelJaws>(picks.gripper);
+    json.Key("min_opening_m").Value(jaws.min_opening_m).Key("max_opening_m").Value(jaws.max_opening_m);
+    json.Key("finger_width_m").Value(jaws.finger_width_m).Key("finger_depth_m").Value(jaws.finger_depth_m);
+    json.Key("max_friction_angle_deg").Value(jaws.max_friction_angle_deg);
+    json.Key("finger_length_m").Value(jaws.finger_length_m).Key("finger_thickness_m").Value(jaws.finger_thickness_m);
+  }
+  json.Close('}');
+  const grasping::GraspOptions& grasp = picks.grasp_options;
+  json.Key("grasp_options").Open('{');
+  json.Key("max_grasps").Value(uint64_t{grasp.max_grasps}).Key("seed").Value(grasp.seed);
+  json.Key("candidates").Value(uint64_t{grasp.candidates}).Key("surface_samples").Value(uint64_t{grasp.surface_samples});
+  json.Close('}');
+  const grasping::PickOptions& pick = picks.pick_options;
+  json.Key("pick_options").Open('{');
+  json.Key("approach_distance_m").Value(pick.sweep.approach_m);
+  json.Key("max_approach_tilt_deg").Value(pick.max_approach_tilt_deg);
+  json.Key("cover_distance_m").Value(pick.cover_distance_m);
+  json.Key("max_reach_checks").Value(uint64_t{pick.max_reach_checks});
+  json.Key("body_length_m").Value(pick.sweep.body_length_m);
+  json.Key("ik_iterations").Value(uint64_t{picks.ik_iterations});
+  json.Close('}').Close('}');
+}
+
 }  // namespace
 
 std::string DatasetManifestJson(const DatasetPlan& plan) {
@@ -109,6 +158,7 @@ std::string DatasetManifestJson(const DatasetPlan& plan) {
   if (!plan.bin_fills.empty()) Fills(json, plan);
   if (plan.views != DatasetViews{}) Views(json, plan);
   if (plan.returned_light) ReturnedLight(json, *plan.returned_light);
+  if (plan.picks) Picks(json, *plan.picks);
   json.Close('}').Close('}');
   return json.str() + "\n";
 }

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "service/datasets/format/dataset_bins.h"
+#include "service/datasets/format/dataset_picks_plan.h"
 #include "vscan/common/status.h"
 #include "vscan/plan/returned_light_plan.h"
 
@@ -49,6 +50,8 @@ struct DatasetPlan {
   // Every scan lit by the sensor's emitter and the parts' materials (the ReturnedLight message's
   // keys); unset: the sensor's fixed lighting, as before materials.
   std::optional<plan::ReturnedLightPlan> returned_light;
+  // Set: every scene's parts are checked for picks (scene_pickable.json).
+  std::optional<DatasetPicks> picks;
 };
 
 struct SceneKey {

@@ -7,6 +7,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "service/datasets/format/dataset_bins_yaml.h"
+#include "service/datasets/format/dataset_picks_yaml.h"
 #include "service/datasets/format/yaml_fields.h"
 
 namespace vscan::service::dataset {
@@ -124,12 +125,13 @@ StatusOr<DatasetPlan> PlanFromNode(const YAML::Node& root, const std::string& so
   if (!root.IsMap()) return InvalidArgument(source + ": the plan must be a mapping");
   static const std::set<std::string> kKeys = {"name",           "bins",           "seeds",
                                               "sensors",        "depth_scale_mm", "camera_height_m",
-                                              "fail_on_underfilled_bin", "views", "returned_light"};
+                                              "fail_on_underfilled_bin", "views", "returned_light",
+                                              "picks"};
   for (const auto& entry : root) {
     if (!kKeys.contains(entry.first.Scalar())) {
       return Refuse(source, entry.first.Scalar(),
                     "is not a key (name, bins, seeds, sensors, depth_scale_mm, camera_height_m, views, "
-                    "fail_on_underfilled_bin, returned_light)");
+                    "fail_on_underfilled_bin, returned_light, picks)");
     }
   }
   for (const char* key : {"bins", "seeds", "sensors"}) {
@@ -167,6 +169,11 @@ StatusOr<DatasetPlan> PlanFromNode(const YAML::Node& root, const std::string& so
     const plan::YamlAt top{root, "", root.Mark()};
     ASSIGN_OR_RETURN(plan.returned_light,
                      plan::ReadReturnedLight(yaml, plan::YamlReader::Child(top, "returned_light")));
+  }
+  if (root["picks"]) {
+    const plan::YamlReader yaml(source);
+    const plan::YamlAt top{root, "", root.Mark()};
+    ASSIGN_OR_RETURN(plan.picks, ReadDatasetPicks(yaml, plan::YamlReader::Child(top, "picks")));
   }
   const Status checked = CheckPlan(plan);
   if (!checked.ok()) return Refuse(source, checked.field(), std::string(checked.text()));

@@ -8,6 +8,7 @@
 //   camera_height_m: 0.6            # optional
 //   views: {count: 8, cone_deg: 30, distance_m: [0.5, 0.8]}  # optional: images per scene
 //   fail_on_underfilled_bin: false  # optional
+//   picks: {robot_id, base, gripper, ...}  # optional: scene_pickable.json (dataset_picks_yaml.h)
 
 #include <string>
 #include <string_view>

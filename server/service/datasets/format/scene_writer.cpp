@@ -6,6 +6,7 @@
 #include "service/datasets/format/dataset_layout.h"
 #include "service/datasets/format/durable_file.h"
 #include "service/datasets/format/scene_images.h"
+#include "service/datasets/format/scene_pickable_json.h"
 #include "vscan/common/cloud_io.h"
 #include "vscan/common/png_codec.h"
 
@@ -47,6 +48,7 @@ DatasetFrame Header(const DatasetFrame& frame) {
   header.deepest_part_overlap_m = frame.deepest_part_overlap_m;
   header.deepest_bin_overlap_m = frame.deepest_bin_overlap_m;
   header.materials = frame.materials;
+  header.picks = frame.picks;
   return header;
 }
 
@@ -117,6 +119,9 @@ Status SceneWriter::Finish() {
   RETURN_IF_ERROR(Write(kSceneFillFile, SceneFillJson(views_.front().frame)));
   if (const auto& materials = views_.front().frame.materials) {
     RETURN_IF_ERROR(Write(kSceneMaterialsFile, SceneMaterialsJson(*materials)));
+  }
+  if (views_.front().frame.picks) {
+    RETURN_IF_ERROR(WriteEncoded(kScenePickableFile, ScenePickableJson(views_.front().frame)));
   }
   std::vector<SceneFileEntry> files = written_;
   std::sort(files.begin(), files.end(), [](const auto& a, const auto& b) { return a.path < b.path; });

@@ -123,7 +123,7 @@ TEST(DatasetPlanYaml, NamesTheKeyItRefuses) {
   };
   EXPECT_EQ(message("bins: [b]\nseeds: [1]\nsensors: [s]\ncolour: red\n"),
             "p.yaml: colour: is not a key (name, bins, seeds, sensors, depth_scale_mm, camera_height_m, views, "
-            "fail_on_underfilled_bin, returned_light)");
+            "fail_on_underfilled_bin, returned_light, picks)");
   EXPECT_EQ(message("bins: [b]\nsensors: [s]\n"), "p.yaml: seeds: is missing");
   EXPECT_EQ(message("bins: [b]\nseeds: {first: 1}\nsensors: [s]\n"), "p.yaml: seeds: needs both first and count");
   EXPECT_EQ(message("bins: [b]\nseeds: [1, -2]\nsensors: [s]\n"),
