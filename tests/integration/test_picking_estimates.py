@@ -240,6 +240,10 @@ class PickingEstimatesTest(ServerTestCase):
             self.client.submit_picking_estimates(job.job_id, 1, good)
         self.assertEqual(refused.exception.code, C.FAILED_PRECONDITION)
         self.assertIn("not running", str(refused.exception))
+        # Deleting the job removes its directory of estimates.
+        self.assertTrue(os.path.exists(store))
+        self.client.delete_job(job.job_id)
+        self.assertFalse(os.path.exists(store))
         self.client.wait_job(truth_job.job_id)
 
     def test_a_step_waits_no_longer_than_its_bound(self):

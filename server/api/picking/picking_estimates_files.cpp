@@ -1,5 +1,6 @@
 #include "api/picking/picking_estimates_files.h"
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -8,6 +9,7 @@
 #include <spdlog/spdlog.h>
 
 #include "service/datasets/format/durable_file.h"
+#include "vscan/common/pose.h"
 #include "vscan/common/report_json.h"
 
 namespace vscan::api {
