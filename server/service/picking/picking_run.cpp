@@ -78,6 +78,9 @@ class PickingRun {
     for (const physics::PartType& part : plan_.bin.parts) awaited.part_names.push_back(part.name);
     for (const physics::PlacedPart& part : view.truth) awaited.pile.emplace_back(part.type, part.instance);
     awaited.grasps_per_type = view.grasps_per_type;
+    if (!view.scan.positions.empty() && awaited.scan_artifact.empty()) {
+      return Unavailable("step " + std::to_string(view.step) + ": its scan could not be stored for the client");
+    }
     if (client_->stored) {
       if (auto stored = client_->stored(awaited)) {
         (void)recorder_.Record(Update("step " + std::to_string(view.step) + ": " + std::to_string(stored->size()) +
