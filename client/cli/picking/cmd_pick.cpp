@@ -11,6 +11,7 @@
 #include "job/job_commands.h"
 #include "job/job_watch.h"
 #include "model/model_report.h"
+#include "picking/cmd_pick_estimates.h"
 #include "picking/gripper_args.h"
 #include "picking/picking_job_report.h"
 #include "session/commands.h"
@@ -23,6 +24,8 @@ struct PickRunArgs {
   std::string mount_id;
   GripperArgs gripper;
   bool truth = false;
+  std::string perception;
+  std::optional<double> estimates_timeout_s;
   std::optional<uint32_t> width;
   std::optional<uint32_t> height;
   std::optional<double> hfov_deg;
@@ -69,6 +72,16 @@ StatusOr<v1::PickingSpec> BuildPickingSpec(const PickRunArgs& args) {
   spec.set_mount_id(args.mount_id);
   ASSIGN_OR_RETURN(*spec.mutable_gripper(), BuildGripper(args.gripper));
   if (args.truth) spec.set_perception(v1::PICKING_PERCEPTION_TRUTH);
+  if (args.perception == "truth") spec.set_perception(v1::PICKING_PERCEPTION_TRUTH);
+  if (args.perception == "client") spec.set_perception(v1::PICKING_PERCEPTION_CLIENT);
+  if (!args.perception.empty() && args.perception != "baseline" && args.perception != "truth" &&
+      args.perception != "client") {
+    return InvalidArgument("--perception: baseline, truth or client");
+  }
+  if (args.truth && !args.perception.empty() && args.perception != "truth") {
+    return InvalidArgument("--truth: contradicts --perception " + args.perception);
+  }
+  if (args.estimates_timeout_s) spec.set_estimates_timeout_s(*args.estimates_timeout_s);
   if (args.width) spec.set_width(*args.width);
   if (args.height) spec.set_height(*args.height);
   if (args.hfov_deg) spec.set_horizontal_fov_deg(*args.hfov_deg);
@@ -78,6 +91,14 @@ StatusOr<v1::PickingSpec> BuildPickingSpec(const PickRunArgs& args) {
   if (args.max_grasps) spec.mutable_grasp_options()->set_max_grasps(*args.max_grasps);
   if (args.body_length) spec.mutable_pick_options()->set_body_length(*args.body_length);
   return spec;
+}
+
+std::string PerceptionWords(const v1::PickingSpec& spec) {
+  switch (spec.perception()) {
+    case v1::PICKING_PERCEPTION_TRUTH: return "true poses";
+    case v1::PICKING_PERCEPTION_CLIENT: return "your estimates: vscan pick estimates JOB --step N FILE";
+    default: return "scan and baseline localizer";
+  }
 }
 
 int RunPick(Context& ctx, const PickRunArgs& args) {
@@ -95,7 +116,7 @@ int RunPick(Context& ctx, const PickRunArgs& args) {
   if (!job.ok()) return ctx.ServerError(job.status());
   const std::string line = "started picking job " + job->job_id() + " (" + std::to_string(job->steps_total()) +
                            " parts in the bin of " + args.bin_job_id + ", " +
-                           (args.truth ? "true poses" : "scan and baseline localizer") + ")";
+                           PerceptionWords(*spec) + ")";
   if (SayStarted(ctx, *job, line, "", !args.watch && args.out_dir.empty())) return kExitOk;
   return FollowJob(ctx, job->job_id(), args.out_dir, started, PickFinish(ctx));
 }
@@ -108,6 +129,11 @@ void AddPickRun(CLI::App& group, Context& ctx) {
       ->required();
   AddGripperOptions(cmd, args->gripper);
   cmd->add_flag("--truth", args->truth, "Plan on the parts' true poses instead of a scan and the baseline localizer");
+  cmd->add_option("--perception", args->perception,
+                  "baseline (a scan and vscan's localizer), truth (--truth) or client (each step waits for "
+                  "`vscan pick estimates`)");
+  cmd->add_option("--estimates-timeout", args->estimates_timeout_s,
+                  "With --perception client: how long a step waits for its estimates, s (600)");
   cmd->add_option("--width", args->width, "Scan image width, pixels (640)");
   cmd->add_option("--height", args->height, "Scan image height, pixels (512)");
   cmd->add_option("--hfov", args->hfov_deg, "Scan camera's horizontal field of view, degrees (50)");
@@ -157,6 +183,11 @@ void AddPickGet(CLI::App& group, Context& ctx) {
               std::optional<v1::PickingReport> report;
               if (const int rc = FetchPickingReport(ctx, job, &report); rc != kExitOk) return rc;
               if (report && !ctx.quiet()) std::cout << FormatPickingReport(*report);
+              if (job.has_awaiting_estimates() && !ctx.quiet() && !ctx.json()) {
+                const v1::AwaitedEstimates& awaited = job.awaiting_estimates();
+                std::cout << "awaiting estimates for step " << awaited.step() << " (scan "
+                          << (awaited.scan_artifact().empty() ? "empty" : awaited.scan_artifact()) << ")\n";
+              }
               return kExitOk;
             });
 }
@@ -171,6 +202,7 @@ void AddPickCommands(CLI::App& app, Context& ctx) {
               PickFinish(ctx), true);
   AddPickResume(*group, ctx);
   AddPickGet(*group, ctx);
+  AddPickEstimates(*group, ctx);
   AddJobList(*group, ctx, "picking", "List picking jobs");
   AddJobCancel(*group, ctx, "Cancel a picking job; the scene keeps the pile as the last step left it");
   AddJobDelete(*group, ctx, "Delete an ended picking job and its artifacts (the scene stays as the job left it)");

@@ -78,6 +78,12 @@ Status Client::ValidatePicking(const v1::PickingSpec& spec) {
   return UnaryCall(*this, *stub, &JobStub::StartPicking, request).status();
 }
 
+StatusOr<uint32_t> Client::SubmitPickingEstimates(const v1::SubmitPickingEstimatesRequest& request) {
+  auto stub = NewJobStub(*this);
+  ASSIGN_OR_RETURN(auto response, UnaryCall(*this, *stub, &JobStub::SubmitPickingEstimates, request));
+  return response.accepted();
+}
+
 StatusOr<v1::Job> Client::GetJob(const std::string& job_id) {
   auto stub = NewJobStub(*this);
   v1::GetJobRequest request;

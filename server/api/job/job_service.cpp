@@ -146,6 +146,7 @@ grpc::ServerUnaryReactor* JobService::GetJob(grpc::CallbackServerContext* ctx, c
   return RunUnary(ctx, context_.options.token, "GetJob", [&]() -> Status {
     RETURN_IF_ERROR(RequireId(request->job_id(), "job_id"));
     ASSIGN_OR_RETURN(*response->mutable_job(), tracker_.Get(request->job_id()));
+    ShowAwaitedEstimates(response->mutable_job());
     return Status::Ok();
   });
 }
@@ -168,6 +169,7 @@ grpc::ServerUnaryReactor* JobService::ListJobs(grpc::CallbackServerContext* ctx,
       for (const auto& record : jobs) {
         v1::Job job;
         RETURN_IF_ERROR(ToProto(record, &job));
+        ShowAwaitedEstimates(&job);
         bytes += job.ByteSizeLong();
         if (response->jobs_size() > 0 && bytes > kMaxListBytes) {
           more = true;
@@ -198,6 +200,7 @@ grpc::ServerUnaryReactor* JobService::CancelJob(grpc::CallbackServerContext* ctx
       runner_.Cancel(request->job_id());
     }
     ASSIGN_OR_RETURN(*response->mutable_job(), tracker_.Get(request->job_id()));
+    ShowAwaitedEstimates(response->mutable_job());
     return Status::Ok();
   });
 }

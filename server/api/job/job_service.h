@@ -10,6 +10,8 @@
 #include "guards/stall_watchdog.h"
 #include "service/context/service_context.h"
 #include "service/job/job_events.h"
+#include "service/picking/estimates_inbox.h"
+#include "service/picking/picking_session.h"
 #include "jobs/job_runner.h"
 #include "vscan/v1/job.grpc.pb.h"
 
@@ -35,6 +37,10 @@ class JobService final : public v1::JobService::CallbackService {
   // In picking/picking_job_service.cpp.
   grpc::ServerUnaryReactor* StartPicking(grpc::CallbackServerContext* ctx, const v1::StartPickingRequest* request,
                                          v1::StartPickingResponse* response) override;
+  // In picking/picking_estimates_service.cpp.
+  grpc::ServerUnaryReactor* SubmitPickingEstimates(grpc::CallbackServerContext* ctx,
+                                                   const v1::SubmitPickingEstimatesRequest* request,
+                                                   v1::SubmitPickingEstimatesResponse* response) override;
   // In dataset_score_service.cpp.
   grpc::ServerUnaryReactor* ScoreDatasetResults(grpc::CallbackServerContext* ctx,
                                                 const v1::ScoreDatasetResultsRequest* request,
@@ -58,6 +64,12 @@ class JobService final : public v1::JobService::CallbackService {
  private:
   // ResumeJob for a picking job (in picking/picking_job_service.cpp).
   Status ResumePicking(const store::JobRecord& ended, v1::ResumeJobResponse* response);
+  // What a picking job of plan does (a start or a resume).
+  using PickingJobRun = std::function<void(service::JobRecorder&, const std::string&, jobs::JobControl&)>;
+  PickingJobRun PickingRun(std::shared_ptr<const service::PickingPlan> plan, std::string name, std::string bin_job_id);
+  // Sets job.awaiting_estimates while a client-perception picking job waits for a step's estimates
+  // (in picking/picking_estimates_service.cpp).
+  void ShowAwaitedEstimates(v1::Job* job) const;
   // What a started job does on the runner's thread.
   using JobRun = std::function<void(service::JobRecorder& recorder, const std::string& job_id, jobs::JobControl&)>;
   // The start every kind shares, under the admission lock: refuses when max_queued_jobs wait
@@ -77,6 +89,8 @@ class JobService final : public v1::JobService::CallbackService {
   // Makes the queue check, the job's creation and its submission one step, so that the queue
   // bound holds under concurrent starts and no cancel falls between creation and submission.
   std::mutex admit_mutex_;
+  // Where client-perception picking jobs wait for estimates.
+  service::EstimatesInbox picking_estimates_;
 };
 
 }  // namespace vscan::api

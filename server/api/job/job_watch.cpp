@@ -1,5 +1,6 @@
 // JobService.WatchJob: the job as it is, then one response per event until the job ends.
 
+#include <functional>
 #include <mutex>
 
 #include <spdlog/spdlog.h>
@@ -18,9 +19,10 @@ namespace {
 // one whenever no write is in flight. Writes and Finish happen outside its lock.
 class WatchReactor final : public grpc::ServerWriteReactor<v1::WatchJobResponse>, public JobWatcher {
  public:
+  // annotate adds to each response's job what the event log does not hold.
   WatchReactor(grpc::CallbackServerContext* ctx, const v1::WatchJobRequest& request, const std::string& token,
-               JobTracker& tracker, guards::StallWatchdog* stalled_readers)
-      : write_watch_(stalled_readers, ctx) {
+               JobTracker& tracker, guards::StallWatchdog* stalled_readers, std::function<void(v1::Job*)> annotate)
+      : write_watch_(stalled_readers, ctx), annotate_(std::move(annotate)) {
     Status status = CheckToken(*ctx, token);
     if (status.ok()) status = RequireId(request.job_id(), "job_id");
     if (!status.ok()) {
@@ -40,6 +42,7 @@ class WatchReactor final : public grpc::ServerWriteReactor<v1::WatchJobResponse>
       }
       *response_.mutable_job() = std::move(job).value();
     }
+    annotate_(response_.mutable_job());
     write_watch_.Started("WatchJob");
     StartWrite(&response_);
   }
@@ -99,6 +102,7 @@ class WatchReactor final : public grpc::ServerWriteReactor<v1::WatchJobResponse>
         action = next == LiveJob::Next::kReady ? Action::kWrite : Action::kEnd;
       }
       if (action == Action::kWrite) {
+        annotate_(response_.mutable_job());
         ++next_;
         writing_ = true;
       } else {
@@ -116,6 +120,7 @@ class WatchReactor final : public grpc::ServerWriteReactor<v1::WatchJobResponse>
   }
 
   WriteWatch write_watch_;
+  std::function<void(v1::Job*)> annotate_;
   std::mutex mutex_;
   std::shared_ptr<LiveJob> live_;
   bool attached_ = false;
@@ -131,7 +136,8 @@ class WatchReactor final : public grpc::ServerWriteReactor<v1::WatchJobResponse>
 grpc::ServerWriteReactor<v1::WatchJobResponse>* JobService::WatchJob(grpc::CallbackServerContext* ctx,
                                                                      const v1::WatchJobRequest* request) {
   CallScope scope(ctx);
-  return new WatchReactor(ctx, *request, context_.options.token, tracker_, stalled_readers_);
+  return new WatchReactor(ctx, *request, context_.options.token, tracker_, stalled_readers_,
+                          [this](v1::Job* job) { ShowAwaitedEstimates(job); });
 }
 
 }  // namespace vscan::api

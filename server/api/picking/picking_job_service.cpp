@@ -4,6 +4,7 @@
 
 #include "api/job/job_convert.h"
 #include "api/job/job_service.h"
+#include "api/picking/picking_estimates_files.h"
 #include "api/picking/picking_spec.h"
 #include "api/transport/unary.h"
 #include "api/transport/validate.h"
@@ -27,13 +28,24 @@ grpc::ServerUnaryReactor* JobService::StartPicking(grpc::CallbackServerContext* 
     const auto total = static_cast<uint32_t>(plan->bin.parts_total());
     RETURN_IF_ERROR(Admit(
         "spec", [&] { return CreateJob(service::JobKind::kPicking, spec.name(), spec, total, job); },
-        [this, plan, name = spec.name(), bin_job_id = spec.bin_job_id()](
-            service::JobRecorder& recorder, const std::string& job_id, jobs::JobControl& control) {
-          service::RunPicking(context_, recorder, job_id, name, bin_job_id, *plan, control);
-        }));
+        PickingRun(plan, spec.name(), spec.bin_job_id())));
     spdlog::info("job {}: picking in scene {} with mount {} queued", job->job_id(), plan->scene_id, plan->mount_id);
     return Status::Ok();
   });
+}
+
+JobService::PickingJobRun JobService::PickingRun(std::shared_ptr<const service::PickingPlan> plan, std::string name,
+                                          std::string bin_job_id) {
+  return [this, plan, name = std::move(name), bin_job_id = std::move(bin_job_id)](
+             service::JobRecorder& recorder, const std::string& job_id, jobs::JobControl& control) {
+    if (plan->perception != service::Perception::kClient) {
+      service::RunPicking(context_, recorder, job_id, name, bin_job_id, *plan, control);
+      return;
+    }
+    const service::ClientEstimates client = ClientEstimatesOver(
+        std::make_shared<const PickingEstimatesFiles>(context_.options.data_dir, job_id), picking_estimates_);
+    service::RunPicking(context_, recorder, job_id, name, bin_job_id, *plan, control, &client);
+  };
 }
 
 Status JobService::ResumePicking(const store::JobRecord& ended, v1::ResumeJobResponse* response) {
@@ -54,11 +66,7 @@ Status JobService::ResumePicking(const store::JobRecord& ended, v1::ResumeJobRes
     ASSIGN_OR_RETURN(reopened, tracker_.Reopen(ended.job_id, kind));
     return ended.job_id;
   };
-  RETURN_IF_ERROR(Admit("job_id", reopen,
-                        [this, plan, name = spec.name(), bin_job_id = spec.bin_job_id()](
-                            service::JobRecorder& recorder, const std::string& id, jobs::JobControl& control) {
-                          service::RunPicking(context_, recorder, id, name, bin_job_id, *plan, control);
-                        }));
+  RETURN_IF_ERROR(Admit("job_id", reopen, PickingRun(plan, spec.name(), spec.bin_job_id())));
   spdlog::info("job {}: picking resumed on scene {}", ended.job_id, plan->scene_id);
   return ToProto(reopened, response->mutable_job());
 }

@@ -14,6 +14,8 @@ namespace {
 
 constexpr uint32_t kMaxImageSide = 4096;
 constexpr uint32_t kMaxSteps = 10000;
+constexpr double kDefaultEstimatesTimeoutS = 600;
+constexpr double kMaxEstimatesTimeoutS = 86400;
 
 }  // namespace
 
@@ -68,11 +70,18 @@ StatusOr<service::PickingPlan> ValidatePicking(const v1::PickingSpec& spec, cons
     if (!checked.ok()) return InRequestTerms(checked).WithFieldPrefix("spec");
   }
 
-  plan.perception = spec.perception() == v1::PICKING_PERCEPTION_TRUTH ? service::Perception::kTruth
-                                                                     : service::Perception::kBaseline;
-  if (spec.perception() != v1::PICKING_PERCEPTION_UNSPECIFIED && spec.perception() != v1::PICKING_PERCEPTION_TRUTH) {
-    return InvalidArgument("spec.perception", "unknown value " + std::to_string(spec.perception()));
+  switch (spec.perception()) {
+    case v1::PICKING_PERCEPTION_UNSPECIFIED: plan.perception = service::Perception::kBaseline; break;
+    case v1::PICKING_PERCEPTION_TRUTH: plan.perception = service::Perception::kTruth; break;
+    case v1::PICKING_PERCEPTION_CLIENT: plan.perception = service::Perception::kClient; break;
+    default: return InvalidArgument("spec.perception", "unknown value " + std::to_string(spec.perception()));
   }
+  const double timeout_s = spec.estimates_timeout_s() == 0 ? kDefaultEstimatesTimeoutS : spec.estimates_timeout_s();
+  if (!std::isfinite(timeout_s) || timeout_s < 0.1 || timeout_s > kMaxEstimatesTimeoutS) {
+    return InvalidArgument("spec.estimates_timeout_s", "must be 0 (600 s) or in [0.1, " +
+                                                           std::to_string(static_cast<int>(kMaxEstimatesTimeoutS)) + "] s");
+  }
+  plan.estimates_timeout = std::chrono::milliseconds(static_cast<int64_t>(timeout_s * 1000));
   const uint32_t width = spec.width() == 0 ? 640 : spec.width();
   const uint32_t height = spec.height() == 0 ? 512 : spec.height();
   if (width > kMaxImageSide) return InvalidArgument("spec.width", "at most " + std::to_string(kMaxImageSide));

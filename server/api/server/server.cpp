@@ -25,6 +25,7 @@
 #include "api/clouds/cloud_service.h"
 #include "api/localization/localization_service.h"
 #include "api/picking/picking_service.h"
+#include "api/picking/picking_estimates_files.h"
 #include "guards/data_dir_lock.h"
 #include "api/datasets/dataset_spec.h"
 #include "api/job/job_service.h"
@@ -305,8 +306,10 @@ StatusOr<std::unique_ptr<Server>> Server::Start(const service::ServerOptions& op
   std::filesystem::remove_all(data_dir / "tmp", ec);
   impl->job_tracker = std::make_unique<JobTracker>(*impl->job_catalogue, *impl->blobs, options.limits.max_job_artifacts,
                                                    options.limits.max_job_bytes);
-  impl->job_tracker->OnDeleted([catalogue = impl->job_catalogue.get(),
-                                directories = impl->dataset_directories.get()](const store::JobRecord& job) {
+  impl->job_tracker->OnDeleted([catalogue = impl->job_catalogue.get(), directories = impl->dataset_directories.get(),
+                                data_dir](const store::JobRecord& job) {
+    std::error_code removed;
+    std::filesystem::remove_all(PickingEstimatesFiles::DirectoryOf(data_dir, job.job_id), removed);
     return RemoveDatasetDirectoryOf(job, *catalogue, *directories);
   });
   impl->job_runner = std::make_unique<jobs::JobRunner>(std::max<uint32_t>(1, options.max_concurrent_jobs));

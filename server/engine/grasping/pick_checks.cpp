@@ -15,7 +15,6 @@ namespace vscan::grasping {
 namespace {
 
 // Gripper sweeps one check may test at worst (each some tens to hundreds of microseconds).
-constexpr double kMaxSweepChecks = 1e6;
 // Faces within 70 degrees of up can carry another part.
 const double kUpwardCos = std::cos(70 * std::numbers::pi / 180);
 // A ray from a part's own face meets the part itself only beyond kOwnFaceM (nearer is that face);

@@ -102,6 +102,9 @@ struct PickVerdict {
   size_t reach_checks = 0;
 };
 
+// The most gripper sweeps one CheckPicks tests: every grasp of every part together.
+inline constexpr double kMaxSweepChecks = 1e6;
+
 // One verdict per pile part, in order. grasps_per_type[t] are part-frame grasps (best first) of
 // type t; reach may be empty (no arm: every clear grasp counts as reached) and is called from
 // several threads at once. INVALID_ARGUMENT names "pile.parts[i]" (missing mesh, type out of

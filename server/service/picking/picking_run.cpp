@@ -22,8 +22,9 @@ std::string StepName(size_t step, const char* suffix) {
 class PickingRun {
  public:
   PickingRun(ServiceContext& context, JobRecorder& recorder, const std::string& job_id, const std::string& name,
-             const std::string& bin_job_id, const PickingPlan& plan, jobs::JobControl& control)
-      : context_(context), recorder_(recorder), plan_(plan), control_(control) {
+             const std::string& bin_job_id, const PickingPlan& plan, jobs::JobControl& control,
+             const ClientEstimates* client)
+      : context_(context), recorder_(recorder), plan_(plan), control_(control), client_(client) {
     report_.job_id = job_id;
     report_.name = name;
     report_.bin_job_id = bin_job_id;
@@ -35,6 +36,11 @@ class PickingRun {
     observer.stepped = [this](const picking::PickStep& step, const std::vector<physics::PlacedPart>& pile) {
       Stepped(step, pile);
     };
+    if (plan_.perception == Perception::kClient) {
+      if (!client_ || !client_->inbox) return Finish(Internal("client perception without an inbox"));
+      observer.first_step = client_->first_step ? client_->first_step() : 0;
+      observer.client_estimates = [this](const StepView& view) { return ClientEstimatesOf(view); };
+    }
     auto result = RunPickingSession(context_, plan_, control_.flag(), observer);
     if (result.ok()) report_.result = std::move(result).value();
     Finish(result.status());
@@ -42,7 +48,7 @@ class PickingRun {
 
  private:
   void Perceived(const StepView& view) {
-    if (view.step == 0) report_.parts_at_start = view.truth.size();
+    if (report_.truth_artifacts.empty()) report_.parts_at_start = view.truth.size();  // the run's first step
     report_.scan_artifacts.emplace_back();
     report_.truth_artifacts.emplace_back();
     if (!view.scan.positions.empty()) {
@@ -57,15 +63,53 @@ class PickingRun {
     }
     const std::string truth = StepName(view.step, "-truth.json");
     if (recorder_.RecordArtifact(truth, kJsonMediaType, recorder_.reports().PickingStepTruthJson(plan_, view), nullptr,
-                                 nullptr, Update("step " + std::to_string(view.step) + ": " +
-                                                 std::to_string(view.estimates.size()) + " parts found of " +
-                                                 std::to_string(view.truth.size())))
+                                 nullptr, Update(TruthMessage(view)))
             .ok()) {
       report_.truth_artifacts.back() = truth;
     }
   }
 
+  // Stored estimates for this pile (a resumed run), else the client's, waited for.
+  StatusOr<std::vector<picking::Estimate>> ClientEstimatesOf(const StepView& view) {
+    AwaitedStep awaited;
+    awaited.step = view.step;
+    if (!report_.scan_artifacts.empty()) awaited.scan_artifact = report_.scan_artifacts.back();
+    awaited.world_from_sensor = plan_.scan.world_from_sensor;
+    for (const physics::PartType& part : plan_.bin.parts) awaited.part_names.push_back(part.name);
+    for (const physics::PlacedPart& part : view.truth) awaited.pile.emplace_back(part.type, part.instance);
+    awaited.grasps_per_type = view.grasps_per_type;
+    if (!view.scan.positions.empty() && awaited.scan_artifact.empty()) {
+      return Unavailable("step " + std::to_string(view.step) + ": its scan could not be stored for the client");
+    }
+    if (client_->stored) {
+      if (auto stored = client_->stored(awaited)) {
+        (void)recorder_.Record(Update("step " + std::to_string(view.step) + ": " + std::to_string(stored->size()) +
+                                      " estimates stored earlier"));
+        return std::move(*stored);
+      }
+    }
+    const std::string job_id = report_.job_id;
+    client_->inbox->Open(job_id, awaited);
+    (void)recorder_.Record(Update("step " + std::to_string(view.step) + ": awaiting estimates"));
+    auto estimates = client_->inbox->Wait(job_id, plan_.estimates_timeout, control_.flag());
+    if (!estimates.ok() && estimates.status().code() == StatusCode::kDeadlineExceeded) {
+      return Status(StatusCode::kDeadlineExceeded, estimates.status().message() + " (spec.estimates_timeout_s)");
+    }
+    if (estimates.ok()) {
+      (void)recorder_.Record(Update("step " + std::to_string(view.step) + ": " + std::to_string(estimates->size()) +
+                                    " estimates received"));
+    }
+    return estimates;
+  }
+
+  std::string TruthMessage(const StepView& view) const {
+    const std::string step = "step " + std::to_string(view.step) + ": ";
+    if (plan_.perception == Perception::kClient) return step + std::to_string(view.truth.size()) + " parts in the pile";
+    return step + std::to_string(view.estimates.size()) + " parts found of " + std::to_string(view.truth.size());
+  }
+
   void Stepped(const picking::PickStep& step, const std::vector<physics::PlacedPart>& pile) {
+    if (plan_.perception == Perception::kClient && client_->step_done) client_->step_done(step.step);
     if (step.outcome == picking::StepOutcome::kPicked) ++picked_;
     const std::string what = step.outcome == picking::StepOutcome::kPicked
                                  ? "picked " + plan_.bin.parts[step.picked->type].name + "#" +
@@ -102,6 +146,7 @@ class PickingRun {
   JobRecorder& recorder_;
   const PickingPlan& plan_;
   jobs::JobControl& control_;
+  const ClientEstimates* client_;
   uint32_t picked_ = 0;
   PickingJobReport report_;
 };
@@ -109,12 +154,18 @@ class PickingRun {
 }  // namespace
 
 const char* PerceptionName(Perception perception) {
-  return perception == Perception::kTruth ? "truth" : "baseline";
+  switch (perception) {
+    case Perception::kTruth: return "truth";
+    case Perception::kClient: return "client";
+    case Perception::kBaseline: break;
+  }
+  return "baseline";
 }
 
 void RunPicking(ServiceContext& context, JobRecorder& recorder, const std::string& job_id, const std::string& name,
-                const std::string& bin_job_id, const PickingPlan& plan, jobs::JobControl& control) {
-  PickingRun(context, recorder, job_id, name, bin_job_id, plan, control).Run();
+                const std::string& bin_job_id, const PickingPlan& plan, jobs::JobControl& control,
+                const ClientEstimates* client) {
+  PickingRun(context, recorder, job_id, name, bin_job_id, plan, control, client).Run();
 }
 
 }  // namespace vscan::service

@@ -137,8 +137,9 @@ StatusOr<picking::EmptyBinResult> RunPickingSession(ServiceContext& context, con
       [&](const std::vector<physics::PlacedPart>& pile) -> StatusOr<std::vector<picking::Estimate>> {
     RETURN_IF_ERROR(written_status);  // the scene must show the pile the step scans
     StepView view;
-    view.step = step++;
+    view.step = observer.first_step + step++;
     view.truth = pile;
+    for (const auto& grasps : cell.grasps) view.grasps_per_type.push_back(grasps.size());
     if (plan.perception == Perception::kTruth) {
       for (const physics::PlacedPart& part : pile) view.estimates.push_back({part.type, part.world_from_part, 1.0});
     } else {
@@ -149,6 +150,11 @@ StatusOr<picking::EmptyBinResult> RunPickingSession(ServiceContext& context, con
       ASSIGN_OR_RETURN(const scenes::ScanTarget target, context.registry.PrepareScan(plan.scene_id, table_angle));
       raycast::ScanStats stats;
       ASSIGN_OR_RETURN(view.scan, RunScanBackend(scan, target, context.raster, cancel, &stats));
+      if (plan.perception == Perception::kClient) {
+        if (!observer.client_estimates) return Internal("client perception without a source of estimates");
+        if (observer.perceived) observer.perceived(view);
+        return observer.client_estimates(view);
+      }
       ASSIGN_OR_RETURN(view.estimates, Localize(context, plan, pile, view.scan, cancel));
     }
     if (observer.perceived) observer.perceived(view);
@@ -156,11 +162,15 @@ StatusOr<picking::EmptyBinResult> RunPickingSession(ServiceContext& context, con
   };
   const auto stepped = [&](const picking::PickStep& record, const std::vector<physics::PlacedPart>& pile) {
     if (written_status.ok()) written_status = WritePile(context, plan.scene_id, start.object_of, written, pile);
-    if (observer.stepped) observer.stepped(record, pile);
+    if (!observer.stepped) return;
+    picking::PickStep numbered = record;
+    numbered.step += observer.first_step;
+    observer.stepped(numbered, pile);
   };
   ASSIGN_OR_RETURN(picking::EmptyBinResult result,
                    picking::EmptyBin(cell, start.parts, perceive, plan.session, cancel, stepped));
   RETURN_IF_ERROR(written_status);
+  for (picking::PickStep& record : result.steps) record.step += observer.first_step;
   return result;
 }
 

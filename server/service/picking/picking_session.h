@@ -25,6 +25,7 @@ namespace vscan::service {
 enum class Perception {
   kBaseline,  // a scan and vscan's baseline localizer
   kTruth,     // the parts' true poses (planning and picking without localization errors)
+  kClient,    // a scan, and the estimates the observer's client_estimates returns for it
 };
 
 struct PickingPlan {
@@ -43,6 +44,8 @@ struct PickingPlan {
   ScanPlan scan;  // camera, world_from_sensor, measurement; its seed moves with the step
   uint64_t scan_seed = 1;
   localization::LocalizerOptions localizer;
+  // kClient: how long a step waits for its estimates.
+  std::chrono::milliseconds estimates_timeout{600000};
   picking::EmptyBinOptions session;
 };
 
@@ -53,11 +56,17 @@ struct StepView {
   std::vector<physics::PlacedPart> truth;
   PointCloud scan;
   std::vector<picking::Estimate> estimates;
+  // The grasps of each part type: what an estimate of that type costs the plan.
+  std::vector<size_t> grasps_per_type;
 };
 
 struct PickingObserver {
   std::function<void(const StepView&)> perceived;  // before the step is planned
   std::function<void(const picking::PickStep&, const std::vector<physics::PlacedPart>&)> stepped;
+  // Perception::kClient: the estimates for a step, called after perceived (its scan is stored).
+  std::function<StatusOr<std::vector<picking::Estimate>>(const StepView&)> client_estimates;
+  // The number of the run's first step: a resumed job numbers its steps on.
+  size_t first_step = 0;
 };
 
 // NOT_FOUND naming "mount_id"; FAILED_PRECONDITION naming "mount_id" when the mount stands in

@@ -117,6 +117,8 @@ class Client {
   StatusOr<v1::Job> StartPicking(const v1::PickingSpec& spec);
   // StartPicking with validate_only: the server's verdict on spec; nothing is started.
   Status ValidatePicking(const v1::PickingSpec& spec);
+  // Sends a client-perception picking job the estimates of the step it awaits; how many it stored.
+  StatusOr<uint32_t> SubmitPickingEstimates(const v1::SubmitPickingEstimatesRequest& request);
   StatusOr<v1::Job> GetJob(const std::string& job_id);
   // Every job, following page tokens.
   StatusOr<std::vector<v1::Job>> ListJobs();
