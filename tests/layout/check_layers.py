@@ -23,7 +23,7 @@ SERVICE_USES = {
     "model": {"context", "job", "scan", "clouds"},
     "campaign": {"context", "job", "scan", "robot", "clouds", "model"},
     "bins": {"job"},
-    "datasets": {"context", "job", "scan", "localization"},
+    "datasets": {"context", "job", "scan", "robot", "localization"},
 }
 # Folders under server/ that sit above the engine and the service layer.
 ABOVE_ENGINE = ("service/", "api/", "scenes/", "robot_registry/", "jobs/", "store/", "guards/", "observability/")

@@ -3,7 +3,7 @@
 #include <chrono>
 #include <string>
 
-#include "service/picking/grasp_reach.h"
+#include "service/robot/grasp_reach.h"
 
 namespace vscan::service {
 namespace {

@@ -1,6 +1,6 @@
 #include "service/picking/arm_reach.h"
 
-#include "service/picking/grasp_reach.h"
+#include "service/robot/grasp_reach.h"
 #include "service/robot/robot_collision.h"
 
 namespace vscan::service {

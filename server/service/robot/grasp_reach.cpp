@@ -1,4 +1,4 @@
-#include "service/picking/grasp_reach.h"
+#include "service/robot/grasp_reach.h"
 
 #include <cstdio>
 #include <variant>
