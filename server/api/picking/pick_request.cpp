@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "api/transport/validate.h"
+#include "grasping/public_field_names.h"
 
 namespace vscan::api {
 namespace {
@@ -15,18 +16,8 @@ void SetIfNonZero(T& target, U value) {
   if (value != 0) target = static_cast<T>(value);
 }
 
-// Engine and service field names that differ from the request's.
-constexpr std::pair<std::string_view, std::string_view> kRequestFields[] = {
-    {"gripper.suction.diameter_m", "gripper.suction.diameter"},
-    {"gripper.suction.stroke_m", "gripper.suction.stroke"},
-    {"gripper.jaws.min_opening_m", "gripper.jaws.min_opening"},
-    {"gripper.jaws.max_opening_m", "gripper.jaws.max_opening"},
-    {"gripper.jaws.finger_width_m", "gripper.jaws.finger_width"},
-    {"gripper.jaws.finger_depth_m", "gripper.jaws.finger_depth"},
-    {"gripper.jaws.finger_length_m", "gripper.jaws.finger_length"},
-    {"gripper.jaws.finger_thickness_m", "gripper.jaws.finger_thickness"},
-    {"pick_options.approach_m", "pick_options.approach_distance"},
-    {"pick_options.cover_distance_m", "pick_options.cover_distance"},
+// The service's names for what the request sets under pick_options; the engine's: PublicFieldName.
+constexpr std::pair<std::string_view, std::string_view> kServiceFields[] = {
     {"body_length_m", "pick_options.body_length"},
     {"ik_time_budget_ms", "pick_options.ik_time_budget_ms"},
 };
@@ -34,9 +25,11 @@ constexpr std::pair<std::string_view, std::string_view> kRequestFields[] = {
 }  // namespace
 
 Status InRequestTerms(const Status& status) {
-  for (const auto& [engine, request] : kRequestFields) {
-    if (status.field() == engine) return Status(status.code(), std::string(request), status.text());
+  for (const auto& [service, request] : kServiceFields) {
+    if (status.field() == service) return Status(status.code(), std::string(request), status.text());
   }
+  const std::string_view field = grasping::PublicFieldName(status.field());
+  if (field != status.field()) return Status(status.code(), std::string(field), status.text());
   return status;
 }
 

@@ -7,34 +7,18 @@
 
 #include <Eigen/Geometry>
 
+#include "grasping/public_field_names.h"
+
 namespace vscan::service::dataset {
 namespace {
 
 using plan::YamlAt;
 using plan::YamlReader;
 
-// The engine's field names where the plan's (picking.proto's) differ.
-constexpr std::pair<std::string_view, std::string_view> kPlanNames[] = {
-    {"gripper.suction.diameter_m", "gripper.suction.diameter"},
-    {"gripper.suction.stroke_m", "gripper.suction.stroke"},
-    {"gripper.jaws.min_opening_m", "gripper.jaws.min_opening"},
-    {"gripper.jaws.max_opening_m", "gripper.jaws.max_opening"},
-    {"gripper.jaws.finger_width_m", "gripper.jaws.finger_width"},
-    {"gripper.jaws.finger_depth_m", "gripper.jaws.finger_depth"},
-    {"gripper.jaws.finger_length_m", "gripper.jaws.finger_length"},
-    {"gripper.jaws.finger_thickness_m", "gripper.jaws.finger_thickness"},
-    {"pick_options.approach_m", "pick_options.approach_distance"},
-    {"pick_options.cover_distance_m", "pick_options.cover_distance"},
-    {"pick_options.body_length_m", "pick_options.body_length"},
-};
-
 // An engine check's error at the key it names, within the section at.
 Status AtPlanKey(const YamlReader& yaml, const YamlAt& at, const Status& checked) {
   if (checked.ok()) return checked;
-  std::string field(checked.field());
-  for (const auto& [engine, planned] : kPlanNames) {
-    if (field == engine) field = planned;
-  }
+  const std::string field(grasping::PublicFieldName(checked.field()));
   // The line of the key when the plan wrote it, else the section's.
   YamlAt key = at;
   size_t from = 0;
