@@ -8,6 +8,7 @@
 
 #include "api/job/job_service.h"
 #include "api/picking/picking_estimates_files.h"
+#include "api/reports/report_convert.h"
 #include "api/transport/unary.h"
 #include "api/transport/validate.h"
 #include "grasping/pick_checks.h"
@@ -18,12 +19,6 @@ namespace vscan::api {
 namespace {
 
 constexpr int kMaxEstimates = 10000;
-
-void AddMatrix(const Pose3& pose, v1::PickingPose* out) {
-  const Eigen::Matrix4d m = pose.matrix();
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) out->add_world_from_part(m(r, c));
-}
 
 // The request's estimates in the world frame; INVALID_ARGUMENT naming the estimate's field.
 StatusOr<std::vector<picking::Estimate>> ParseEstimates(const v1::SubmitPickingEstimatesRequest& request,
@@ -86,7 +81,7 @@ v1::PickingStepTruth StoredForm(const service::AwaitedStep& awaited, const std::
     v1::PickingPose* pose = out.add_estimates();
     pose->set_part(awaited.part_names[estimate.type]);
     pose->set_score(estimate.score);
-    AddMatrix(estimate.world_from_part, pose);
+    AddMatrix(estimate.world_from_part, pose->mutable_world_from_part());
   }
   return out;
 }
