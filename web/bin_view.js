@@ -2,7 +2,8 @@
 // its bin_replay.bin (play/pause and a time slider; it opens on the final pile), the table of parts,
 // a link to the bin's scene, and picking.
 import {
-  THREE, Viewer, fillSwatchTable, get, instanceColour, matrixFromRows, parseMesh, setTitle, showPickedRows,
+  THREE, Viewer, fillSwatchTable, get, instanceColour, matrixFromRows, parseMesh, playerControls, setTitle,
+  showPickedRows,
 } from './common.js';
 
 const OUTSIDE_COLOUR = 0xb0b0b0;  // parts that left the bin have no instance id
@@ -171,18 +172,7 @@ export async function showBin(id) {
     viewer.world.updateMatrixWorld(true);
   }
 
-  const controls = document.createElement('div');
-  const play = document.createElement('button');
-  const slider = document.createElement('input');
-  const clock = document.createElement('span');
-  play.id = 'play';
-  slider.id = 'frame';
-  slider.type = 'range';
-  slider.min = '0';
-  slider.max = String(replay ? replay.times.length - 1 : 0);
-  slider.disabled = !replay;
-  play.disabled = !replay;
-  controls.append(play, slider, clock);
+  const { controls, play, slider, label: clock } = playerControls('frame', replay ? replay.times.length : 0);
   content.appendChild(controls);
   if (!replay) clock.textContent = ' no replay recorded for this fill';
 

@@ -106,6 +106,23 @@ export function subsampleOrder(count) {
   return order;
 }
 
+// A replay's controls: #play, a range input (sliderId) over frames, and a label after them; both
+// disabled when there is nothing to play.
+export function playerControls(sliderId, frames) {
+  const controls = document.createElement('div');
+  const play = document.createElement('button');
+  const slider = document.createElement('input');
+  const label = document.createElement('span');
+  play.id = 'play';
+  slider.id = sliderId;
+  slider.type = 'range';
+  slider.min = '0';
+  slider.max = String(Math.max(0, frames - 1));
+  slider.disabled = play.disabled = frames === 0;
+  controls.append(play, slider, label);
+  return { controls, play, slider, label };
+}
+
 // A three.js view in #view: a z-up camera that frames what it is given, orbit controls (drag to turn,
 // wheel to zoom, right-drag to pan), a headlight that follows the camera, and drawing on demand.
 export class Viewer {

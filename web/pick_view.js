@@ -1,7 +1,7 @@
 // A picking job (?picking=JOB_ID): the bin and the pile at each step, from the step's truth file,
 // the part taken at that step in orange and the planned tool as an arrow along its approach; the
 // steps played one after another (play/pause and a step slider) and the table of steps.
-import { THREE, Viewer, get, parseMesh, setTitle } from './common.js';
+import { THREE, Viewer, get, parseMesh, playerControls, setTitle } from './common.js';
 import { addBin, frameFromAbove } from './bin_view.js';
 
 const PART_COLOUR = 0x4a7fb5;
@@ -106,17 +106,7 @@ export async function showPicking(id) {
       tool: arrow.visible ? new THREE.Vector3().setFromMatrixPosition(matrixOf(s.world_from_tool)).toArray() : null };
   }
 
-  const controls = document.createElement('div');
-  const play = document.createElement('button');
-  const slider = document.createElement('input');
-  const label = document.createElement('span');
-  play.id = 'play';
-  slider.id = 'step';
-  slider.type = 'range';
-  slider.min = '0';
-  slider.max = String(Math.max(0, report.steps.length - 1));
-  slider.disabled = play.disabled = report.steps.length === 0;
-  controls.append(play, slider, label);
+  const { controls, play, slider, label } = playerControls('step', report.steps.length);
   content.appendChild(controls);
   const rows = stepTable(report, content);
 
