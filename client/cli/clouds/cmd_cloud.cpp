@@ -184,7 +184,7 @@ int RunDownload(Context& ctx, const std::string& id, const std::string& output) 
   return kExitOk;
 }
 
-void AddDownload(CLI::App& group, Context& ctx) {
+void AddCloudDownload(CLI::App& group, Context& ctx) {
   auto* cmd = group.add_subcommand("download", "Write a cloud to a PLY or PCD file");
   auto id = std::make_shared<std::string>();
   auto output = std::make_shared<std::string>();
@@ -202,7 +202,7 @@ void AddCloudCommands(CLI::App& app, Context& ctx) {
   AddCloudList(*group, ctx);
   AddCloudGet(*group, ctx);
   AddCloudDelete(*group, ctx);
-  AddDownload(*group, ctx);
+  AddCloudDownload(*group, ctx);
 }
 
 }  // namespace vscan::cli

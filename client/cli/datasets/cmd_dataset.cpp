@@ -169,7 +169,7 @@ void AddDatasetWatch(CLI::App& group, Context& ctx) {
   OnRun(cmd, ctx, [&ctx, id, out_dir] { return Follow(ctx, *id, *out_dir); });
 }
 
-void AddDownload(CLI::App& group, Context& ctx) {
+void AddDatasetDownload(CLI::App& group, Context& ctx) {
   auto* cmd = group.add_subcommand("download", "Write a finished dataset job's dataset into a directory");
   auto id = std::make_shared<std::string>();
   auto dir = std::make_shared<std::string>();
@@ -188,7 +188,7 @@ void AddDatasetCommands(CLI::App& app, Context& ctx) {
   AddJobCancel(*group, ctx, "Cancel a dataset job (finished scenes stay; --resume continues them)");
   AddJobList(*group, ctx, "dataset", "List dataset jobs");
   AddJobDelete(*group, ctx, "Delete an ended dataset job and its artifacts from the server");
-  AddDownload(*group, ctx);
+  AddDatasetDownload(*group, ctx);
   AddDatasetScore(*group, ctx);
 }
 
