@@ -18,9 +18,8 @@ if ! wait "$test_deps"; then
 fi
 [ "$build_status" -eq 0 ] || exit "$build_status"
 cd "$ROOT"
-# The test fuzz.build compiles the fuzz targets with clang while the other tests run (many of which
-# wait on a server); their ten-second runs (label fuzz) follow it in the same call.
-"$ROOT/scripts/build-fuzzers.sh" --configure-only
+# The test fuzz.build configures and compiles the fuzz targets with clang while the other tests run
+# (many of which wait on a server); their ten-second runs (label fuzz) follow it in the same call.
 # One test more than there are cores: integration tests spend part of their time waiting on their
 # server (the suite took 240 s with 2 at once on 2 cores, 219 s with 3, 223 s with 4).
 exec ctest --preset "$PRESET" -j "$(($(nproc) + 1))" --timeout 600
