@@ -127,6 +127,8 @@ class FakeJobs(job_pb2_grpc.JobServiceServicer):
         self.last_model = None
         self.validated = None
         self.final_state = job_pb2.JOB_STATE_SUCCEEDED
+        # Alignments a watch misses, as one that begins after the job aligned them does.
+        self.scans_before_watch = 0
 
     def _job(self, state, with_artifacts):
         job = job_pb2.Job(job_id="job-m1", kind="model", state=state, steps_total=2,
@@ -163,6 +165,8 @@ class FakeJobs(job_pb2_grpc.JobServiceServicer):
                                          has_error=True, rotation_error_deg=0.02, translation_error_m=0.00005),
                  model_pb2.ScanAlignment(cloud_id="cld-b", index=1, aligned=False, reason="fitness 0.10 below 0.30")]
         for sequence, scan in enumerate(scans, 1):
+            if sequence <= self.scans_before_watch:
+                continue
             job = self._job(job_pb2.JOB_STATE_RUNNING, False)
             job.steps_done = sequence
             yield job_pb2.WatchJobResponse(job=job, event=job_pb2.JobEvent(sequence=sequence, step=sequence - 1,

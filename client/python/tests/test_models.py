@@ -113,6 +113,15 @@ class ModelCallsTest(unittest.TestCase):
         self.assertAlmostEqual(scans[0].rotation_error_deg, 0.02)
         self.assertEqual(scans[1].reason, "fitness 0.10 below 0.30")
 
+    def test_scans_aligned_before_the_watch_come_from_the_report(self):
+        self.fake.jobs.scans_before_watch = 1
+        job = self.client.start_model(["cld-a", "cld-b"])
+        scans = list(self.client.watch_alignments(job.job_id))
+        self.assertEqual([(s.index, s.cloud_id, s.name, s.aligned) for s in scans],
+                         [(1, "cld-b", "", False), (0, "cld-a", "a", True)])
+        self.assertAlmostEqual(scans[1].fitness, 0.95)
+        self.assertFalse(scans[1].has_error)
+
     def test_model_report_is_the_parsed_json(self):
         # Read through the schema: the file's keys and values, plus the fields it left at their defaults.
         self.client.start_model(["cld-a", "cld-b"], evaluate=True)

@@ -108,10 +108,23 @@ class ModelCalls:
 
     def watch_alignments(self, job_id, timeout=None):
         """Yields a ScanAlignment per scan as the job aligns it (a model job, or a campaign with align),
-        until the job ends; get_job() then returns how it ended."""
+        until the job ends; get_job() then returns how it ended. A watch sees the events after it
+        begins: the scans aligned before that come from the job's model.json once it ends (without
+        union_points), so that every scan is yielded once."""
+        seen = set()
         for response in self.watch_job(job_id, timeout=timeout):
             if response.HasField("event") and response.event.HasField("alignment"):
+                seen.add(response.event.alignment.index)
                 yield response.event.alignment
+        try:
+            report = self.model_report(job_id)
+        except VscanError as err:
+            if err.code == grpc.StatusCode.NOT_FOUND:  # the job ended without aligning
+                return
+            raise
+        for scan in report.get("alignment", {}).get("scans", []):
+            if scan["index"] not in seen:
+                yield _alignment_from_report(scan)
 
     def model_report(self, job_id):
         """The job's model.json as a dict (docs/MODEL.md), read through its message ModelReport
@@ -126,3 +139,18 @@ class ModelCalls:
                              f"job '{job_id}' has no {MODEL_REPORT} (state {job_pb2.JobState.Name(job.state)})")
         _, data = self.read_artifact(job_id, artifact.artifact_id)
         return parse_report(MODEL_REPORT, data)
+
+
+def _alignment_from_report(scan):
+    """A ScanAlignment from one scan of model.json's alignment section."""
+    alignment = model_pb2.ScanAlignment(index=scan["index"], cloud_id=scan["cloud_id"], name=scan["name"],
+                                        aligned=scan["aligned"], reason=scan["reason"], fitness=scan["fitness"],
+                                        inlier_rmse=scan["inlier_rmse"])
+    if len(scan.get("pose", [])) == 16:
+        alignment.pose.values.extend(scan["pose"])
+    if "rotation_error_deg" in scan:
+        alignment.has_error = True
+        for key in ("rotation_error_deg", "translation_error_m", "initial_rotation_error_deg",
+                    "initial_translation_error_m"):
+            setattr(alignment, key, scan.get(key, 0.0))
+    return alignment
