@@ -18,6 +18,10 @@ export CCACHE_BASEDIR="${CCACHE_BASEDIR:-$ROOT}"
 JOBS="${VSCAN_JOBS:-$(nproc)}"
 FUZZ_DIR="${VSCAN_FUZZ_BUILD_DIR:-$ROOT/build/fuzz}"
 PREBUILT_DIR="${VSCAN_PREBUILT_DIR:-$ROOT/build/$PRESET}"
+if grep -q -- '^CMAKE_CXX_FLAGS:.*-fsanitize' "$PREBUILT_DIR/CMakeCache.txt" 2>/dev/null; then
+  echo "build-fuzzers: $PREBUILT_DIR is a sanitizer build, whose libraries carry GCC's runtime" >&2
+  exit 2
+fi
 
 if [ "$STAGE" = all ]; then
   cmake --preset "$PRESET" >/dev/null
