@@ -26,9 +26,7 @@ Status ReplaceDurably(const std::filesystem::path& path, const std::string& byte
   std::error_code ec;
   std::filesystem::create_directories(path.parent_path(), ec);
   if (ec) return Unavailable("cannot create '" + path.parent_path().string() + "': " + ec.message());
-  const std::filesystem::path temp = path.string() + ".tmp";
-  RETURN_IF_ERROR(service::dataset::WriteFileDurably(temp, bytes));
-  return service::dataset::RenameDurably(temp, path);
+  return service::dataset::ReplaceFileDurably(path, bytes, ".tmp");
 }
 
 }  // namespace

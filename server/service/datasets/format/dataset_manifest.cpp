@@ -196,9 +196,7 @@ Status EnsureRootFile(const std::filesystem::path& root, const std::string& rela
   }
   std::filesystem::create_directories(path.parent_path(), ec);
   if (ec) return Internal("cannot create " + path.parent_path().string() + ": " + ec.message());
-  const std::filesystem::path temporary = path.string() + ".tmp-" + writer;
-  RETURN_IF_ERROR(WriteFileDurably(temporary, bytes));
-  return RenameDurably(temporary, path);
+  return ReplaceFileDurably(path, bytes, ".tmp-" + writer);
 }
 
 }  // namespace vscan::service::dataset

@@ -71,10 +71,7 @@ Status MergeDataset(const std::filesystem::path& root, const DatasetPlan& plan) 
     ASSIGN_OR_RETURN(const uint32_t crc, CheckScene(root, plan, id));
     record_crc32.push_back(crc);
   }
-  const std::filesystem::path index = root / kSceneIndexFile;
-  const std::filesystem::path temporary = index.string() + ".tmp-merge";
-  RETURN_IF_ERROR(WriteFileDurably(temporary, SceneIndexJson(plan, record_crc32)));
-  return RenameDurably(temporary, index);
+  return ReplaceFileDurably(root / kSceneIndexFile, SceneIndexJson(plan, record_crc32), ".tmp-merge");
 }
 
 }  // namespace vscan::service::dataset

@@ -54,6 +54,12 @@ Status RenameDurably(const std::filesystem::path& from, const std::filesystem::p
   return SyncDirectory(to.parent_path());
 }
 
+Status ReplaceFileDurably(const std::filesystem::path& path, std::string_view bytes, std::string_view temp_suffix) {
+  const std::filesystem::path temporary = path.string() + std::string(temp_suffix);
+  RETURN_IF_ERROR(WriteFileDurably(temporary, bytes));
+  return RenameDurably(temporary, path);
+}
+
 StatusOr<std::string> ReadWholeFile(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) return NotFound("cannot open " + path.string());

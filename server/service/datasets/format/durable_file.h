@@ -16,6 +16,9 @@ Status WriteFileDurably(const std::filesystem::path& path, std::string_view byte
 Status SyncDirectory(const std::filesystem::path& dir);
 // Replaces `to` by `from` in one step and flushes the directory holding `to`.
 Status RenameDurably(const std::filesystem::path& from, const std::filesystem::path& to);
+// Writes bytes to path + temp_suffix, flushes them, then renames that over path: a crash leaves the
+// old file or the new one, never half of it. Writers that may race pass suffixes of their own.
+Status ReplaceFileDurably(const std::filesystem::path& path, std::string_view bytes, std::string_view temp_suffix);
 StatusOr<std::string> ReadWholeFile(const std::filesystem::path& path);
 
 }  // namespace vscan::service::dataset
