@@ -24,6 +24,42 @@ function(vscan_unity_build target)
   endif()
 endfunction()
 
+# vscan_unity_groups(target [GROUP name sources...]... [ALONE sources...]): batches for a target
+# whose fuzz targets compile some of its sources themselves, instrumented (fuzz/CMakeLists.txt). A
+# batch there holds exactly the sources one fuzz target compiles, else the linker would take the
+# batch's object from the archive beside the instrumented copies; ALONE sources stay objects of
+# their own. Every other source of the target shares one batch.
+function(vscan_unity_groups target)
+  if(NOT VSCAN_UNITY_BUILD)
+    return()
+  endif()
+  set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_MODE GROUP)
+  set(placed "")
+  set(group "")
+  set(expect_name FALSE)
+  foreach(arg IN LISTS ARGN)
+    if(arg STREQUAL "GROUP")
+      set(expect_name TRUE)
+    elseif(arg STREQUAL "ALONE")
+      set(group "")
+    elseif(expect_name)
+      set(group ${arg})
+      set(expect_name FALSE)
+    else()
+      if(group)
+        set_source_files_properties(${arg} PROPERTIES UNITY_GROUP ${group})
+      endif()
+      list(APPEND placed ${arg})
+    endif()
+  endforeach()
+  get_target_property(sources ${target} SOURCES)
+  foreach(source IN LISTS sources)
+    if(NOT source IN_LIST placed)
+      set_source_files_properties(${source} PROPERTIES UNITY_GROUP ${target})
+    endif()
+  endforeach()
+endfunction()
+
 # Release compiles the engine at -O3. A folder whose code spends its time elsewhere asks for less
 # here: request handling, generated messages and the CLI (-O2, about 15% quicker to compile), and
 # the tests (-O1, a third quicker), which hand the heavy work to the -O3 libraries.
