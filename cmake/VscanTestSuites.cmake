@@ -1,8 +1,9 @@
 # vscan_add_test_suites(target [TIMEOUT seconds]): registers a GoogleTest executable with CTest as one
 # test per test suite (`ctest -R Suite` runs it, `--gtest_filter=Suite.Case` one case of it).
 # A process per suite rather than per case: each case in its own process paid the executable's
-# start-up (the dynamic loader binding some hundred shared libraries) and its fixtures' setup again,
-# 45 s of the suite's CPU on two cores (docs/BENCHMARKS.md, "Build").
+# start-up (the dynamic loader binding some hundred shared libraries) and its fixtures' setup again:
+# 28 s more of the unit tests' CPU (docs/BENCHMARKS.md, "Build"). A suite counts as passed when its
+# process exits 0; cases it skips show in its output.
 # The suites are listed after each link, as gtest_discover_tests lists the cases.
 set(VSCAN_TEST_SUITES_SCRIPT ${CMAKE_CURRENT_LIST_DIR}/VscanTestSuitesList.cmake)
 
