@@ -22,7 +22,7 @@ BASE_PACKAGES=(g++ make cmake git ca-certificates python3 npm libgtest-dev libgm
 
 unmount() {
   for d in dev/pts dev sys proc; do
-    if mountpoint -q "$ROOT/$d"; then umount -R "$ROOT/$d"; fi
+    if mountpoint -q "$ROOT/$d"; then umount -R "$ROOT/$d" 2>/dev/null || umount -R -l "$ROOT/$d"; fi
   done
 }
 trap unmount EXIT
@@ -37,7 +37,8 @@ mount_kernel_filesystems() {
 
 if [ ! -f "$WORK/base.tar" ]; then
   mkdir -p "$WORK"
-  rm -rf "$ROOT"
+  unmount
+  rm -rf --one-file-system "$ROOT"
   debootstrap --variant=minbase bookworm "$ROOT" "$MIRROR"
   printf '127.0.0.1\tlocalhost\n::1\tlocalhost ip6-localhost ip6-loopback\n' >"$ROOT/etc/hosts"
   # ca-certificates' own install adds these to the bundle.
@@ -51,7 +52,9 @@ if [ ! -f "$WORK/base.tar" ]; then
   tar -C "$WORK" -cf "$WORK/base.tar" root
 fi
 
-rm -rf "$ROOT"
+# A run killed before its trap left the host's /dev and /sys bound in the root: never delete through them.
+unmount
+rm -rf --one-file-system "$ROOT"
 tar -C "$WORK" -xf "$WORK/base.tar"
 mount_kernel_filesystems
 git clone -q "$REPO" "$ROOT/root/vscan"
