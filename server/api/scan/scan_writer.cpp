@@ -4,6 +4,7 @@
 #include <memory>
 
 #include "api/scan/scan_messages.h"
+#include "geometry/little_endian.h"
 #include "observability/server_metrics.h"
 #include "vscan/common/point_chunks.h"
 
@@ -57,11 +58,8 @@ Status ScanWriter::Images(const capture::PixelImages& images) {
     out->set_reasons(images.reasons.data() + begin, count);
     std::string* gray = out->mutable_gray();
     gray->resize(count * sizeof(uint16_t));
-    char* bytes = gray->data();
-    for (size_t i = 0; i < count; ++i) {  // little-endian 16-bit
-      const uint16_t value = images.gray[begin + i];
-      bytes[2 * i] = static_cast<char>(value & 0xff);
-      bytes[2 * i + 1] = static_cast<char>(value >> 8);
+    for (size_t i = 0; i < count; ++i) {
+      geometry::StoreLe(gray->data() + i * sizeof(uint16_t), images.gray[begin + i], sizeof(uint16_t));
     }
     outbox_.Push(std::move(message));
   }
